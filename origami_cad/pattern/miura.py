@@ -1,0 +1,212 @@
+"""Miura-based tessellations: the classic Miura-ori and the general grid of a TG.
+
+The grid has straight horizontal crease lines (the *main creases* on the centre
+line of every tessellation unit, and the long edges shared by two units) and
+zigzag lines (*legs*) through the joints. Segment ``k`` of a main crease has
+length ``l_k`` along +x; at joint ``k`` (between segments ``k-1`` and ``k``) the
+legs leave the main crease at the shape angle ``beta_k`` (degrees, measured from
++x; above 90 deg they lean backwards) and reach the long edges ``h`` away, where
+``h`` is half the unit width. Rows alternate lower/upper half of a unit, so copy
+``c`` has its main crease at ``y = y_s + c * 2h``.
+
+Assignments make every interior vertex a flat-foldable degree-4 vertex:
+
+- main-crease segment ``k``: valley if its entry flag is 1, mountain if 0;
+  flags alternate along the main crease;
+- long edges shared by two units: the opposite of the main-crease segment beside;
+- legs at joint ``k``: the type of main segment ``k-1`` when ``beta_k < 90`` deg,
+  of segment ``k`` when ``beta_k > 90`` deg (the unique crease of the vertex is
+  then the other main segment; see ``docs/kinematics.md``);
+- outer long edges and the two short ends: border.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from origami_cad.errors import PatternError
+from origami_cad.pattern.model import CreasePattern
+
+__all__ = ["miura_pattern", "miura_tessellation", "tessellation_leg_offsets"]
+
+
+def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.ndarray:
+    """Forward x-offset of each joint's legs at the long edges, mm: ``h cot(beta)``.
+
+    Parameters
+    ----------
+    shape_angles : ndarray
+        ``beta_1 .. beta_n``, radians.
+    row_height : float
+        ``h``, half the unit width, mm.
+    """
+    return row_height / np.tan(shape_angles)
+
+
+def miura_tessellation(
+    lengths: Sequence[float],
+    shape_angles: Sequence[float],
+    entry_flag: int,
+    row_height: float,
+    rows: int,
+    start: tuple[float, float] = (0.0, 0.0),
+    title: str = "",
+) -> CreasePattern:
+    """The crease pattern of a Miura-based tessellation.
+
+    Parameters
+    ----------
+    lengths : sequence of float
+        ``l_0 .. l_n``, main-crease segment lengths, mm (> 0).
+    shape_angles : sequence of float
+        ``beta_1 .. beta_n``, degrees, each strictly between 0 and 180.
+    entry_flag : int
+        ``EF_0``: 1 if the first main-crease segment is a valley, 0 if a mountain.
+    row_height : float
+        Height of one panel row (half the unit width), mm.
+    rows : int
+        Number of panel rows (2 per tessellation unit), >= 1.
+    start : (float, float)
+        ``T_s``: where the first main crease starts, mm.
+    title : str
+        Stored in the pattern's metadata.
+
+    Returns
+    -------
+    CreasePattern
+        Faces are labelled ``c{copy}r{row}s{segment}`` (row 0 below the main
+        crease of the copy, 1 above it).
+    """
+    l = np.asarray(lengths, dtype=float)
+    beta_deg = np.asarray(shape_angles, dtype=float)
+    n = len(l) - 1
+    if n < 0:
+        raise PatternError("at least one transition vector (segment length) is needed")
+    if beta_deg.shape != (n,):
+        raise PatternError(f"{n + 1} segment lengths need {n} shape angles, got {beta_deg.size}")
+    for k, v in enumerate(l):
+        if not (math.isfinite(v) and v > 0):
+            raise PatternError(f"lengths[{k}] (l_{k}) must be > 0 mm, got {v}")
+    for k, b in enumerate(beta_deg):
+        if not (0.0 < b < 180.0):
+            raise PatternError(
+                f"shape_angles[{k}] (beta_{k + 1}) must lie in (0, 180) deg, got {b}"
+            )
+    if entry_flag not in (0, 1):
+        raise PatternError(f"entry_flag must be 0 or 1, got {entry_flag}")
+    if not row_height > 0:
+        raise PatternError(f"row height must be > 0 mm, got {row_height}")
+    if rows < 1:
+        raise PatternError(f"rows must be >= 1, got {rows}")
+    h = float(row_height)
+    x_joint = np.concatenate([[0.0], np.cumsum(l)]) + start[0]  # n + 2 joints incl. ends
+    offsets = np.zeros(n + 2)
+    offsets[1:-1] = tessellation_leg_offsets(np.radians(beta_deg), h)
+    x_long = x_joint + offsets
+    bad = np.flatnonzero(np.diff(x_long) <= 1e-9 * max(1.0, float(l.sum())))
+    if bad.size:
+        k = int(bad[0])
+        raise PatternError(
+            f"the legs of joints {k} and {k + 1} cross (vector {k}, l_{k} = {l[k]:g} mm, is too "
+            f"short for shape angles near 0 or 180 deg at this unit width)"
+        )
+    nl = rows + 1  # horizontal lines
+    y0 = start[1] - h
+    ys = y0 + h * np.arange(nl)
+    is_main = (np.arange(nl) % 2) == 1
+    nj = n + 2
+    xs = np.where(is_main[:, None], x_joint[None, :], x_long[None, :])
+    verts = np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
+
+    def vid(r: np.ndarray | int, k: np.ndarray | int) -> np.ndarray:
+        return np.asarray(r) * nj + np.asarray(k)
+
+    seg_type = np.where((np.arange(n + 1) + entry_flag) % 2 == 1, "V", "M")  # EF_k alternates
+    opposite = np.where(seg_type == "V", "M", "V")
+    # horizontal edges
+    r_idx, k_idx = np.meshgrid(np.arange(nl), np.arange(n + 1), indexing="ij")
+    h_edges = np.stack([vid(r_idx, k_idx), vid(r_idx, k_idx + 1)], axis=-1).reshape(-1, 2)
+    h_assign = np.where(is_main[:, None], seg_type[None, :], opposite[None, :]).astype("<U1")
+    h_assign[0, :] = "B"
+    h_assign[-1, :] = "B"
+    # vertical edges (legs and short ends)
+    r_idx, k_idx = np.meshgrid(np.arange(rows), np.arange(nj), indexing="ij")
+    v_edges = np.stack([vid(r_idx, k_idx), vid(r_idx + 1, k_idx)], axis=-1).reshape(-1, 2)
+    leg_type = np.empty(nj, dtype="<U1")
+    leg_type[0] = leg_type[-1] = "B"
+    if n:
+        before, after = seg_type[:-1], seg_type[1:]
+        leg_type[1:-1] = np.where(beta_deg <= 90.0, before, after)
+    v_assign = np.broadcast_to(leg_type[None, :], (rows, nj))
+    edges = np.vstack([h_edges, v_edges])
+    assign = np.concatenate([h_assign.ravel(), v_assign.ravel()])
+    cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
+    return cp.with_face_labels(_grid_labels(cp, x_joint, offsets, ys, h))
+
+
+def _grid_labels(
+    cp: CreasePattern, x_joint: np.ndarray, offsets: np.ndarray, ys: np.ndarray, h: float
+) -> list[str]:
+    c = cp.face_centroids()
+    row = np.clip(np.floor((c[:, 1] - ys[0]) / h), 0, len(ys) - 2).astype(int)
+    # at mid-height of a row the legs sit halfway to their long-edge offset
+    mid_x = x_joint + 0.5 * offsets
+    seg = np.clip(np.searchsorted(mid_x, c[:, 0]) - 1, 0, len(x_joint) - 2)
+    return [f"c{r // 2}r{r % 2}s{s}" for r, s in zip(row, seg, strict=True)]
+
+
+def miura_pattern(
+    rows: int,
+    columns: int,
+    panel_length: float,
+    panel_width: float,
+    sector_angle: float,
+    entry_flag: int = 1,
+) -> CreasePattern:
+    """The classic Miura-ori.
+
+    Parameters
+    ----------
+    rows : int
+        Panel rows (across the straight crease lines), >= 1.
+    columns : int
+        Panel columns (along the straight crease lines), >= 1.
+    panel_length : float
+        Length of a panel along the straight creases, mm.
+    panel_width : float
+        Height of a panel row, perpendicular to the straight creases, mm.
+    sector_angle : float
+        Acute angle between the straight creases and the zigzag creases, degrees
+        (0 < angle < 90).
+    entry_flag : int
+        1: the first straight segment of each main crease is a valley; 0: mountain.
+
+    Returns
+    -------
+    CreasePattern
+        ``columns * panel_length`` by ``rows * panel_width`` mm, lower-left
+        corner at the origin.
+
+    Examples
+    --------
+    >>> cp = miura_pattern(4, 6, 20.0, 30.0, 60.0)
+    >>> cp.bounds
+    (0.0, 0.0, 120.0, 120.0)
+    """
+    if columns < 1:
+        raise PatternError(f"columns must be >= 1, got {columns}")
+    if not 0.0 < sector_angle < 90.0:
+        raise PatternError(f"sector_angle must lie in (0, 90) deg, got {sector_angle}")
+    betas = [sector_angle] * (columns - 1)
+    return miura_tessellation(
+        [panel_length] * columns,
+        betas,
+        entry_flag,
+        panel_width,
+        rows,
+        start=(0.0, panel_width),
+        title=f"Miura-ori {rows} x {columns}",
+    )
