@@ -43,8 +43,8 @@ def _degree(cp: CreasePattern, mask: np.ndarray) -> np.ndarray:
 
 def interior_vertices(cp: CreasePattern) -> np.ndarray:
     """Indices of the vertices inside the sheet (touching no border, cut or outer edge)."""
-    ef = cp.edge_faces()
-    outer = (ef < 0).any(axis=1) | cp.edge_mask("B", "C")
+    nfaces = (cp.edge_faces() >= 0).sum(axis=1)
+    outer = (nfaces == 1) | cp.edge_mask("B", "C")
     on_outer = _degree(cp, outer) > 0
     return np.flatnonzero(~on_outer & (_degree(cp, np.ones(cp.n_edges, bool)) > 0))
 
@@ -128,28 +128,23 @@ def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Prob
                 _loc(cp, v),
             )
         )
-    outer_crease = (nfaces < 2) & ~cp.edge_mask("B", "C")
-    for e in np.flatnonzero(outer_crease)[:50]:
-        a, b = cp.edges[e]
-        mid = tuple(float(c) for c in (cp.vertices[a] + cp.vertices[b]) / 2)
-        what = "does not separate two panels" if nfaces[e] == 0 else "lies on the outer boundary"
-        problems.append(
-            Problem(
-                "open-border" if nfaces[e] == 1 else "dangling-crease",
-                f"edge {e} ({cp.assignments[e]}) {what}",
-                mid,
-            )
-        )
-    # ---- dangling creases
     deg = _degree(cp, np.ones(cp.n_edges, bool))
+    free_end = (deg[cp.edges[:, 0]] == 1) | (deg[cp.edges[:, 1]] == 1)
     fold = cp.edge_mask(*_FOLDS, "F")
-    for e in np.flatnonzero(fold & ((deg[cp.edges[:, 0]] == 1) | (deg[cp.edges[:, 1]] == 1))):
-        if nfaces[e] == 0:
-            continue  # already reported above
+    for e in np.flatnonzero(fold & free_end):
         v = cp.edges[e, 0] if deg[cp.edges[e, 0]] == 1 else cp.edges[e, 1]
         problems.append(
             Problem("dangling-crease", f"edge {e} ({cp.assignments[e]}) ends here", _loc(cp, v))
         )
+    loose = ~cp.edge_mask("B", "C") & ((nfaces == 1) | ((nfaces == 0) & ~free_end))
+    for e in np.flatnonzero(loose)[:50]:
+        a, b = cp.edges[e]
+        mid = tuple(float(c) for c in (cp.vertices[a] + cp.vertices[b]) / 2)
+        if nfaces[e] == 1:
+            code, what = "open-border", "lies on the outer boundary of the sheet"
+        else:
+            code, what = "dangling-crease", "does not separate two panels"
+        problems.append(Problem(code, f"edge {e} ({cp.assignments[e]}) {what}", mid))
     # ---- faces
     polys = cp.face_polygons()
     bad = np.flatnonzero(~shapely.is_valid(polys) | ~shapely.is_simple(polys)) if len(polys) else []

@@ -17,7 +17,9 @@ Assignments make every interior vertex a flat-foldable degree-4 vertex:
 - legs at joint ``k``: the type of main segment ``k-1`` when ``beta_k < 90`` deg,
   of segment ``k`` when ``beta_k > 90`` deg (the unique crease of the vertex is
   then the other main segment; see ``docs/kinematics.md``);
-- outer long edges and the two short ends: border.
+- outer long edges and the two short ends: border. The short ends follow the
+  legs of the nearest joint (a zigzag end, so the end panels are
+  parallelograms like the others, whatever the lean of the legs).
 """
 
 from __future__ import annotations
@@ -104,7 +106,9 @@ def miura_tessellation(
     h = float(row_height)
     x_joint = np.concatenate([[0.0], np.cumsum(l)]) + start[0]  # n + 2 joints incl. ends
     offsets = np.zeros(n + 2)
-    offsets[1:-1] = tessellation_leg_offsets(np.radians(beta_deg), h)
+    if n:
+        offsets[1:-1] = tessellation_leg_offsets(np.radians(beta_deg), h)
+        offsets[0], offsets[-1] = offsets[1], offsets[-2]  # ends follow the nearest legs
     x_long = x_joint + offsets
     bad = np.flatnonzero(np.diff(x_long) <= 1e-9 * max(1.0, float(l.sum())))
     if bad.size:
@@ -144,18 +148,19 @@ def miura_tessellation(
     edges = np.vstack([h_edges, v_edges])
     assign = np.concatenate([h_assign.ravel(), v_assign.ravel()])
     cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
-    return cp.with_face_labels(_grid_labels(cp, x_joint, offsets, ys, h))
+    if cp.n_vertices != len(verts) or cp.notes:  # pragma: no cover - guarded by checks above
+        raise PatternError("internal error: the tessellation grid needed repair")
+    return cp.with_face_labels(_grid_labels(cp, nj))
 
 
-def _grid_labels(
-    cp: CreasePattern, x_joint: np.ndarray, offsets: np.ndarray, ys: np.ndarray, h: float
-) -> list[str]:
-    c = cp.face_centroids()
-    row = np.clip(np.floor((c[:, 1] - ys[0]) / h), 0, len(ys) - 2).astype(int)
-    # at mid-height of a row the legs sit halfway to their long-edge offset
-    mid_x = x_joint + 0.5 * offsets
-    seg = np.clip(np.searchsorted(mid_x, c[:, 0]) - 1, 0, len(x_joint) - 2)
-    return [f"c{r // 2}r{r % 2}s{s}" for r, s in zip(row, seg, strict=True)]
+def _grid_labels(cp: CreasePattern, n_joints: int) -> list[str]:
+    # vertex r * n_joints + k is line r, joint k (normalisation keeps the order of a
+    # grid that needs no repair); each panel's lowest vertex is its lower-left corner
+    labels = []
+    for ring in cp.faces:
+        r, k = divmod(int(ring.min()), n_joints)
+        labels.append(f"c{r // 2}r{r % 2}s{k}")
+    return labels
 
 
 def miura_pattern(

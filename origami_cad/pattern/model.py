@@ -134,7 +134,8 @@ def _as_assignments(assignments: str | Iterable[str], n: int) -> np.ndarray:
     bad = np.flatnonzero(~np.isin(arr, list(_VALID)))
     if bad.size:
         raise PatternError(
-            f"edge {bad[0]}: unknown assignment {arr[bad[0]]!r} (expected one of M V B F U C J)"
+            f"edge {bad[0]}: unknown assignment {str(arr[bad[0]])!r} "
+            "(expected one of M V B F U C J)"
         )
     return arr
 

@@ -1,0 +1,153 @@
+"""The TG chain: eqs. 2-4, vectorised over designs and fold angles.
+
+Shapes follow ``(designs, samples, vectors)``: ``theta`` has shape ``(S,)``,
+per-design arrays have a leading design axis ``D`` (1-D input is one design).
+Angles are radians; lengths mm.
+
+Examples
+--------
+>>> import numpy as np
+>>> theta = np.radians([0.0, 90.0, 180.0])
+>>> pts = chain_points(theta, [[40.0, 30.0]], np.radians([[60.0]]), entry_flag=[1])
+>>> pts.shape  # (designs, samples, joints incl. T_s and T_e, xy)
+(1, 3, 3, 2)
+>>> float(pts[0, 0, -1, 0])  # flat: T_e = T_s + (l0 + l1, 0)
+70.0
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "chain_angles",
+    "chain_points",
+    "hypar_alpha0",
+    "tip_positions",
+    "turning_angles",
+]
+
+
+def hypar_alpha0(theta: np.ndarray) -> np.ndarray:
+    """Eq. 3: absolute angle of ``v_0`` on a half hypar base, radians.
+
+    ``alpha_0 = arccos(sqrt(2 cos(theta/2) / (1 + cos(theta/2))))``,
+    ``0 <= theta <= pi``; 0 when flat, pi/2 when fully folded.
+    """
+    c = np.cos(np.asarray(theta, dtype=float) / 2.0)
+    c = np.clip(c, 0.0, 1.0)
+    return np.arccos(np.clip(np.sqrt(2.0 * c / (1.0 + c)), 0.0, 1.0))
+
+
+def turning_angles(
+    theta: np.ndarray, shape_angles: np.ndarray, entry_flag: np.ndarray
+) -> np.ndarray:
+    """Eq. 2: ``Delta alpha_i = 2 arctan(sin(theta/2) tan(beta_i) (-1)^EF_{i-1})``.
+
+    Parameters
+    ----------
+    theta : ndarray, shape (S,)
+        Fold angles of the main crease, radians in [0, pi].
+    shape_angles : ndarray, shape (D, n) or (n,)
+        ``beta_1 .. beta_n``, radians.
+    entry_flag : ndarray of int, shape (D,) or scalar
+        ``EF_0`` of each design.
+
+    Returns
+    -------
+    ndarray, shape (D, S, n)
+        Turning angle at each joint, radians.
+    """
+    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    ef0 = np.broadcast_to(np.asarray(entry_flag, dtype=np.int64).reshape(-1), (beta.shape[0],))
+    n = beta.shape[1]
+    flags_before = (ef0[:, None] + np.arange(n)[None, :]) % 2  # EF_0 .. EF_{n-1}
+    sign = 1.0 - 2.0 * flags_before  # (-1)^EF
+    s = np.sin(np.asarray(theta, dtype=float).reshape(-1) / 2.0)
+    return 2.0 * np.arctan(s[None, :, None] * (np.tan(beta) * sign)[:, None, :])
+
+
+def chain_angles(
+    theta: np.ndarray,
+    shape_angles: np.ndarray,
+    entry_flag: np.ndarray,
+    hypar_base: bool | np.ndarray = False,
+    alpha0: float = 0.0,
+) -> np.ndarray:
+    """Absolute angles ``alpha_0 .. alpha_n`` of the transition vectors, radians.
+
+    ``alpha_0`` is eq. 3 with ``hypar_base`` (per design or for all), else ``alpha0``.
+    Returns shape ``(D, S, n + 1)``.
+    """
+    da = turning_angles(theta, shape_angles, entry_flag)
+    d, s, _ = da.shape
+    theta = np.asarray(theta, dtype=float).reshape(-1)
+    hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
+    a0 = np.where(hyp[:, None], hypar_alpha0(theta)[None, :], alpha0)  # (D, S)
+    out = np.empty((d, s, da.shape[2] + 1))
+    out[..., 0] = a0
+    np.cumsum(da, axis=2, out=out[..., 1:])
+    out[..., 1:] += a0[..., None]
+    return out
+
+
+def chain_points(
+    theta: np.ndarray,
+    lengths: np.ndarray,
+    shape_angles: np.ndarray,
+    entry_flag: np.ndarray,
+    hypar_base: bool | np.ndarray = False,
+    start: np.ndarray | tuple[float, float] = (0.0, 0.0),
+) -> np.ndarray:
+    """Joints of the TG chain, ``T_s`` first and ``T_e`` last (eq. 4), mm.
+
+    Parameters
+    ----------
+    theta : ndarray, shape (S,)
+        Fold angles, radians.
+    lengths : ndarray, shape (D, n + 1) or (n + 1,)
+        ``l_0 .. l_n``, mm.
+    shape_angles : ndarray, shape (D, n) or (n,)
+        ``beta_1 .. beta_n``, radians.
+    entry_flag : ndarray, shape (D,) or scalar
+        ``EF_0``.
+    hypar_base : bool or ndarray of bool
+        Use eq. 3 for ``alpha_0``.
+    start : (float, float) or ndarray (D, 2)
+        ``T_s``, mm.
+
+    Returns
+    -------
+    ndarray, shape (D, S, n + 2, 2)
+    """
+    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
+    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
+    steps = lengths[:, None, :, None] * np.stack([np.cos(alpha), np.sin(alpha)], axis=-1)
+    d, s = alpha.shape[:2]
+    out = np.empty((d, s, lengths.shape[1] + 1, 2))
+    start = np.asarray(start, dtype=float).reshape(-1, 2)
+    out[:, :, 0, :] = start[:, None, :]
+    np.cumsum(steps, axis=2, out=out[:, :, 1:, :])
+    out[:, :, 1:, :] += start[:, None, None, :]
+    return out
+
+
+def tip_positions(
+    theta: np.ndarray,
+    lengths: np.ndarray,
+    shape_angles: np.ndarray,
+    entry_flag: np.ndarray,
+    hypar_base: bool | np.ndarray = False,
+    start: np.ndarray | tuple[float, float] = (0.0, 0.0),
+) -> np.ndarray:
+    """``T_e = T_s + sum v_i`` (eq. 4) for every design and sample, shape (D, S, 2), mm."""
+    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
+    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
+    tip = np.stack(
+        [
+            np.einsum("dsn,dn->ds", np.cos(alpha), lengths),
+            np.einsum("dsn,dn->ds", np.sin(alpha), lengths),
+        ],
+        axis=-1,
+    )
+    return tip + np.asarray(start, dtype=float).reshape(-1, 1, 2)
