@@ -47,7 +47,7 @@ def test_dispatch_by_extension(tmp_path):
     cp = miura_pattern(2, 2, 30.0, 10.0, 45.0)
     write_pattern(cp, tmp_path / "a.fold")
     assert read_pattern(tmp_path / "a.fold").same_graph(cp)
-    with pytest.raises(PatternError, match="unknown crease-pattern format '.txt'"):
+    with pytest.raises(PatternError, match=r"unknown crease-pattern format '\.txt'"):
         read_pattern(tmp_path / "a.txt")
 
 

@@ -78,7 +78,6 @@ def tessellation_vertices(design: TGDesign, p: float | np.ndarray) -> np.ndarray
     d = np.stack([ca, zero, sa], axis=-1)  # (P, n+1, 3)
     nrm = np.stack([-sa, zero, ca], axis=-1)
     yhat = np.array([0.0, 1.0, 0.0])
-    up = cpsi[..., None] * yhat + (spsi * s)[..., None] * nrm
     down = -cpsi[..., None] * yhat + (spsi * s)[..., None] * nrm
     # joints on the main crease of copy 0
     x_s, y_s = design.start

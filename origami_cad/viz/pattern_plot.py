@@ -10,13 +10,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import LineCollection  # noqa: E402
-from matplotlib.patches import Circle  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.patches import Circle
 
-from origami_cad._fileio import atomic_path  # noqa: E402
-from origami_cad.pattern.model import CreasePattern  # noqa: E402
+from origami_cad._fileio import atomic_path
+from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["EDGE_STYLES", "plot_pattern", "save_pattern_png"]
 
