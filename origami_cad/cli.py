@@ -18,15 +18,11 @@ __all__ = ["build_parser", "main"]
 
 
 def _cmd_convert(args: argparse.Namespace) -> int:
-    from origami_cad.pattern import read_pattern, write_pattern
-    from origami_cad.viz import save_pattern_png
+    from origami_cad.pattern import read_pattern
 
     cp = read_pattern(args.input)
     out = Path(args.output)
-    if out.suffix.lower() == ".png":
-        save_pattern_png(cp, out, labels=args.labels)
-    else:
-        write_pattern(cp, out)
+    _write_pattern_any(cp, out, labels=args.labels)
     print(f"wrote {out} ({cp.n_vertices} vertices, {cp.n_edges} edges, {len(cp.faces)} panels)")
     return 0
 
@@ -44,6 +40,81 @@ def _cmd_check(args: argparse.Namespace) -> int:
     warnings = sum(p.severity == Severity.WARNING for p in problems)
     print(f"{errors} errors, {warnings} warnings")
     return 1 if errors else 0
+
+
+def _write_pattern_any(cp, out: Path, labels: bool = False) -> None:
+    from origami_cad.pattern import write_pattern
+    from origami_cad.viz import save_pattern_png
+
+    if out.suffix.lower() == ".png":
+        save_pattern_png(cp, out, labels=labels)
+    else:
+        write_pattern(cp, out)
+
+
+def _cmd_pattern(args: argparse.Namespace) -> int:
+    from origami_cad.pattern.design import load_pattern_source
+
+    design = load_pattern_source(args.design)
+    cp = design.pattern
+    for out in args.output:
+        _write_pattern_any(cp, Path(out), labels=args.labels)
+        print(f"wrote {out}")
+    for note in design.tg.notes if design.tg else ():
+        print(f"note: {note}")
+    print(repr(cp))
+    return 0
+
+
+def _cmd_fold(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from origami_cad.errors import DesignError
+    from origami_cad.kinematics.folding import fold_sequence
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+
+    if not 0.0 <= args.ratio <= 1.0:
+        raise DesignError(f"--ratio must lie in [0, 1], got {args.ratio}")
+    if args.frames < 1:
+        raise DesignError(f"--frames must be >= 1, got {args.frames}")
+    out = Path(args.output)
+    suffix = out.suffix.lower()
+    if suffix not in (".fold", ".png", ".gif"):
+        raise DesignError(f"{out}: the folded state is written as .fold, .png or .gif")
+    design = load_pattern_source(args.design)
+    frames = args.frames if args.frames > 1 or suffix != ".gif" else 30
+    ratios = np.linspace(0.0, args.ratio, frames) if frames > 1 else [args.ratio]
+    states = fold_sequence(design, ratios)
+    cp = design.pattern
+    if suffix == ".fold":
+        write_fold(
+            cp,
+            out,
+            frames=[folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states],
+        )
+    elif suffix == ".png":
+        render_folded(cp, states[-1].coords, out, title=f"p = {args.ratio:g}")
+    else:
+        render_folding_gif(cp, [s.coords for s in states], out)
+    print(
+        f"wrote {out} ({len(states)} state{'s' if len(states) > 1 else ''}, p up to {args.ratio:g})"
+    )
+    return 0
+
+
+def _cmd_tg(args: argparse.Namespace) -> int:
+    from origami_cad.errors import DesignError
+    from origami_cad.pattern.design import load_design
+    from origami_cad.viz.tg_plot import save_tg_png
+
+    design = load_design(args.design)
+    if design.tg is None:
+        raise DesignError(f"{args.design}: kind {design.kind!r} has no transition graph")
+    save_tg_png(design.tg, args.output)
+    print(f"wrote {args.output}")
+    return 0
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -90,6 +161,50 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("-v", "--verbose", action="store_true", help="also list what was normalised")
     p.set_defaults(func=_cmd_check)
+
+    p = sub.add_parser(
+        "pattern",
+        help="compute the crease pattern of a design file (TG, Miura) and write it",
+        description="Compute the crease pattern of a design file (.toml: kind "
+        "transition-graph, miura or file) and write it as .fold, .dxf, .svg or .png.",
+    )
+    p.add_argument("design", help="design file (.toml) or pattern file")
+    p.add_argument(
+        "-o",
+        "--output",
+        action="append",
+        required=True,
+        help="output file(s), .fold/.dxf/.svg/.png; repeat for several",
+    )
+    p.add_argument("--labels", action="store_true", help="write panel labels on a .png")
+    p.set_defaults(func=_cmd_pattern)
+
+    p = sub.add_parser(
+        "fold",
+        help="fold a design or pattern rigidly to a fold ratio (FOLD frames, PNG, GIF)",
+        description="Fold a design (.toml) or a degree-4 pattern (.fold/.dxf/.svg) rigidly. "
+        ".fold: the flat pattern plus folded frames (file_frames, 3D mm, fold angles in "
+        "degrees); .png: a render of the final state; .gif: an animation from p = 0.",
+    )
+    p.add_argument("design", help="design file (.toml) or pattern file")
+    p.add_argument("--ratio", type=float, default=0.5, help="fold ratio p = theta/pi in [0, 1]")
+    p.add_argument(
+        "--frames",
+        type=int,
+        default=1,
+        help="number of states from p = 0 to --ratio (default 1: only --ratio; 30 for a .gif)",
+    )
+    p.add_argument("-o", "--output", required=True, help="folded.fold, folded.png or folded.gif")
+    p.set_defaults(func=_cmd_fold)
+
+    p = sub.add_parser(
+        "tg",
+        help="plot the transition graph of a design at several fold ratios",
+        description="Plot the TG chain at p = 0, 0.25, 0.5, 0.75, 1 and the path of T_e.",
+    )
+    p.add_argument("design", help="design file (.toml) of kind transition-graph or miura")
+    p.add_argument("-o", "--output", required=True, help="output .png")
+    p.set_defaults(func=_cmd_tg)
 
     p = sub.add_parser(
         "demo",

@@ -83,7 +83,10 @@ def test_normalisation_scales_as_n_log_n_on_large_input():
 
 def test_miura_is_flat_foldable_everywhere():
     cp = miura_pattern(4, 6, 20.0, 30.0, 60.0)
-    assert cp.bounds == (0.0, 0.0, 120.0, 120.0)
+    # 120 x 120 mm between the main-crease ends; the zigzag ends lean by h cot(60 deg)
+    x0, y0, x1, y1 = cp.bounds
+    assert (x0, y0, y1) == (0.0, 0.0, 120.0)
+    assert x1 == pytest.approx(120.0 + 30.0 / math.tan(math.radians(60.0)))
     assert cp.check() == []
     assert len(set(cp.face_labels)) == 24
     assert cp.face_labels[0] == "c0r0s0"

@@ -192,14 +192,15 @@ def miura_pattern(
     Returns
     -------
     CreasePattern
-        ``columns * panel_length`` by ``rows * panel_width`` mm, lower-left
-        corner at the origin.
+        ``rows * panel_width`` mm high; each straight crease is
+        ``columns * panel_length`` mm long, the zigzag ends lean by
+        ``panel_width / tan(sector_angle)``. Lower-left corner at the origin.
 
     Examples
     --------
     >>> cp = miura_pattern(4, 6, 20.0, 30.0, 60.0)
-    >>> cp.bounds
-    (0.0, 0.0, 120.0, 120.0)
+    >>> [round(v, 3) for v in cp.bounds]
+    [0.0, 0.0, 137.321, 120.0]
     """
     if columns < 1:
         raise PatternError(f"columns must be >= 1, got {columns}")

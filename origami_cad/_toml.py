@@ -1,0 +1,192 @@
+"""Strict reading of the package's TOML input files.
+
+Every file format of the package (designs, arm tasks, routes, sequences) is a
+TOML file read through :class:`Table`, so unknown keys, missing keys, wrong
+types and out-of-range values all give the same kind of message, naming the
+file, the table and the key.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from origami_cad.errors import DesignError
+
+__all__ = ["Table", "load_toml"]
+
+_MISSING = object()
+
+
+def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
+    p = Path(path)
+    if not p.is_file():
+        raise DesignError(f"{p}: no such file")
+    try:
+        with open(p, "rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise DesignError(f"{p}: not valid TOML ({exc})") from None
+    except UnicodeDecodeError:
+        raise DesignError(f"{p}: not a text file") from None
+
+
+def _type_name(value: Any) -> str:
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string"}.get(
+        type(value), f"a {type(value).__name__}"
+    )
+
+
+class Table:
+    """One TOML table being read; call :meth:`finish` to reject unknown keys.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed table.
+    where : str
+        How to name it in messages, e.g. ``"design.toml [pattern]"``.
+    """
+
+    def __init__(self, data: Any, where: str) -> None:
+        if not isinstance(data, dict):
+            raise DesignError(f"{where}: expected a table, got {_type_name(data)}")
+        self.data = data
+        self.where = where
+        self.used: set[str] = set()
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def _raw(self, key: str, default: Any) -> Any:
+        self.used.add(key)
+        if key in self.data:
+            return self.data[key]
+        if default is _MISSING:
+            raise DesignError(f"{self.where}: missing key '{key}'")
+        return default
+
+    def error(self, key: str, message: str) -> DesignError:
+        """An error about ``key`` (to raise)."""
+        return DesignError(f"{self.where}: key '{key}': {message}")
+
+    def number(
+        self,
+        key: str,
+        default: Any = _MISSING,
+        *,
+        low: float | None = None,
+        high: float | None = None,
+        low_open: bool = False,
+        high_open: bool = False,
+    ) -> float:
+        """A finite number within ``[low, high]`` (open ends if asked)."""
+        value = self._raw(key, default)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise self.error(key, f"expected a number, got {_type_name(value)} {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise self.error(key, f"expected a finite number, got {value}")
+        bad_low = low is not None and (value <= low if low_open else value < low)
+        bad_high = high is not None and (value >= high if high_open else value > high)
+        if bad_low or bad_high:
+            lo = "(" if low_open else "["
+            hi = ")" if high_open else "]"
+            span = f"{lo}{'-inf' if low is None else f'{low:g}'}, "
+            span += f"{'inf' if high is None else f'{high:g}'}{hi}"
+            raise self.error(key, f"{value:g} is out of range {span}")
+        return value
+
+    def integer(
+        self, key: str, default: Any = _MISSING, *, low: int | None = None, high: int | None = None
+    ) -> int:
+        """A whole number within ``[low, high]``."""
+        value = self._raw(key, default)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, f"expected an integer, got {_type_name(value)} {value!r}")
+        if (low is not None and value < low) or (high is not None and value > high):
+            raise self.error(key, f"{value} is out of range [{low}, {high}]")
+        return int(value)
+
+    def boolean(self, key: str, default: Any = _MISSING) -> bool:
+        value = self._raw(key, default)
+        if not isinstance(value, bool):
+            raise self.error(key, f"expected true or false, got {_type_name(value)} {value!r}")
+        return value
+
+    def string(self, key: str, default: Any = _MISSING, *, choices: tuple[str, ...] = ()) -> str:
+        value = self._raw(key, default)
+        if not isinstance(value, str):
+            raise self.error(key, f"expected a string, got {_type_name(value)} {value!r}")
+        if choices and value not in choices:
+            raise self.error(key, f"{value!r} is not one of {', '.join(map(repr, choices))}")
+        return value
+
+    def numbers(
+        self,
+        key: str,
+        default: Any = _MISSING,
+        *,
+        length: int | None = None,
+        min_length: int = 0,
+        check: Callable[[float], bool] | None = None,
+        what: str = "",
+    ) -> list[float]:
+        """A list of numbers (optionally of a given length, each passing ``check``)."""
+        value = self._raw(key, default)
+        if not isinstance(value, list):
+            raise self.error(key, f"expected a list of numbers, got {_type_name(value)}")
+        out = []
+        for i, v in enumerate(value):
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+                raise self.error(key, f"item {i} is not a finite number: {v!r}")
+            if check is not None and not check(float(v)):
+                raise self.error(key, f"item {i} = {v!r}: {what or 'out of range'}")
+            out.append(float(v))
+        if length is not None and len(out) != length:
+            raise self.error(key, f"expected {length} numbers, got {len(out)}")
+        if len(out) < min_length:
+            raise self.error(key, f"expected at least {min_length} numbers, got {len(out)}")
+        return out
+
+    def point(self, key: str, default: Any = _MISSING, dims: int = 2) -> tuple[float, ...]:
+        """A point ``[x, y]`` (or ``dims`` coordinates), mm."""
+        return tuple(self.numbers(key, default, length=dims))
+
+    def pairs(self, key: str, default: Any = _MISSING, *, min_length: int = 1) -> list[list[float]]:
+        """A list of ``[a, b]`` number pairs."""
+        value = self._raw(key, default)
+        if not isinstance(value, list) or len(value) < min_length:
+            raise self.error(key, f"expected a list of at least {min_length} [a, b] pairs")
+        out = []
+        for i, item in enumerate(value):
+            if (
+                not isinstance(item, list)
+                or len(item) != 2
+                or any(isinstance(v, bool) or not isinstance(v, int | float) for v in item)
+            ):
+                raise self.error(key, f"item {i} must be a pair of numbers, got {item!r}")
+            out.append([float(item[0]), float(item[1])])
+        return out
+
+    def table(self, key: str, default: Any = _MISSING) -> Table:
+        return Table(
+            self._raw(key, default),
+            f"{self.where.rstrip(']')}.{key}]"
+            if self.where.endswith("]")
+            else f"{self.where} [{key}]",
+        )
+
+    def finish(self) -> None:
+        """Raise on keys that were never read (typos, unsupported options)."""
+        unknown = [k for k in self.data if k not in self.used]
+        if unknown:
+            raise DesignError(
+                f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} "
+                f"{', '.join(repr(k) for k in unknown)}"
+            )

@@ -1,0 +1,58 @@
+"""Fold any design to a fold ratio: closed form for TG tessellations, else degree-4 propagation."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from origami_cad.errors import PatternError
+from origami_cad.kinematics.fold3d import fold_tessellation
+from origami_cad.pattern.design import Design
+
+__all__ = ["FoldedState", "fold_design", "fold_sequence"]
+
+
+@dataclass(frozen=True)
+class FoldedState:
+    """One rigidly folded state.
+
+    Attributes
+    ----------
+    p : float
+        Fold ratio ``theta / pi`` of the driving (main) crease.
+    coords : ndarray, shape (n, 3)
+        Vertex coordinates, mm, in the pattern's vertex order.
+    fold_angles : ndarray, shape (m,)
+        Signed fold angle of every edge, degrees (valley positive).
+    """
+
+    p: float
+    coords: np.ndarray
+    fold_angles: np.ndarray
+
+
+def fold_design(design: Design, p: float) -> FoldedState:
+    """Fold ``design`` rigidly to fold ratio ``p`` in [0, 1].
+
+    TG tessellations (``design.tg``) fold in closed form
+    (:func:`~origami_cad.kinematics.fold3d.fold_tessellation`); any other pattern
+    whose interior vertices are flat-foldable degree-4 vertices folds by
+    propagating the degree-4 relations from one driving crease
+    (:func:`~origami_cad.kinematics.generic.fold_degree4`).
+    """
+    if not 0.0 <= p <= 1.0:
+        raise PatternError(f"fold ratio must lie in [0, 1], got {p}")
+    if design.tg is not None:
+        coords, angles = fold_tessellation(design.tg, design.pattern, p)
+    else:
+        from origami_cad.kinematics.generic import fold_degree4
+
+        coords, angles = fold_degree4(design.pattern, p)
+    return FoldedState(float(p), coords, angles)
+
+
+def fold_sequence(design: Design, ratios: Sequence[float]) -> list[FoldedState]:
+    """Fold ``design`` to each fold ratio of ``ratios``."""
+    return [fold_design(design, float(p)) for p in ratios]

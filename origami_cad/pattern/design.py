@@ -1,0 +1,178 @@
+"""Design files (TOML): the input of every command.
+
+.. code-block:: toml
+
+    [pattern]
+    kind = "transition-graph"   # or "miura", or "file"
+    unit_width = 36.0           # mm, one tessellation unit (two panel rows)
+    copies = 3
+    entry_flag = 1              # EF_0: 1 valley, 0 mountain
+    start = [0.0, 0.0]          # T_s, mm
+    fold_ratio = 0.5            # p at which `vectors` are drawn
+    vectors = [[40, 0], [30, 25], [30, -10], [40, 15], [30, 0]]  # [mm, deg]
+    # or: lengths = [...] (mm) and shape_angles = [...] (deg)
+    hypar_base = false
+    min_turn = 5.0              # deg, optional
+    merge_small_turns = false   # optional
+
+``kind = "miura"`` takes ``rows``, ``columns``, ``panel_length``, ``panel_width``
+(mm), ``sector_angle`` (deg) and optionally ``entry_flag``; ``kind = "file"``
+takes ``path`` (relative to the design file) of a ``.fold``, ``.dxf`` or ``.svg``.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from origami_cad._toml import Table, load_toml
+from origami_cad.errors import DesignError, PatternError
+from origami_cad.pattern.io import READ_FORMATS, read_pattern
+from origami_cad.pattern.miura import miura_pattern
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
+
+__all__ = ["KINDS", "Design", "load_design", "load_pattern_source", "miura_design"]
+
+KINDS = ("transition-graph", "miura", "file")
+
+
+@dataclass(frozen=True)
+class Design:
+    """A loaded design: its crease pattern and, for TG-based kinds, the TG design.
+
+    Attributes
+    ----------
+    pattern : CreasePattern
+        The flat crease pattern, mm.
+    tg : TGDesign or None
+        The TG tessellation it comes from (folds in closed form), else ``None``.
+    kind : str
+        ``transition-graph``, ``miura`` or ``file``.
+    source : Path or None
+        The file it was read from.
+    """
+
+    pattern: CreasePattern
+    tg: TGDesign | None
+    kind: str
+    source: Path | None = None
+
+
+def miura_design(
+    rows: int,
+    columns: int,
+    panel_length: float,
+    panel_width: float,
+    sector_angle: float,
+    entry_flag: int = 1,
+) -> Design:
+    """A classic Miura-ori as a :class:`Design` (with its TG when ``rows`` is even)."""
+    cp = miura_pattern(rows, columns, panel_length, panel_width, sector_angle, entry_flag)
+    tg = None
+    if rows % 2 == 0:
+        tg = TGDesign(
+            (panel_length,) * columns,
+            (sector_angle,) * (columns - 1),
+            entry_flag,
+            2.0 * panel_width,
+            rows // 2,
+            start=(0.0, panel_width),
+        )
+    return Design(cp, tg, "miura")
+
+
+def load_design(path: str | os.PathLike[str]) -> Design:
+    """Read a design file (TOML).
+
+    Raises
+    ------
+    DesignError
+        Naming the file, the table and the key, for unknown, missing, mistyped
+        or out-of-range keys.
+    """
+    p = Path(path)
+    data = load_toml(p)
+    top = Table(data, str(p))
+    table = top.table("pattern")
+    top.finish()
+    kind = table.string("kind", choices=KINDS)
+    try:
+        if kind == "transition-graph":
+            design = _tg_design(table)
+            table.finish()
+            return Design(tg_pattern(design, title=p.stem), design, kind, p)
+        if kind == "miura":
+            rows = table.integer("rows", low=1)
+            columns = table.integer("columns", low=1)
+            length = table.number("panel_length", low=0, low_open=True)
+            width = table.number("panel_width", low=0, low_open=True)
+            angle = table.number("sector_angle", low=0, high=90, low_open=True, high_open=True)
+            flag = table.integer("entry_flag", 1, low=0, high=1)
+            table.finish()
+            d = miura_design(rows, columns, length, width, angle, flag)
+            return Design(d.pattern.with_metadata(title=p.stem), d.tg, kind, p)
+        rel = table.string("path")
+        table.finish()
+        target = (p.parent / rel).resolve()
+        if target.suffix.lower() not in READ_FORMATS:
+            raise table.error("path", f"{rel!r} is not a {', '.join(READ_FORMATS)} file")
+        if not target.is_file():
+            raise table.error("path", f"{target}: no such file")
+        return Design(read_pattern(target), None, kind, p)
+    except PatternError as exc:
+        raise DesignError(f"{p}: {exc}") from None
+
+
+def _tg_design(table: Table) -> TGDesign:
+    unit_width = table.number("unit_width", low=0, low_open=True)
+    copies = table.integer("copies", low=1)
+    flag = table.integer("entry_flag", low=0, high=1)
+    start = table.point("start", [0.0, 0.0])
+    hypar = table.boolean("hypar_base", False)
+    has_vectors = table.has("vectors")
+    has_vars = table.has("lengths") or table.has("shape_angles")
+    if has_vectors == has_vars:
+        raise DesignError(
+            f"{table.where}: give either 'vectors' (with 'fold_ratio') or 'lengths' and "
+            "'shape_angles', not both or neither"
+        )
+    if has_vectors:
+        p = table.number("fold_ratio", low=0, high=1, low_open=True)
+        vectors = table.pairs("vectors")
+        for i, (length, _) in enumerate(vectors):
+            if not length > 0:
+                raise table.error("vectors", f"item {i}: length must be > 0 mm, got {length:g}")
+        min_turn = table.number(
+            "min_turn", DEFAULT_MIN_TURN, low=0, high=90, low_open=True, high_open=True
+        )
+        merge = table.boolean("merge_small_turns", False)
+        return design_from_vectors(
+            vectors,
+            p,
+            flag,
+            unit_width=unit_width,
+            copies=copies,
+            start=start,
+            hypar_base=hypar,
+            min_turn=min_turn,
+            merge_small_turns=merge,
+        )
+    lengths = table.numbers("lengths", min_length=1, check=lambda v: v > 0, what="must be > 0 mm")
+    n = len(lengths) - 1
+    angles = table.numbers(
+        "shape_angles",
+        length=n,
+        check=lambda v: 0 < v < 180,
+        what="a shape angle must lie in (0, 180) deg",
+    )
+    return TGDesign(tuple(lengths), tuple(angles), flag, unit_width, copies, start, hypar)
+
+
+def load_pattern_source(path: str | os.PathLike[str]) -> Design:
+    """A design file (``.toml``) or a pattern file (``.fold``/``.dxf``/``.svg``) as a Design."""
+    p = Path(path)
+    if p.suffix.lower() == ".toml":
+        return load_design(p)
+    return Design(read_pattern(p), None, "file", p)

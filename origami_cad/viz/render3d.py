@@ -1,0 +1,150 @@
+"""pyvista renders of folded states, off-screen (no display needed)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from origami_cad._fileio import atomic_path
+from origami_cad.pattern.model import CreasePattern
+
+__all__ = ["folded_mesh", "render_folded", "render_folding_gif"]
+
+_PANEL_COLOR = "#f2e6c9"
+_CREASE_COLORS = {"M": "#d62728", "V": "#1f4fd6", "B": "#222222", "C": "#2ca02c"}
+_STRING_COLOR = "#8e44ad"
+
+
+def _pyvista():
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    try:  # silence VTK's complaint about the missing X server; rendering is off-screen
+        from vtkmodules.vtkCommonCore import vtkLogger
+
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+        from vtkmodules.vtkRenderingCore import vtkMapper
+
+        # draw crease lines in front of the panels they lie on (no z-fighting)
+        vtkMapper.SetResolveCoincidentTopologyToPolygonOffset()
+    except ImportError:  # pragma: no cover
+        pass
+    return pv
+
+
+def folded_mesh(cp: CreasePattern, coords: np.ndarray):
+    """The panels of a folded state as a pyvista ``PolyData`` (polygon faces, mm)."""
+    pv = _pyvista()
+    faces = np.concatenate([np.r_[len(f), f] for f in cp.faces])
+    return pv.PolyData(np.asarray(coords, float), faces)
+
+
+def _add_state(plotter, cp: CreasePattern, coords: np.ndarray, strings=None) -> None:
+    pv = _pyvista()
+    coords = np.asarray(coords, float)
+    plotter.add_mesh(folded_mesh(cp, coords), color=_PANEL_COLOR, ambient=0.3, specular=0.2)
+    for letter, color in _CREASE_COLORS.items():
+        mask = cp.assignments == letter
+        if mask.any():
+            seg = coords[cp.edges[mask]].reshape(-1, 3)
+            width = 2 if letter == "B" else 3
+            plotter.add_mesh(pv.line_segments_from_points(seg), color=color, line_width=width)
+    for path in strings or ():
+        pts = np.asarray(path, float)
+        plotter.add_mesh(pv.lines_from_points(pts), color=_STRING_COLOR, line_width=4)
+
+
+def _new_plotter(window_size: tuple[int, int]):
+    pv = _pyvista()
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    return plotter
+
+
+def _set_view(plotter, view: Sequence[float] | str, bounds=None) -> None:
+    if isinstance(view, str):
+        views = {
+            "iso": plotter.view_isometric,
+            "xy": plotter.view_xy,
+            "xz": plotter.view_xz,
+            "yz": plotter.view_yz,
+        }
+        views[view]()
+    else:
+        plotter.view_vector(tuple(float(v) for v in view))
+    plotter.reset_camera(bounds=bounds)
+
+
+def render_folded(
+    cp: CreasePattern,
+    coords: np.ndarray,
+    path: str | os.PathLike[str],
+    *,
+    strings: Sequence[np.ndarray] | None = None,
+    window_size: tuple[int, int] = (900, 700),
+    view: Sequence[float] | str = "iso",
+    title: str = "",
+) -> Path:
+    """Render a folded state to a PNG: shaded panels, mountain red, valley blue.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        The pattern (faces and assignments).
+    coords : ndarray, shape (n, 3)
+        Folded vertex coordinates, mm.
+    path : path-like
+        Output ``.png`` (written atomically).
+    strings : sequence of ndarray (k, 3), optional
+        String paths to draw (mm).
+    view : str or sequence of float
+        ``"iso"``, ``"xy"``, ``"xz"``, ``"yz"`` or a camera direction vector.
+    title : str
+        Text in the upper-left corner.
+    """
+    plotter = _new_plotter(window_size)
+    try:
+        _add_state(plotter, cp, coords, strings)
+        _set_view(plotter, view)
+        if title:
+            plotter.add_text(title, font_size=10, color="black")
+        with atomic_path(path) as tmp:
+            plotter.screenshot(str(tmp))
+    finally:
+        plotter.close()
+    return Path(path)
+
+
+def render_folding_gif(
+    cp: CreasePattern,
+    frames: Sequence[np.ndarray],
+    path: str | os.PathLike[str],
+    *,
+    window_size: tuple[int, int] = (640, 480),
+    view: Sequence[float] | str = "iso",
+    fps: int = 12,
+) -> Path:
+    """Render folded states (coords arrays, mm) to an animated GIF (atomic write).
+
+    The camera is fixed on the bounding box of all frames so the motion shows.
+    """
+    if not frames:
+        raise ValueError("no frames to render")
+    pv = _pyvista()
+    bounds = pv.PolyData(np.concatenate([np.asarray(f, float) for f in frames])).bounds
+    with atomic_path(path) as tmp:
+        plotter = _new_plotter(window_size)
+        try:
+            plotter.open_gif(str(tmp), fps=fps)
+            for k, coords in enumerate(frames):
+                plotter.clear_actors()
+                _add_state(plotter, cp, coords)
+                if k == 0:
+                    _set_view(plotter, view, bounds=bounds)
+                plotter.write_frame()
+        finally:
+            plotter.close()  # also closes the GIF writer, before the rename
+    return Path(path)
