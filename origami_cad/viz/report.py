@@ -1,0 +1,95 @@
+"""The HTML report of the demo: one self-contained page, a section per step."""
+
+from __future__ import annotations
+
+import html
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from origami_cad._fileio import atomic_write
+
+__all__ = ["StepReport", "write_report"]
+
+
+@dataclass
+class StepReport:
+    """What one demo step shows: pictures, key numbers and every file it wrote.
+
+    Paths are relative to the report's folder.
+    """
+
+    key: str
+    title: str
+    summary: str = ""
+    images: list[tuple[str, str]] = field(default_factory=list)  # (path, caption)
+    numbers: list[tuple[str, str]] = field(default_factory=list)  # (name, value with unit)
+    files: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+    error: str = ""
+
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:0;color:#222;
+background:#fafafa}
+header{background:#1f2a44;color:#fff;padding:24px 40px}
+header h1{margin:0 0 6px 0;font-size:26px} header p{margin:0;opacity:.85}
+nav{padding:10px 40px;background:#e9edf5;font-size:14px} nav a{margin-right:16px;color:#1f2a44}
+section{background:#fff;margin:24px 40px;padding:20px 28px;border-radius:8px;
+box-shadow:0 1px 3px rgba(0,0,0,.12)}
+h2{margin-top:0} .meta{color:#666;font-size:13px}
+.imgs{display:flex;flex-wrap:wrap;gap:16px}
+figure{margin:0;flex:1 1 360px;max-width:560px} figure img{width:100%;border:1px solid #ddd;
+border-radius:4px;background:#fff} figcaption{font-size:13px;color:#555;margin-top:4px}
+table{border-collapse:collapse;margin:12px 0} td{padding:3px 14px 3px 0;font-size:14px}
+td.v{font-weight:600;font-variant-numeric:tabular-nums}
+.files{font-size:13px;columns:3} .files a{color:#1f4fd6}
+.err{color:#b00020;font-weight:600}
+"""
+
+
+def write_report(
+    path: str | os.PathLike[str],
+    steps: Sequence[StepReport],
+    *,
+    title: str = "origami_cad: the paper, end to end",
+    subtitle: str = "",
+) -> Path:
+    """Write the report page (atomic). Images and files are linked relatively."""
+    e = html.escape
+    parts = [
+        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+        f"<title>{e(title)}</title><style>{_CSS}</style></head><body>",
+        f"<header><h1>{e(title)}</h1><p>{e(subtitle)}</p></header><nav>",
+    ]
+    parts += [f"<a href='#{e(s.key)}'>{e(s.title)}</a>" for s in steps]
+    parts.append("</nav>")
+    for s in steps:
+        parts.append(f"<section id='{e(s.key)}'><h2>{e(s.title)}</h2>")
+        parts.append(f"<p class='meta'>{s.seconds:.1f} s</p>")
+        if s.error:
+            parts.append(f"<p class='err'>This step failed: {e(s.error)}</p>")
+        if s.summary:
+            parts.append(f"<p>{e(s.summary)}</p>")
+        if s.numbers:
+            parts.append("<table>")
+            parts += [f"<tr><td>{e(k)}</td><td class='v'>{e(v)}</td></tr>" for k, v in s.numbers]
+            parts.append("</table>")
+        if s.images:
+            parts.append("<div class='imgs'>")
+            for src, cap in s.images:
+                parts.append(
+                    f"<figure><a href='{e(src)}'><img src='{e(src)}' alt='{e(cap)}'></a>"
+                    f"<figcaption>{e(cap)}</figcaption></figure>"
+                )
+            parts.append("</div>")
+        if s.files:
+            parts.append("<p><b>Files</b></p><div class='files'>")
+            parts += [f"<div><a href='{e(f)}'>{e(f)}</a></div>" for f in s.files]
+            parts.append("</div>")
+        parts.append("</section>")
+    parts.append("</body></html>\n")
+    with atomic_write(path, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(parts))
+    return Path(path)
