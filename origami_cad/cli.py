@@ -117,6 +117,58 @@ def _cmd_tg(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_design_arm(args: argparse.Namespace) -> int:
+    import dataclasses
+    import time
+
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn
+
+    from origami_cad.design import design_arm, load_task, write_design_outputs
+
+    task, settings = load_task(args.task)
+    changes = {
+        k: v
+        for k, v in (
+            ("runs", args.runs),
+            ("seed", args.seed),
+            ("max_generations", args.max_generations),
+        )
+        if v is not None
+    }
+    settings = dataclasses.replace(settings, **changes)
+    t0 = time.perf_counter()
+    with Progress(
+        TextColumn("run {task.fields[run]:>2}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("best f = {task.fields[best]}"),
+        transient=False,
+    ) as bar:
+        ids = [
+            bar.add_task("", total=settings.max_generations, run=r, best="-")
+            for r in range(settings.runs)
+        ]
+
+        def progress(run: int, generation: int, best: float) -> None:
+            bar.update(ids[run], completed=generation, best=f"{best:.3f}")
+
+        results = design_arm(task, settings, progress=progress)
+        for i in ids:
+            bar.update(i, total=bar.tasks[i].completed or 1)
+    seconds = time.perf_counter() - t0
+    paths = write_design_outputs(results, task, settings, args.output, seconds=seconds)
+    best = results[0]
+    print(
+        f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
+        f"|T_e(0) - P_start| = {best.terms['d_start_mm']:.3g} mm, "
+        f"|T_e(pi) - P_end| = {best.terms['d_end_mm']:.3g} mm, N = "
+        f"{best.terms['improper_states']} ({seconds:.1f} s)"
+    )
+    for path in paths.values():
+        print(f"wrote {path}")
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from origami_cad.demo import run_demo
 
@@ -205,6 +257,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("design", help="design file (.toml) of kind transition-graph or miura")
     p.add_argument("-o", "--output", required=True, help="output .png")
     p.set_defaults(func=_cmd_tg)
+
+    p = sub.add_parser(
+        "design-arm",
+        help="search origami robotic arms with CMA-ES (eq. 5), ten independent runs",
+        description="Design an origami robotic arm whose tip passes the task's points in "
+        "order while it folds from p = 0 to 1, avoiding obstacles. Writes results.json, "
+        "best.toml (a design file), trajectories.png and convergence.png.",
+    )
+    p.add_argument("task", help="arm task file (.toml, see examples/arm_task.toml)")
+    p.add_argument("-o", "--output", required=True, help="output folder")
+    p.add_argument("--runs", type=int, help="override [search] runs")
+    p.add_argument("--seed", type=int, help="override [search] seed")
+    p.add_argument("--max-generations", type=int, help="override [search] max_generations")
+    p.set_defaults(func=_cmd_design_arm)
 
     p = sub.add_parser(
         "demo",

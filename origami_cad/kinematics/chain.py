@@ -21,6 +21,7 @@ import numpy as np
 
 __all__ = [
     "chain_angles",
+    "chain_joints",
     "chain_points",
     "hypar_alpha0",
     "tip_positions",
@@ -91,6 +92,30 @@ def chain_angles(
     return out
 
 
+def chain_joints(
+    theta: np.ndarray,
+    lengths: np.ndarray,
+    shape_angles: np.ndarray,
+    entry_flag: np.ndarray,
+    hypar_base: bool | np.ndarray = False,
+    start: np.ndarray | tuple[float, float] = (0.0, 0.0),
+) -> np.ndarray:
+    """Joints of the TG chain as complex numbers ``x + iy``, ``T_s`` first, ``T_e`` last.
+
+    Eq. 4, ``T_e = T_s + sum v_i``, with every partial sum: shape ``(D, S, n + 2)``,
+    mm. Arguments as :func:`chain_points`.
+    """
+    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
+    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
+    d, s = alpha.shape[:2]
+    out = np.empty((d, s, lengths.shape[1] + 1), dtype=complex)
+    st = np.asarray(start, dtype=float).reshape(-1, 2)
+    out[:, :, 0] = (st[:, 0] + 1j * st[:, 1])[:, None]
+    np.cumsum(lengths[:, None, :] * np.exp(1j * alpha), axis=2, out=out[:, :, 1:])
+    out[:, :, 1:] += out[:, :, :1]
+    return out
+
+
 def chain_points(
     theta: np.ndarray,
     lengths: np.ndarray,
@@ -120,16 +145,8 @@ def chain_points(
     -------
     ndarray, shape (D, S, n + 2, 2)
     """
-    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
-    steps = lengths[:, None, :, None] * np.stack([np.cos(alpha), np.sin(alpha)], axis=-1)
-    d, s = alpha.shape[:2]
-    out = np.empty((d, s, lengths.shape[1] + 1, 2))
-    start = np.asarray(start, dtype=float).reshape(-1, 2)
-    out[:, :, 0, :] = start[:, None, :]
-    np.cumsum(steps, axis=2, out=out[:, :, 1:, :])
-    out[:, :, 1:, :] += start[:, None, None, :]
-    return out
+    z = chain_joints(theta, lengths, shape_angles, entry_flag, hypar_base, start)
+    return np.stack([z.real, z.imag], axis=-1)
 
 
 def tip_positions(
@@ -141,13 +158,5 @@ def tip_positions(
     start: np.ndarray | tuple[float, float] = (0.0, 0.0),
 ) -> np.ndarray:
     """``T_e = T_s + sum v_i`` (eq. 4) for every design and sample, shape (D, S, 2), mm."""
-    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
-    tip = np.stack(
-        [
-            np.einsum("dsn,dn->ds", np.cos(alpha), lengths),
-            np.einsum("dsn,dn->ds", np.sin(alpha), lengths),
-        ],
-        axis=-1,
-    )
-    return tip + np.asarray(start, dtype=float).reshape(-1, 1, 2)
+    z = chain_joints(theta, lengths, shape_angles, entry_flag, hypar_base, start)[:, :, -1]
+    return np.stack([z.real, z.imag], axis=-1)

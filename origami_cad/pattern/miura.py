@@ -32,7 +32,7 @@ import numpy as np
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["miura_pattern", "miura_tessellation", "tessellation_leg_offsets"]
+__all__ = ["leg_gaps", "miura_pattern", "miura_tessellation", "tessellation_leg_offsets"]
 
 
 def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.ndarray:
@@ -46,6 +46,23 @@ def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.
         ``h``, half the unit width, mm.
     """
     return row_height / np.tan(shape_angles)
+
+
+def leg_gaps(lengths: np.ndarray, shape_angles: np.ndarray, row_height: float) -> np.ndarray:
+    """Distance between neighbouring legs along the long edges, per segment, mm.
+
+    Segment ``k`` spans ``l_k + h cot(beta_{k+1}) - h cot(beta_k)`` on the long
+    edges (the short ends follow their nearest legs). A gap <= 0 means two legs
+    cross and the crease pattern does not exist. Vectorised: ``lengths`` (D, n+1)
+    in mm, ``shape_angles`` (D, n) in radians; returns (D, n + 1).
+    """
+    l = np.atleast_2d(np.asarray(lengths, dtype=float))
+    b = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    if b.shape[1] == 0:
+        return l.copy()
+    off = tessellation_leg_offsets(b, row_height)
+    off = np.concatenate([off[:, :1], off, off[:, -1:]], axis=1)
+    return l + off[:, 1:] - off[:, :-1]
 
 
 def miura_tessellation(
@@ -109,8 +126,8 @@ def miura_tessellation(
     if n:
         offsets[1:-1] = tessellation_leg_offsets(np.radians(beta_deg), h)
         offsets[0], offsets[-1] = offsets[1], offsets[-2]  # ends follow the nearest legs
-    x_long = x_joint + offsets
-    bad = np.flatnonzero(np.diff(x_long) <= 1e-9 * max(1.0, float(l.sum())))
+    gaps = leg_gaps(l, np.radians(beta_deg), h)[0]
+    bad = np.flatnonzero(gaps <= 1e-9 * max(1.0, float(l.sum())))
     if bad.size:
         k = int(bad[0])
         raise PatternError(
@@ -122,7 +139,7 @@ def miura_tessellation(
     ys = y0 + h * np.arange(nl)
     is_main = (np.arange(nl) % 2) == 1
     nj = n + 2
-    xs = np.where(is_main[:, None], x_joint[None, :], x_long[None, :])
+    xs = np.where(is_main[:, None], x_joint[None, :], (x_joint + offsets)[None, :])
     verts = np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
 
     def vid(r: np.ndarray | int, k: np.ndarray | int) -> np.ndarray:

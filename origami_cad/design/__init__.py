@@ -1,0 +1,28 @@
+"""Computational design of origami robotic arms (the paper's section III-B).
+
+>>> from origami_cad.design import ArmTask, SearchSettings
+>>> task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=6)
+>>> task.dimension
+11
+"""
+
+from origami_cad.design.fitness import INFEASIBLE_COST, FitnessResult, arm_fitness, sample_angles
+from origami_cad.design.outputs import write_design_outputs
+from origami_cad.design.search import ArmDesign, decode, design_arm, run_one
+from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
+
+__all__ = [
+    "INFEASIBLE_COST",
+    "ArmDesign",
+    "ArmTask",
+    "FitnessResult",
+    "SearchSettings",
+    "arm_fitness",
+    "decode",
+    "design_arm",
+    "load_task",
+    "run_one",
+    "sample_angles",
+    "task_to_dict",
+    "write_design_outputs",
+]

@@ -1,0 +1,237 @@
+"""CMA-ES search for origami robotic arms: ten independent runs, top designs first.
+
+Genome
+------
+Every variable is normalised to [0, 1] and bounded with ``cma``'s ``bounds``:
+``n + 1`` lengths (linear in ``length_range``) and ``n`` shape angles. A shape
+angle may lean either way: ``u < 0.5`` decodes to ``[180 - hi, 180 - lo]``
+degrees (backward-leaning legs, turning one way) and ``u >= 0.5`` to
+``[lo, hi]`` (forward-leaning, turning the other way), ordered so that the
+turn angle of eq. 2 grows monotonically with ``u``: the only jump is across the
+forbidden band of small turns (``|beta|`` below ``lo``), where both sides give
+small turns, so there is no discontinuity trap.
+
+Entry flag
+----------
+``EF_0`` enters eq. 2 only through ``(-1)^EF``; flipping it while replacing
+every ``beta_i`` by ``180 - beta_i`` gives exactly the same chain. Both values
+are searched as two sub-searches: with ``entry_flag = "both"`` the runs
+alternate ``EF_0 = 1, 0, 1, ...``, so the ranking compares the two crease
+pattern families (their panels differ, their kinematics can match).
+
+Runs are independent and reproducible bit for bit: run ``k`` seeds both its
+start point and CMA-ES with ``seed + k``; no ``outcmaes/`` files are written.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+import multiprocessing
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import cma
+import numpy as np
+
+from origami_cad.design.fitness import FitnessResult, arm_fitness
+from origami_cad.design.task import ArmTask, SearchSettings
+from origami_cad.pattern.tg import TGDesign
+
+__all__ = ["ArmDesign", "RunResult", "decode", "design_arm", "run_one"]
+
+
+def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Decode normalised genomes ``x (D, 2n + 1)`` to lengths (mm) and shape angles (radians)."""
+    x = np.clip(np.atleast_2d(np.asarray(x, dtype=float)), 0.0, 1.0)
+    n1 = task.vectors
+    lo, hi = task.length_range
+    lengths = lo + x[:, :n1] * (hi - lo)
+    blo, bhi = task.shape_angle_range
+    u = x[:, n1:]
+    back = (180.0 - bhi) + (u / 0.5) * (bhi - blo)
+    front = blo + ((u - 0.5) / 0.5) * (bhi - blo)
+    beta = np.where(u < 0.5, back, front)
+    return lengths, np.radians(beta)
+
+
+@dataclass(frozen=True)
+class ArmDesign:
+    """One designed arm: the TG design variables, its fitness terms and trajectory."""
+
+    lengths: tuple[float, ...]
+    shape_angles: tuple[float, ...]
+    entry_flag: int
+    fitness: float
+    terms: dict[str, Any]
+    tips: np.ndarray
+    run: int
+    generations: int
+    history: tuple[float, ...]
+
+    def tg(self, task: ArmTask, unit_width: float = 36.0, copies: int = 3) -> TGDesign:
+        """The design as a :class:`TGDesign` (mm, degrees), ready to fabricate."""
+        return TGDesign(
+            self.lengths,
+            self.shape_angles,
+            self.entry_flag,
+            unit_width,
+            copies,
+            start=task.start,
+            hypar_base=task.hypar_base,
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "run": self.run,
+            "fitness": self.fitness,
+            "lengths_mm": list(self.lengths),
+            "shape_angles_deg": list(self.shape_angles),
+            "entry_flag": self.entry_flag,
+            "terms": self.terms,
+            "generations": self.generations,
+            "tip_mm": self.tips.tolist(),
+            "best_fitness_per_generation": list(self.history),
+        }
+
+
+RunResult = ArmDesign
+
+
+def run_one(
+    task: ArmTask,
+    settings: SearchSettings,
+    run: int,
+    progress: Any = None,
+) -> ArmDesign:
+    """One CMA-ES run (index ``run``), seeded ``settings.seed + run``.
+
+    ``progress``, if given, is a queue-like object receiving
+    ``(run, generation, best_fitness)`` after every generation.
+    """
+    seed = settings.seed + run
+    flag = task.entry_flag if task.entry_flag is not None else (1 if run % 2 == 0 else 0)
+    rng = np.random.default_rng(seed)
+    x0 = rng.uniform(0.15, 0.85, task.dimension)
+    opts = {
+        "bounds": [0.0, 1.0],
+        "seed": seed,
+        "verbose": -9,
+        "verb_log": 0,
+        "verb_disp": 0,
+        "maxiter": settings.max_generations,
+        "tolfun": 1e-9,
+        "tolflatfitness": 50,
+    }
+    if settings.popsize:
+        opts["popsize"] = settings.popsize
+    es = cma.CMAEvolutionStrategy(x0, settings.sigma0, opts)
+    history: list[float] = []
+    best_x, best_cost = x0, math.inf
+    flags = None
+    while not es.stop():
+        pop = np.asarray(es.ask())
+        if flags is None or len(flags) != len(pop):
+            flags = np.full(len(pop), flag)
+        lengths, beta = decode(task, pop)
+        cost = arm_fitness(task, lengths, beta, flags).cost()
+        es.tell(list(pop), cost.tolist())
+        k = int(np.argmin(cost))
+        if cost[k] < best_cost:
+            best_cost, best_x = float(cost[k]), pop[k].copy()
+        history.append(-best_cost if best_cost < 1e3 else -math.inf)
+        if progress is not None:
+            progress.put((run, len(history), history[-1]))
+    lengths, beta = decode(task, best_x)
+    res: FitnessResult = arm_fitness(task, lengths, beta, [flag])
+    return ArmDesign(
+        lengths=tuple(float(v) for v in lengths[0]),
+        shape_angles=tuple(float(v) for v in np.degrees(beta[0])),
+        entry_flag=flag,
+        fitness=float(res.fitness[0]),
+        terms=res.terms(0),
+        tips=res.tips[0],
+        run=run,
+        generations=len(history),
+        history=tuple(history),
+    )
+
+
+def design_arm(
+    task: ArmTask,
+    settings: SearchSettings,
+    executor: cf.Executor | None = None,
+    progress: Callable[[int, int, float], None] | None = None,
+) -> list[ArmDesign]:
+    """Run ``settings.runs`` independent CMA-ES searches; best design of each, ranked.
+
+    Parameters
+    ----------
+    task : ArmTask
+        The design task.
+    settings : SearchSettings
+        Runs, seed, population size, generations.
+    executor : concurrent.futures.Executor, optional
+        Where the runs go (a Dask or Ray executor spreads them over a cluster).
+        Default: a process pool with one worker per core.
+    progress : callable, optional
+        ``progress(run, generation, best_fitness)``, called in this process as
+        runs advance (only with the default executor or a thread/in-process one
+        sharing this process's memory; silent otherwise).
+
+    Returns
+    -------
+    list of ArmDesign
+        One per run, feasible designs first, by decreasing fitness. Infeasible
+        runs (the chain always hit a prohibited area) are left out.
+    """
+    own = executor is None
+    queue = None
+    manager = None
+    if own:
+        # fork (where available) lets user scripts without a __main__ guard run searches
+        methods = multiprocessing.get_all_start_methods()
+        ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+        executor = cf.ProcessPoolExecutor(
+            max_workers=min(settings.runs, multiprocessing.cpu_count()), mp_context=ctx
+        )
+        if progress is not None:
+            manager = ctx.Manager()
+            queue = manager.Queue()
+    elif progress is not None and isinstance(executor, cf.ThreadPoolExecutor):
+        queue = _CallbackQueue(progress)
+    try:
+        futures = [executor.submit(run_one, task, settings, r, queue) for r in range(settings.runs)]
+        if manager is not None and queue is not None:
+            pending = set(futures)
+            while pending:
+                _, pending = cf.wait(pending, timeout=0.1)
+                _drain(queue, progress)
+            _drain(queue, progress)
+        results = [f.result() for f in futures]
+    finally:
+        if own:
+            executor.shutdown(wait=True, cancel_futures=True)
+        if manager is not None:
+            manager.shutdown()
+    feasible = [r for r in results if math.isfinite(r.fitness)]
+    return sorted(feasible, key=lambda r: (-r.fitness, r.run))
+
+
+class _CallbackQueue:
+    def __init__(self, callback: Callable[[int, int, float], None]) -> None:
+        self.callback = callback
+
+    def put(self, item: tuple[int, int, float]) -> None:
+        self.callback(*item)
+
+
+def _drain(queue: Any, progress: Callable[[int, int, float], None] | None) -> None:
+    while True:
+        try:
+            item = queue.get_nowait()
+        except Exception:  # queue.Empty from a manager proxy
+            return
+        if progress is not None:
+            progress(*item)

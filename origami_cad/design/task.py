@@ -1,0 +1,272 @@
+"""Arm design tasks (the paper's Fig. 3a) and search settings, read from TOML.
+
+.. code-block:: toml
+
+    [arm]
+    start = [0.0, 0.0]                      # T_s, mm
+    points = [[250.0, 0.0], [50.0, 133.3]]  # P_start, (intermediate ...), P_end, mm
+    weights = []                            # one per intermediate point (default 0)
+    alpha = 120.0                           # eq. 5 weight, 0 <= alpha <= 600
+    vectors = 6                             # n + 1 transition vectors
+    length_range = [10.0, 120.0]            # mm, bounds of each l_i
+    shape_angle_range = [10.0, 80.0]        # deg, bounds of |beta_i| (both leanings)
+    entry_flag = "both"                     # or 0 / 1
+    hypar_base = true                       # alpha_0 from eq. 3
+    samples = 46                            # theta = 0 .. 180 deg
+    unit_width = 36.0                       # mm; designs must be buildable at this width
+    min_leg_gap = 2.0                       # mm between neighbouring legs (0 width: no check)
+    [[arm.warning]]                         # T_e inside counts as improper
+    polygon = [[140, 30], [2000, 30], [2000, 2000], [140, 2000]]
+    [[arm.prohibited]]                      # the chain may never touch these
+    polygon = [[150, 40], [2000, 40], [2000, 2000], [150, 2000]]
+    # an obstacle may also be a circle = [x, y, r], and a polygon may have holes = [[...]]
+    [search]
+    runs = 10
+    seed = 1
+    popsize = 0           # 0: the CMA-ES default, 4 + 3 ln(dimension)
+    max_generations = 400
+    sigma0 = 0.25         # initial step, in units of each variable's range
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+
+from origami_cad._toml import Table, load_toml
+from origami_cad.errors import DesignError
+
+__all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
+
+#: Vertices of the polygon that stands for a circular obstacle.
+CIRCLE_SEGMENTS = 128
+
+
+@dataclass(frozen=True)
+class ArmTask:
+    """A computational design task for an origami robotic arm (all lengths mm).
+
+    Attributes
+    ----------
+    start : (float, float)
+        ``T_s``, the fixed base.
+    points : ndarray, shape (n_p, 2)
+        ``P_start``, intermediate points, ``P_end``: ``T_e`` must pass them in order.
+    weights : ndarray, shape (n_p - 2,)
+        Reward weight of each intermediate point.
+    alpha : float
+        Eq. 5 weight of ``P_start`` (``600 - alpha`` goes to ``P_end``).
+    vectors : int
+        Number of transition vectors ``n + 1``.
+    length_range : (float, float)
+        Bounds of every ``l_i``.
+    shape_angle_range : (float, float)
+        Bounds of ``|beta_i|`` in degrees; ``beta`` may lean either way, so the
+        allowed shape angles are ``[lo, hi]`` and ``[180 - hi, 180 - lo]``.
+    entry_flag : int or None
+        ``EF_0`` fixed to 0 or 1, or ``None`` to search both.
+    hypar_base : bool
+        ``alpha_0`` follows eq. 3.
+    samples : int
+        Number of sampled fold angles from 0 to pi (46: every 4 degrees).
+    unit_width : float
+        Unit width of the crease pattern the design must have (mm); a design
+        whose neighbouring legs come closer than ``min_leg_gap`` mm along the
+        long edges (or cross) cannot be built and is infeasible. 0: no check.
+    min_leg_gap : float
+        Smallest distance between neighbouring legs along the long edges, mm.
+    warning, prohibited : tuple of shapely Polygon
+        Warning areas (``T_e`` inside is an improper state) and prohibited
+        areas (the chain touching one makes the design infeasible).
+    """
+
+    start: tuple[float, float] = (0.0, 0.0)
+    points: np.ndarray = field(default_factory=lambda: np.array([[250.0, 0.0], [50.0, 133.3]]))
+    weights: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    alpha: float = 120.0
+    vectors: int = 6
+    length_range: tuple[float, float] = (10.0, 120.0)
+    shape_angle_range: tuple[float, float] = (10.0, 80.0)
+    entry_flag: int | None = None
+    hypar_base: bool = True
+    samples: int = 46
+    unit_width: float = 36.0
+    min_leg_gap: float = 2.0
+    warning: tuple[Any, ...] = ()
+    prohibited: tuple[Any, ...] = ()
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
+        object.__setattr__(self, "points", pts)
+        w = np.asarray(self.weights, dtype=float).reshape(-1)
+        if w.size == 0:
+            w = np.zeros(max(len(pts) - 2, 0))
+        object.__setattr__(self, "weights", w)
+        if len(pts) < 2:
+            raise DesignError("an arm task needs at least two points (P_start and P_end)")
+        if len(w) != len(pts) - 2:
+            raise DesignError(f"{len(pts) - 2} intermediate points need as many weights")
+        if not 0 <= self.alpha <= 600:
+            raise DesignError(f"alpha must lie in [0, 600], got {self.alpha}")
+        if self.vectors < 2:
+            raise DesignError(f"vectors must be >= 2, got {self.vectors}")
+        lo, hi = self.length_range
+        if not 0 < lo <= hi:
+            raise DesignError(f"length_range must satisfy 0 < min <= max, got {self.length_range}")
+        blo, bhi = self.shape_angle_range
+        if not 0 < blo <= bhi < 90:
+            raise DesignError(
+                f"shape_angle_range must satisfy 0 < min <= max < 90 deg, got "
+                f"{self.shape_angle_range}"
+            )
+        if self.entry_flag not in (None, 0, 1):
+            raise DesignError(f"entry_flag must be 0, 1 or 'both', got {self.entry_flag}")
+        if self.samples < 2:
+            raise DesignError(f"samples must be >= 2, got {self.samples}")
+        if self.unit_width < 0 or self.min_leg_gap < 0:
+            raise DesignError("unit_width and min_leg_gap must be >= 0 mm")
+
+    @property
+    def dimension(self) -> int:
+        """Number of continuous search variables: n + 1 lengths and n shape angles."""
+        return 2 * self.vectors - 1
+
+
+@dataclass(frozen=True)
+class SearchSettings:
+    """CMA-ES settings: ``runs`` independent runs seeded ``seed + run``."""
+
+    runs: int = 10
+    seed: int = 1
+    popsize: int = 0
+    max_generations: int = 400
+    sigma0: float = 0.25
+
+    def __post_init__(self) -> None:
+        if self.runs < 1:
+            raise DesignError(f"runs must be >= 1, got {self.runs}")
+        if self.popsize < 0 or self.popsize == 1:
+            raise DesignError(f"popsize must be 0 (default) or >= 2, got {self.popsize}")
+        if self.max_generations < 1:
+            raise DesignError(f"max_generations must be >= 1, got {self.max_generations}")
+        if not 0 < self.sigma0 <= 1:
+            raise DesignError(f"sigma0 must lie in (0, 1], got {self.sigma0}")
+
+
+def _area(item: Table, kind: str) -> Any:
+    if item.has("circle"):
+        x, y, r = item.numbers("circle", length=3)
+        if not r > 0:
+            raise item.error("circle", f"radius must be > 0 mm, got {r:g}")
+        item.finish()
+        return shapely.Point(x, y).buffer(r, quad_segs=CIRCLE_SEGMENTS // 4)
+    shell = item.pairs("polygon", min_length=3)
+    holes = []
+    if item.has("holes"):
+        raw = item.data["holes"]
+        item.used.add("holes")
+        if not isinstance(raw, list):
+            raise item.error("holes", "expected a list of polygons")
+        for i, h in enumerate(raw):
+            sub = Table({"polygon": h}, f"{item.where} holes[{i}]")
+            holes.append(sub.pairs("polygon", min_length=3))
+    item.finish()
+    poly = shapely.Polygon(shell, holes)
+    if not poly.is_valid:
+        raise DesignError(
+            f"{item.where}: the {kind} polygon is not valid ({shapely.is_valid_reason(poly)})"
+        )
+    return poly
+
+
+def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
+    """Read an arm task file (TOML); errors name the file, table and key."""
+    p = Path(path)
+    top = Table(load_toml(p), str(p))
+    arm = top.table("arm")
+    search = top.table("search", {})
+    top.finish()
+    points = arm.pairs("points", min_length=2)
+    n_mid = len(points) - 2
+    weights = arm.numbers(
+        "weights", [0.0] * n_mid, length=n_mid, check=lambda v: v >= 0, what="a weight must be >= 0"
+    )
+    ef = arm.data.get("entry_flag", "both")
+    arm.used.add("entry_flag")
+    if ef not in ("both", 0, 1) or isinstance(ef, bool):
+        raise arm.error("entry_flag", f'expected 0, 1 or "both", got {ef!r}')
+    areas = {}
+    for kind in ("warning", "prohibited"):
+        raw = arm.data.get(kind, [])
+        arm.used.add(kind)
+        if not isinstance(raw, list):
+            raise arm.error(kind, "expected an array of tables [[arm." + kind + "]]")
+        areas[kind] = tuple(
+            _area(Table(item, f"{p} [[arm.{kind}]] #{i + 1}"), kind) for i, item in enumerate(raw)
+        )
+    lr = arm.numbers("length_range", [10.0, 120.0], length=2)
+    sr = arm.numbers("shape_angle_range", [10.0, 80.0], length=2)
+    try:
+        task = ArmTask(
+            start=tuple(arm.point("start", [0.0, 0.0])),
+            points=np.array(points),
+            weights=np.array(weights),
+            alpha=arm.number("alpha", 120.0, low=0, high=600),
+            vectors=arm.integer("vectors", 6, low=2, high=64),
+            length_range=(lr[0], lr[1]),
+            shape_angle_range=(sr[0], sr[1]),
+            entry_flag=None if ef == "both" else int(ef),
+            hypar_base=arm.boolean("hypar_base", True),
+            samples=arm.integer("samples", 46, low=2),
+            unit_width=arm.number("unit_width", 36.0, low=0),
+            min_leg_gap=arm.number("min_leg_gap", 2.0, low=0),
+            warning=areas["warning"],
+            prohibited=areas["prohibited"],
+        )
+        arm.finish()
+        settings = SearchSettings(
+            runs=search.integer("runs", 10, low=1),
+            seed=search.integer("seed", 1),
+            popsize=search.integer("popsize", 0, low=0),
+            max_generations=search.integer("max_generations", 400, low=1),
+            sigma0=search.number("sigma0", 0.25, low=0, high=1, low_open=True),
+        )
+        search.finish()
+    except DesignError as exc:
+        msg = str(exc)
+        raise DesignError(msg if msg.startswith(str(p)) else f"{p}: {msg}") from None
+    return task, settings
+
+
+def task_to_dict(task: ArmTask, settings: SearchSettings | None = None) -> dict[str, Any]:
+    """A JSON-ready description of the task (and settings), as written to results.json."""
+    out: dict[str, Any] = {
+        "start": list(task.start),
+        "points": task.points.tolist(),
+        "weights": task.weights.tolist(),
+        "alpha": task.alpha,
+        "vectors": task.vectors,
+        "length_range": list(task.length_range),
+        "shape_angle_range": list(task.shape_angle_range),
+        "entry_flag": "both" if task.entry_flag is None else task.entry_flag,
+        "hypar_base": task.hypar_base,
+        "samples": task.samples,
+        "unit_width": task.unit_width,
+        "min_leg_gap": task.min_leg_gap,
+        "warning": [shapely.get_coordinates(a.exterior).tolist() for a in task.warning],
+        "prohibited": [shapely.get_coordinates(a.exterior).tolist() for a in task.prohibited],
+    }
+    if settings is not None:
+        out["search"] = {
+            "runs": settings.runs,
+            "seed": settings.seed,
+            "popsize": settings.popsize,
+            "max_generations": settings.max_generations,
+            "sigma0": settings.sigma0,
+        }
+    return out
