@@ -1,0 +1,260 @@
+"""Computational design of origami arms: eq. 5, constraints, CMA-ES runs, outputs."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from origami_cad.cli import main
+from origami_cad.design import (
+    ArmTask,
+    SearchSettings,
+    arm_fitness,
+    decode,
+    design_arm,
+    load_task,
+    run_one,
+)
+from origami_cad.errors import DesignError
+from origami_cad.kinematics import chain_points
+from origami_cad.pattern.design import load_design
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+PAPER_TASK = EXAMPLES / "arm_task.toml"
+
+
+class InlineExecutor(cf.Executor):
+    """A real Executor that runs each call in this process when submitted."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        future = cf.Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:
+            future.set_exception(exc)
+        return future
+
+
+def test_eq5_by_hand_for_a_straight_and_a_folding_arm():
+    task = ArmTask(
+        points=[[250.0, 0.0], [0.0, 100.0]], alpha=120.0, vectors=3, hypar_base=True, unit_width=0
+    )
+    lengths = np.array([[100.0, 80.0, 70.0]])
+    beta = np.radians([[40.0, 140.0]])
+    res = arm_fitness(task, lengths, beta, [1])
+    # flat: the chain lies along +x (alpha_0 = 0 from eq. 3), 250 mm long
+    assert res.d_start[0] == pytest.approx(0.0, abs=1e-9)
+    # folded: compare with the chain computed independently
+    tip = chain_points(np.array([math.pi]), lengths, beta, 1, True)[0, 0, -1]
+    d_end = float(np.linalg.norm(tip - [0.0, 100.0]))
+    assert res.d_end[0] == pytest.approx(d_end)
+    n = int(res.improper[0])
+    expected = 120 / 10 + 480 / (10 + d_end) - 4 * n
+    assert res.fitness[0] == pytest.approx(expected)
+
+
+def _random_designs(task, count, seed):
+    x = np.random.default_rng(seed).uniform(size=(count, task.dimension))
+    return decode(task, x)
+
+
+def test_self_intersections_agree_with_shapely_on_random_designs():
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=6, samples=12, unit_width=0)
+    lengths, beta = _random_designs(task, 150, seed=3)
+    flags = np.arange(150) % 2
+    res = arm_fitness(task, lengths, beta, flags)
+    pts = chain_points(np.linspace(0, math.pi, 12), lengths, beta, flags, True)
+    expected = []
+    for design in pts:
+        count = 0
+        for p in design:
+            segs = [shapely.LineString(p[k : k + 2]) for k in range(len(p) - 1)]
+            count += any(
+                segs[a].intersects(segs[b])
+                for a in range(len(segs))
+                for b in range(a + 2, len(segs))
+            )
+        expected.append(count)
+    assert res.improper.tolist() == expected
+    assert 0 < sum(e > 0 for e in expected) < 150  # both kinds of design were tested
+
+
+def test_warning_area_counts_states_with_the_tip_inside():
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3, samples=19, unit_width=0)
+    lengths, beta = np.array([[100.0, 80.0, 70.0]]), np.radians([[40.0, 140.0]])
+    tips = arm_fitness(task, lengths, beta, [1]).tips[0]
+    area = shapely.box(tips[:, 0].min() - 1, tips[:, 1].min() - 1, 1e4, 1e4)  # every tip
+    half = shapely.box(-1e4, -1e4, 1e4, float(np.median(tips[:, 1])))
+    base = arm_fitness(task, lengths, beta, [1]).improper[0]
+    warned = ArmTask(points=task.points, vectors=3, samples=19, unit_width=0, warning=(area,))
+    assert arm_fitness(warned, lengths, beta, [1]).improper[0] == 19
+    inside = int(shapely.contains_xy(half, tips[:, 0], tips[:, 1]).sum())
+    part = ArmTask(points=task.points, vectors=3, samples=19, unit_width=0, warning=(half,))
+    assert arm_fitness(part, lengths, beta, [1]).improper[0] >= max(inside, base)
+
+
+def test_prohibited_area_agrees_with_shapely_and_is_worse_than_any_feasible():
+    box = shapely.Polygon(
+        [(150, 40), (400, 40), (400, 400), (150, 400)], [[(200, 100), (300, 100), (300, 200)]]
+    )
+    task = ArmTask(
+        points=[[250.0, 0.0], [50.0, 133.3]], vectors=5, samples=10, unit_width=0, prohibited=(box,)
+    )
+    lengths, beta = _random_designs(task, 120, seed=5)
+    res = arm_fitness(task, lengths, beta, np.ones(120, int))
+    pts = chain_points(np.linspace(0, math.pi, 10), lengths, beta, 1, True)
+    touches = [sum(shapely.LineString(p).intersects(box) for p in d) for d in pts]
+    assert res.prohibited_hits.tolist() == touches
+    assert 0 < sum(t > 0 for t in touches) < 120
+    bad = np.array(touches) > 0
+    assert np.all(res.fitness[bad] == -math.inf) and np.all(np.isfinite(res.fitness[~bad]))
+    cost = res.cost()
+    assert cost[bad].min() > cost[~bad].max()
+
+
+def test_intermediate_points_are_matched_in_order():
+    task = ArmTask(
+        points=[[250.0, 0.0], [150.0, -60.0], [60.0, 120.0], [50.0, 133.3]],
+        weights=[100.0, 50.0],
+        vectors=3,
+        unit_width=0,
+    )
+    lengths = np.array([[100.0, 80.0, 70.0]])
+    beta = np.radians([[40.0, 140.0]])
+    res = arm_fitness(task, lengths, beta, [1])
+    tips = res.tips[0]
+    k1, k2 = res.mid_index[0]
+    assert k1 <= k2
+    assert res.d_mid[0, 0] == pytest.approx(np.linalg.norm(tips - [150, -60], axis=1).min())
+    assert res.d_mid[0, 1] == pytest.approx(np.linalg.norm(tips[k1:] - [60, 120], axis=1).min())
+    base = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3, unit_width=0)
+    plain = arm_fitness(base, lengths, beta, [1]).fitness[0]
+    bonus = 100 / (10 + res.d_mid[0, 0]) + 50 / (10 + res.d_mid[0, 1])
+    assert res.fitness[0] == pytest.approx(plain + bonus)
+
+
+def test_unbuildable_crease_pattern_is_infeasible():
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3, unit_width=36.0)
+    # 10 mm segment between legs leaning 57 mm apart: the legs would cross
+    res = arm_fitness(task, np.array([[100.0, 10.0, 100.0]]), np.radians([[17.0, 163.0]]), [1])
+    assert res.leg_violations[0] > 0 and not res.feasible[0]
+
+
+def test_genome_decoding_covers_both_leanings_and_is_bounded():
+    task = ArmTask(vectors=4, length_range=(10.0, 120.0), shape_angle_range=(10.0, 80.0))
+    u = np.linspace(0, 1, 101)
+    x = np.zeros((101, task.dimension))
+    x[:, 4] = u
+    lengths, beta = decode(task, x)
+    deg = np.degrees(beta[:, 0])
+    assert lengths.min() >= 10.0 and lengths.max() <= 120.0
+    assert deg[0] == pytest.approx(100.0) and deg[-1] == pytest.approx(80.0)
+    assert np.all((deg >= 10 - 1e-9) & (deg <= 80 + 1e-9) | (deg >= 100 - 1e-9) & (deg <= 170))
+    # the turn of eq. 2 (EF before = 1) grows monotonically with u
+    turn = -np.tan(beta[:, 0])
+    assert np.all(np.diff(turn) >= -1e-12) or np.all(np.diff(turn) <= 1e-12)
+
+
+def test_runs_are_reproducible_and_executor_is_pluggable():
+    task, _ = load_task(PAPER_TASK)
+    settings = SearchSettings(runs=2, seed=7, max_generations=25)
+    a = run_one(task, settings, 1)
+    b = run_one(task, settings, 1)
+    assert a.lengths == b.lengths and a.history == b.history
+    seen = []
+    results = design_arm(task, settings, executor=InlineExecutor())
+    assert {r.run for r in results} <= {0, 1}
+    same = [r for r in results if r.run == 1]
+    assert same and same[0].lengths == a.lengths
+    with cf.ThreadPoolExecutor(max_workers=1) as pool:
+        design_arm(task, settings, executor=pool, progress=lambda *x: seen.append(x))
+    assert len(seen) == 50 and all(g >= 1 for _, g, _ in seen)
+
+
+def test_paper_task_quality_bar_on_a_small_budget():
+    task, _ = load_task(PAPER_TASK)
+    settings = SearchSettings(runs=10, seed=1, max_generations=300)
+    results = design_arm(task, settings)
+    best = results[0]
+    assert best.terms["d_start_mm"] <= 2.0
+    assert best.terms["d_end_mm"] <= 5.0
+    assert best.terms["improper_states"] == 0
+    assert best.terms["prohibited_states"] == 0
+    # independently: the chain never touches the prohibited area
+    prohibited = task.prohibited[0]
+    pts = chain_points(
+        np.linspace(0, math.pi, 46),
+        best.lengths,
+        np.radians(best.shape_angles),
+        best.entry_flag,
+        True,
+    )[0]
+    assert not any(shapely.LineString(p).intersects(prohibited) for p in pts)
+    assert [r.fitness for r in results] == sorted((r.fitness for r in results), reverse=True)
+
+
+def test_cli_writes_results_and_a_buildable_design_file(tmp_path):
+    out = tmp_path / "arm"
+    assert (
+        main(
+            [
+                "design-arm",
+                str(PAPER_TASK),
+                "-o",
+                str(out),
+                "--runs",
+                "2",
+                "--max-generations",
+                "40",
+            ]
+        )
+        == 0
+    )
+    data = json.loads((out / "results.json").read_text())
+    assert data["task"]["alpha"] == 120.0 and data["origami_cad_version"]
+    first = data["designs"][0]
+    assert len(first["tip_mm"]) == 46 and len(first["lengths_mm"]) == 6
+    assert set(first["terms"]) >= {"d_start_mm", "d_end_mm", "improper_states"}
+    design = load_design(out / "best.toml")
+    assert design.tg is not None and design.pattern.check() == []
+    assert design.tg.lengths == pytest.approx(first["lengths_mm"], abs=1e-5)
+    for name in ("trajectories.png", "convergence.png"):
+        assert (out / name).read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (("alpha = 120.0", "alpha = 700.0"), "key 'alpha': 700 is out of range"),
+        (("vectors = 6", "vectors = 6\nvectros = 3"), "unknown key 'vectros'"),
+        (('entry_flag = "both"', "entry_flag = 2"), "key 'entry_flag'"),
+        (("runs = 10", "runs = 0"), "key 'runs': 0 is out of range"),
+        (
+            ("[[150, 40], [2000, 40], [2000, 2000], [150, 2000]]", "[[150, 40], [2000, 40]]"),
+            "key 'polygon'",
+        ),
+    ],
+)
+def test_task_errors_name_the_key(tmp_path, change, message):
+    text = PAPER_TASK.read_text().replace(*change)
+    path = tmp_path / "task.toml"
+    path.write_text(text)
+    with pytest.raises(DesignError, match=message) as info:
+        load_task(path)
+    assert "task.toml" in str(info.value)
+
+
+def test_circle_obstacle(tmp_path):
+    text = PAPER_TASK.read_text().replace(
+        "polygon = [[150, 40], [2000, 40], [2000, 2000], [150, 2000]]", "circle = [200, 80, 30]"
+    )
+    path = tmp_path / "task.toml"
+    path.write_text(text)
+    task, _ = load_task(path)
+    assert task.prohibited[0].area == pytest.approx(math.pi * 30**2, rel=1e-3)
