@@ -85,8 +85,54 @@ def step_fig2(out: Path, root: Path, quick: bool) -> StepReport:
     return rep
 
 
+def step_fig3(out: Path, root: Path, quick: bool) -> StepReport:
+    """Fig. 3: ten CMA-ES runs design a robotic arm around warning and prohibited areas."""
+    import dataclasses
+    import time
+
+    from origami_cad.design import design_arm, load_task, write_design_outputs
+    from origami_cad.pattern.design import load_design
+    from origami_cad.viz import save_pattern_png
+
+    task, settings = load_task(EXAMPLES / "arm_task.toml")
+    if quick:
+        settings = dataclasses.replace(settings, runs=4, max_generations=60)
+    t0 = time.perf_counter()
+    results = design_arm(task, settings)
+    seconds = time.perf_counter() - t0
+    paths = write_design_outputs(results, task, settings, out, seconds=seconds)
+    winner = load_design(paths["best"])
+    save_pattern_png(winner.pattern, out / "best_pattern.png", labels=True)
+    best = results[0]
+    rep = StepReport("fig3", "Fig. 3 - computational design of an origami robotic arm")
+    rep.summary = (
+        "T_s = (0, 0); the tip must pass P_start = (250, 0) when flat and P_end = (50, 133.3) "
+        "when folded, never touch the prohibited area (x >= 150, y >= 40) and stay out of "
+        "the warning area (x >= 140, y >= 30). Fitness: eq. 5 with alpha = 120; the winner "
+        "must also be buildable at a 36 mm unit width."
+    )
+    rep.images += [
+        (_rel(paths["trajectories"], root), "Top designs: chains and the path of T_e"),
+        (_rel(paths["convergence"], root), "Best fitness per generation, one line per run"),
+        (_rel(out / "best_pattern.png", root), "The winner's crease pattern"),
+    ]
+    rep.numbers += [
+        ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
+        ("search time", f"{seconds:.1f} s"),
+        ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
+        ("|T_e(0) - P_start|", f"{best.terms['d_start_mm']:.3g} mm"),
+        ("|T_e(pi) - P_end|", f"{best.terms['d_end_mm']:.3g} mm"),
+        ("improper states N", str(best.terms["improper_states"])),
+        ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
+        ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
+    ]
+    rep.files = [_rel(p, root) for p in [*paths.values(), out / "best_pattern.png"]]
+    return rep
+
+
 STEPS: list[tuple[str, Callable[[Path, Path, bool], StepReport]]] = [
     ("fig2", step_fig2),
+    ("fig3", step_fig3),
 ]
 
 
