@@ -1,0 +1,191 @@
+"""Exports of the printed parts: four STL files, a STEP assembly and a slicer-ready 3MF.
+
+The 3MF holds one object made of four parts, PLA parts on extruder 1 and TPU
+parts on extruder 2, described both for PrusaSlicer
+(``Metadata/Slic3r_PE_model.config``: volumes as triangle ranges with an
+``extruder`` key) and for Bambu Studio / OrcaSlicer
+(``Metadata/model_settings.config``: parts with an ``extruder`` key), with
+display colours through ``<basematerials>``. build123d's own 3MF writer gives
+each shape its own object and no extruder, so the package is written here
+from build123d's tessellation.
+"""
+
+from __future__ import annotations
+
+import os
+import zipfile
+from pathlib import Path
+from xml.sax.saxutils import escape
+
+import numpy as np
+from build123d import Color, Compound, export_step, export_stl
+
+from origami_cad import __version__
+from origami_cad._fileio import atomic_path
+from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
+
+__all__ = ["EXTRUDERS", "MATERIAL_COLORS", "export_3mf", "export_step_assembly", "export_stls"]
+
+#: Extruder of each material (1-based, as slicers count).
+EXTRUDERS = {"PLA": 1, "TPU": 2}
+#: Display colour of each material (sRGB hex): PLA white, TPU red.
+MATERIAL_COLORS = {"PLA": "#F2F2F2", "TPU": "#D62728"}
+
+#: Tessellation of the exports: chordal tolerance (mm) and angular tolerance (rad).
+TOLERANCE, ANGULAR_TOLERANCE = 0.01, 0.1
+
+
+def export_stls(parts: Parts, folder: str | os.PathLike[str]) -> dict[str, Path]:
+    """Write ``<part>.stl`` (binary, assembly position) for each of the four parts."""
+    out = {}
+    for name in PART_NAMES:
+        path = Path(folder) / f"{name}.stl"
+        with atomic_path(path) as tmp:
+            ok = export_stl(
+                parts.compound(name),
+                str(tmp),
+                tolerance=TOLERANCE,
+                angular_tolerance=ANGULAR_TOLERANCE,
+                ascii_format=False,
+            )
+            if ok is False:
+                raise OSError(f"{path}: the STL writer failed")
+        out[name] = path
+    return out
+
+
+def _color(material: str) -> Color:
+    hexa = MATERIAL_COLORS[material].lstrip("#")
+    return Color(*(int(hexa[i : i + 2], 16) / 255 for i in (0, 2, 4)))
+
+
+def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
+    """Write one STEP with four named, coloured parts (compounds of solids)."""
+    children = []
+    for name in PART_NAMES:
+        comp = parts.compound(name)
+        comp.label = name
+        comp.color = _color(PART_MATERIALS[name])
+        children.append(comp)
+    assembly = Compound(children=children)
+    assembly.label = "origami_structure"
+    with atomic_path(path) as tmp:
+        ok = export_step(assembly, str(tmp))
+        if ok is False:
+            raise OSError(f"{path}: the STEP writer failed")
+    return Path(path)
+
+
+def _mesh(parts: Parts, name: str) -> tuple[np.ndarray, np.ndarray]:
+    verts, tris, offset = [], [], 0
+    for solid in parts.solids[name]:
+        v, t = solid.tessellate(TOLERANCE, ANGULAR_TOLERANCE)
+        v = np.array([[p.X, p.Y, p.Z] for p in v], dtype=float)
+        t = np.asarray(t, dtype=np.int64).reshape(-1, 3)
+        verts.append(v)
+        tris.append(t + offset)
+        offset += len(v)
+    return np.vstack(verts), np.vstack(tris)
+
+
+def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami") -> Path:
+    """Write a 3MF with one four-part object and the slicers' extruder metadata."""
+    meshes = {n: _mesh(parts, n) for n in PART_NAMES}
+    all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
+    for n in PART_NAMES:
+        v, t = meshes[n]
+        all_v.append(v)
+        all_t.append(t + voff)
+        ranges.append((toff, toff + len(t) - 1))
+        mats.append(np.full(len(t), list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
+        voff += len(v)
+        toff += len(t)
+    verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
+    model = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        '<model unit="millimeter" xml:lang="en-US" '
+        'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">',
+        f' <metadata name="Application">origami_cad {__version__}</metadata>',
+        f' <metadata name="Title">{escape(name)}</metadata>',
+        " <resources>",
+        '  <basematerials id="1">',
+    ]
+    for material, color in MATERIAL_COLORS.items():
+        model.append(f'   <base name="{material}" displaycolor="{color}FF"/>')
+    model += [
+        "  </basematerials>",
+        f'  <object id="2" type="model" name="{escape(name)}" pid="1" pindex="0">',
+        "   <mesh>",
+        "    <vertices>",
+    ]
+    model += [f'     <vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in verts]
+    model += ["    </vertices>", "    <triangles>"]
+    model += [
+        f'     <triangle v1="{a}" v2="{b}" v3="{c}" pid="1" p1="{m}"/>'
+        for (a, b, c), m in zip(tris.tolist(), mat.tolist(), strict=True)
+    ]
+    model += [
+        "    </triangles>",
+        "   </mesh>",
+        "  </object>",
+        " </resources>",
+        " <build>",
+        '  <item objectid="2"/>',
+        " </build>",
+        "</model>",
+    ]
+    prusa = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        "<config>",
+        ' <object id="2" instances_count="1">',
+        f'  <metadata type="object" key="name" value="{escape(name)}"/>',
+    ]
+    bambu = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        "<config>",
+        ' <object id="2">',
+        f'  <metadata key="name" value="{escape(name)}"/>',
+        '  <metadata key="extruder" value="1"/>',
+    ]
+    for k, (n, (first, last)) in enumerate(zip(PART_NAMES, ranges, strict=True)):
+        ext = EXTRUDERS[PART_MATERIALS[n]]
+        prusa += [
+            f'  <volume firstid="{first}" lastid="{last}">',
+            f'   <metadata type="volume" key="name" value="{n}"/>',
+            '   <metadata type="volume" key="volume_type" value="ModelPart"/>',
+            f'   <metadata type="volume" key="extruder" value="{ext}"/>',
+            "  </volume>",
+        ]
+        bambu += [
+            f'  <part id="{k + 1}" subtype="normal_part">',
+            f'   <metadata key="name" value="{n}"/>',
+            f'   <metadata key="extruder" value="{ext}"/>',
+            f'   <metadata key="source_volume_id" value="{k}"/>',
+            "  </part>",
+        ]
+    prusa += [" </object>", "</config>"]
+    bambu += [" </object>", "</config>"]
+    content_types = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+        '<Default Extension="rels" '
+        'ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+        '<Default Extension="model" '
+        'ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+        '<Default Extension="config" ContentType="text/xml"/>'
+        "</Types>"
+    )
+    rels = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+        '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+        'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+        "</Relationships>"
+    )
+    with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("[Content_Types].xml", content_types)
+        zf.writestr("_rels/.rels", rels)
+        zf.writestr("3D/3dmodel.model", "\n".join(model))
+        zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
+        zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
+    return Path(path)

@@ -1,0 +1,199 @@
+"""Panel outlines of the printed structure in 2D (plain data: NumPy arrays and shapely).
+
+Every solid of a panel is bounded by planes parallel to its edges, so each
+footprint is the panel polygon with every edge moved inward by its own offset:
+crease edges by the chamfer's run at that height, border and cut edges by the
+border margin. :func:`offset_ring` computes such polygons exactly (each corner
+is the intersection of its two offset lines) and refuses a panel too small for
+its inset instead of returning a broken polygon.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.ops import polylabel
+
+from origami_cad.errors import PatternError
+from origami_cad.fabrication.params import FabricationParams
+from origami_cad.pattern.model import CreasePattern
+
+__all__ = ["PanelOutline", "offset_ring", "panel_outlines", "place_holes"]
+
+#: Edges whose sides are free (vertical walls, border margin): border and cut.
+FREE_EDGES = ("B", "C")
+
+
+def offset_ring(
+    ring: np.ndarray, offsets: np.ndarray, label: str = "", what: str = ""
+) -> np.ndarray:
+    """Move every edge of a counter-clockwise ring inward by its own offset (mm).
+
+    Edge ``k`` joins ``ring[k]`` and ``ring[k + 1]``. Corners between collinear
+    edges with equal offsets are dropped. Raises :class:`PatternError` naming the
+    panel when an edge would vanish or turn over (the panel is too small).
+    """
+    pts = np.asarray(ring, dtype=float)
+    off = np.asarray(offsets, dtype=float)
+    d = np.roll(pts, -1, axis=0) - pts
+    length = np.hypot(d[:, 0], d[:, 1])
+    u = d / length[:, None]
+    n = np.column_stack([-u[:, 1], u[:, 0]])  # inward normal of a CCW ring
+    base = pts + n * off[:, None]  # a point on each offset line
+    prev = np.roll(np.arange(len(pts)), 1)
+    out, keep_edges = [], []
+    for k in range(len(pts)):
+        a, b = prev[k], k
+        cross = u[a, 0] * u[b, 1] - u[a, 1] * u[b, 0]
+        if abs(cross) < 1e-12:
+            if abs(off[a] - off[b]) > 1e-9:
+                raise PatternError(
+                    f"panel {label}: collinear edges with different insets at corner "
+                    f"({pts[k, 0]:.4g}, {pts[k, 1]:.4g}) mm"
+                )
+            continue
+        # base[a] + s u[a] = base[b] + r u[b]
+        w = base[b] - base[a]
+        s = (w[0] * u[b, 1] - w[1] * u[b, 0]) / cross
+        out.append(base[a] + s * u[a])
+        keep_edges.append(b)
+    res = np.array(out)
+    if len(res) < 3:
+        raise PatternError(f"panel {label} is too small for the {what or 'inset'}")
+    # every kept edge must keep its direction and a positive length
+    e = np.roll(res, -1, axis=0) - res
+    dots = np.einsum("ij,ij->i", e, u[keep_edges])
+    poly = shapely.Polygon(res)
+    if np.any(dots <= 1e-9) or not poly.is_valid or poly.area <= 0:
+        raise PatternError(
+            f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
+        )
+    return res
+
+
+@dataclass(frozen=True)
+class PanelOutline:
+    """The footprints of one panel's solids (mm, counter-clockwise rings).
+
+    Attributes
+    ----------
+    index, label : int, str
+        The face of the pattern.
+    polygon : ndarray (k, 2)
+        The panel as drawn in the crease pattern.
+    crease_edge : ndarray of bool (k,)
+        Which sides are creases (chamfered) rather than free edges.
+    inner : ndarray (k, 2)
+        Footprint of each half on the crease layer (creases at offset 0).
+    outer : ndarray (k, 2)
+        Outer face of each half (creases at offset ``b``).
+    infill_inner, infill_outer : ndarray (k, 2)
+        Footprints of the infill on the crease layer and at ``s`` below the outer face.
+    midlayer : ndarray (k, 2)
+        The mid-layer patch (creases at offset ``b + m``).
+    region : shapely Polygon
+        Maximum operation region: where holes may go.
+    """
+
+    index: int
+    label: str
+    polygon: np.ndarray
+    crease_edge: np.ndarray
+    inner: np.ndarray
+    outer: np.ndarray
+    infill_inner: np.ndarray
+    infill_outer: np.ndarray
+    midlayer: np.ndarray
+    region: object
+
+
+def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOutline]:
+    """The footprints of every panel of ``cp`` (see :class:`PanelOutline`)."""
+    problems = [p for p in cp.check() if p.code == "face-not-simple"]
+    if problems:
+        raise PatternError(f"cannot fabricate: {problems[0].message}")
+    if not cp.faces:
+        raise PatternError("cannot fabricate: the pattern has no panels")
+    b, s, m = params.bias, params.shell, params.midlayer_bias
+    half = params.half_height
+    margin = params.border_margin
+    slope = b / half  # horizontal run of a chamfer per mm of height
+    wall = s * math.hypot(half, b) / half  # horizontal width of a wall s thick along a chamfer
+    out = []
+    for fi, (ring, sides) in enumerate(zip(cp.faces, cp.face_edges, strict=True)):
+        label = cp.face_labels[fi]
+        poly = cp.vertices[ring]
+        crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
+
+        def inset(
+            crease_off: float, free_off: float, what: str, poly=poly, crease=crease, label=label
+        ) -> np.ndarray:
+            return offset_ring(poly, np.where(crease, crease_off, free_off), label, what)
+
+        inner = inset(0.0, margin, "crease layer")
+        outer = inset(b, margin, f"inner bias b = {b:g} mm")
+        infill_inner = inset(wall, margin + s, "shell wall")
+        infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
+        mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
+        region = (
+            shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
+        )
+        out.append(
+            PanelOutline(
+                fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, region
+            )
+        )
+    return out
+
+
+def place_holes(
+    cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
+) -> list[tuple[int, float, float, float]]:
+    """Hole centres ``(panel index, x, y, diameter)`` following ``params.holes`` (mm).
+
+    ``auto`` puts one hole per panel at the pole of inaccessibility of its
+    operation region; a panel whose region cannot hold the hole is an error
+    naming it (never a silently shifted or dropped hole).
+    """
+    spec = params.holes
+    diameter = params.hole_diameter
+    r = diameter / 2.0
+    if spec == "none":
+        return []
+    if spec == "auto":
+        holes = []
+        for o in outlines:
+            if o.region.is_empty:
+                raise PatternError(f"panel {o.label}: no operation region left for a hole")
+            centre = polylabel(o.region, tolerance=0.01)
+            room = o.region.exterior.distance(centre)
+            if room < r:
+                raise PatternError(
+                    f"panel {o.label}: a {diameter:g} mm hole does not fit its operation region "
+                    f"(room for {2 * room:.3g} mm); use a smaller hole_diameter or holes = 'none'"
+                )
+            holes.append((o.index, float(centre.x), float(centre.y), diameter))
+        return holes
+    points = (
+        [(h.x, h.y, h.diameter) for h in cp.holes]
+        if spec == "pattern"
+        else [(x, y, diameter) for x, y in spec]
+    )
+    holes = []
+    by_index = {o.index: o for o in outlines}
+    for k, (x, y, d) in enumerate(points):
+        fi = cp.face_of_point(x, y)
+        if fi < 0:
+            raise PatternError(f"hole {k} at ({x:g}, {y:g}) mm is not on any panel")
+        o = by_index[fi]
+        disc = shapely.Point(x, y).buffer(d / 2.0, quad_segs=32)
+        if not o.region.contains(disc):
+            raise PatternError(
+                f"hole {k} at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
+                f"region of panel {o.label}"
+            )
+        holes.append((fi, float(x), float(y), float(d)))
+    return holes

@@ -1,0 +1,142 @@
+"""Fabrication parameters of wrapping-based dual-material panels, and eq. 6.
+
+Cross-section (z = 0 at the bottom face, total height ``h``)::
+
+    z = h          +----------------------+          outer face, inset b from creases
+                  /   shell (TPU, s thick) \\         chamfer (eq. 6)
+    z = (h+t)/2  +-------------------------+  ...    crease layer: mid-layer (PLA)
+    z = (h-t)/2  +-------------------------+  ...    and crease sheet (TPU), thickness t
+                  \\        infill (PLA)    /
+    z = 0          +----------------------+
+
+Two panels folded about their crease by ``theta_max = 2 atan(2b / (h - t))``
+meet face to face along their chamfers.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from origami_cad.errors import DesignError
+
+__all__ = [
+    "DENSITY_G_CM3",
+    "FabricationParams",
+    "bias_for_theta_max",
+    "theta_max",
+]
+
+#: Densities used for the mass estimate, g/cm^3.
+DENSITY_G_CM3 = {"PLA": 1.24, "TPU": 1.21}
+
+
+def theta_max(bias: float, height: float, thickness: float) -> float:
+    """Eq. 6: the largest fold angle before neighbouring chamfers meet, radians.
+
+    ``theta_max = 2 atan(2 b / (h - t))`` with inner bias ``b``, shell height ``h``
+    and crease thickness ``t`` (all mm).
+    """
+    return 2.0 * math.atan(2.0 * bias / (height - thickness))
+
+
+def bias_for_theta_max(theta: float, height: float, thickness: float) -> float:
+    """Eq. 6 inverted: the inner bias ``b`` (mm) that gives ``theta_max = theta`` (radians)."""
+    if not 0.0 < theta < math.pi:
+        raise DesignError(f"theta_max must lie in (0, 180) deg, got {math.degrees(theta):g}")
+    return (height - thickness) / 2.0 * math.tan(theta / 2.0)
+
+
+@dataclass(frozen=True)
+class FabricationParams:
+    """Parameters of the printed structure (all lengths mm).
+
+    Parameters
+    ----------
+    bias : float
+        ``b``: inset of each panel's outer face from its crease edges.
+    height : float
+        ``h``: total height of a panel (maximum shell height).
+    thickness : float
+        ``t``: thickness of the crease layer (mid-layers and crease sheet).
+    shell : float
+        ``s``: wall thickness of the TPU shell on the outer faces and chamfers.
+    midlayer_bias : float
+        ``m``: extra inset of the mid-layers beyond ``b`` (room for the creases).
+    border_margin : float
+        Inset of the panels from border and cut edges (their sides are vertical).
+    hole_diameter : float
+        Diameter of the string holes.
+    holes : str or list of (x, y)
+        ``"auto"`` (one hole per panel at the pole of inaccessibility of its
+        operation region), ``"pattern"`` (the pattern's own holes), ``"none"``,
+        or a list of points (each on a panel).
+    """
+
+    bias: float = 3.0
+    height: float = 2.2
+    thickness: float = 0.4
+    shell: float = 0.8
+    midlayer_bias: float = 0.5
+    border_margin: float = 0.0
+    hole_diameter: float = 2.0
+    holes: Any = "auto"
+
+    def __post_init__(self) -> None:
+        for name in ("bias", "height", "thickness", "shell", "hole_diameter"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+                raise DesignError(f"{name} must be a number > 0 mm, got {value!r}")
+        for name in ("midlayer_bias", "border_margin"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
+                raise DesignError(f"{name} must be a number >= 0 mm, got {value!r}")
+        if self.height <= self.thickness:
+            raise DesignError(
+                f"height h = {self.height:g} mm must exceed the crease thickness "
+                f"t = {self.thickness:g} mm"
+            )
+        if self.shell >= self.half_height:
+            raise DesignError(
+                f"shell s = {self.shell:g} mm must be thinner than a panel half "
+                f"(h - t) / 2 = {self.half_height:g} mm"
+            )
+        if isinstance(self.holes, str):
+            if self.holes not in ("auto", "pattern", "none"):
+                raise DesignError(
+                    f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
+                )
+        else:
+            pts = list(self.holes)
+            for i, p in enumerate(pts):
+                if len(p) != 2 or not all(math.isfinite(float(v)) for v in p):
+                    raise DesignError(f"holes[{i}] must be a point [x, y] in mm, got {p!r}")
+            object.__setattr__(self, "holes", tuple((float(p[0]), float(p[1])) for p in pts))
+
+    @property
+    def half_height(self) -> float:
+        """Height of each panel half, ``(h - t) / 2``, mm."""
+        return (self.height - self.thickness) / 2.0
+
+    @property
+    def theta_max(self) -> float:
+        """Eq. 6, radians."""
+        return theta_max(self.bias, self.height, self.thickness)
+
+    @property
+    def p_max(self) -> float:
+        """``theta_max / pi``."""
+        return self.theta_max / math.pi
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "bias_mm": self.bias,
+            "height_mm": self.height,
+            "thickness_mm": self.thickness,
+            "shell_mm": self.shell,
+            "midlayer_bias_mm": self.midlayer_bias,
+            "border_margin_mm": self.border_margin,
+            "hole_diameter_mm": self.hole_diameter,
+            "holes": self.holes if isinstance(self.holes, str) else [list(p) for p in self.holes],
+        }

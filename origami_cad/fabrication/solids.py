@@ -1,0 +1,126 @@
+"""Exact B-rep solids of the four printed parts, built with build123d.
+
+Each panel half is a polyhedron whose faces are planes (outer face, chamfers of
+eq. 6, vertical free sides), built face by face from the footprints of
+:mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean:
+the only booleans are per panel (shell = half minus infill, and the holes).
+The crease sheet is one planar face with a hole per mid-layer, extruded once.
+
+build123d objects never leave ``origami_cad.fabrication``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
+
+from origami_cad.errors import PatternError
+from origami_cad.fabrication.panels import PanelOutline
+from origami_cad.fabrication.params import FabricationParams
+
+__all__ = ["PART_MATERIALS", "PART_NAMES", "Parts", "build_parts", "half_solid"]
+
+#: The four parts, in the order of the exports.
+PART_NAMES = ("infills", "midlayers", "shells", "creases")
+#: Material of each part.
+PART_MATERIALS = {"infills": "PLA", "midlayers": "PLA", "shells": "TPU", "creases": "TPU"}
+
+
+@dataclass
+class Parts:
+    """The solids of each part (lists of build123d ``Solid``), mm."""
+
+    solids: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
+    halves: list[tuple[Solid, Solid]] = field(default_factory=list)  # (lower, upper) per panel
+
+    def compound(self, name: str) -> Compound:
+        return Compound(self.solids[name])
+
+    def volume(self, name: str) -> float:
+        return float(sum(s.volume for s in self.solids[name]))
+
+
+def _face(points: list[tuple[float, float, float]]) -> Face:
+    return Face(Wire.make_polygon([Vector(*p) for p in points], close=True))
+
+
+def half_solid(low: np.ndarray, z_low: float, high: np.ndarray, z_high: float) -> Solid:
+    """A polyhedron between two rings with corresponding vertices (CCW, mm).
+
+    ``low`` lies at ``z_low``, ``high`` at ``z_high > z_low``; side faces are the
+    planar quadrilaterals between corresponding edges.
+    """
+    k = len(low)
+    lo = [(float(x), float(y), z_low) for x, y in low]
+    hi = [(float(x), float(y), z_high) for x, y in high]
+    faces = [_face(lo[::-1]), _face(hi)]
+    for i in range(k):
+        j = (i + 1) % k
+        faces.append(_face([lo[i], lo[j], hi[j], hi[i]]))
+    solid = Solid(Shell(faces))
+    if not solid.is_valid or solid.volume <= 0:
+        raise PatternError("internal error: a panel half is not a valid solid")
+    return solid
+
+
+def _cylinders(holes: list[tuple[float, float, float]], z0: float, z1: float) -> list[Solid]:
+    return [
+        Solid.make_cylinder(d / 2.0, (z1 - z0) + 2.0, Plane((x, y, z0 - 1.0))) for x, y, d in holes
+    ]
+
+
+def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
+    if not tools:
+        return [solid]
+    result = solid
+    for tool in tools:
+        result = result - tool
+    return list(result.solids()) if hasattr(result, "solids") else [result]
+
+
+def _planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
+    def wire(ring) -> Wire:
+        c = shapely.get_coordinates(ring)[:-1]
+        return Wire.make_polygon([Vector(float(x), float(y), z0) for x, y in c], close=True)
+
+    inner = [wire(r) for r in poly.interiors]
+    face = Face(wire(poly.exterior), inner)
+    return Solid.extrude(face, Vector(0, 0, z1 - z0))
+
+
+def build_parts(
+    outlines: list[PanelOutline],
+    holes: list[tuple[int, float, float, float]],
+    params: FabricationParams,
+    sheet_outline: shapely.Polygon | shapely.MultiPolygon,
+) -> Parts:
+    """Build the four parts: infills, mid-layers, shells (per panel) and the crease sheet."""
+    h, t, half = params.height, params.thickness, params.half_height
+    z_layer_lo, z_layer_hi = half, half + t
+    s = params.shell
+    parts = Parts()
+    by_panel: dict[int, list[tuple[float, float, float]]] = {}
+    for fi, x, y, d in holes:
+        by_panel.setdefault(fi, []).append((x, y, d))
+    mid_polys = []
+    for o in outlines:
+        cyl = _cylinders(by_panel.get(o.index, []), 0.0, h)
+        lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
+        upper = half_solid(o.inner, z_layer_hi, o.outer, h)
+        parts.halves.append((lower, upper))
+        lower_in = half_solid(o.infill_outer, s, o.infill_inner, z_layer_lo)
+        upper_in = half_solid(o.infill_inner, z_layer_hi, o.infill_outer, h - s)
+        for whole, core in ((lower, lower_in), (upper, upper_in)):
+            parts.solids["infills"] += _cut(core, cyl)
+            parts.solids["shells"] += _cut(whole - core, cyl)
+        mid_polys.append(shapely.Polygon(o.midlayer))
+        parts.solids["midlayers"] += _cut(
+            _planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi), cyl
+        )
+    sheet = shapely.difference(sheet_outline, shapely.union_all(mid_polys))
+    for poly in shapely.get_parts(sheet):
+        parts.solids["creases"].append(_planar_prism(poly, z_layer_lo, z_layer_hi))
+    return parts
