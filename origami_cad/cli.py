@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from origami_cad import __version__
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import DesignError, OrigamiCadError
 
 __all__ = ["build_parser", "main"]
 
@@ -69,7 +69,6 @@ def _cmd_pattern(args: argparse.Namespace) -> int:
 def _cmd_fold(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from origami_cad.errors import DesignError
     from origami_cad.kinematics.folding import fold_sequence
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.pattern.design import load_pattern_source
@@ -105,7 +104,6 @@ def _cmd_fold(args: argparse.Namespace) -> int:
 
 
 def _cmd_tg(args: argparse.Namespace) -> int:
-    from origami_cad.errors import DesignError
     from origami_cad.pattern.design import load_design
     from origami_cad.viz.tg_plot import save_tg_png
 
@@ -166,6 +164,60 @@ def _cmd_design_arm(args: argparse.Namespace) -> int:
     )
     for path in paths.values():
         print(f"wrote {path}")
+    return 0
+
+
+def _cmd_fabricate(args: argparse.Namespace) -> int:
+    import math
+
+    from origami_cad._fileio import atomic_directory
+    from origami_cad.fabrication import (
+        FabricationParams,
+        bias_for_theta_max,
+        fabricate,
+        write_fabrication,
+    )
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    holes: object = args.holes
+    if args.hole:
+        holes = [tuple(p) for p in args.hole]
+    bias = args.bias
+    given = [v is not None for v in (args.bias, args.theta_max, args.p_max)]
+    if sum(given) > 1:
+        raise DesignError("give only one of --bias, --theta-max and --p-max")
+    if args.theta_max is not None:
+        bias = bias_for_theta_max(math.radians(args.theta_max), args.height, args.thickness)
+    elif args.p_max is not None:
+        bias = bias_for_theta_max(args.p_max * math.pi, args.height, args.thickness)
+    params = FabricationParams(
+        bias=3.0 if bias is None else bias,
+        height=args.height,
+        thickness=args.thickness,
+        shell=args.shell,
+        midlayer_bias=args.midlayer_bias,
+        border_margin=args.border_margin,
+        hole_diameter=args.hole_diameter,
+        holes=holes,
+    )
+    design = load_pattern_source(args.design)
+    fab = fabricate(design, params)
+    with atomic_directory(args.output) as tmp:
+        write_fabrication(fab, tmp)
+        save_panels_png(fab, tmp / "panels.png")
+    report = fab.report()
+    print(
+        f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
+        f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
+        f"mass {report['total_mass_g']:.1f} g"
+    )
+    for w in fab.warnings:
+        print(f"warning: {w}")
+    print(
+        f"wrote {args.output}/: infills.stl midlayers.stl shells.stl creases.stl "
+        "assembly.step print.3mf fabrication.json panels.png"
+    )
     return 0
 
 
@@ -271,6 +323,54 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, help="override [search] seed")
     p.add_argument("--max-generations", type=int, help="override [search] max_generations")
     p.set_defaults(func=_cmd_design_arm)
+
+    p = sub.add_parser(
+        "fabricate",
+        help="dual-material printable structure: four STLs, a STEP assembly and a 3MF",
+        description="Build the wrapping-based structure of a design or pattern (PLA infills "
+        "and mid-layers, TPU shells and creases) as exact B-rep solids and write infills.stl, "
+        "midlayers.stl, shells.stl, creases.stl, assembly.step, print.3mf (PLA on extruder 1, "
+        "TPU on extruder 2), fabrication.json and panels.png into OUT. Lengths in mm.",
+    )
+    p.add_argument("design", help="design file (.toml) or pattern file (.fold/.dxf/.svg)")
+    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
+    p.add_argument("--bias", type=float, help="inner bias b, mm (default 3)")
+    p.add_argument("--theta-max", type=float, help="target theta_max in degrees (gives b, eq. 6)")
+    p.add_argument("--p-max", type=float, help="target p_max in [0, 1] (gives b, eq. 6)")
+    p.add_argument("--height", type=float, default=2.2, help="panel height h, mm (default 2.2)")
+    p.add_argument(
+        "--thickness",
+        type=float,
+        default=0.4,
+        help="crease/mid-layer thickness t, mm (default 0.4)",
+    )
+    p.add_argument("--shell", type=float, default=0.8, help="shell wall s, mm (default 0.8)")
+    p.add_argument(
+        "--midlayer-bias", type=float, default=0.5, help="extra mid-layer inset m, mm (default 0.5)"
+    )
+    p.add_argument(
+        "--border-margin",
+        type=float,
+        default=0.0,
+        help="inset from border and cut edges, mm (default 0)",
+    )
+    p.add_argument("--hole-diameter", type=float, default=2.0, help="hole diameter, mm")
+    p.add_argument(
+        "--holes",
+        choices=("auto", "pattern", "none"),
+        default="auto",
+        help="auto: one per panel at its pole of inaccessibility; pattern: the "
+        "pattern's own holes; none",
+    )
+    p.add_argument(
+        "--hole",
+        nargs=2,
+        type=float,
+        action="append",
+        metavar=("X", "Y"),
+        help="a hole at X Y (mm); repeat; replaces --holes",
+    )
+    p.set_defaults(func=_cmd_fabricate)
 
     p = sub.add_parser(
         "demo",

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from shapely.ops import polylabel
+from shapely.ops import nearest_points, polylabel
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.params import FabricationParams
@@ -149,14 +149,33 @@ def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOu
     return out
 
 
+def _centred_pole(region) -> shapely.Point:
+    """The pole of inaccessibility, ties broken toward the centroid.
+
+    Points whose clearance is within 1 % of the best form a segment in a
+    parallelogram; the one nearest the centroid keeps holes centred.
+    """
+    pole = polylabel(region, tolerance=0.001)
+    best = region.exterior.distance(pole)
+    core = region.buffer(-0.99 * best)
+    if core.is_empty:
+        return pole
+    centroid = region.centroid
+    if core.contains(centroid):
+        return centroid
+    return nearest_points(core, centroid)[0]
+
+
 def place_holes(
     cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
 ) -> list[tuple[int, float, float, float]]:
     """Hole centres ``(panel index, x, y, diameter)`` following ``params.holes`` (mm).
 
     ``auto`` puts one hole per panel at the pole of inaccessibility of its
-    operation region; a panel whose region cannot hold the hole is an error
-    naming it (never a silently shifted or dropped hole).
+    operation region (the centre of its largest inscribed circle; among nearly
+    equal candidates, the one nearest the centroid); a panel whose region
+    cannot hold the hole is an error naming it (never a silently shifted or
+    dropped hole).
     """
     spec = params.holes
     diameter = params.hole_diameter
@@ -168,7 +187,7 @@ def place_holes(
         for o in outlines:
             if o.region.is_empty:
                 raise PatternError(f"panel {o.label}: no operation region left for a hole")
-            centre = polylabel(o.region, tolerance=0.01)
+            centre = _centred_pole(o.region)
             room = o.region.exterior.distance(centre)
             if room < r:
                 raise PatternError(

@@ -1,0 +1,263 @@
+"""Fabrication: exact solids, eq. 6 checked by folding the solids, exports read back."""
+
+from __future__ import annotations
+
+import json
+import math
+import xml.etree.ElementTree as ET
+import zipfile
+from pathlib import Path
+
+import lib3mf
+import numpy as np
+import pytest
+import shapely
+import trimesh
+from build123d import Axis, Compound, Vertex, import_step
+
+from origami_cad.cli import main
+from origami_cad.errors import DesignError, PatternError
+from origami_cad.fabrication import (
+    FabricationParams,
+    bias_for_theta_max,
+    fabricate,
+    offset_ring,
+    theta_max,
+    write_fabrication,
+)
+from origami_cad.fabrication.solids import PART_NAMES
+from origami_cad.pattern import CreasePattern
+from origami_cad.pattern.design import miura_design
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def two_panels(width: float = 40.0, assignment: str = "V") -> CreasePattern:
+    """A 2w x w sheet with one crease along x = w."""
+    v = [[0, 0], [width, 0], [2 * width, 0], [2 * width, width], [width, width], [0, width]]
+    e = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [1, 4]]
+    return CreasePattern(v, e, ["B"] * 6 + [assignment])
+
+
+@pytest.fixture(scope="module")
+def small_fab():
+    return fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
+
+
+def test_eq6_numbers_of_the_paper_and_its_inverse():
+    p = FabricationParams(bias=3.0, height=2.2, thickness=0.4)
+    assert math.degrees(p.theta_max) == pytest.approx(146.6, abs=0.05)
+    assert 100 * p.p_max == pytest.approx(81.4, abs=0.05)
+    for target in (60.0, 120.0, 146.6):
+        b = bias_for_theta_max(math.radians(target), 2.2, 0.4)
+        assert math.degrees(theta_max(b, 2.2, 0.4)) == pytest.approx(target)
+
+
+def test_offset_ring_is_exact_per_edge():
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    out = offset_ring(square, np.array([1.0, 2.0, 0.0, 0.5]))
+    np.testing.assert_allclose(out, [[0.5, 1.0], [8.0, 1.0], [8.0, 10.0], [0.5, 10.0]])
+    with pytest.raises(PatternError, match="panel p7 is too small"):
+        offset_ring(square, np.full(4, 6.0), "p7")
+
+
+def test_parts_are_valid_disjoint_and_fill_the_envelope(small_fab):
+    fab = small_fab
+    parts = {n: Compound(fab.parts.solids[n]) for n in PART_NAMES}
+    for name, comp in parts.items():
+        assert comp.solids() and all(s.is_valid for s in comp.solids()), name
+    total = sum(fab.volumes().values())
+    names = list(PART_NAMES)
+    for i in range(4):
+        for j in range(i + 1, 4):
+            common = parts[names[i]] & parts[names[j]]
+            vol = sum(s.volume for s in common.solids()) if common else 0.0
+            assert vol < 1e-6 * total, (names[i], names[j], vol)
+    # the envelope, computed independently: prismatoid halves + crease layer - holes
+    p = fab.params
+    outline = shapely.union_all(fab.pattern.face_polygons())
+    envelope = outline.area * p.thickness
+    for o in fab.outlines:
+        mid = offset_ring(o.polygon, np.where(o.crease_edge, p.bias / 2, p.border_margin))
+        areas = [shapely.Polygon(r).area for r in (o.inner, mid, o.outer)]
+        envelope += 2 * p.half_height / 6 * (areas[0] + 4 * areas[1] + areas[2])
+    envelope -= sum(math.pi * (d / 2) ** 2 * p.height for _, _, _, d in fab.holes)
+    assert total == pytest.approx(envelope, rel=1e-3)
+
+
+@pytest.mark.parametrize("assignment", ["V", "M"])
+def test_folding_two_panels_by_theta_max_brings_chamfers_into_contact(assignment):
+    params = FabricationParams(holes="none")
+    fab = fabricate(two_panels(assignment=assignment), params)
+    (a_low, a_up), (b_low, b_up) = fab.parts.halves
+    # a valley closes the upper halves, a mountain the lower ones
+    if assignment == "V":
+        a, b, z, sign = a_up, b_up, params.half_height + params.thickness, 1.0
+    else:
+        a, b, z, sign = a_low, b_low, params.half_height, -1.0
+    axis = Axis((40.0, 0.0, z), (0.0, 1.0, 0.0))
+    tmax = math.degrees(params.theta_max)
+    # where panel a's chamfer meets its outer face (on the outer face: z = h or 0)
+    rim = Vertex(40.0 - params.bias, 20.0, params.height if assignment == "V" else 0.0)
+
+    def fold(total_deg: float):
+        return (a.rotate(axis, sign * total_deg / 2), b.rotate(axis, -sign * total_deg / 2))
+
+    def gap(total_deg: float) -> float:
+        return fold(total_deg)[1].distance_to(rim.rotate(axis, sign * total_deg / 2))
+
+    assert gap(tmax - 4.0) > 1e-3  # open below theta_max
+    assert gap(tmax) < 1e-6  # the chamfers meet face to face
+    ra, rb = fold(tmax)
+    common = ra & rb
+    assert (sum(s.volume for s in common.solids()) if common else 0.0) < 1e-6
+    ra, rb = fold(tmax + 2.0)
+    common = ra & rb
+    assert sum(s.volume for s in common.solids()) > 1e-3  # interference past theta_max
+
+
+def test_holes_go_through_every_part_at_panel_centres(small_fab):
+    fab = small_fab
+    assert len(fab.holes) == len(fab.outlines)
+    for (fi, x, y, d), o in zip(fab.holes, fab.outlines, strict=True):
+        assert fi == o.index and d == 2.0
+        assert o.region.contains(shapely.Point(x, y).buffer(d / 2))
+        # a pole of inaccessibility: (nearly) the largest clearance in the region ...
+        from shapely.ops import polylabel
+
+        best = o.region.exterior.distance(polylabel(o.region, tolerance=1e-4))
+        assert o.region.exterior.distance(shapely.Point(x, y)) >= 0.98 * best
+        # ... and among those, the one nearest the region's centroid
+        c = o.region.centroid
+        core = o.region.buffer(-0.99 * best)
+        assert math.hypot(c.x - x, c.y - y) <= core.distance(c) + 1e-6
+    # a vertical line through a hole meets no part
+    _, x, y, _ = fab.holes[0]
+    from build123d import Edge
+
+    probe = Edge.make_line((x, y, -1.0), (x, y, fab.params.height + 1.0))
+    for name in PART_NAMES:
+        assert Compound(fab.parts.solids[name]).distance_to(probe) > 0.9, name
+
+
+def test_exports_read_back(tmp_path, small_fab):
+    fab = small_fab
+    paths = write_fabrication(fab, tmp_path)
+    vols = fab.volumes()
+    # STL: binary, in assembly position, every body closed
+    for name in PART_NAMES:
+        raw = paths[name].read_bytes()
+        assert not raw.startswith(b"solid")  # binary
+        mesh = trimesh.load(paths[name])
+        bodies = mesh.split(only_watertight=False)
+        assert len(bodies) == len(fab.parts.solids[name])
+        assert all(b.is_watertight for b in bodies)
+        assert abs(mesh.volume) == pytest.approx(vols[name], rel=2e-3)
+        lo, hi = mesh.bounds
+        assert lo[2] >= -1e-6 and hi[2] <= fab.params.height + 1e-6
+    # STEP: four named, coloured parts
+    step = import_step(paths["step"])
+    labels = {c.label: c for c in step.children}
+    assert set(labels) == set(PART_NAMES)
+    red, green, _, _ = tuple(labels["shells"].color)
+    assert red > 0.8 > green
+    for name in PART_NAMES:
+        got = sum(s.volume for s in labels[name].solids())
+        assert got == pytest.approx(vols[name], rel=1e-6)
+    # 3MF: one object, four volumes on the right extruders
+    wrapper = lib3mf.get_wrapper()
+    model = wrapper.CreateModel()
+    model.QueryReader("3mf").ReadFromFile(str(paths["3mf"]))
+    objects = model.GetMeshObjects()
+    assert objects.Count() == 1
+    objects.MoveNext()
+    n_tri = objects.GetCurrentMeshObject().GetTriangleCount()
+    with zipfile.ZipFile(paths["3mf"]) as zf:
+        prusa = ET.fromstring(zf.read("Metadata/Slic3r_PE_model.config"))
+        bambu = ET.fromstring(zf.read("Metadata/model_settings.config"))
+        model_xml = ET.fromstring(zf.read("3D/3dmodel.model"))
+    volumes = prusa.findall("./object/volume")
+    assert len(volumes) == 4
+    meta = [{m.get("key"): m.get("value") for m in v.findall("metadata")} for v in volumes]
+    assert [m["name"] for m in meta] == list(PART_NAMES)
+    assert [m["extruder"] for m in meta] == ["1", "1", "2", "2"]
+    assert volumes[0].get("firstid") == "0" and int(volumes[-1].get("lastid")) == n_tri - 1
+    for a, b in zip(volumes, volumes[1:], strict=False):
+        assert int(b.get("firstid")) == int(a.get("lastid")) + 1
+    parts = bambu.findall("./object/part")
+    ext = {
+        p.find("metadata[@key='name']").get("value"): p.find("metadata[@key='extruder']").get(
+            "value"
+        )
+        for p in parts
+    }
+    assert ext == {"infills": "1", "midlayers": "1", "shells": "2", "creases": "2"}
+    ns = {"m": "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"}
+    colours = [b.get("displaycolor") for b in model_xml.findall(".//m:base", ns)]
+    assert len(colours) == 2
+    # each volume's triangles close up on their own
+    verts = np.array(
+        [[float(v.get(k)) for k in "xyz"] for v in model_xml.findall(".//m:vertex", ns)]
+    )
+    tris = np.array(
+        [
+            [int(t.get(k)) for k in ("v1", "v2", "v3")]
+            for t in model_xml.findall(".//m:triangle", ns)
+        ]
+    )
+    for v, name in zip(volumes, PART_NAMES, strict=True):
+        sub = trimesh.Trimesh(verts, tris[int(v.get("firstid")) : int(v.get("lastid")) + 1])
+        assert abs(sub.volume) == pytest.approx(vols[name], rel=2e-3)
+    report = json.loads(paths["json"].read_text())
+    assert report["panels"] == len(fab.outlines)
+    assert report["theta_max_deg"] == pytest.approx(146.6, abs=0.05)
+    assert report["parts"]["shells"]["material"] == "TPU"
+    assert report["parts"]["infills"]["mass_g"] == pytest.approx(vols["infills"] / 1000 * 1.24)
+
+
+def test_crease_limits_from_the_rigid_folding(small_fab):
+    limits = small_fab.limits
+    assert limits["foldable"]
+    # the legs of a Miura fold faster than its main creases
+    assert 0 < limits["p_max_kinematic"] < small_fab.params.p_max
+    assert limits["limiting_creases"]
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"height": 0.4}, "must exceed the crease thickness"),
+        ({"bias": 0.0}, "bias must be a number > 0"),
+        ({"hole_diameter": 25.0}, "does not fit its operation region"),
+        ({"bias": 16.0}, "too small for the inner bias"),
+        ({"holes": [(500.0, 500.0)]}, "not on any panel"),
+        ({"holes": [(15.0, 1.0)]}, "does not fit the operation region of panel c0r0s0"),
+    ],
+)
+def test_bad_parameters_are_named(kwargs, message):
+    with pytest.raises((DesignError, PatternError), match=message):
+        fabricate(miura_design(2, 3, 30.0, 30.0, 65.0).pattern, FabricationParams(**kwargs))
+
+
+def test_cli_writes_everything_or_nothing(tmp_path, capsys):
+    out = tmp_path / "fab"
+    design = str(EXAMPLES / "miura_6x4.toml")
+    assert main(["fabricate", design, "-o", str(out), "--p-max", "0.7", "--shell", "0.4"]) == 0
+    names = {p.name for p in out.iterdir()}
+    assert names >= {
+        "infills.stl",
+        "midlayers.stl",
+        "shells.stl",
+        "creases.stl",
+        "assembly.step",
+        "print.3mf",
+        "fabrication.json",
+        "panels.png",
+    }
+    report = json.loads((out / "fabrication.json").read_text())
+    assert report["p_max"] == pytest.approx(0.7)
+    bad = tmp_path / "bad"
+    assert main(["fabricate", design, "-o", str(bad), "--bias", "40"]) == 2
+    assert "too small" in capsys.readouterr().err
+    assert not bad.exists()
+    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
