@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import xml.etree.ElementTree as ET
@@ -182,7 +183,7 @@ def test_exports_read_back(tmp_path, small_fab):
     assert [m["name"] for m in meta] == list(PART_NAMES)
     assert [m["extruder"] for m in meta] == ["1", "1", "2", "2"]
     assert volumes[0].get("firstid") == "0" and int(volumes[-1].get("lastid")) == n_tri - 1
-    for a, b in zip(volumes, volumes[1:], strict=False):
+    for a, b in itertools.pairwise(volumes):
         assert int(b.get("firstid")) == int(a.get("lastid")) + 1
     parts = bambu.findall("./object/part")
     ext = {
