@@ -11,7 +11,7 @@ from origami_cad.errors import PatternError
 from origami_cad.kinematics.fold3d import fold_tessellation
 from origami_cad.pattern.design import Design
 
-__all__ = ["FoldedState", "fold_design", "fold_sequence"]
+__all__ = ["FoldedState", "fold_coords", "fold_design", "fold_sequence"]
 
 
 @dataclass(frozen=True)
@@ -56,3 +56,17 @@ def fold_design(design: Design, p: float) -> FoldedState:
 def fold_sequence(design: Design, ratios: Sequence[float]) -> list[FoldedState]:
     """Fold ``design`` to each fold ratio of ``ratios``."""
     return [fold_design(design, float(p)) for p in ratios]
+
+
+def fold_coords(design: Design, ratios: Sequence[float]) -> np.ndarray:
+    """Vertex coordinates at many fold ratios at once, shape ``(len(ratios), n, 3)``, mm.
+
+    Vectorised over ``ratios`` for TG tessellations; one fold per ratio otherwise.
+    """
+    from origami_cad.kinematics.fold3d import tessellation_vertices
+
+    ratios = np.asarray(ratios, dtype=float)
+    if design.tg is not None:
+        grid = tessellation_vertices(design.tg, ratios)
+        return grid.reshape(len(ratios), -1, 3)
+    return np.stack([fold_design(design, float(p)).coords for p in ratios])

@@ -1,0 +1,40 @@
+"""Strings: twisted string actuators, routing through panel holes, DCQC folding (section IV-B)."""
+
+from origami_cad.strings.dcqc import DCQCResult, simulate_dcqc
+from origami_cad.strings.route import (
+    BOTTOM,
+    TOP,
+    RouteSpec,
+    StringRoute,
+    hole_exits,
+    load_route,
+    side_rule,
+    string_lengths,
+)
+from origami_cad.strings.tsa import (
+    TSAParams,
+    onboard_angle,
+    onboard_compliant_length,
+    onboard_contraction,
+    onboard_transmission,
+    ring_length,
+)
+
+__all__ = [
+    "BOTTOM",
+    "TOP",
+    "DCQCResult",
+    "RouteSpec",
+    "StringRoute",
+    "TSAParams",
+    "hole_exits",
+    "load_route",
+    "onboard_angle",
+    "onboard_compliant_length",
+    "onboard_contraction",
+    "onboard_transmission",
+    "ring_length",
+    "side_rule",
+    "simulate_dcqc",
+    "string_lengths",
+]

@@ -1,0 +1,297 @@
+"""String routing through panel holes by the DCQC principle.
+
+Route file (TOML)::
+
+    [tsa]
+    model = "ring"            # or "onboard" (length, radius, max_helix_angle)
+    d1 = 10.0                 # mm, rotation diameter
+    d2 = 8.0                  # mm, distance of the two first-entry holes
+    string_width = 0.5        # mm
+    [route]
+    thickness = 2.2           # mm, panel thickness: hole exits sit half of it off the sheet
+    hole_diameter = 2.0       # mm, for holes placed automatically (panel labels)
+    step = 2.0                # deg of TSA rotation per quasi-static step
+    max_turns = 20.0          # TSA turns at most
+    p0 = 0.0                  # initial fold ratio
+    p_max = 1.0               # fold limit (e.g. eq. 6's p_max of the printed structure)
+    [[route.strings]]
+    anchor = [60.0, -10.0, 20.0]          # A: where the string leaves the TSA, mm
+    holes = ["c0r0s2", "c0r1s2"]          # panel labels (auto hole) or [x, y] points
+    sides = "auto"                        # or ["top", "bottom", ...], one per hole
+
+``sides[k]`` is the face of the sheet along which the string reaches hole
+``k`` (from the anchor for ``k = 0``). The DCQC rule: between holes in two
+panels sharing a mountain (valley) crease the string runs below (above) the
+crease, on the side where the fold closes, so shortening the string folds it.
+``"auto"`` applies the rule (and keeps the previous side between panels that
+share no crease; the first segment takes the anchor's side); given sides that
+break it are reported per segment.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from origami_cad._toml import Table, load_toml
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.strings.tsa import TSAParams
+
+__all__ = [
+    "RouteSpec",
+    "StringRoute",
+    "hole_exits",
+    "hole_frames",
+    "load_route",
+    "side_rule",
+    "string_lengths",
+]
+
+TOP, BOTTOM = 1, -1
+_SIDE_NAMES = {"top": TOP, "bottom": BOTTOM}
+
+
+@dataclass(frozen=True)
+class StringRoute:
+    """One string: anchor (mm, 3D), holes on panels, and the side of each segment."""
+
+    anchor: tuple[float, float, float]
+    faces: tuple[int, ...]
+    points: tuple[tuple[float, float], ...]
+    sides: tuple[int, ...]
+    names: tuple[str, ...]
+    violations: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class RouteSpec:
+    """A routing: the TSA, the strings and the simulation settings (mm, radians inside)."""
+
+    tsa: TSAParams
+    strings: tuple[StringRoute, ...]
+    thickness: float = 2.2
+    step: float = math.radians(2.0)
+    max_turns: float = 20.0
+    p0: float = 0.0
+    p_max: float = 1.0
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def violations(self) -> list[str]:
+        return [v for s in self.strings for v in s.violations]
+
+
+def side_rule(cp: CreasePattern, face_a: int, face_b: int) -> int | None:
+    """DCQC side between two panels: top for a shared valley, bottom for a mountain, else None."""
+    ef = cp.edge_faces()
+    shared = np.flatnonzero(
+        ((ef[:, 0] == face_a) & (ef[:, 1] == face_b))
+        | ((ef[:, 0] == face_b) & (ef[:, 1] == face_a))
+    )
+    kinds = {str(cp.assignments[e]) for e in shared}
+    if "V" in kinds and "M" not in kinds:
+        return TOP
+    if "M" in kinds and "V" not in kinds:
+        return BOTTOM
+    return None
+
+
+def _auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float, float]]:
+    """The automatic hole of every panel (as the fabrication step places them), by label."""
+    from origami_cad.fabrication.panels import panel_outlines, place_holes
+    from origami_cad.fabrication.params import FabricationParams
+
+    params = FabricationParams(hole_diameter=hole_diameter)
+    outlines = panel_outlines(cp, params)
+    return {cp.face_labels[fi]: (x, y) for fi, x, y, _ in place_holes(cp, outlines, params)}
+
+
+def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
+    """Read a route file for the pattern ``cp``; errors name the file, key and string."""
+    p = Path(path)
+    top = Table(load_toml(p), str(p))
+    tsa_t = top.table("tsa", {})
+    route = top.table("route")
+    top.finish()
+    model = tsa_t.string("model", "ring", choices=("ring", "onboard"))
+    tsa = TSAParams(
+        model=model,
+        d1=tsa_t.number("d1", 10.0, low=0, low_open=True),
+        d2=tsa_t.number("d2", 8.0, low=0, low_open=True),
+        string_width=tsa_t.number("string_width", 0.5, low=0, low_open=True),
+        x_dis=tsa_t.number("x_dis", None, low=0) if tsa_t.has("x_dis") else None,
+        length=tsa_t.number("length", 100.0, low=0, low_open=True),
+        radius=tsa_t.number("radius", 0.5, low=0, low_open=True),
+        max_helix_angle=tsa_t.number(
+            "max_helix_angle", 80.0, low=0, high=90, low_open=True, high_open=True
+        ),
+    )
+    if not tsa_t.has("x_dis"):
+        tsa_t.used.add("x_dis")
+    tsa_t.finish()
+    thickness = route.number("thickness", 2.2, low=0)
+    hole_d = route.number("hole_diameter", 2.0, low=0, low_open=True)
+    step = route.number("step", 2.0, low=0, high=90, low_open=True)
+    max_turns = route.number("max_turns", 20.0, low=0, low_open=True)
+    p0 = route.number("p0", 0.0, low=0, high=1, high_open=True)
+    p_max = route.number("p_max", 1.0, low=0, high=1, low_open=True)
+    if p_max <= p0:
+        raise route.error("p_max", f"must exceed p0 = {p0:g}")
+    raw = route.data.get("strings")
+    route.used.add("strings")
+    if not isinstance(raw, list) or not raw:
+        raise route.error("strings", "expected at least one [[route.strings]] table")
+    route.finish()
+    auto: dict[str, tuple[float, float]] | None = None
+    strings = []
+    for si, item in enumerate(raw):
+        t = Table(item, f"{p} [[route.strings]] #{si + 1}")
+        anchor = t.point("anchor", dims=3)
+        holes = t.data.get("holes")
+        t.used.add("holes")
+        if not isinstance(holes, list) or not holes:
+            raise t.error("holes", "expected a list of panel labels or [x, y] points")
+        faces, points, names = [], [], []
+        for hi, h in enumerate(holes):
+            if isinstance(h, str):
+                if h not in cp.face_labels:
+                    raise t.error("holes", f"item {hi}: no panel labelled {h!r}")
+                if auto is None:
+                    auto = _auto_holes(cp, hole_d)
+                x, y = auto[h]
+                names.append(h)
+            elif (
+                isinstance(h, list)
+                and len(h) == 2
+                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in h)
+            ):
+                x, y = float(h[0]), float(h[1])
+                names.append(f"({x:g}, {y:g})")
+            else:
+                raise t.error("holes", f"item {hi}: expected a panel label or [x, y], got {h!r}")
+            fi = cp.face_of_point(x, y)
+            if fi < 0:
+                raise t.error("holes", f"item {hi}: ({x:g}, {y:g}) mm is not on any panel")
+            faces.append(fi)
+            points.append((x, y))
+        raw_sides = t.data.get("sides", "auto")
+        t.used.add("sides")
+        t.finish()
+        rule: list[int | None] = [TOP if anchor[2] >= 0 else BOTTOM]
+        rule += [side_rule(cp, faces[k - 1], faces[k]) for k in range(1, len(faces))]
+        if raw_sides == "auto":
+            sides = []
+            for k, r in enumerate(rule):
+                sides.append(r if r is not None else (sides[k - 1] if k else TOP))
+            violations = []
+        else:
+            if (
+                not isinstance(raw_sides, list)
+                or len(raw_sides) != len(faces)
+                or any(s not in _SIDE_NAMES for s in raw_sides)
+            ):
+                raise t.error("sides", f'expected "auto" or {len(faces)} of "top"/"bottom"')
+            sides = [_SIDE_NAMES[s] for s in raw_sides]
+            violations = []
+            for k in range(1, len(faces)):
+                if rule[k] is not None and sides[k] != rule[k]:
+                    crease = "valley" if rule[k] == TOP else "mountain"
+                    violations.append(
+                        f"string {si + 1}: segment {names[k - 1]} -> {names[k]} runs "
+                        f"{'above' if sides[k] == TOP else 'below'} a {crease} crease; DCQC "
+                        f"needs it {'above' if rule[k] == TOP else 'below'}"
+                    )
+        strings.append(
+            StringRoute(
+                tuple(anchor),
+                tuple(faces),
+                tuple(points),
+                tuple(sides),
+                tuple(names),
+                tuple(violations),
+            )
+        )
+    return RouteSpec(tsa, tuple(strings), thickness, math.radians(step), max_turns, p0, p_max)
+
+
+def hole_frames(cp: CreasePattern, string: StringRoute) -> tuple[np.ndarray, np.ndarray]:
+    """For each hole: three vertices of its panel and the hole's affine coordinates.
+
+    A rigid panel maps its points affinely, so ``hole = v0 + a (v1 - v0) + b (v2 - v0)``
+    holds in every folded state with the flat ``a, b``.
+    """
+    tri = np.empty((len(string.faces), 3), dtype=np.int64)
+    ab = np.empty((len(string.faces), 2))
+    for k, (fi, (x, y)) in enumerate(zip(string.faces, string.points, strict=True)):
+        ring = cp.faces[fi]
+        xy = cp.vertices[ring]
+        # the corner with the largest triangle makes a well-conditioned frame
+        best, pick = -1.0, (0, 1, 2)
+        for i in range(1, len(ring) - 1):
+            for j in range(i + 1, len(ring)):
+                e1, e2 = xy[i] - xy[0], xy[j] - xy[0]
+                area = abs(e1[0] * e2[1] - e1[1] * e2[0])
+                if area > best:
+                    best, pick = area, (0, i, j)
+        tri[k] = ring[list(pick)]
+        e1, e2 = xy[pick[1]] - xy[0], xy[pick[2]] - xy[0]
+        ab[k] = np.linalg.solve(np.column_stack([e1, e2]), np.array([x, y]) - xy[0])
+    return tri, ab
+
+
+def hole_exits(
+    cp: CreasePattern,
+    coords: np.ndarray,
+    string: StringRoute,
+    thickness: float,
+    frames: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Where the string meets each hole in folded states ``coords`` (P, n, 3), mm.
+
+    Returns ``(arrive, leave, normals)``, each (P, k, 3): the exit point on the face
+    along which the string reaches hole ``k``, the one along which it leaves
+    towards hole ``k + 1`` (half the panel thickness off the mid-surface), and
+    each panel's top normal. ``frames`` (from :func:`hole_frames`) saves
+    recomputing the holes' panel frames when called many times.
+    """
+    coords = np.asarray(coords, dtype=float)
+    tri, ab = frames if frames is not None else hole_frames(cp, string)
+    v0, v1, v2 = coords[:, tri[:, 0]], coords[:, tri[:, 1]], coords[:, tri[:, 2]]
+    e1, e2 = v1 - v0, v2 - v0
+    centre = v0 + ab[None, :, :1] * e1 + ab[None, :, 1:] * e2
+    normal = np.cross(e1, e2)
+    flat = cp.vertices[tri]
+    f1, f2 = flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]
+    orient = np.sign(f1[:, 0] * f2[:, 1] - f1[:, 1] * f2[:, 0])  # keep +z as the top
+    normal = normal * orient[None, :, None]
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    e = thickness / 2.0
+    sides = np.asarray(string.sides, dtype=float)
+    leave_sides = np.r_[sides[1:], sides[-1]]
+    arrive = centre + e * sides[None, :, None] * normal
+    leave = centre + e * leave_sides[None, :, None] * normal
+    return arrive, leave, normal
+
+
+def string_lengths(
+    cp: CreasePattern,
+    coords: np.ndarray,
+    string: StringRoute,
+    thickness: float,
+    frames: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(x_dis, rest)`` of a string in folded states ``coords`` (P, n, 3), mm.
+
+    ``x_dis`` is the distance from the anchor to the first hole exit; ``rest`` the
+    routed length from there to the last hole (segments plus passes through the
+    sheet where the string changes side).
+    """
+    arrive, leave, _ = hole_exits(cp, coords, string, thickness, frames)
+    x_dis = np.linalg.norm(arrive[:, 0] - np.asarray(string.anchor), axis=-1)
+    seg = np.linalg.norm(arrive[:, 1:] - leave[:, :-1], axis=-1).sum(axis=-1)
+    through = thickness * float(np.sum(np.diff(np.asarray(string.sides)) != 0))
+    return x_dis, seg + through
