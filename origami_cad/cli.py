@@ -221,6 +221,41 @@ def _cmd_fabricate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_route(args: argparse.Namespace) -> int:
+    import json
+
+    from origami_cad._fileio import atomic_directory
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route, simulate_dcqc
+    from origami_cad.viz.render3d import render_folded
+    from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
+
+    design = load_pattern_source(args.design)
+    route = load_route(args.route, design.pattern)
+    result = simulate_dcqc(design, route)
+    with atomic_directory(args.output) as tmp:
+        with open(tmp / "dcqc.json", "w", encoding="utf-8") as fh:
+            json.dump(result.to_dict(), fh, indent=1)
+        save_dcqc_png(result, tmp / "dcqc.png")
+        save_route_png(design.pattern, route, tmp / "route.png")
+        render_folded(
+            design.pattern,
+            result.final_coords,
+            tmp / "route_folded.png",
+            strings=result.final_strings,
+            title=f"p = {result.final['p']:.3f}",
+        )
+    for v in result.violations + result.cutting:
+        print(f"warning: {v}")
+    state = "final" if result.valid else "INVALID routing"
+    print(
+        f"{state}: p = {result.final['p']:.4f} after {result.final['turns']:.2f} turns; "
+        f"{result.reason}"
+    )
+    print(f"wrote {args.output}/: dcqc.json dcqc.png route.png route_folded.png")
+    return 0 if result.valid else 1
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from origami_cad.demo import run_demo
 
@@ -371,6 +406,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="a hole at X Y (mm); repeat; replaces --holes",
     )
     p.set_defaults(func=_cmd_fabricate)
+
+    p = sub.add_parser(
+        "route",
+        help="route strings through panel holes and simulate the DCQC folding a TSA produces",
+        description="Thread the route file's strings through panel holes (DCQC side rule), "
+        "turn the TSA step by step and solve the quasi-static fold ratio. Writes dcqc.json, "
+        "dcqc.png (p against turns), route.png and route_folded.png. Exit code 1 when the "
+        "routing never folds the structure.",
+    )
+    p.add_argument("design", help="design file (.toml) or pattern file")
+    p.add_argument("route", help="route file (.toml, see examples/miura_route.toml)")
+    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
+    p.set_defaults(func=_cmd_route)
 
     p = sub.add_parser(
         "demo",

@@ -27,7 +27,13 @@ import numpy as np
 
 from origami_cad.kinematics.folding import fold_coords
 from origami_cad.pattern.design import Design
-from origami_cad.strings.route import RouteSpec, hole_frames, string_lengths
+from origami_cad.strings.route import (
+    RouteSpec,
+    cutting_segments,
+    hole_frames,
+    string_lengths,
+    string_path,
+)
 
 __all__ = ["DCQCResult", "simulate_dcqc"]
 
@@ -46,6 +52,9 @@ class DCQCResult:
     valid: bool = True
     initial_length_mm: list[float] = field(default_factory=list)
     violations: list[str] = field(default_factory=list)
+    cutting: list[str] = field(default_factory=list)
+    final_coords: np.ndarray | None = None
+    final_strings: list[np.ndarray] = field(default_factory=list)
 
     @property
     def final(self) -> dict[str, Any]:
@@ -65,6 +74,7 @@ class DCQCResult:
             "reason": self.reason,
             "initial_length_mm": self.initial_length_mm,
             "route_violations": self.violations,
+            "segments_cutting_panels": self.cutting,
             "steps": self.steps,
             "final": self.final,
         }
@@ -156,6 +166,18 @@ def simulate_dcqc(design: Design, route: RouteSpec, grid: int = 801) -> DCQCResu
             if tsa.max_theta() > theta_end or tsa.model == "ring"
             else "the strands reached their maximum helix angle"
         )
+    # geometry of the final state, and segments cutting through panels along the way
+    final = placed([result.final["p"]])[0]
+    result.final_coords = final
+    result.final_strings = [string_path(cp, final, s, route.thickness) for s in route.strings]
+    seen: set[str] = set()
+    for p in np.linspace(route.p0, result.final["p"], 6):
+        c = placed([p])[0]
+        for i, s in enumerate(route.strings):
+            for msg in cutting_segments(cp, c, s, route.thickness, i):
+                if msg not in seen:
+                    seen.add(msg)
+                    result.cutting.append(f"{msg} (from p = {p:.3f})")
     return result
 
 

@@ -44,11 +44,13 @@ from origami_cad.strings.tsa import TSAParams
 __all__ = [
     "RouteSpec",
     "StringRoute",
+    "cutting_segments",
     "hole_exits",
     "hole_frames",
     "load_route",
     "side_rule",
     "string_lengths",
+    "string_path",
 ]
 
 TOP, BOTTOM = 1, -1
@@ -295,3 +297,50 @@ def string_lengths(
     seg = np.linalg.norm(arrive[:, 1:] - leave[:, :-1], axis=-1).sum(axis=-1)
     through = thickness * float(np.sum(np.diff(np.asarray(string.sides)) != 0))
     return x_dis, seg + through
+
+
+def string_path(
+    cp: CreasePattern, coords: np.ndarray, string: StringRoute, thickness: float
+) -> np.ndarray:
+    """The string as a polyline in one folded state ``coords`` (n, 3): anchor, then holes (mm)."""
+    arrive, leave, _ = hole_exits(cp, np.asarray(coords)[None], string, thickness)
+    pts = [np.asarray(string.anchor, dtype=float)]
+    for k in range(len(string.faces)):
+        pts.append(arrive[0, k])
+        if not np.allclose(arrive[0, k], leave[0, k]):
+            pts.append(leave[0, k])
+    return np.array(pts)
+
+
+def cutting_segments(
+    cp: CreasePattern, coords: np.ndarray, string: StringRoute, thickness: float, index: int = 0
+) -> list[str]:
+    """Segments that would cut through their own panels instead of running over a face.
+
+    A segment leaving hole ``k`` on one side must head away from that side of the
+    panel (and likewise arriving at hole ``k + 1``); ``coords`` (n, 3) is one state.
+    """
+    arrive, leave, normal = hole_exits(cp, np.asarray(coords)[None], string, thickness)
+    arrive, leave, normal = arrive[0], leave[0], normal[0]
+    sides = np.asarray(string.sides, dtype=float)
+    out = []
+    tol = 1e-9 * max(cp.size, 1.0)
+    first = np.asarray(string.anchor, dtype=float) - arrive[0]
+    if np.dot(first, sides[0] * normal[0]) < -tol:
+        out.append(
+            f"string {index + 1}: the segment from the anchor cuts through panel "
+            f"{cp.face_labels[string.faces[0]]}"
+        )
+    for k in range(len(string.faces) - 1):
+        d = arrive[k + 1] - leave[k]
+        side = sides[k + 1]
+        for hole, dot in (
+            (k, np.dot(d, side * normal[k])),
+            (k + 1, np.dot(-d, side * normal[k + 1])),
+        ):
+            if dot < -tol:
+                out.append(
+                    f"string {index + 1}: segment {string.names[k]} -> {string.names[k + 1]} "
+                    f"cuts through panel {cp.face_labels[string.faces[hole]]}"
+                )
+    return out
