@@ -256,6 +256,105 @@ def _cmd_route(args: argparse.Namespace) -> int:
     return 0 if result.valid else 1
 
 
+def _parse_ids(text: str) -> list[int]:
+    try:
+        ids = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise DesignError(f"--ids must be comma-separated servo IDs, got {text!r}") from None
+    if not ids or any(not 0 <= i <= 252 for i in ids):
+        raise DesignError(f"--ids must be servo IDs in 0..252, got {text!r}")
+    return ids
+
+
+def _cmd_emulate(args: argparse.Namespace) -> int:
+    import time
+
+    from origami_cad.drive import DynamixelEmulator, SerialEmulator
+
+    ids = _parse_ids(args.ids)
+    emu = DynamixelEmulator(ids) if args.protocol == "dynamixel" else SerialEmulator(ids)
+    with emu:
+        print(f"{args.protocol} emulator with servos {ids} on {emu.port}", flush=True)
+        print("connect with --port " + emu.port + "; Ctrl-C to stop", flush=True)
+        deadline = time.monotonic() + args.seconds if args.seconds else None
+        while deadline is None or time.monotonic() < deadline:
+            time.sleep(0.1)
+    return 0
+
+
+def _cmd_drive(args: argparse.Namespace) -> int:
+    import contextlib
+
+    from rich.live import Live
+    from rich.table import Table as RichTable
+
+    from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
+    from origami_cad.drive.sequence import load_sequence, run_sequence
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    seq = load_sequence(args.sequence)
+    if not args.dry_run and not args.port:
+        raise DesignError("give --port PORT, or --dry-run to use the emulator")
+    scale = args.speed if args.dry_run else 1.0
+    with contextlib.ExitStack() as stack:
+        port = args.port
+        if args.dry_run:
+            emu = (
+                DynamixelEmulator(seq.ids, time_scale=scale)
+                if args.protocol == "dynamixel"
+                else SerialEmulator(seq.ids)
+            )
+            port = stack.enter_context(emu).port
+        limits = {t.dxl_id: t.max_turns for t in seq.tsas}
+        if args.protocol == "dynamixel":
+            bus = DynamixelBus(
+                port,
+                args.baudrate,
+                seq.ids,
+                max_turns=limits,
+                current_limit_ma=seq.current_limit,
+                profile_velocity=0,
+            )
+        else:
+            bus = SerialBus(port, args.baudrate, seq.ids, max_turns=limits)
+        stack.enter_context(bus)
+        names = {t.dxl_id: t.name for t in seq.tsas}
+
+        def table(t: float, targets, state) -> RichTable:
+            tab = RichTable(title=f"t = {t:6.2f} s of {seq.cycle * seq.repeat:g} s")
+            for col in ("servo", "target turns", "measured turns", "current mA"):
+                tab.add_column(col, justify="right")
+            for i in seq.ids:
+                tab.add_row(
+                    f"{i} {names[i]}",
+                    f"{targets[i]:.3f}",
+                    f"{state[i][0]:.3f}",
+                    f"{state[i][1]:.0f}",
+                )
+            return tab
+
+        with Live(refresh_per_second=8, transient=True) as live:
+            rows = run_sequence(
+                seq,
+                bus,
+                args.log,
+                time_scale=scale,
+                progress=lambda t, tg, st: live.update(table(t, tg, st)),
+            )
+    if args.plot:
+        save_drive_png(rows, args.plot, names)
+    lag = max(abs(r["target_turns"] - r["measured_turns"]) for r in rows)
+    print(
+        f"ran {seq.repeat} x {seq.cycle:g} s on servos {seq.ids}"
+        f"{' (dry run)' if args.dry_run else ''}: {len(rows)} readings, largest lag "
+        f"{lag:.3f} turns"
+    )
+    for path in (args.log, args.plot):
+        if path:
+            print(f"wrote {path}")
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from origami_cad.demo import run_demo
 
@@ -419,6 +518,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("route", help="route file (.toml, see examples/miura_route.toml)")
     p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
     p.set_defaults(func=_cmd_route)
+
+    p = sub.add_parser(
+        "emulate",
+        help="emulate servos on a pseudo-terminal (Dynamixel Protocol 2.0 or the serial protocol)",
+        description="Open a pseudo-terminal, print its path and answer as real servos would, "
+        "until Ctrl-C (or --seconds).",
+    )
+    p.add_argument("--protocol", choices=("dynamixel", "serial"), default="dynamixel")
+    p.add_argument("--ids", default="1", help="comma-separated servo IDs, e.g. 1,2,3,4")
+    p.add_argument("--seconds", type=float, default=0.0, help="stop after this long (0: never)")
+    p.set_defaults(func=_cmd_emulate)
+
+    p = sub.add_parser(
+        "drive",
+        help="run a TSA motion sequence on servos (or the emulator with --dry-run)",
+        description="Run SEQUENCE.toml: keyframes of fold ratio, contraction or turns per TSA, "
+        "interpolated, with a live display of targets, positions and currents, every command "
+        "and reading logged to CSV. Torque goes off on exit, error and Ctrl-C.",
+    )
+    p.add_argument("sequence", help="sequence file (.toml, see examples/crawler_gait.toml)")
+    p.add_argument("--port", help="serial port of the servos")
+    p.add_argument("--protocol", choices=("dynamixel", "serial"), default="dynamixel")
+    p.add_argument("--baudrate", type=int, default=57600)
+    p.add_argument("--dry-run", action="store_true", help="start the emulator and drive it")
+    p.add_argument(
+        "--speed", type=float, default=8.0, help="time acceleration of a dry run (default 8)"
+    )
+    p.add_argument("--log", default="drive_log.csv", help="CSV log (default drive_log.csv)")
+    p.add_argument("--plot", help="also save a PNG of commanded and measured turns")
+    p.set_defaults(func=_cmd_drive)
 
     p = sub.add_parser(
         "demo",

@@ -33,6 +33,7 @@ from origami_cad.drive.serial import _check_limit, _limits
 __all__ = [
     "ADDR",
     "HARDWARE_ERRORS",
+    "STATUS_ERRORS",
     "TICKS_PER_TURN",
     "DynamixelBus",
     "max_turns_for",
@@ -64,6 +65,16 @@ HARDWARE_ERRORS = {
     0x08: "motor encoder error",
     0x10: "electrical shock",
     0x20: "overload",
+}
+#: Status packet error values (the low 7 bits of the error byte).
+STATUS_ERRORS = {
+    1: "result fail",
+    2: "instruction error",
+    3: "CRC error in the instruction",
+    4: "data range error (value out of range)",
+    5: "data length error",
+    6: "data limit error",
+    7: "access error (EEPROM items are writable only with torque off)",
 }
 CURRENT_UNIT_MA = 1.0  # XL330; 2.69 mA for XL430 (set DynamixelBus.current_unit)
 
@@ -191,18 +202,21 @@ class DynamixelBus:
             self.close()
 
     # ------------------------------------------------------------------ low level
-    def _check(self, dxl_id: int, what: str, comm: int, error: int) -> None:
+    def _check(
+        self, dxl_id: int, what: str, comm: int, error: int, tolerate_alert: bool = False
+    ) -> None:
         sdk = self._sdk
         if comm == sdk.COMM_RX_CORRUPT:
             raise DriveError(f"servo {dxl_id}: CRC error in its status packet ({what})")
         if comm != sdk.COMM_SUCCESS:
             raise DriveError(f"servo {dxl_id}: {self._ph.getTxRxResult(comm)} ({what})")
-        if error & 0x80:
+        if error & 0x7F:
+            name = STATUS_ERRORS.get(error & 0x7F, f"error {error & 0x7F}")
+            raise DriveError(f"servo {dxl_id}: {name} ({what})")
+        if error & 0x80 and not tolerate_alert:
             raise DriveError(
                 f"servo {dxl_id}: hardware error: {self._hardware_error(dxl_id)} ({what})"
             )
-        if error:
-            raise DriveError(f"servo {dxl_id}: {self._ph.getRxPacketError(error)} ({what})")
 
     def _hardware_error(self, dxl_id: int) -> str:
         value, comm, _ = self._ph.read1ByteTxRx(self._port, dxl_id, ADDR["hardware_error"])
@@ -211,7 +225,7 @@ class DynamixelBus:
         names = [name for bit, name in HARDWARE_ERRORS.items() if value & bit]
         return ", ".join(names) or f"status {value:#04x}"
 
-    def _call(self, dxl_id: int, what: str, fn):
+    def _call(self, dxl_id: int, what: str, fn, tolerate_alert: bool = False):
         """Run an SDK transaction, retrying a missing status packet ``retries`` times."""
         for attempt in range(self.retries + 1):
             result = fn()
@@ -224,14 +238,16 @@ class DynamixelBus:
                     f"servo {dxl_id}: no status packet (timeout) after {self.retries + 1} "
                     f"attempts ({what})"
                 )
-            self._check(dxl_id, what, comm, error)
+            self._check(dxl_id, what, comm, error, tolerate_alert)
             return value
         raise AssertionError("unreachable")  # pragma: no cover
 
-    def _write(self, dxl_id: int, addr: int, size: int, value: int) -> None:
+    def _write(
+        self, dxl_id: int, addr: int, size: int, value: int, tolerate_alert: bool = False
+    ) -> None:
         fn = {1: self._ph.write1ByteTxRx, 2: self._ph.write2ByteTxRx, 4: self._ph.write4ByteTxRx}
         what = f"write {value} at address {addr}"
-        self._call(dxl_id, what, lambda: fn[size](self._port, dxl_id, addr, value))
+        self._call(dxl_id, what, lambda: fn[size](self._port, dxl_id, addr, value), tolerate_alert)
 
     def read_value(self, dxl_id: int, addr: int, size: int) -> int:
         """Read one control-table item (unsigned)."""
@@ -270,7 +286,10 @@ class DynamixelBus:
             comm = self._sync_read.txRxPacket()
             if comm == self._sdk.COMM_SUCCESS:
                 break
-            missing = [i for i in self.ids if not self._sync_read.isAvailable(i, 132, 4)]
+            # the SDK reads status packets in order and stops at the first failure,
+            # leaving that servo's data empty
+            data = self._sync_read.data_dict
+            missing = [i for i in self.ids if len(data.get(i) or []) != 10]
             who = f"servo {missing[0]}" if missing else f"servos {self.ids}"
             if comm == self._sdk.COMM_RX_CORRUPT:
                 raise DriveError(f"{who}: CRC error in its status packet (sync read)")
@@ -319,8 +338,8 @@ class DynamixelBus:
         self._call(dxl_id, "clear multi-turn", lambda: self._ph.clearMultiTurn(self._port, dxl_id))
 
     def stop_servo(self, dxl_id: int) -> None:
-        """Disable torque on one servo."""
-        self._write(dxl_id, ADDR["torque"], 1, 0)
+        """Disable torque on one servo (even one reporting a hardware alert)."""
+        self._write(dxl_id, ADDR["torque"], 1, 0, tolerate_alert=True)
 
     def stop(self, raise_errors: bool = True) -> None:
         """Disable torque on every servo (all are tried even if one fails)."""

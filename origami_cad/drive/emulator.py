@@ -25,6 +25,7 @@ import struct
 import threading
 import time
 import tty
+from collections import Counter
 from dataclasses import dataclass, field
 
 from origami_cad.drive.protocol2 import (
@@ -259,6 +260,7 @@ class DynamixelEmulator(_PtyDevice):
         self._buffer = bytearray()
         self._lock = threading.Lock()
         self.packets_in = 0
+        self.instructions: Counter[int] = Counter()  # instruction packets received, by kind
 
     # -- fault injection
     def drop_status(self, dxl_id: int, count: int = 1) -> None:
@@ -289,6 +291,7 @@ class DynamixelEmulator(_PtyDevice):
             self._buffer.extend(data)
             for pkt in parse_packets(self._buffer):
                 self.packets_in += 1
+                self.instructions[pkt.instruction] += 1
                 if not pkt.crc_ok:
                     continue  # a real servo ignores a corrupted instruction
                 out.extend(r for r in self._answer(pkt) if r is not None)

@@ -219,7 +219,10 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
     seq.finish()
     for tsa in tsas:  # every keyframe must be reachable safely
         for frame in frames:
-            turns = Sequence._turns(tsa, frame, tsas.index(tsa))
+            try:
+                turns = Sequence._turns(tsa, frame, tsas.index(tsa))
+            except DriveError as exc:
+                raise DesignError(f"{p}: keyframe at t = {frame.t:g} s: {exc}") from None
             if abs(turns) > tsa.max_turns:
                 raise DesignError(
                     f"{p}: keyframe at t = {frame.t:g} s asks servo {tsa.dxl_id} ({tsa.name}) "

@@ -1,0 +1,52 @@
+"""Plots of a driven sequence: commanded and measured turns of every TSA over time."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from origami_cad._fileio import atomic_path
+
+__all__ = ["save_drive_png"]
+
+
+def save_drive_png(
+    rows: Sequence[dict[str, Any]],
+    path: str | os.PathLike[str],
+    names: dict[int, str] | None = None,
+) -> Path:
+    """One panel per TSA: commanded (dashed) and measured (solid) motor turns, and current."""
+    ids = sorted({r["id"] for r in rows})
+    fig, axes = plt.subplots(
+        len(ids), 1, figsize=(9, 1.9 * len(ids) + 0.8), sharex=True, squeeze=False
+    )
+    try:
+        for ax, i in zip(axes[:, 0], ids, strict=True):
+            sel = [r for r in rows if r["id"] == i]
+            t = np.array([r["t_s"] for r in sel])
+            ax.plot(t, [r["target_turns"] for r in sel], "--", color="#555555", label="commanded")
+            ax.plot(t, [r["measured_turns"] for r in sel], "-", color="#1f4fd6", label="measured")
+            ax.set_ylabel("turns")
+            label = (names or {}).get(i, "")
+            ax.set_title(f"servo {i} {label}".strip(), fontsize=9, loc="left")
+            ax.grid(True, alpha=0.3)
+            twin = ax.twinx()
+            twin.plot(t, [r["current_mA"] for r in sel], ":", color="#d62728", lw=1)
+            twin.set_ylabel("mA", color="#d62728", fontsize=8)
+        axes[0, 0].legend(fontsize=8, loc="upper right")
+        axes[-1, 0].set_xlabel("time (s)")
+        fig.tight_layout()
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=140, format="png")
+    finally:
+        plt.close(fig)
+    return Path(path)

@@ -1,0 +1,206 @@
+"""The driver layer against the emulator: real dynamixel_sdk packets on a pseudo-terminal."""
+
+from __future__ import annotations
+
+import csv
+import time
+from pathlib import Path
+
+import dynamixel_sdk as sdk
+import pytest
+
+from origami_cad.cli import main
+from origami_cad.drive import (
+    DriveError,
+    DynamixelBus,
+    DynamixelEmulator,
+    SerialBus,
+    SerialEmulator,
+    StallError,
+)
+from origami_cad.drive.protocol2 import (
+    PING,
+    SYNC_READ,
+    SYNC_WRITE,
+    crc16,
+    instruction_packet,
+    parse_packets,
+    status_packet,
+    stuff,
+    unstuff,
+)
+from origami_cad.drive.sequence import load_sequence, run_sequence
+from origami_cad.drive.serial import crc8, frame, unframe
+from origami_cad.errors import DesignError
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+IDS = [1, 2, 3, 4]
+
+
+def test_protocol_test_vector_crc_and_stuffing():
+    assert instruction_packet(1, PING) == bytes.fromhex("FFFFFD0001030001194E")
+    payload = b"\x01\xff\xff\xfd\x02"
+    assert stuff(payload) == b"\x01\xff\xff\xfd\xfd\x02"
+    assert unstuff(stuff(payload)) == payload
+    buf = bytearray(b"\x00\x13" + status_packet(3, 0, b"\xff\xff\xfd") + b"\xff\xff")
+    packets = parse_packets(buf)
+    assert len(packets) == 1 and packets[0].crc_ok and packets[0].params == b"\x00\xff\xff\xfd"
+    assert buf == bytearray(b"\xff\xff")  # a partial header stays for the next read
+    # the SDK's own CRC agrees with ours
+    raw = list(instruction_packet(7, 0x02, b"\x84\x00\x04\x00"))
+    ph = sdk.PacketHandler(2.0)
+    assert ph.updateCRC(0, raw, len(raw) - 2) == crc16(bytes(raw[:-2]))
+
+
+@pytest.fixture()
+def emulator():
+    with DynamixelEmulator(IDS, load_turns={3: 2.0}) as emu:
+        yield emu
+
+
+def test_ping_model_and_mode_switch(emulator):
+    with DynamixelBus(emulator.port, ids=IDS) as bus:
+        assert bus.models == {i: 1200 for i in IDS}  # XL330-M288
+        for i in IDS:
+            assert bus.read_value(i, 11, 1) == 4  # extended position mode
+            assert bus.read_value(i, 64, 1) == 1  # torque on
+        # EEPROM items cannot be written with torque on: the servo refuses, and we say which
+        with pytest.raises(DriveError, match=r"servo 2: access error .*torque off"):
+            bus._write(2, 11, 1, 3)
+    for i in IDS:  # leaving the block turned torque off
+        assert emulator.servos[i].table[64] == 0
+
+
+def test_sync_write_and_read_multi_turn_and_negative(emulator):
+    targets = {1: 1.5, 2: -2.25, 3: 0.75, 4: -0.125}
+    with DynamixelBus(emulator.port, ids=IDS, profile_velocity=0) as bus:
+        bus.set_turns(targets)
+        state = bus.wait(targets, tolerance=1e-3)
+        assert emulator.instructions[SYNC_WRITE] == 1  # one packet for all four servos
+        assert emulator.instructions[SYNC_READ] >= 1
+        for i, t in targets.items():
+            assert state[i][0] == pytest.approx(t, abs=1e-3)
+            assert emulator.servos[i].value(116) == round(t * 4096)
+
+
+def test_turn_limits_are_enforced_before_anything_is_sent(emulator):
+    with DynamixelBus(emulator.port, ids=IDS, max_turns={1: 3.0}) as bus:
+        with pytest.raises(DriveError, match=r"servo 1: 3\.5 turns exceeds its limit of 3 turns"):
+            bus.set_turns({1: 3.5, 2: 0.5})
+        with pytest.raises(DriveError, match="servo 2: 300 turns exceeds its limit of 256"):
+            bus.set_turns({2: 300.0})
+        bus.read()  # a round trip: every packet sent before it has been handled
+        assert emulator.instructions[SYNC_WRITE] == 0
+        bus.clear_multi_turn(4)
+
+
+def test_a_stalling_tsa_is_stopped(emulator):
+    with DynamixelBus(emulator.port, ids=IDS, current_limit_ma=1000, profile_velocity=0) as bus:
+        bus.set_turns({3: 4.0})
+        with pytest.raises(StallError, match="servo 3: current 1500 mA exceeds the limit"):
+            deadline = time.monotonic() + 5
+            while time.monotonic() < deadline:
+                bus.read()
+                time.sleep(0.01)
+        assert emulator.servos[3].table[64] == 0  # torque off on the stalled servo
+        assert emulator.servos[1].table[64] == 1
+
+
+def test_dropped_status_is_retried_then_fails_with_the_servo_named(emulator):
+    with DynamixelBus(emulator.port, ids=IDS, retries=2) as bus:
+        emulator.drop_status(2, 2)
+        assert bus.read_value(2, 11, 1) == 4  # two drops, third attempt answers
+        emulator.drop_status(2, 3)
+        with pytest.raises(DriveError, match=r"servo 2: no status packet \(timeout\) after 3"):
+            bus.read_value(2, 11, 1)
+        emulator.drop_status(4, 5)
+        with pytest.raises(DriveError, match="servo 4: no status packet"):
+            bus.read()
+
+
+def test_corrupted_crc_and_hardware_error_are_reported(emulator):
+    with DynamixelBus(emulator.port, ids=IDS) as bus:
+        emulator.corrupt_status(1, 1)
+        with pytest.raises(DriveError, match="servo 1: CRC error"):
+            bus.read_value(1, 132, 4)
+        emulator.report_overload(4)
+        with pytest.raises(DriveError, match="servo 4: hardware error: overload"):
+            bus.read_value(4, 132, 4)
+
+
+def test_port_that_cannot_be_opened():
+    with pytest.raises(DriveError, match="port /dev/does-not-exist cannot be opened"):
+        DynamixelBus("/dev/does-not-exist", ids=[1]).open()
+
+
+def test_generic_serial_protocol_happy_path_and_checksum_error():
+    assert unframe(frame("OK R 1 2.5000 60")) == "OK R 1 2.5000 60"
+    assert crc8(b"123456789") == 0xF4  # CRC-8/SMBUS check value
+    with pytest.raises(DriveError, match="checksum error"):
+        unframe("OK S*00")
+    with SerialEmulator([1, 2]) as emu, SerialBus(emu.port, ids=[1, 2], max_turns=5.0) as bus:
+        assert bus.models == {1: 9000, 2: 9000}
+        bus.set_turns({1: 0.4, 2: -0.3})
+        time.sleep(0.15)
+        state = bus.read()
+        assert state[1][0] == pytest.approx(0.4) and state[2][0] == pytest.approx(-0.3)
+        with pytest.raises(DriveError, match="servo 1: 9 turns exceeds its limit of 5"):
+            bus.set_turns({1: 9.0})
+        emu.device.corrupt_replies = 1
+        with pytest.raises(DriveError, match="motor 1: checksum error"):
+            bus.read()
+        # a command with a bad checksum gets ERR 1 from the board
+        assert emu.device.handle("R 1*00").startswith("ERR 1 checksum")
+        assert emu.device.handle(frame("X 1")).startswith("ERR 2")
+        assert emu.device.handle(frame("G 9 1.0")).startswith("ERR 3")
+
+
+def test_crawler_gait_dry_run_with_csv_log(tmp_path, capsys):
+    log = tmp_path / "crawler.csv"
+    plot = tmp_path / "crawler.png"
+    code = main(
+        [
+            "drive",
+            str(EXAMPLES / "crawler_gait.toml"),
+            "--dry-run",
+            "--speed",
+            "32",
+            "--log",
+            str(log),
+            "--plot",
+            str(plot),
+        ]
+    )
+    assert code == 0
+    rows = list(csv.DictReader(log.open()))
+    seq = load_sequence(EXAMPLES / "crawler_gait.toml")
+    steps = int(seq.cycle * seq.rate) + 1
+    assert len(rows) == 4 * steps
+    assert {int(r["id"]) for r in rows} == set(IDS)
+    by_time = [r for r in rows if float(r["t_s"]) == 16.0]
+    front = seq.tsas[0].turns(seq.tsas[0].contraction(0.8))
+    assert float(by_time[0]["target_turns"]) == pytest.approx(front)
+    for r in rows:  # the emulated servos follow their commands closely
+        assert abs(float(r["target_turns"]) - float(r["measured_turns"])) < 1.0
+    assert plot.read_bytes()[:4] == b"\x89PNG"
+    assert "dry run" in capsys.readouterr().out
+
+
+def test_sequence_checks(tmp_path):
+    text = (EXAMPLES / "crawler_gait.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("p = [0.8, 0.8, 0.3, 0.3]", "p = [0.8, 0.8, 0.3]"))
+    with pytest.raises(DesignError, match="expected 4 numbers"):
+        load_sequence(bad)
+    bad.write_text(text.replace("max_helix_angle = 75.0", "max_helix_angle = 20.0", 1))
+    with pytest.raises(DesignError, match=r"t = 8 s: servo 1 \(front left\): a contraction"):
+        load_sequence(bad)
+    seq = load_sequence(EXAMPLES / "arm_fold.toml")
+    with (
+        DynamixelEmulator([1], time_scale=40) as emu,
+        DynamixelBus(emu.port, ids=[1], profile_velocity=0) as bus,
+    ):
+        rows = run_sequence(seq, bus, time_scale=40)
+    assert max(r["target_turns"] for r in rows) == pytest.approx(
+        seq.tsas[0].turns(seq.tsas[0].contraction(0.814))
+    )
