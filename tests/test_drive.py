@@ -204,3 +204,12 @@ def test_sequence_checks(tmp_path):
     assert max(r["target_turns"] for r in rows) == pytest.approx(
         seq.tsas[0].turns(seq.tsas[0].contraction(0.814))
     )
+
+
+def test_protocol_page_examples_carry_true_checksums():
+    page = (Path(__file__).resolve().parents[1] / "docs" / "serial-protocol.md").read_text()
+    lines = [ln[2:] for ln in page.splitlines() if ln.startswith(("> ", "< "))]
+    assert len(lines) >= 6
+    for line in lines:
+        text, _, _ = line.rpartition("*")
+        assert frame(text) == line

@@ -20,8 +20,8 @@ Errors: ``ERR <code> <text>`` with code 1 checksum, 2 unknown command,
 Examples
 --------
 >>> frame("P 1")
-'P 1*4E'
->>> unframe("OK P 1 9000*D7")
+'P 1*1D'
+>>> unframe("OK P 1 9000*EF")
 'OK P 1 9000'
 """
 

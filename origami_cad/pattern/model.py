@@ -14,7 +14,7 @@ Examples
 >>> square = np.array([[0, 0], [100, 0], [100, 100], [0, 100]], float)
 >>> edges = [[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]]
 >>> cp = CreasePattern(square, edges, ["B", "B", "B", "B", "V"])
->>> len(cp.faces), cp.fold_angles[-1]
+>>> len(cp.faces), float(cp.fold_angles[-1])
 (2, 180.0)
 """
 

@@ -7,10 +7,10 @@ instead of returning NaN when asked for more than the strands can give.
 Examples
 --------
 >>> import math
->>> round(ring_length(0.0, x_dis=60.0, d1=10.0, d2=8.0, d_s=0.5), 6)  # = A0B0
+>>> round(float(ring_length(0.0, x_dis=60.0, d1=10.0, d2=8.0, d_s=0.5)), 6)  # = A0B0
 60.008333
 >>> x = onboard_contraction(math.radians(3600), length=100.0, radius=0.5)
->>> round(onboard_angle(x, length=100.0, radius=0.5) / (2 * math.pi), 6)  # turns
+>>> round(float(onboard_angle(x, length=100.0, radius=0.5)) / (2 * math.pi), 6)  # turns
 10.0
 """
 
