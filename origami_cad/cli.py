@@ -7,6 +7,7 @@ Bad input prints one line ``origami-cad: error: ...`` and exits with code 2;
 from __future__ import annotations
 
 import argparse
+import inspect
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -355,6 +356,70 @@ def _cmd_drive(args: argparse.Namespace) -> int:
     return 0
 
 
+def _part_params(func) -> dict[str, inspect.Parameter]:
+    skip = {"fab", "panel", "crease", "tsa", "body", "centre", "angles"}
+    return {n: p for n, p in inspect.signature(func).parameters.items() if n not in skip}
+
+
+def _cmd_part(args: argparse.Namespace) -> int:
+    from parts import PARTS
+
+    if args.list or not args.name:
+        for name, func in PARTS.items():
+            doc = (func.__doc__ or "").strip().splitlines()[0]
+            print(f"{name}: {doc}")
+            for pname, p in _part_params(func).items():
+                print(f"    --{pname.replace('_', '-')} (default {p.default!r})")
+        return 0
+    if args.name not in PARTS:
+        raise DesignError(f"unknown part {args.name!r} (known: {', '.join(PARTS)})")
+    if not args.output:
+        raise DesignError("give the output folder with -o DIR")
+    func = PARTS[args.name]
+    known = _part_params(func)
+    kwargs: dict = {}
+    extra = list(args.params)
+    while extra:
+        key = extra.pop(0)
+        if not key.startswith("--") or not extra:
+            raise DesignError(f"expected --name value pairs after the part name, got {key!r}")
+        name = key[2:].replace("-", "_")
+        value = extra.pop(0)
+        if name not in known:
+            raise DesignError(
+                f"part {args.name} has no parameter --{key[2:]} (see origami-cad part --list)"
+            )
+        default = known[name].default
+        try:
+            kwargs[name] = type(default)(value) if default is not None else value
+        except ValueError:
+            raise DesignError(
+                f"--{key[2:]}: expected a {type(default).__name__}, got {value!r}"
+            ) from None
+    if args.pattern:
+        from origami_cad.fabrication import fabricate
+        from origami_cad.pattern.design import load_pattern_source
+
+        fab = fabricate(load_pattern_source(args.pattern))
+        if args.name == "blocker":
+            if args.crease is None:
+                raise DesignError("the blocker needs --crease EDGE with --pattern")
+            kwargs.update(fab=fab, crease=args.crease)
+        elif args.name == "tsa-module":
+            if not args.panel:
+                raise DesignError("the TSA module needs --panel LABEL with --pattern")
+            kwargs.update(fab=fab, panel=args.panel)
+    part = func(**kwargs)
+    from origami_cad.fabrication.export import export_part
+
+    paths = export_part(part, Path(args.output), args.name)
+    print(
+        f"{args.name}: volume {part.volume / 1000:.2f} cm3; wrote "
+        + ", ".join(str(p) for p in paths)
+    )
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from origami_cad.demo import run_demo
 
@@ -550,6 +615,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_drive)
 
     p = sub.add_parser(
+        "part",
+        help="parametric hardware: tsa-module, ring-rail, blocker, driver-adapter (STEP + STL)",
+        description="Build a parametric part and write NAME.step and NAME.stl into OUT. "
+        "Parameters as --name value (see --list). --pattern with --panel places a TSA "
+        "module's mount on a fabricated panel; --pattern with --crease places a blocker.",
+    )
+    p.add_argument("name", nargs="?", help="part name")
+    p.add_argument("-o", "--output", help="output folder")
+    p.add_argument("--list", action="store_true", help="list the parts and their parameters")
+    p.add_argument("--pattern", help="design or pattern file the part is made for")
+    p.add_argument("--panel", help="panel label (tsa-module)")
+    p.add_argument("--crease", type=int, help="crease edge index (blocker)")
+    p.set_defaults(func=_cmd_part, params=[])
+
+    p = sub.add_parser(
         "demo",
         help="reproduce the paper's figures end to end into one HTML report",
         description="Run every step of the pipeline on the paper's examples and write "
@@ -564,7 +644,11 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        if args.command != "part":
+            parser.error(f"unrecognized arguments: {' '.join(extra)}")
+        args.params = extra  # the part's own --name value parameters
     try:
         return int(args.func(args) or 0)
     except OrigamiCadError as exc:
@@ -577,6 +661,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("origami-cad: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # output piped into a program that stopped reading (| head)
+        sys.stderr.close()
+        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -24,7 +24,14 @@ from origami_cad import __version__
 from origami_cad._fileio import atomic_path
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
-__all__ = ["EXTRUDERS", "MATERIAL_COLORS", "export_3mf", "export_step_assembly", "export_stls"]
+__all__ = [
+    "EXTRUDERS",
+    "MATERIAL_COLORS",
+    "export_3mf",
+    "export_part",
+    "export_step_assembly",
+    "export_stls",
+]
 
 #: Extruder of each material (1-based, as slicers count).
 EXTRUDERS = {"PLA": 1, "TPU": 2}
@@ -189,3 +196,26 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
         zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
     return Path(path)
+
+
+def export_part(part, folder: str | os.PathLike[str], name: str) -> list[Path]:
+    """Write ``name.step`` and ``name.stl`` (binary) of a part or assembly (atomic)."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    step, stl = out / f"{name}.step", out / f"{name}.stl"
+    with atomic_path(step) as tmp:
+        if export_step(part, str(tmp)) is False:
+            raise OSError(f"{step}: the STEP writer failed")
+    with atomic_path(stl) as tmp:
+        if (
+            export_stl(
+                part,
+                str(tmp),
+                tolerance=TOLERANCE,
+                angular_tolerance=ANGULAR_TOLERANCE,
+                ascii_format=False,
+            )
+            is False
+        ):
+            raise OSError(f"{stl}: the STL writer failed")
+    return [step, stl]

@@ -1,0 +1,151 @@
+"""The onboard TSA module: a servo, a twist hub, a string exit guide and a panel mount.
+
+The twist hub's two anchor holes sit at the rotation diameter ``d1`` of the TSA
+model (:class:`origami_cad.strings.tsa.TSAParams`): the part reads the same
+parameter as the simulation, so the printed hub and eq. 8 agree. Generated for a
+named panel of a fabricated pattern, the mount fits inside that panel's outer
+face and its holes line up with the holes the fabrication step placed there.
+
+Frame: the module's twist axis runs along ``heading`` (degrees from +x) at the
+height of the servo horn, the mount sits on the panel's outer face (z = h).
+"""
+
+from __future__ import annotations
+
+import shapely
+from build123d import Box, Compound, Cylinder, Location, Part, Plane, Polyline, extrude, make_face
+
+from origami_cad.errors import DesignError
+from origami_cad.strings.tsa import TSAParams
+
+__all__ = ["SERVOS", "tsa_module"]
+
+#: Servo bodies: (width, length, height) of the case in mm and the horn axis's distance from
+#: the front end, from the manufacturer's published drawings.
+SERVOS = {
+    "XL330": {"body": (20.0, 34.0, 26.0), "horn_offset": 10.0, "horn_diameter": 16.0},
+    "XL430": {"body": (28.5, 46.5, 34.0), "horn_offset": 13.5, "horn_diameter": 22.0},
+}
+
+
+def _prism(poly: shapely.Polygon, z0: float, z1: float) -> Part:
+    pts = shapely.get_coordinates(poly.exterior)[:-1]
+    face = make_face(Polyline(*[(float(x), float(y)) for x, y in pts], close=True))
+    solid = extrude(Plane.XY.offset(z0) * face, amount=z1 - z0)
+    return solid if isinstance(solid, Part) else Part(solid.wrapped)
+
+
+def tsa_module(
+    servo: str = "XL330",
+    body: tuple[float, float, float] | None = None,
+    horn_offset: float | None = None,
+    tsa: TSAParams | None = None,
+    hub_thickness: float = 4.0,
+    anchor_hole: float = 1.2,
+    guide_distance: float = 20.0,
+    guide_hole: float = 3.0,
+    mount_thickness: float = 3.0,
+    heading: float = 0.0,
+    fab=None,
+    panel: str | None = None,
+    centre: tuple[float, float] = (0.0, 0.0),
+) -> Compound:
+    """An onboard TSA module, as an assembly: ``servo``, ``hub``, ``guide``, ``mount``.
+
+    Parameters
+    ----------
+    servo : str
+        ``"XL330"`` or ``"XL430"`` (published footprints), or any name with ``body``.
+    body : (float, float, float), optional
+        Width, length, height of another servo's case, mm.
+    horn_offset : float, optional
+        Distance of the horn axis from the case's front end, mm.
+    tsa : TSAParams, optional
+        The TSA model; its ``d1`` places the hub's anchor holes (default ``TSAParams()``).
+    hub_thickness, anchor_hole : float
+        Hub disc thickness and anchor hole diameter, mm.
+    guide_distance, guide_hole : float
+        Distance of the string exit guide from the hub along the axis, and its hole, mm.
+    mount_thickness : float
+        Thickness of the mount plate, mm.
+    heading : float
+        Direction of the twist axis in the pattern plane, degrees from +x.
+    fab : Fabrication, optional
+        With ``panel``: the mount is the panel's outer face inset by 1 mm, with holes
+        at the panel's fabrication holes, placed on the panel (z = h).
+    panel : str, optional
+        Label of the panel of ``fab`` to mount on.
+    centre : (float, float)
+        Where the module stands without a panel, mm.
+    """
+    spec = SERVOS.get(servo, {})
+    if body is None:
+        if not spec:
+            raise DesignError(
+                f"unknown servo {servo!r}: give its body=(w, l, h) in mm "
+                f"(known: {', '.join(SERVOS)})"
+            )
+        body = spec["body"]
+    if horn_offset is None:
+        horn_offset = spec.get("horn_offset", body[0] / 2)
+    horn_d = spec.get("horn_diameter", 0.8 * body[0])
+    tsa = tsa or TSAParams()
+    w, length, h = (float(v) for v in body)
+    if min(w, length, h) <= 0:
+        raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
+    z_base = 0.0
+    holes: list[tuple[float, float, float]] = []
+    if fab is not None:
+        if panel is None:
+            raise DesignError("give the panel label to mount the TSA module on")
+        fi = fab.pattern.face_index(panel)
+        outline = next(o for o in fab.outlines if o.index == fi)
+        foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
+        holes = [(x, y, d) for i, x, y, d in fab.holes if i == fi]
+        z_base = fab.params.height
+        cx, cy = foot.centroid.x, foot.centroid.y
+    else:
+        cx, cy = centre
+        foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
+    # mount plate with the panel's holes
+    mount = _prism(foot, z_base, z_base + mount_thickness)
+    for x, y, d in holes:
+        mount = mount - Cylinder(d / 2, mount_thickness + 2, align=None).moved(
+            Location((x, y, z_base - 1))
+        )
+    mount = mount if isinstance(mount, Part) else Part(mount.wrapped)
+    mount.label = "mount"
+    # the servo lies on its side: its height runs along the twist axis (local x, horn face
+    # at x = 0), its length across (local y, horn axis horn_offset from the front end)
+    z0 = z_base + mount_thickness
+    axis_z = z0 + w / 2
+    servo_box = Box(h, length, w, align=None).moved(Location((-h, -horn_offset, z0)))
+    servo_part = servo_box if isinstance(servo_box, Part) else Part(servo_box.wrapped)
+    front = 0.0
+    hub_r = max(tsa.d1 / 2 + max(3.0, anchor_hole * 2), horn_d / 2)
+    hub = Cylinder(hub_r, hub_thickness, align=None).moved(
+        Location((front + 1.0, 0, axis_z), (0, 1, 0), 90)
+    )
+    for sign in (1, -1):  # the two anchor holes at the rotation diameter d1
+        hub = hub - Cylinder(anchor_hole / 2, hub_thickness + 2, align=None).moved(
+            Location((front, sign * tsa.d1 / 2, axis_z), (0, 1, 0), 90)
+        )
+    hub = hub if isinstance(hub, Part) else Part(hub.wrapped)
+    gx = front + 1.0 + hub_thickness + guide_distance
+    guide_h = axis_z - z0 + 6.0
+    guide = Box(3.0, 2 * hub_r, guide_h, align=None).moved(Location((gx, -hub_r, z0)))
+    guide = guide - Cylinder(guide_hole / 2, 6.0, align=None).moved(
+        Location((gx - 1.0, 0, axis_z), (0, 1, 0), 90)
+    )
+    guide = guide if isinstance(guide, Part) else Part(guide.wrapped)
+    shift = Location((cx, cy, 0), (0, 0, 1), heading)
+    children = []
+    for name, part in (("servo", servo_part), ("hub", hub), ("guide", guide)):
+        moved = part.moved(shift)
+        moved = moved if isinstance(moved, Part) else Part(moved.wrapped)
+        moved.label = name
+        children.append(moved)
+    children.append(mount)
+    assembly = Compound(children=children)
+    assembly.label = f"TSA module ({servo})"
+    return assembly

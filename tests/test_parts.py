@@ -1,0 +1,184 @@
+"""Parametric parts: valid closed solids, sensible volumes, and the fits they promise."""
+
+from __future__ import annotations
+
+import math
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+import trimesh
+from build123d import Axis, Compound, Vector, import_step
+
+from origami_cad.cli import main
+from origami_cad.errors import DesignError
+from origami_cad.fabrication import FabricationParams, fabricate
+from origami_cad.fabrication.export import export_part
+from origami_cad.pattern import CreasePattern
+from origami_cad.pattern.design import load_design
+from origami_cad.strings import TSAParams
+from parts import PARTS, blocker, driver_adapter, ring_anchor_points, ring_rail, tsa_module
+from parts.blocker import blocker_frame
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+def solids_of(shape):
+    return list(shape.solids())
+
+
+def assert_valid_and_watertight(shape, tmp_path, name):
+    assert shape.is_valid and all(s.is_valid for s in solids_of(shape))
+    step, stl = export_part(shape, tmp_path, name)
+    bodies = trimesh.load(stl).split(only_watertight=False)
+    assert bodies and all(b.is_watertight for b in bodies)
+    back = import_step(step)
+    assert back.volume == pytest.approx(shape.volume, rel=1e-6)
+
+
+@pytest.mark.parametrize(
+    "name, kwargs",
+    [
+        ("driver-adapter", {}),
+        ("driver-adapter", {"connectors": 7, "board_width": 30.0, "thickness": 4.0}),
+        ("ring-rail", {}),
+        ("ring-rail", {"inner_diameter": 200.0, "angles": (0.0, 120.0, 240.0)}),
+        ("tsa-module", {}),
+        ("tsa-module", {"servo": "XL430", "guide_distance": 30.0}),
+        ("blocker", {}),
+        ("blocker", {"angle": 30.0, "length": 16.0}),
+    ],
+)
+def test_every_part_is_a_valid_closed_solid(name, kwargs, tmp_path):
+    shape = PARTS[name](**kwargs)
+    assert_valid_and_watertight(shape, tmp_path, name)
+    assert shape.volume > 0
+
+
+def test_driver_adapter_volume_is_the_plate_minus_its_cuts():
+    plate = driver_adapter(
+        connectors=5,
+        board_width=25,
+        board_length=45,
+        thickness=3.0,
+        margin=6.0,
+        pitch=8.0,
+        slot_width=7.8,
+        slot_depth=2.8,
+        mounting_hole=3.2,
+        pocket=1.2,
+    )
+    width, length = 25 + 12, 45 + 5 * 8 + 18
+    expected = (
+        width * length * 3.0 - 25 * 45 * 1.2 - 5 * 7.8 * 2.8 * 3.0 - 4 * math.pi * 1.6**2 * 3.0
+    )
+    assert plate.volume == pytest.approx(expected, rel=1e-6)
+    with pytest.raises(DesignError, match="connectors must be >= 1"):
+        driver_adapter(connectors=0)
+
+
+def test_ring_rail_anchors_sit_in_the_carriage_eyelets():
+    angles = (30.0, 150.0, 270.0)
+    rail = ring_rail(inner_diameter=150.0, angles=angles, centre=(60.0, 60.0), z_top=20.0)
+    labels = [c.label for c in rail.children]
+    assert labels[0] == "rail" and len(labels) == 4
+    anchors = ring_anchor_points(150.0, angles, (60.0, 60.0), 20.0)
+    for a, (x, y, z) in zip(angles, anchors, strict=True):
+        assert math.hypot(x - 60, y - 60) == pytest.approx(73.0)  # the wall's inner face
+        carriage = next(c for c in rail.children if f"({a:g} deg)" in c.label)
+        ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
+        for depth in (0.2, 1.0, 1.8):  # along the eyelet, through the wall: no material
+            assert not carriage.is_inside(Vector(x + depth * ca, y + depth * sa, z))
+        # but the wall is there just beside the eyelet
+        assert carriage.is_inside(Vector(x + ca - 1.6 * sa, y + sa + 1.6 * ca, z))
+    ring = rail.children[0]
+    assert ring.volume == pytest.approx(math.pi * (87**2 - 75**2) * 8.0, rel=1e-3)  # width 12
+
+
+def test_tsa_hub_holes_follow_the_tsa_model_d1():
+    for d1 in (10.0, 14.0):
+        module = tsa_module(tsa=TSAParams(d1=d1))
+        hub = next(c for c in module.children if c.label == "hub")
+        bb = hub.bounding_box()
+        x_mid, z_axis = (bb.min.X + bb.max.X) / 2, (bb.min.Z + bb.max.Z) / 2
+        for sign in (1, -1):
+            assert not hub.is_inside(Vector(x_mid, sign * d1 / 2, z_axis))  # the anchor hole
+            assert hub.is_inside(Vector(x_mid, sign * (d1 / 2 + 1.5), z_axis))
+        assert hub.is_inside(Vector(x_mid, 0.0, z_axis))
+
+
+def test_tsa_mount_fits_its_panel_and_its_holes():
+    design = load_design(EXAMPLES / "miura_6x4.toml")
+    fab = fabricate(design)
+    module = tsa_module(fab=fab, panel="c0r1s2")
+    mount = next(c for c in module.children if c.label == "mount")
+    fi = fab.pattern.face_index("c0r1s2")
+    outline = next(o for o in fab.outlines if o.index == fi)
+    bb = mount.bounding_box()
+    assert bb.min.Z == pytest.approx(fab.params.height)  # on the panel's outer face
+    footprint = shapely.MultiPoint([(v.X, v.Y) for v in mount.vertices()]).convex_hull
+    assert shapely.Polygon(outline.outer).buffer(1e-6).contains(footprint)
+    ((_, x, y, d),) = [h for h in fab.holes if h[0] == fi]
+    z = fab.params.height + 1.5
+    assert not mount.is_inside(Vector(x, y, z))  # the panel's hole goes through the mount
+    assert mount.is_inside(Vector(x + d / 2 + 0.5, y, z))
+    with pytest.raises(DesignError, match="unknown servo"):
+        tsa_module("XM999")
+
+
+def two_panels() -> CreasePattern:
+    v = [[0, 0], [40, 0], [80, 0], [80, 40], [40, 40], [0, 40]]
+    e = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [1, 4]]
+    return CreasePattern(v, e, ["B"] * 6 + ["V"])
+
+
+@pytest.mark.parametrize("angle", [60.0, 35.0])
+def test_blocker_stops_the_fold_at_its_angle(angle):
+    fab = fabricate(two_panels(), FabricationParams(holes="none"))
+    crease = int(np.flatnonzero(fab.pattern.assignments == "V")[0])
+    blk = blocker(fab, crease, angle=angle)
+    start, direction, _, face_a, face_b = blocker_frame(fab, crease)
+    panel_a = Compound(list(fab.parts.halves[face_a]))
+    panel_b = Compound(list(fab.parts.halves[face_b]))
+    hinge_z = (fab.params.height + fab.params.thickness) / 2
+    axis = Axis((start[0], start[1], hinge_z), (direction[0], direction[1], 0.0))
+
+    def overlap(a, b) -> float:
+        common = a & b
+        return sum(s.volume for s in common.solids()) if common else 0.0
+
+    assert overlap(panel_a, blk) < 1e-9  # it sits on panel A
+    for below in (0.0, angle / 2, angle - 2.0):
+        turned = panel_b.rotate(axis, -below)
+        assert turned.distance_to(blk) > 1e-3 and overlap(turned, blk) < 1e-9
+    at = panel_b.rotate(axis, -angle)
+    assert at.distance_to(blk) < 1e-6 and overlap(at, blk) < 1e-6  # contact
+    assert overlap(panel_b.rotate(axis, -(angle + 2.0)), blk) > 1e-2  # beyond: blocked
+    with pytest.raises(DesignError, match="theta_max"):
+        blocker(fab, crease, angle=170.0)
+
+
+def test_cli_part_and_the_assembly_example(tmp_path, capsys):
+    assert main(["part", "--list"]) == 0
+    listing = capsys.readouterr().out
+    for name in PARTS:
+        assert name in listing
+    assert main(["part", "driver-adapter", "-o", str(tmp_path), "--connectors", "3"]) == 0
+    assert (tmp_path / "driver-adapter.step").is_file()
+    assert main(["part", "driver-adapter", "-o", str(tmp_path), "--connectors", "x"]) == 2
+    assert main(["part", "nope", "-o", str(tmp_path)]) == 2
+    module = runpy.run_path(str(EXAMPLES / "assemble_arm.py"))
+    path = module["main"](tmp_path / "arm")
+    assembly = import_step(path)
+
+    def labels(shape) -> set[str]:
+        out = {shape.label}
+        for child in getattr(shape, "children", ()):
+            out |= labels(child)
+        return out
+
+    found = labels(assembly)
+    assert {"infills", "shells", "creases", "midlayers"} <= found
+    assert {"servo", "hub", "guide", "mount"} <= found
