@@ -13,6 +13,7 @@ from build123d's tessellation.
 from __future__ import annotations
 
 import os
+import tempfile
 import zipfile
 from pathlib import Path
 from xml.sax.saxutils import escape
@@ -31,6 +32,7 @@ __all__ = [
     "export_part",
     "export_step_assembly",
     "export_stls",
+    "read_binary_stl",
 ]
 
 #: Extruder of each material (1-based, as slicers count).
@@ -83,16 +85,29 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
     return Path(path)
 
 
+def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (welded, mm) and triangles of a binary STL file."""
+    raw = Path(path).read_bytes()
+    count = int(np.frombuffer(raw, dtype="<u4", count=1, offset=80)[0])
+    record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    data = np.frombuffer(raw, dtype=record, count=count, offset=84)
+    corners = data["v"].reshape(-1, 3).astype(float)
+    verts, inverse = np.unique(corners, axis=0, return_inverse=True)
+    return verts, inverse.reshape(-1, 3)
+
+
 def _mesh(parts: Parts, name: str) -> tuple[np.ndarray, np.ndarray]:
-    verts, tris, offset = [], [], 0
-    for solid in parts.solids[name]:
-        v, t = solid.tessellate(TOLERANCE, ANGULAR_TOLERANCE)
-        v = np.array([[p.X, p.Y, p.Z] for p in v], dtype=float)
-        t = np.asarray(t, dtype=np.int64).reshape(-1, 3)
-        verts.append(v)
-        tris.append(t + offset)
-        offset += len(v)
-    return np.vstack(verts), np.vstack(tris)
+    """The part meshed by OCC (as its STL export does), as NumPy arrays."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"{name}.stl"
+        export_stl(
+            parts.compound(name),
+            str(path),
+            tolerance=TOLERANCE,
+            angular_tolerance=ANGULAR_TOLERANCE,
+            ascii_format=False,
+        )
+        return read_binary_stl(path)
 
 
 def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami") -> Path:
@@ -125,7 +140,8 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         "   <mesh>",
         "    <vertices>",
     ]
-    model += [f'     <vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in verts]
+    vertex = '     <vertex x="%.6f" y="%.6f" z="%.6f"/>'
+    model += [vertex % tuple(v) for v in verts.tolist()]
     model += ["    </vertices>", "    <triangles>"]
     model += [
         f'     <triangle v1="{a}" v2="{b}" v3="{c}" pid="1" p1="{m}"/>'
