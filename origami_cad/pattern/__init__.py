@@ -1,5 +1,7 @@
 """Crease patterns: the data model, validation, generators and file formats.
 
+Examples
+--------
 >>> from origami_cad.pattern import miura_pattern
 >>> cp = miura_pattern(rows=4, columns=6, panel_length=20.0, panel_width=30.0, sector_angle=60.0)
 >>> [p for p in cp.check() if p.severity == "error"]
