@@ -420,6 +420,64 @@ def _cmd_part(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    import json
+
+    from rich.progress import Progress
+
+    from origami_cad._fileio import atomic_directory
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.strings import load_route
+    from origami_cad.viz.render3d import render_folding_gif
+
+    if args.steps is not None and args.steps < 1:
+        raise DesignError(f"--steps must be >= 1, got {args.steps}")
+    design = load_pattern_source(args.pattern)
+    cp = design.pattern
+    route = load_route(args.route, cp)
+    limits = {}
+    for item in args.blocker or []:
+        edge, _, angle = item.partition(":")
+        try:
+            limits[int(edge)] = float(angle or 60.0)
+        except ValueError:
+            raise DesignError(f"--blocker expects EDGE:DEGREES, got {item!r}") from None
+    params = SimulationParams(gravity=args.gravity, ground=args.ground)
+    with Progress(transient=True) as bar:
+        task = bar.add_task("simulating", total=None)
+        result = simulate(
+            cp,
+            route,
+            params,
+            steps=args.steps,
+            fold_limits=limits or None,
+            progress=lambda k, n: bar.update(task, completed=k, total=n),
+        )
+    with atomic_directory(args.output) as tmp:
+        frames = [
+            folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
+            for x, s in zip(result.states, result.steps, strict=True)
+        ]
+        write_fold(cp, tmp / "states.fold", frames=frames)
+        with open(tmp / "simulation.json", "w", encoding="utf-8") as fh:
+            json.dump(result.to_dict(), fh, indent=1)
+        every = max(1, len(result.states) // 40)
+        render_folding_gif(cp, result.states[::every] + [result.states[-1]], tmp / "fold.gif")
+    last = result.steps[-1]
+    print(
+        f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
+        f"{result.reason}"
+    )
+    print(
+        f"string tensions {', '.join(f'{t:.3g}' for t in last['tensions_N'])} N, "
+        f"TSA torque {last['tsa_torque_Nmm']:.3g} N mm"
+    )
+    print(f"wrote {args.output}/: states.fold simulation.json fold.gif")
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     from origami_cad.demo import run_demo
 
@@ -628,6 +686,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--panel", help="panel label (tsa-module)")
     p.add_argument("--crease", type=int, help="crease edge index (blocker)")
     p.set_defaults(func=_cmd_part, params=[])
+
+    p = sub.add_parser(
+        "simulate",
+        help="fold any pattern by its strings and TSA (bar-and-hinge, quasi-static)",
+        description="Simulate the string-driven folding of any crease pattern: bars and hinges "
+        "(TPU creases, PLA panels), strings through holes shortened by the TSA, fold limits, "
+        "gravity and ground. Writes states.fold (every equilibrium state, for Origami "
+        "Simulator or Rabbit Ear), simulation.json (per step: TSA angle, string tensions, TSA "
+        "torque, every crease's fold angle, energy) and fold.gif.",
+    )
+    p.add_argument("pattern", help="design file (.toml) or pattern file (.fold/.dxf/.svg)")
+    p.add_argument("route", help="route file (.toml): TSA and strings")
+    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
+    p.add_argument("--steps", type=int, help="actuation steps over the route's max_turns")
+    p.add_argument(
+        "--blocker",
+        action="append",
+        metavar="EDGE:DEG",
+        help="a blocker stopping crease EDGE at DEG degrees (repeat)",
+    )
+    p.add_argument("--gravity", type=float, default=0.0, help="gravity along -z, mm/s^2")
+    p.add_argument("--ground", type=float, default=None, help="height of a ground plane, mm")
+    p.set_defaults(func=_cmd_simulate)
 
     p = sub.add_parser(
         "demo",

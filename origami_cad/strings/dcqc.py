@@ -14,7 +14,8 @@ cannot shrink any more (it no longer decreases as the pattern folds).
 For patterns the kinematics folds with one parameter (TG tessellations,
 Miura-ori, degree-4 patterns read from files). The folded sheet is placed with
 its vertex centroid where it was flat (a sheet centred on the ring rail,
-pulled evenly); anchors are fixed in that frame.
+pulled evenly), or with the route's ``fixed_panel`` held in place; anchors are
+fixed in that frame.
 """
 
 from __future__ import annotations
@@ -99,10 +100,14 @@ def simulate_dcqc(design: Design, route: RouteSpec, grid: int = 801) -> DCQCResu
     ratios = np.linspace(route.p0, route.p_max, grid)
     centre = np.r_[cp.vertices.mean(axis=0), 0.0]
 
+    held = None if route.fixed_panel is None else cp.faces[cp.face_index(route.fixed_panel)]
+    flat3 = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+
     def placed(rs) -> np.ndarray:
-        # the sheet sits centred on the rail: its vertex centroid stays where it was flat
         c = fold_coords(design, rs)
-        return c - c.mean(axis=1, keepdims=True) + centre
+        if held is None:  # the sheet sits centred on the rail: its centroid stays put
+            return c - c.mean(axis=1, keepdims=True) + centre
+        return _hold(c, held, flat3)  # the held panel stays where it is flat
 
     coords = placed(ratios)
     frames = [hole_frames(cp, s) for s in route.strings]
@@ -179,6 +184,21 @@ def simulate_dcqc(design: Design, route: RouteSpec, grid: int = 801) -> DCQCResu
                     seen.add(msg)
                     result.cutting.append(f"{msg} (from p = {p:.3f})")
     return result
+
+
+def _hold(coords: np.ndarray, ring: np.ndarray, flat: np.ndarray) -> np.ndarray:
+    """Move each state rigidly so that the panel ``ring`` is back at its flat place."""
+    out = np.empty_like(coords)
+    target = flat[ring]
+    tc = target.mean(axis=0)
+    for k, c in enumerate(coords):
+        src = c[ring]
+        sc = src.mean(axis=0)
+        u, _, vt = np.linalg.svd((src - sc).T @ (target - tc))
+        d = np.sign(np.linalg.det(u @ vt))
+        rot = u @ np.diag([1.0, 1.0, d]) @ vt
+        out[k] = (c - sc) @ rot + tc
+    return out
 
 
 def _why(g: np.ndarray, k_prev: int, ratios: np.ndarray, route: RouteSpec) -> str:

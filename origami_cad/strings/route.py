@@ -14,6 +14,8 @@ Route file (TOML)::
     max_turns = 20.0          # TSA turns at most
     p0 = 0.0                  # initial fold ratio
     p_max = 1.0               # fold limit (e.g. eq. 6's p_max of the printed structure)
+    fixed_panel = "c0r0s0"    # optional: this panel stays in place (default: the sheet's
+                              # vertex centroid stays in place)
     [[route.strings]]
     anchor = [60.0, -10.0, 20.0]          # A: where the string leaves the TSA, mm
     holes = ["c0r0s2", "c0r1s2"]          # panel labels (auto hole) or [x, y] points
@@ -81,6 +83,7 @@ class RouteSpec:
     p0: float = 0.0
     p_max: float = 1.0
     notes: tuple[str, ...] = field(default=())
+    fixed_panel: str | None = None
 
     @property
     def violations(self) -> list[str]:
@@ -141,6 +144,9 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     max_turns = route.number("max_turns", 20.0, low=0, low_open=True)
     p0 = route.number("p0", 0.0, low=0, high=1, high_open=True)
     p_max = route.number("p_max", 1.0, low=0, high=1, low_open=True)
+    fixed_panel = route.string("fixed_panel") if route.has("fixed_panel") else None
+    if fixed_panel is not None and fixed_panel not in cp.face_labels:
+        raise route.error("fixed_panel", f"no panel labelled {fixed_panel!r}")
     if p_max <= p0:
         raise route.error("p_max", f"must exceed p0 = {p0:g}")
     raw = route.data.get("strings")
@@ -217,7 +223,16 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 tuple(violations),
             )
         )
-    return RouteSpec(tsa, tuple(strings), thickness, math.radians(step), max_turns, p0, p_max)
+    return RouteSpec(
+        tsa,
+        tuple(strings),
+        thickness,
+        math.radians(step),
+        max_turns,
+        p0,
+        p_max,
+        fixed_panel=fixed_panel,
+    )
 
 
 def hole_frames(cp: CreasePattern, string: StringRoute) -> tuple[np.ndarray, np.ndarray]:

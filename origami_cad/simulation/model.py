@@ -1,0 +1,230 @@
+"""Bar-and-hinge model of a printed crease pattern (Schenk and Guest; Liu and Paulino).
+
+Every panel is triangulated. Bars on every triangle edge carry axial stiffness;
+fold hinges on the creases are rotational springs (per unit length) with a
+rest angle; stiff facet hinges on the panels' diagonals keep them flat. Units:
+mm, N, N mm (energy in mJ), radians inside.
+
+Defaults reproduce a printed TPU-crease, PLA-panel structure (paper Fig. 4):
+PLA panels (E = 3500 MPa, 2.2 mm thick) and TPU 95A creases (E = 26 MPa,
+0.4 mm thick over a 7 mm hinge zone between mid-layers).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from origami_cad.errors import PatternError
+from origami_cad.pattern.model import CreasePattern
+
+__all__ = ["SimulationParams", "Structure", "build_structure"]
+
+
+@dataclass(frozen=True)
+class SimulationParams:
+    """Physical parameters (mm, N, MPa = N/mm^2; angles in degrees at the edges).
+
+    Attributes
+    ----------
+    panel_modulus : float
+        Young's modulus of the panels, MPa (PLA 3500).
+    panel_thickness : float
+        Panel thickness, mm (the paper's h = 2.2).
+    crease_modulus : float
+        Young's modulus of the crease material, MPa (TPU 95A about 26).
+    crease_thickness : float
+        Crease layer thickness, mm (t = 0.4).
+    hinge_zone : float
+        Width of the bending zone of a crease, mm (2 (b + m) = 7 for b = 3, m = 0.5).
+    string_axial_stiffness : float
+        ``EA`` of a string, N (a 0.5 mm UHMWPE braid: about 1500).
+    fold_limit : float
+        Default fold limit of every crease, degrees (eq. 6: 146.6 for b = 3, h = 2.2, t = 0.4).
+    limit_margin : float
+        The barrier starts this many degrees before the limit, degrees.
+    density : float
+        Panel density, g/cm^3 (PLA 1.24).
+    gravity : float
+        Gravitational acceleration along -z, mm/s^2 (0: none; 9810 on Earth).
+    ground : float or None
+        Height of a ground plane, mm (None: no ground).
+    friction : float
+        Friction coefficient on the ground.
+    """
+
+    panel_modulus: float = 3500.0
+    panel_thickness: float = 2.2
+    crease_modulus: float = 26.0
+    crease_thickness: float = 0.4
+    hinge_zone: float = 7.0
+    string_axial_stiffness: float = 1500.0
+    fold_limit: float = 146.6
+    limit_margin: float = 2.0
+    density: float = 1.24
+    gravity: float = 0.0
+    ground: float | None = None
+    friction: float = 0.5
+
+    @property
+    def crease_stiffness(self) -> float:
+        """Rotational stiffness of a crease per unit length, N mm / rad / mm: E t^3 / (12 w)."""
+        return self.crease_modulus * self.crease_thickness**3 / (12.0 * self.hinge_zone)
+
+    @property
+    def panel_bending(self) -> float:
+        """Bending stiffness of a panel, N mm: E h^3 / 12."""
+        return self.panel_modulus * self.panel_thickness**3 / 12.0
+
+
+@dataclass
+class Structure:
+    """The bar-and-hinge model (plain arrays): nodes are the pattern's vertices."""
+
+    x0: np.ndarray  # (n, 3) flat positions, mm
+    triangles: np.ndarray  # (T, 3)
+    bars: np.ndarray  # (B, 2)
+    bar_rest: np.ndarray  # (B,) mm
+    bar_k: np.ndarray  # (B,) N/mm
+    hinges: np.ndarray  # (H, 4)
+    hinge_k: np.ndarray  # (H,) N mm / rad
+    hinge_rest: np.ndarray  # (H,) rad
+    hinge_limit: np.ndarray  # (H,) rad (inf: none)
+    hinge_edge: np.ndarray  # (H,) pattern edge, -1 for facet hinges
+    weight: np.ndarray  # (n,) N
+    fixed: np.ndarray  # (n,) bool
+    limit_k: float = 0.0
+    limit_margin: float = 0.0
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def folds(self) -> np.ndarray:
+        return self.hinge_edge >= 0
+
+
+def _triangulate(cp: CreasePattern, ring: np.ndarray, label: str) -> list[tuple[int, int, int]]:
+    pts = cp.vertices[ring]
+    poly = shapely.Polygon(pts)
+    if poly.area <= 1e-9 * max(cp.size, 1.0) ** 2:
+        raise PatternError(f"panel {label} has zero area: it cannot be simulated")
+    if len(ring) == 3:
+        return [tuple(int(v) for v in ring)]
+    if poly.convex_hull.area - poly.area <= 1e-9 * poly.area:  # convex: a fan
+        return [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
+    index = {(float(x), float(y)): int(v) for (x, y), v in zip(pts, ring, strict=True)}
+    tris = []
+    for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(poly)):
+        c = shapely.get_coordinates(tri)[:-1]
+        t = [index[(float(x), float(y))] for x, y in c]
+        a, b, d = cp.vertices[t]
+        if (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]) < 0:
+            t = [t[0], t[2], t[1]]
+        tris.append(tuple(t))
+    return tris
+
+
+def build_structure(
+    cp: CreasePattern,
+    params: SimulationParams | None = None,
+    fixed_panel: str | None = None,
+    fold_limits: dict[int, float] | None = None,
+) -> Structure:
+    """Build the bar-and-hinge model of ``cp``.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        The pattern (mm).
+    params : SimulationParams
+        Materials and loads.
+    fixed_panel : str, optional
+        Label of the panel held in place (default: the panel nearest the pattern's
+        centroid).
+    fold_limits : dict, optional
+        Fold limit of particular creases, ``{edge index: degrees}`` (blockers);
+        the others use ``params.fold_limit``.
+    """
+    params = params or SimulationParams()
+    tris = []
+    face_of_tri = []
+    for fi, ring in enumerate(cp.faces):
+        for t in _triangulate(cp, ring, cp.face_labels[fi]):
+            tris.append(t)
+            face_of_tri.append(fi)
+    tris = np.array(tris, dtype=np.int64)
+    x0 = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    # bars: unique triangle edges
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    key = np.sort(e, axis=1)
+    bars, inverse = np.unique(key, axis=0, return_inverse=True)
+    bar_rest = np.linalg.norm(x0[bars[:, 1]] - x0[bars[:, 0]], axis=1)
+    # axial stiffness from the area each bar carries: E h A / L^2
+    tri_area = 0.5 * np.abs(
+        np.cross(x0[tris[:, 1]] - x0[tris[:, 0]], x0[tris[:, 2]] - x0[tris[:, 0]])[:, 2]
+    )
+    carried = np.zeros(len(bars))
+    np.add.at(carried, inverse, np.tile(tri_area / 3.0, 3))
+    bar_k = params.panel_modulus * params.panel_thickness * carried / bar_rest**2
+    # hinges: directed edges i -> j with their triangle on the left
+    directed = {}
+    for t_idx, (a, b, c) in enumerate(tris):
+        for i, j, k in ((a, b, c), (b, c, a), (c, a, b)):
+            directed[(int(i), int(j))] = (int(k), t_idx)
+    edge_index = {tuple(sorted(map(int, ed))): n for n, ed in enumerate(cp.edges)}
+    hinges, hk, hedge, hlimit = [], [], [], []
+    default_limit = math.radians(params.fold_limit)
+    limits = {int(k): math.radians(v) for k, v in (fold_limits or {}).items()}
+    for (i, j), (k, _) in directed.items():
+        if i > j or (j, i) not in directed:
+            continue
+        l = directed[(j, i)][0]
+        length = float(np.linalg.norm(x0[j] - x0[i]))
+        pe = edge_index.get((min(i, j), max(i, j)), -1)
+        if pe >= 0 and cp.assignments[pe] in ("M", "V", "U", "F", "J"):
+            hinges.append((i, j, k, l))
+            hk.append(params.crease_stiffness * length)
+            hedge.append(pe)
+            hlimit.append(limits.get(pe, default_limit))
+        else:  # a diagonal inside a panel: stiff facet hinge
+            h1 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[k] - x0[i])[2]) / length
+            h2 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[l] - x0[i])[2]) / length
+            hinges.append((i, j, k, l))
+            hk.append(params.panel_bending * length / max(0.5 * (h1 + h2), 1e-6))
+            hedge.append(-1)
+            hlimit.append(math.inf)
+    hinges = np.array(hinges, dtype=np.int64).reshape(-1, 4)
+    # weights: a third of each triangle's mass on its nodes
+    weight = np.zeros(cp.n_vertices)
+    mass = tri_area * params.panel_thickness * params.density * 1e-3 / 1000.0  # kg
+    np.add.at(weight, tris.ravel(), np.repeat(mass / 3.0, 3) * params.gravity / 1000.0)  # N
+    # the held panel
+    if fixed_panel is None:
+        centre = cp.vertices.mean(axis=0)
+        dist = np.linalg.norm(cp.face_centroids() - centre, axis=1)
+        fixed_face = int(np.argmin(dist))
+    else:
+        fixed_face = cp.face_index(fixed_panel)
+    fixed = np.zeros(cp.n_vertices, dtype=bool)
+    fixed[cp.faces[fixed_face]] = True
+    k_fold = np.array(hk)
+    crease_k = k_fold[np.array(hedge) >= 0]
+    return Structure(
+        x0=x0,
+        triangles=tris,
+        bars=bars,
+        bar_rest=bar_rest,
+        bar_k=bar_k,
+        hinges=hinges,
+        hinge_k=k_fold,
+        hinge_rest=np.zeros(len(hinges)),
+        hinge_limit=np.array(hlimit),
+        hinge_edge=np.array(hedge, dtype=np.int64),
+        weight=weight,
+        fixed=fixed,
+        limit_k=1e3 * float(crease_k.max() if len(crease_k) else 1.0),
+        limit_margin=math.radians(params.limit_margin),
+        notes=[f"panel {cp.face_labels[fixed_face]} is held in place"],
+    )
