@@ -464,7 +464,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         with open(tmp / "simulation.json", "w", encoding="utf-8") as fh:
             json.dump(result.to_dict(), fh, indent=1)
         every = max(1, len(result.states) // 40)
-        render_folding_gif(cp, result.states[::every] + [result.states[-1]], tmp / "fold.gif")
+        render_folding_gif(cp, [*result.states[::every], result.states[-1]], tmp / "fold.gif")
     last = result.steps[-1]
     print(
         f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
