@@ -45,7 +45,8 @@ class SimulationParams:
     fold_limit : float
         Default fold limit of every crease, degrees (eq. 6: 146.6 for b = 3, h = 2.2, t = 0.4).
     limit_margin : float
-        The barrier starts this many degrees before the limit, degrees.
+        The barrier starts this many degrees before the limit, degrees (0: at the
+        limit; the barrier is quadratic, so energy and moment stay continuous).
     density : float
         Panel density, g/cm^3 (PLA 1.24).
     gravity : float
@@ -63,7 +64,7 @@ class SimulationParams:
     hinge_zone: float = 7.0
     string_axial_stiffness: float = 1500.0
     fold_limit: float = 146.6
-    limit_margin: float = 2.0
+    limit_margin: float = 0.0
     density: float = 1.24
     gravity: float = 0.0
     ground: float | None = None
@@ -108,7 +109,7 @@ class Structure:
 def _triangulate(cp: CreasePattern, ring: np.ndarray, label: str) -> list[tuple[int, int, int]]:
     pts = cp.vertices[ring]
     poly = shapely.Polygon(pts)
-    if poly.area <= 1e-9 * max(cp.size, 1.0) ** 2:
+    if poly.area <= 1e-6 * max(cp.size, 1.0) ** 2:
         raise PatternError(f"panel {label} has zero area: it cannot be simulated")
     if len(ring) == 3:
         return [tuple(int(v) for v in ring)]
@@ -148,6 +149,8 @@ def build_structure(
         the others use ``params.fold_limit``.
     """
     params = params or SimulationParams()
+    if not cp.faces:
+        raise PatternError("the pattern has no panels to simulate")
     tris = []
     face_of_tri = []
     for fi, ring in enumerate(cp.faces):
@@ -210,7 +213,6 @@ def build_structure(
     fixed = np.zeros(cp.n_vertices, dtype=bool)
     fixed[cp.faces[fixed_face]] = True
     k_fold = np.array(hk)
-    crease_k = k_fold[np.array(hedge) >= 0]
     return Structure(
         x0=x0,
         triangles=tris,
@@ -224,7 +226,8 @@ def build_structure(
         hinge_edge=np.array(hedge, dtype=np.int64),
         weight=weight,
         fixed=fixed,
-        limit_k=1e3 * float(crease_k.max() if len(crease_k) else 1.0),
+        # a blocker or a closed chamfer is rigid: the barrier out-stiffens the panels
+        limit_k=1e3 * float(max(np.max(k_fold), 1.0)),
         limit_margin=math.radians(params.limit_margin),
         notes=[f"panel {cp.face_labels[fixed_face]} is held in place"],
     )

@@ -118,7 +118,7 @@ def simulate(
     tension_limit : float
         Stop when a string's tension exceeds it, N.
     still_steps : int
-        Stop when the structure has not moved for this many steps.
+        Stop when no crease has turned by more than 0.01 deg for this many steps.
     """
     params = params or SimulationParams()
     st: Structure = build_structure(cp, params, fixed_panel or route.fixed_panel, fold_limits)
@@ -142,6 +142,7 @@ def simulate(
         step_angle = route.step
     dtheta = 1e-4
     still = 0
+    previous_angles = None
     for k in range(n_steps + 1):
         strings.theta = k * step_angle
         x_new, info = solve_equilibrium(x, st, strings, ground=params.ground)
@@ -183,7 +184,14 @@ def simulate(
                 f"{tension_limit:g} N"
             )
             break
-        still = still + 1 if k and moved < 1e-4 else 0
+        # the fold has stopped when no crease turns by more than 0.01 deg in a step
+        turned = (
+            math.inf
+            if previous_angles is None
+            else float(np.max(np.abs(angles - previous_angles), initial=0.0))
+        )
+        previous_angles = angles
+        still = still + 1 if turned < 0.01 else 0
         if still >= still_steps:
             result.reason = (
                 "fold limit reached"
