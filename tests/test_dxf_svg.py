@@ -115,11 +115,11 @@ def test_polylines_blocks_arcs_and_inches(tmp_path):
 
 
 def test_dxf_bad_input(tmp_path):
-    with pytest.raises(PatternError, match="nothing.dxf: no such file"):
+    with pytest.raises(PatternError, match=r"nothing.dxf: no such file"):
         read_dxf(tmp_path / "nothing.dxf")
     garbage = tmp_path / "garbage.dxf"
     garbage.write_bytes(b"\x00\x01 not a dxf at all")
-    with pytest.raises(PatternError, match="garbage.dxf"):
+    with pytest.raises(PatternError, match=r"garbage.dxf"):
         read_dxf(garbage)
     doc, msp = new_doc()
     msp.add_line((0, 0), (10, 0), dxfattribs={"color": 2})  # yellow on layer 0
@@ -188,11 +188,11 @@ def test_svg_transforms_paths_and_colour_forms(tmp_path):
 
 
 def test_svg_bad_input(tmp_path):
-    with pytest.raises(PatternError, match="none.svg: no such file"):
+    with pytest.raises(PatternError, match=r"none.svg: no such file"):
         read_svg(tmp_path / "none.svg")
     bad = tmp_path / "bad.svg"
     bad.write_text("<svg><line")
-    with pytest.raises(PatternError, match="bad.svg: not valid XML"):
+    with pytest.raises(PatternError, match=r"bad.svg: not valid XML"):
         read_svg(bad)
     colour = tmp_path / "colour.svg"
     colour.write_text(
@@ -205,7 +205,7 @@ def test_svg_bad_input(tmp_path):
     curve.write_text(
         '<svg xmlns="http://www.w3.org/2000/svg"><path d="M0 0 C 1 1 2 2 3 3" stroke="red"/></svg>'
     )
-    with pytest.raises(PatternError, match="curve.svg.*curved path command 'C'"):
+    with pytest.raises(PatternError, match=r"curve.svg.*curved path command 'C'"):
         read_svg(curve)
 
 
