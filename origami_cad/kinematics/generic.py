@@ -1,0 +1,263 @@
+"""Rigid folding of imported patterns whose interior vertices are flat-foldable degree-4.
+
+At such a vertex the fold angles obey two relations (Huffman; Tachi 2009; Evans et
+al. 2015): opposite creases fold by equal magnitudes, and the two pairs are tied by
+``tan(rho_b / 2) = c tan(rho_a / 2)`` with ``c`` fixed by the sector angles. Here
+``c`` is computed from the vertex's spherical closure condition (the product of
+the rotations about its creases is the identity), and the signs come from the
+crease assignments (Maekawa: one opposite pair folds the same way, the other
+opposite ways). :func:`fold_degree4` propagates the fold angles from one driving
+crease over the crease graph, checks that every crease gets one value from all
+its vertices (loop consistency), then places each panel by composing rotations
+about the creases from a root panel and checks that every vertex lands in one
+place.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+from origami_cad.errors import PatternError
+from origami_cad.pattern.check import interior_vertices, kawasaki_residuals
+from origami_cad.pattern.model import CreasePattern
+
+__all__ = ["degree4_ratio", "fold_degree4"]
+
+_FOLD = ("M", "V")
+
+
+def _rx(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def _rz(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def _closure(sectors: np.ndarray, rho: np.ndarray) -> float:
+    """How far a vertex with these sector and fold angles is from closing (0 = closed)."""
+    m = np.eye(3)
+    for sector, r in zip(sectors, rho, strict=True):
+        m = m @ _rx(r) @ _rz(sector)
+    return float(np.linalg.norm(m - np.eye(3)))
+
+
+def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
+    """``c`` of ``tan(rho_1 / 2) = c tan(rho_0 / 2)`` at a flat-foldable degree-4 vertex.
+
+    With ``alpha`` the sector between creases 0 and 1 and ``beta`` the one between
+    creases 1 and 2 (opposite creases: 0-2 and 1-3)::
+
+        c = |sin((alpha + beta) / 2) / sin((alpha - beta) / 2)|   creases 0, 2 fold opposite ways
+        c = |cos((alpha + beta) / 2) / cos((alpha - beta) / 2)|   creases 0, 2 fold the same way
+
+    Parameters
+    ----------
+    sectors : ndarray (4,)
+        Sector angles, radians: sector ``k`` lies between crease ``k`` and ``k + 1``.
+    signs : ndarray (4,)
+        +1 valley, -1 mountain, for creases 0..3.
+
+    Raises
+    ------
+    ValueError
+        If the signs break Maekawa's pairing (one opposite pair folds the same way,
+        the other opposite ways) or the vertex does not close when folded.
+    """
+    alpha, beta = float(sectors[0]), float(sectors[1])
+    same_02 = signs[0] == signs[2]
+    same_13 = signs[1] == signs[3]
+    if same_02 == same_13:
+        raise ValueError("the assignments break Maekawa's pairing")
+    if same_02:
+        num, den = math.cos((alpha + beta) / 2), math.cos((alpha - beta) / 2)
+    else:
+        num, den = math.sin((alpha + beta) / 2), math.sin((alpha - beta) / 2)
+    if abs(den) < 1e-12 or abs(num) < 1e-12:
+        raise ValueError("a degenerate vertex (the creases cannot fold rigidly)")
+    c = abs(num / den)
+    probe = 0.3
+    rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2) * np.asarray(signs)
+    if _closure(np.asarray(sectors, dtype=float), rho) > 1e-9:
+        raise ValueError("no rigid folding with these signs")
+    return c
+
+
+def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
+    """Per interior vertex: its 4 creases in angular order and their sector angles."""
+    fold_edges = np.flatnonzero(cp.edge_mask("M", "V", "U", "F", "J"))
+    around: dict[int, list[tuple[float, int]]] = {int(v): [] for v in interior}
+    for e in fold_edges:
+        a, b = cp.edges[e]
+        for v, w in ((a, b), (b, a)):
+            if int(v) in around:
+                d = cp.vertices[w] - cp.vertices[v]
+                around[int(v)].append((math.atan2(d[1], d[0]), int(e)))
+    tables = {}
+    for v, items in around.items():
+        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        if len(items) != 4:
+            raise PatternError(
+                f"vertex {v} at {loc} mm has {len(items)} creases; this folder needs every "
+                "interior vertex to have degree 4"
+            )
+        items.sort()
+        angles = np.array([t for t, _ in items])
+        edges = [e for _, e in items]
+        for e in edges:
+            if cp.assignments[e] not in _FOLD:
+                raise PatternError(
+                    f"crease {e} at vertex {v} {loc} mm is {cp.assignments[e]!r}: only mountain "
+                    "and valley creases can be folded"
+                )
+        sectors = np.mod(np.roll(angles, -1) - angles, 2 * math.pi)
+        tables[v] = (edges, sectors)
+    return tables
+
+
+def fold_degree4(
+    cp: CreasePattern, p: float, driving_edge: int | None = None, tol: float = 1e-9
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fold ``cp`` rigidly so that the driving crease folds by ``p * 180`` degrees.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        A pattern whose interior vertices are flat-foldable degree-4 vertices with
+        mountain/valley creases.
+    p : float
+        Fold ratio of the driving crease, in [0, 1).
+    driving_edge : int, optional
+        The driving crease (default: the mountain or valley crease nearest the
+        pattern's centroid).
+    tol : float
+        Loop-consistency tolerance, radians (and ``tol * size`` mm for positions).
+
+    Returns
+    -------
+    coords : ndarray (n, 3)
+        Folded vertex positions, mm; the panel next to the driving crease stays flat.
+    fold_angles : ndarray (m,)
+        Fold angle of every edge, degrees (valley positive; 0 on the border).
+    """
+    if not 0.0 <= p < 1.0:
+        raise PatternError(f"fold ratio p must lie in [0, 1) for the degree-4 folder, got {p}")
+    creases = np.flatnonzero(cp.edge_mask(*_FOLD))
+    if not len(creases):
+        raise PatternError("the pattern has no mountain or valley crease to fold")
+    interior = interior_vertices(cp)
+    res = kawasaki_residuals(cp, interior)
+    for v, r in zip(interior, res, strict=True):
+        if not (abs(r) <= 1e-6):
+            loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+            raise PatternError(
+                f"vertex {v} at {loc} mm is not flat-foldable (Kawasaki defect "
+                f"{math.degrees(abs(r)) / 2 if np.isfinite(r) else float('nan'):.3g} deg)"
+            )
+    tables = _vertex_tables(cp, interior)
+    if driving_edge is None:
+        mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
+        driving_edge = int(creases[np.argmin(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))])
+    if cp.assignments[driving_edge] not in _FOLD:
+        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
+    sign = np.where(cp.assignments == "V", 1.0, -1.0)
+    magnitude = np.full(cp.n_edges, np.nan)
+    magnitude[driving_edge] = p * math.pi
+    ratios: dict[int, float] = {}
+    by_edge: dict[int, list[int]] = {}
+    for v, (edges, _) in tables.items():
+        for e in edges:
+            by_edge.setdefault(e, []).append(v)
+    queue = deque([driving_edge])
+    mids = (cp.vertices[cp.edges[:, 0]] + cp.vertices[cp.edges[:, 1]]) / 2
+
+    def settle(e: int, value: float, v: int) -> None:
+        if np.isnan(magnitude[e]):
+            magnitude[e] = value
+            queue.append(e)
+        elif abs(magnitude[e] - value) > tol * max(1.0, value):
+            raise PatternError(
+                f"the folding is not consistent around the loop through crease {e} at "
+                f"{tuple(np.round(mids[e], 4))} mm (vertex {v}): "
+                f"{math.degrees(magnitude[e]):.6g} deg against {math.degrees(value):.6g} deg"
+            )
+
+    while queue:
+        e = queue.popleft()
+        for v in by_edge.get(e, []):
+            edges, sectors = tables[v]
+            k = edges.index(e)
+            order = [edges[(k + j) % 4] for j in range(4)]
+            sec = np.roll(sectors, -k)
+            s = sign[order]
+            if v not in ratios or ratios[v][0] != order[0]:
+                try:
+                    ratios[v] = (order[0], degree4_ratio(sec, s))
+                except ValueError:
+                    loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+                    raise PatternError(
+                        f"vertex {v} at {loc} mm: the assignments of creases {order} "
+                        f"({''.join(cp.assignments[order])}) cannot fold rigidly"
+                    ) from None
+            c = ratios[v][1]
+            a = magnitude[e]
+            b = 2 * math.atan(c * math.tan(a / 2))
+            settle(order[2], a, v)
+            settle(order[1], b, v)
+            settle(order[3], b, v)
+    rho = np.where(np.isnan(magnitude), 0.0, magnitude) * sign
+    rho[~cp.edge_mask(*_FOLD)] = 0.0
+    return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+
+
+def _rotation(axis_point: np.ndarray, axis_dir: np.ndarray, angle: float) -> np.ndarray:
+    k = axis_dir / np.linalg.norm(axis_dir)
+    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    r = np.eye(3) + math.sin(angle) * kx + (1 - math.cos(angle)) * kx @ kx
+    t = np.eye(4)
+    t[:3, :3] = r
+    t[:3, 3] = axis_point - r @ axis_point
+    return t
+
+
+def _place(cp: CreasePattern, rho: np.ndarray, driving_edge: int, tol: float) -> np.ndarray:
+    ef = cp.edge_faces()
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    root = int(ef[driving_edge, 0] if ef[driving_edge, 0] >= 0 else ef[driving_edge, 1])
+    transform = {root: np.eye(4)}
+    queue = deque([root])
+    while queue:
+        f = queue.popleft()
+        for e in cp.face_edges[f]:
+            other = int(ef[e, 1] if ef[e, 0] == f else ef[e, 0])
+            if other < 0 or other in transform:
+                continue
+            a, b = flat[cp.edges[e]]
+            # a valley turns the far panel up toward the top face: face ef[e, 1] lies on the
+            # right of a -> b, face ef[e, 0] on its left
+            angle = -rho[e] if ef[e, 0] == f else rho[e]
+            transform[other] = transform[f] @ _rotation(a, b - a, angle)
+            queue.append(other)
+    coords = np.full((cp.n_vertices, 3), np.nan)
+    limit = tol * 1e3 * max(cp.size, 1.0)
+    for f, t in transform.items():
+        ring = cp.faces[f]
+        pts = (t[:3, :3] @ flat[ring].T).T + t[:3, 3]
+        known = ~np.isnan(coords[ring, 0])
+        if np.any(np.linalg.norm(coords[ring][known] - pts[known], axis=1) > limit):
+            v = int(
+                ring[known][np.argmax(np.linalg.norm(coords[ring][known] - pts[known], axis=1))]
+            )
+            raise PatternError(
+                f"the panels do not close up around vertex {v} at "
+                f"{tuple(np.round(cp.vertices[v], 4))} mm: not rigidly foldable this way"
+            )
+        coords[ring] = pts
+    if np.isnan(coords).any():
+        raise PatternError("some panels are not connected to the rest of the pattern by creases")
+    return coords

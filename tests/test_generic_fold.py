@@ -1,0 +1,117 @@
+"""Rigid folding of imported degree-4 patterns, checked against the closed-form TG folding."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from origami_cad.cli import main
+from origami_cad.kinematics.fold3d import face_normals, fold_angles_from_coords, fold_tessellation
+from origami_cad.kinematics.folding import fold_design
+from origami_cad.kinematics.generic import _closure, degree4_ratio, fold_degree4
+from origami_cad.pattern import CreasePattern, PatternError, read_fold, write_fold, write_pattern
+from origami_cad.pattern.design import Design, miura_design
+from origami_cad.pattern.tg import TGDesign, tg_pattern
+
+DESIGNS = [
+    miura_design(4, 6, 20.0, 30.0, 60.0).tg,
+    TGDesign((30, 25, 35, 20), (120, 70, 100), 0, 30.0, 2),
+]
+
+
+def main_crease(cp: CreasePattern, design: TGDesign) -> int:
+    y = design.start[1]
+    on = np.isclose(cp.vertices[cp.edges[:, 0], 1], y) & np.isclose(
+        cp.vertices[cp.edges[:, 1], 1], y
+    )
+    return int(np.flatnonzero(on)[1])
+
+
+def test_degree4_ratio_closes_every_vertex():
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        a, b = rng.uniform(0.3, 2.8, 2)
+        sectors = np.array([a, b, math.pi - a, math.pi - b])
+        for signs in ([1, -1, -1, -1], [1, 1, 1, -1], [-1, 1, -1, -1]):
+            s = np.array(signs, float)
+            try:
+                c = degree4_ratio(sectors, s)
+            except ValueError:
+                continue
+            for rho0 in (0.1, 1.0, 2.5):
+                rho = np.array([rho0, 2 * math.atan(c * math.tan(rho0 / 2))] * 2) * s
+                assert _closure(sectors, rho) < 1e-9
+    with pytest.raises(ValueError, match="Maekawa"):
+        degree4_ratio(np.array([1.0, 1.2, math.pi - 1.0, math.pi - 1.2]), np.array([1, 1, 1, 1.0]))
+
+
+@pytest.mark.parametrize("design", DESIGNS, ids=["miura", "mixed-tg"])
+@pytest.mark.parametrize("p", [0.0, 0.3, 0.7, 0.95])
+def test_matches_the_closed_form_folding(design, p):
+    cp = tg_pattern(design)
+    drive = main_crease(cp, design)
+    coords, angles = fold_degree4(cp, p, driving_edge=drive)
+    exact_coords, exact_angles = fold_tessellation(design, cp, p)
+    np.testing.assert_allclose(angles, exact_angles, atol=1e-7)
+    a, b = exact_coords - exact_coords.mean(0), coords - coords.mean(0)
+    u, _, vt = np.linalg.svd(a.T @ b)
+    rot = u @ np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))]) @ vt
+    assert np.abs(a @ rot - b).max() < 1e-9 * cp.size
+    lengths = np.linalg.norm(coords[cp.edges[:, 1]] - coords[cp.edges[:, 0]], axis=1)
+    np.testing.assert_allclose(lengths, cp.edge_lengths(), rtol=1e-9)
+    for ring, n in zip(cp.faces, face_normals(cp, coords), strict=True):
+        assert np.abs((coords[ring] - coords[ring].mean(0)) @ n).max() < 1e-9 * cp.size
+    np.testing.assert_allclose(np.degrees(fold_angles_from_coords(cp, coords)), angles, atol=1e-7)
+    if p == 0.0:
+        np.testing.assert_allclose(coords[:, :2], cp.vertices, atol=1e-12)
+
+
+def test_patterns_read_from_files_fold_through_fold_design(tmp_path):
+    cp = miura_design(4, 6, 20.0, 30.0, 60.0).pattern
+    write_fold(cp, tmp_path / "m.fold")
+    back = read_fold(tmp_path / "m.fold")
+    state = fold_design(Design(back, None, "file"), 0.4)
+    # the driving crease (nearest the centroid) folds by exactly 0.4 x 180 deg
+    assert np.isclose(np.abs(state.fold_angles), 72.0, atol=1e-9).any()
+    assert np.abs(state.fold_angles).max() >= 72.0 - 1e-9
+    write_pattern(cp, tmp_path / "m.dxf")
+    assert (
+        main(["fold", str(tmp_path / "m.dxf"), "--ratio", "0.5", "-o", str(tmp_path / "f.fold")])
+        == 0
+    )
+
+
+def test_patterns_that_cannot_fold_this_way_are_named():
+    # a square with both diagonals and both midlines: a degree-8 centre
+    v = [[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1], [1, 1]]
+    border = [[k, (k + 1) % 8] for k in range(8)]
+    spokes = [[8, k] for k in range(8)]
+    waterbomb = CreasePattern(
+        np.array(v) * 20.0, border + spokes, ["B"] * 8 + ["M", "V", "M", "V", "M", "V", "M", "V"]
+    )
+    with pytest.raises(PatternError, match="degree 4"):
+        fold_degree4(waterbomb, 0.3)
+    # a Miura with one leg's assignment flipped
+    design = DESIGNS[0]
+    cp = tg_pattern(design)
+    legs = np.flatnonzero(
+        cp.edge_mask("M", "V")
+        & ~np.isclose(cp.vertices[cp.edges[:, 0], 1], cp.vertices[cp.edges[:, 1], 1])
+    )
+    assign = cp.assignments.copy()
+    assign[legs[3]] = "M" if assign[legs[3]] == "V" else "V"
+    flipped = CreasePattern(cp.vertices, cp.edges, assign)
+    with pytest.raises(PatternError, match=r"vertex \d+ at .* cannot fold rigidly"):
+        fold_degree4(flipped, 0.3, driving_edge=main_crease(cp, design))
+    with pytest.raises(PatternError, match=r"\[0, 1\)"):
+        fold_degree4(cp, 1.5)
+    # a degree-4 vertex that is not flat-foldable
+    c = np.array([50.0, 50.0])
+    tips = [[100, 50], [50, 100], [0, 50], [50 + 50 / math.tan(math.radians(80)), 0]]
+    verts = np.vstack([[[0, 0], [100, 0], [100, 100], [0, 100]], c, tips])
+    edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [4, 6], [4, 7], [4, 8]]
+    kinked = CreasePattern(verts, edges, ["B"] * 4 + ["M", "M", "M", "V"])
+    with pytest.raises(PatternError, match="not flat-foldable"):
+        fold_degree4(kinked, 0.2)
