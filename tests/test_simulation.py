@@ -225,3 +225,17 @@ def test_cli_simulate_writes_states_json_and_gif(tmp_path):
 def _one_design():
     tg = TGDesign((40.0,), (), 1, 40.0, 1)
     return tg_pattern(tg), tg, "transition-graph"
+
+
+def test_the_boat_from_dxf_folds_up_when_its_tsa_turns():
+    from origami_cad.pattern import read_pattern
+
+    cp = read_pattern(EXAMPLES / "data" / "boat.dxf")
+    route = load_route(EXAMPLES / "boat_route.toml", cp)
+    result = simulate(cp, route, steps=40)
+    keel = int(np.flatnonzero(cp.edge_mask("V"))[0])
+    angles = [s["fold_angles_deg"][keel] for s in result.steps]
+    assert angles[-1] > 60.0  # the sides have risen
+    assert all(b >= a - 1e-6 for a, b in itertools.pairwise(angles))
+    lifted = result.states[-1][:, 2].max()
+    assert lifted > 30.0  # mm above the held panel
