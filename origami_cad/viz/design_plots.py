@@ -17,10 +17,10 @@ import shapely
 from matplotlib.patches import PathPatch
 from matplotlib.path import Path as MplPath
 
-from origami_cad._fileio import atomic_path
 from origami_cad.design.search import ArmDesign
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import chain_points
+from origami_cad.viz._figure import png_subplots
 
 __all__ = ["plot_trajectories", "save_convergence_png", "save_trajectories_png"]
 
@@ -127,21 +127,14 @@ def save_trajectories_png(
     results: Sequence[ArmDesign], task: ArmTask, path: str | os.PathLike[str], top: int = 3
 ) -> Path:
     """Save :func:`plot_trajectories` (atomic write)."""
-    fig, ax = plt.subplots(figsize=(11, 7))
-    try:
+    with png_subplots(path, figsize=(11, 7), dpi=140) as (_, ax):
         plot_trajectories(results, task, ax, top=top)
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=140, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)
 
 
 def save_convergence_png(results: Sequence[ArmDesign], path: str | os.PathLike[str]) -> Path:
     """Best fitness per generation, one line per run (Fig. 3d), atomic write."""
-    fig, ax = plt.subplots(figsize=(8, 5))
-    try:
+    with png_subplots(path, figsize=(8, 5), dpi=140) as (_, ax):
         for r in sorted(results, key=lambda r: r.run):
             h = np.array(r.history, dtype=float)
             h[~np.isfinite(h)] = np.nan
@@ -151,9 +144,4 @@ def save_convergence_png(results: Sequence[ArmDesign], path: str | os.PathLike[s
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8, ncol=2)
         ax.set_title("CMA-ES convergence, independent runs")
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=140, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)

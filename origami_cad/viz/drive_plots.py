@@ -7,14 +7,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt
 import numpy as np
 
-from origami_cad._fileio import atomic_path
+from origami_cad.viz._figure import png_subplots
 
 __all__ = ["save_drive_png"]
 
@@ -26,10 +21,9 @@ def save_drive_png(
 ) -> Path:
     """One panel per TSA: commanded (dashed) and measured (solid) motor turns, and current."""
     ids = sorted({r["id"] for r in rows})
-    fig, axes = plt.subplots(
-        len(ids), 1, figsize=(9, 1.9 * len(ids) + 0.8), sharex=True, squeeze=False
-    )
-    try:
+    with png_subplots(
+        path, len(ids), 1, figsize=(9, 1.9 * len(ids) + 0.8), sharex=True, squeeze=False, dpi=140
+    ) as (_, axes):
         for ax, i in zip(axes[:, 0], ids, strict=True):
             sel = [r for r in rows if r["id"] == i]
             t = np.array([r["t_s"] for r in sel])
@@ -44,9 +38,4 @@ def save_drive_png(
             twin.set_ylabel("mA", color="#d62728", fontsize=8)
         axes[0, 0].legend(fontsize=8, loc="upper right")
         axes[-1, 0].set_xlabel("time (s)")
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=140, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)

@@ -9,13 +9,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt
 import numpy as np
 import shapely
 from matplotlib.patches import Circle, Polygon
 
-from origami_cad._fileio import atomic_path
 from origami_cad.fabrication.build import Fabrication
+from origami_cad.viz._figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
 
 __all__ = ["save_panels_png"]
@@ -25,8 +24,7 @@ def save_panels_png(fab: Fabrication, path: str | os.PathLike[str], *, dpi: int 
     """The flat pattern with inset outlines, operation regions (dash-dotted) and holes."""
     x0, y0, x1, y1 = fab.pattern.bounds
     aspect = float(np.clip((y1 - y0) / max(x1 - x0, 1e-9), 0.3, 1.5))
-    fig, ax = plt.subplots(figsize=(9, 9 * aspect))
-    try:
+    with png_subplots(path, figsize=(9, 9 * aspect), dpi=dpi) as (_, ax):
         plot_pattern(fab.pattern, ax, legend=False, title="")
         for o in fab.outlines:
             ax.add_patch(
@@ -43,9 +41,4 @@ def save_panels_png(fab: Fabrication, path: str | os.PathLike[str], *, dpi: int 
             f"Panels: b = {p.bias:g} mm, h = {p.height:g} mm, t = {p.thickness:g} mm; "
             f"theta_max = {np.degrees(p.theta_max):.1f} deg; operation regions dash-dotted"
         )
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)

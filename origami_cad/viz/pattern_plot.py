@@ -15,8 +15,8 @@ import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Circle
 
-from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
+from origami_cad.viz._figure import png_subplots
 
 __all__ = ["EDGE_STYLES", "plot_pattern", "save_pattern_png"]
 
@@ -95,12 +95,6 @@ def save_pattern_png(
     cp: CreasePattern, path: str | os.PathLike[str], *, dpi: int = 150, labels: bool = False
 ) -> Path:
     """Save a PNG picture of the flat pattern (atomic write)."""
-    fig, ax = plt.subplots(figsize=(8, 8 * _aspect(cp)))
-    try:
+    with png_subplots(path, figsize=(8, 8 * _aspect(cp)), dpi=dpi) as (_, ax):
         plot_pattern(cp, ax, labels=labels)
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=dpi, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)

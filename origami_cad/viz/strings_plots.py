@@ -9,14 +9,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Circle
 
-from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.dcqc import DCQCResult
 from origami_cad.strings.route import TOP, RouteSpec
+from origami_cad.viz._figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
 
 __all__ = ["save_dcqc_png", "save_route_png"]
@@ -27,8 +26,9 @@ _COLORS = ["#8e44ad", "#e67e22", "#16a085", "#c0392b", "#2c3e50", "#d35400"]
 def save_route_png(cp: CreasePattern, route: RouteSpec, path: str | os.PathLike[str]) -> Path:
     """The flat pattern with holes and every string: solid above the sheet, dashed below."""
     x0, y0, x1, y1 = cp.bounds
-    fig, ax = plt.subplots(figsize=(9, 9 * float(np.clip((y1 - y0) / (x1 - x0), 0.3, 1.5))))
-    try:
+    with png_subplots(
+        path, figsize=(9, 9 * float(np.clip((y1 - y0) / (x1 - x0), 0.3, 1.5))), dpi=150
+    ) as (_, ax):
         plot_pattern(cp, ax, legend=False, title="")
         for i, s in enumerate(route.strings):
             color = _COLORS[i % len(_COLORS)]
@@ -51,18 +51,12 @@ def save_route_png(cp: CreasePattern, route: RouteSpec, path: str | os.PathLike[
         ax.set_title("String routing: solid above the sheet, dashed below; triangle = TSA anchor")
         ax.autoscale()
         ax.set_aspect("equal")
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=150, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)
 
 
 def save_dcqc_png(result: DCQCResult, path: str | os.PathLike[str]) -> Path:
     """Fold ratio p against TSA turns, with the reason the folding stopped."""
-    fig, ax = plt.subplots(figsize=(7.5, 4.8))
-    try:
+    with png_subplots(path, figsize=(7.5, 4.8), dpi=150) as (_, ax):
         ax.plot(result.turns, result.p, lw=2, color="#1f4fd6")
         ax.plot(result.turns[-1], result.p[-1], "o", color="#d62728")
         ax.set_xlabel("TSA rotation (turns)")
@@ -73,9 +67,4 @@ def save_dcqc_png(result: DCQCResult, path: str | os.PathLike[str]) -> Path:
         ax.text(
             0.02, 0.96, result.reason, transform=ax.transAxes, fontsize=7.5, va="top", wrap=True
         )
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=150, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)

@@ -14,9 +14,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from origami_cad._fileio import atomic_path
 from origami_cad.kinematics.chain import chain_points
 from origami_cad.pattern.tg import TGDesign
+from origami_cad.viz._figure import png_subplots
 
 __all__ = ["plot_tg", "save_tg_png"]
 
@@ -66,12 +66,6 @@ def plot_tg(
 
 def save_tg_png(design: TGDesign, path: str | os.PathLike[str], **kwargs) -> Path:
     """Save :func:`plot_tg` as a PNG (atomic write)."""
-    fig, ax = plt.subplots(figsize=(9, 6))
-    try:
+    with png_subplots(path, figsize=(9, 6), dpi=150) as (_, ax):
         plot_tg(design, ax, **kwargs)
-        fig.tight_layout()
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=150, format="png")
-    finally:
-        plt.close(fig)
     return Path(path)
