@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import dynamixel_sdk as sdk
+import numpy as np
 import pytest
 
 from origami_cad.cli import main
@@ -213,3 +214,26 @@ def test_protocol_page_examples_carry_true_checksums():
     for line in lines:
         text, _, _ = line.rpartition("*")
         assert frame(text) == line
+
+
+def test_sequence_mapping_from_a_dcqc_result(tmp_path):
+    import json
+
+    from origami_cad.pattern.design import load_design
+    from origami_cad.strings import load_route, simulate_dcqc
+
+    design = load_design(EXAMPLES / "miura_6x4.toml")
+    result = simulate_dcqc(design, load_route(EXAMPLES / "miura_route.toml", design.pattern))
+    (tmp_path / "dcqc.json").write_text(json.dumps(result.to_dict()))
+    text = (EXAMPLES / "arm_fold.toml").read_text()
+    start = text.index("mapping = ")
+    end = text.index("\n", start)
+    text = text[:start] + 'mapping = "dcqc.json"' + text[end:]
+    text = text.replace("p = [0.814]", "p = [0.5]")
+    (tmp_path / "seq.toml").write_text(text)
+    seq = load_sequence(tmp_path / "seq.toml")
+    mapping = seq.tsas[0].mapping
+    assert mapping[0, 0] == pytest.approx(result.steps[0]["p"])
+    assert np.all(np.diff(mapping[:, 0]) > 0) and np.all(np.diff(mapping[:, 1]) >= 0)
+    taken = [s["tsa_length_mm"][0] - result.steps[0]["tsa_length_mm"][0] for s in result.steps]
+    assert mapping[-1, 1] == pytest.approx(max(taken))

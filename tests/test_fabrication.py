@@ -262,3 +262,12 @@ def test_cli_writes_everything_or_nothing(tmp_path, capsys):
     assert "too small" in capsys.readouterr().err
     assert not bad.exists()
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
+
+
+def test_a_panel_that_is_not_a_simple_polygon_is_refused(tmp_path):
+    outer = [[0, 0], [60, 0], [60, 60], [0, 60]]
+    inner = [[20, 20], [40, 20], [40, 40], [20, 40]]
+    edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4]]
+    framed = CreasePattern(outer + inner, edges, ["B"] * 4 + ["C"] * 4)
+    with pytest.raises(PatternError, match="cannot fabricate"):
+        fabricate(framed)

@@ -112,7 +112,7 @@ class PanelOutline:
 
 def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOutline]:
     """The footprints of every panel of ``cp`` (see :class:`PanelOutline`)."""
-    problems = [p for p in cp.check() if p.code == "face-not-simple"]
+    problems = [p for p in cp.check() if p.code in ("face-not-simple", "face-with-hole")]
     if problems:
         raise PatternError(f"cannot fabricate: {problems[0].message}")
     if not cp.faces:

@@ -1,42 +1,85 @@
 """DXF reader and writer (ezdxf).
 
-Writing: one LINE per edge on layers ``Mountain`` (ACI 1, red), ``Valley`` (ACI 5,
-blue, dashed), ``Cut`` (ACI 3, green), ``Border`` (ACI 7), ``Flat`` (ACI 8) and
-``Unassigned`` (ACI 9); holes as CIRCLEs on layer ``Holes``; ``$INSUNITS`` = 4 (mm).
+Writing (:func:`write_dxf`): one LINE per edge, colour BYLAYER, on the layers
 
-Reading: LINE, LWPOLYLINE and POLYLINE entities, in model space and inside block
-references (transformed); ARC, CIRCLE, ELLIPSE and SPLINE are flattened, for
-border and cut lines only (a curved crease cannot fold rigidly); circles on a
-``Hole`` layer become holes. Each entity is classified, in this order:
+==============  ===  =========  ===========
+layer           ACI  linetype   assignment
+==============  ===  =========  ===========
+``Mountain``    1    CONTINUOUS M (red)
+``Valley``      5    DASHED     V (blue)
+``Cut``         3    CONTINUOUS C (green)
+``Border``      7    CONTINUOUS B (black/white)
+``Flat``        8    CONTINUOUS F (grey)
+``Unassigned``  9    CONTINUOUS U (light grey)
+``Join``        9    CONTINUOUS J
+==============  ===  =========  ===========
 
-1. by layer name (any case): mountain, valley, cut (also ORIPA's ``CutLine``),
-   border / boundary / outline, flat / aux;
-2. by colour, the entity's own or else its layer's: ACI 1 or 10-39 mountain,
-   5 or 140-199 valley, 3 or 60-129 cut, 7, 8, 9 and 250-255 (black, white and
-   greys) border; true colours by their dominant channel (grey: border);
-3. by linetype: dashed (``DASH``, ``HIDDEN``) means valley.
+holes as CIRCLEs on layer ``Holes`` (ACI 4); ``$INSUNITS`` = 4 (mm),
+``$MEASUREMENT`` = 1 (metric), the title in ``$PROJECTNAME``.
 
-Anything still unclassified is an error that names the entities, never a guess.
-ORIPA draws the outline of the sheet as cut lines: cut lines on the outer
-boundary become border; cut lines inside stay cuts. ``$INSUNITS`` is honoured
-(inches, feet, cm, m are converted to mm; unitless is taken as mm).
+Reading (:func:`read_dxf`): LINE, LWPOLYLINE and POLYLINE (every segment is an
+edge, closed flags honoured, z ignored), in model space and inside block
+references (INSERT and MINSERT, nested, with the block transforms; entities on
+layer ``0`` inside a block take the layer of the reference, BYBLOCK colours and
+linetypes its colour and linetype). ARC, CIRCLE, ELLIPSE, SPLINE and bulged
+polyline segments are flattened (0.01 mm chords) for border and cut lines only:
+a curved crease cannot fold rigidly, so a curved mountain, valley, flat or
+unassigned line is an error naming its handle. A CIRCLE on a layer whose name
+contains ``hole`` (``Holes``, ``Hole``) is a :class:`~origami_cad.pattern.Hole`.
+
+Each line is classified, in this order, the first rule that says something
+deciding:
+
+1. layer name (any case, substring): ``mountain`` M; ``valley`` V; ``cut``
+   (``Cut``, ``Cutting``, ORIPA's ``CutLine``) C; ``border``, ``boundary``,
+   ``outline``, ``edge`` B; ``flat``, ``aux`` F; ``unassigned`` U; ``join`` J;
+2. colour: the entity's own (true colour if set, else ACI) when it has one,
+   otherwise (BYLAYER, or BYBLOCK outside a block) its layer's. ACI 1 or 10-39
+   M, 5 or 140-199 V, 3 or 60-129 C, 7, 8, 9 or 250-255 (black, white, greys)
+   B; a true colour by its dominant channel (red M, blue V, green C; grey,
+   black, white B). An entity's own colour that means nothing (e.g. ACI 2
+   yellow) is not overridden by its layer's colour;
+3. linetype (the entity's, else its layer's): a dashed one (name containing
+   ``DASH`` or ``HIDDEN``, e.g. ``DASHED``, ``DASHEDX2``) is V.
+
+A line that none of the rules classifies is not guessed: the file is rejected
+with a message naming the lines (handle, layer, colour). ORIPA draws the sheet's
+outline as cut lines, so cut edges on the outer boundary of the sheet (the
+exterior of the union of the faces) become border; cut lines inside stay cuts.
+``$INSUNITS`` is honoured (inches, feet, cm, m, ... are converted to mm;
+unitless files are taken as mm). The title is the file name's stem.
+
+Examples
+--------
+>>> import tempfile, pathlib
+>>> from origami_cad.pattern import miura_pattern
+>>> cp = miura_pattern(2, 2, 20.0, 30.0, 60.0)
+>>> with tempfile.TemporaryDirectory() as tmp:
+...     back = read_dxf(write_dxf(cp, pathlib.Path(tmp) / "miura.dxf"))
+>>> back.same_graph(cp), back.title
+(True, 'miura')
 """
 
 from __future__ import annotations
 
 import itertools
 import os
+from collections import Counter
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import shapely
 
 from origami_cad._fileio import atomic_path
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern, Hole
+from origami_cad.pattern.model import CreasePattern, Hole, Problem, Severity
 
 __all__ = ["read_dxf", "write_dxf"]
 
+#: assignment -> (layer, ACI colour, linetype) written by :func:`write_dxf`
 _LAYERS = {
     "M": ("Mountain", 1, "CONTINUOUS"),
     "V": ("Valley", 5, "DASHED"),
@@ -44,59 +87,99 @@ _LAYERS = {
     "B": ("Border", 7, "CONTINUOUS"),
     "F": ("Flat", 8, "CONTINUOUS"),
     "U": ("Unassigned", 9, "CONTINUOUS"),
-    "J": ("Unassigned", 9, "CONTINUOUS"),
+    "J": ("Join", 9, "CONTINUOUS"),
 }
 _HOLE_LAYER = ("Holes", 4)
-#: $INSUNITS code -> millimetres per unit
-_UNITS = {
-    0: 1.0,
-    1: 25.4,
-    2: 304.8,
-    4: 1.0,
-    5: 10.0,
-    6: 1000.0,
-    8: 25.4e-6,
-    9: 25.4e-3,
-    10: 914.4,
-    13: 1e-3,
-    14: 100.0,
+
+#: layer-name words (lower case, substrings) and the assignment they mean, in order
+_LAYER_WORDS = (
+    (("mountain",), "M"),
+    (("valley",), "V"),
+    (("cut",), "C"),
+    (("border", "boundary", "outline", "edge"), "B"),
+    (("flat", "aux"), "F"),
+    (("unassigned",), "U"),
+    (("join",), "J"),
+)
+_NAMES = {"M": "mountain", "V": "valley", "C": "cut", "B": "border", "F": "flat"}
+_NAMES.update(U="unassigned", J="join")
+
+#: $INSUNITS codes ezdxf cannot convert: millimetres per unit
+_MM_PER_UNIT = {
+    0: 1.0,  # unitless: taken as mm
+    8: 25.4e-6,  # microinches
+    9: 25.4e-3,  # mils
+    21: 1200 / 3937 * 1000,  # US survey feet
+    22: 1000 / 39.37,  # US survey inches
+    23: 3600 / 3937 * 1000,  # US survey yards
+    24: 6336000 / 3937,  # US survey miles
 }
+_LINEAR = ("LINE", "LWPOLYLINE", "POLYLINE")
+_CURVED = ("ARC", "CIRCLE", "ELLIPSE", "SPLINE")
+#: chord tolerance of flattened curves, mm
+_FLATTEN_MM = 0.01
+#: block nesting deeper than this is taken as a cycle
+_MAX_DEPTH = 32
 
 
+# --------------------------------------------------------------------- writing
 def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
-    """Write ``cp`` as a DXF (R2010) in millimetres, atomically."""
+    """Write a crease pattern as a DXF file (R2010, millimetres), atomically.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        The pattern; coordinates in mm.
+    path : path-like
+        Output ``.dxf`` file; replaced only once it is completely written.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Notes
+    -----
+    Fold angles are not stored (DXF has no place for them): reading the file
+    back gives the default +-180 degrees for mountains and valleys.
+    """
     import ezdxf
 
-    doc = ezdxf.new("R2010", setup=True)
+    doc = ezdxf.new("R2010", setup=True)  # setup: standard linetypes incl. DASHED
     doc.header["$INSUNITS"] = 4
     doc.header["$MEASUREMENT"] = 1
-    msp = doc.modelspace()
-    for name, color, linetype in {v[0]: v for v in _LAYERS.values()}.values():
+    if cp.title:
+        doc.header["$PROJECTNAME"] = cp.title
+    for name, color, linetype in dict.fromkeys(_LAYERS.values()):
         doc.layers.add(name, color=color, linetype=linetype)
     doc.layers.add(_HOLE_LAYER[0], color=_HOLE_LAYER[1])
-    for (a, b), letter in zip(cp.edges, cp.assignments, strict=True):
-        pa, pb = cp.vertices[a], cp.vertices[b]
+    msp = doc.modelspace()
+    for (a, b), letter in zip(cp.edges.tolist(), cp.assignments.tolist(), strict=True):
+        xa, ya = cp.vertices[a]
+        xb, yb = cp.vertices[b]
         msp.add_line(
-            (float(pa[0]), float(pa[1])),
-            (float(pb[0]), float(pb[1])),
-            dxfattribs={"layer": _LAYERS[str(letter)][0]},
+            (float(xa), float(ya)),
+            (float(xb), float(yb)),
+            dxfattribs={"layer": _LAYERS[letter][0]},
         )
     for h in cp.holes:
         msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs={"layer": _HOLE_LAYER[0]})
+    x0, y0, x1, y1 = cp.bounds
+    doc.set_modelspace_vport(
+        height=1.1 * max(y1 - y0, (x1 - x0) * 0.75, 1.0), center=((x0 + x1) / 2, (y0 + y1) / 2)
+    )
     with atomic_path(path) as tmp:
         doc.saveas(tmp)
     return Path(path)
 
 
+# ------------------------------------------------------------- classification
+Colour = tuple[str, Any]  # ("aci", int) or ("rgb", (r, g, b))
+
+
 def _by_layer_name(name: str) -> str | None:
     low = name.lower()
-    for words, letter in (
-        (("mountain",), "M"),
-        (("valley",), "V"),
-        (("cut",), "C"),
-        (("border", "boundary", "outline", "edge"), "B"),
-        (("flat", "aux"), "F"),
-    ):
+    for words, letter in _LAYER_WORDS:
         if any(w in low for w in words):
             return letter
     return None
@@ -117,143 +200,321 @@ def _by_aci(aci: int) -> str | None:
 def _by_rgb(rgb: tuple[int, int, int]) -> str | None:
     if max(rgb) - min(rgb) <= 16:
         return "B"  # black, white, grey
-    channel = int(np.argmax(rgb))
-    if sorted(rgb)[-1] - sorted(rgb)[-2] < 32:
-        return None  # no dominant channel (e.g. yellow, magenta)
-    return "MCV"[channel]
+    first, second = sorted(rgb)[-1:-3:-1]
+    if first - second < 32:
+        return None  # no dominant channel (yellow, magenta, cyan, ...)
+    return "MCV"[int(np.argmax(rgb))]
 
 
-def _classify(entity, doc) -> str | None:
-    layer_name = entity.dxf.get("layer", "0")
-    letter = _by_layer_name(layer_name)
-    if letter:
+def _by_colour(colour: Colour) -> str | None:
+    kind, value = colour
+    return _by_rgb(value) if kind == "rgb" else _by_aci(value)
+
+
+def _colour_text(colour: Colour | None) -> str:
+    if colour is None:
+        return "none"
+    kind, value = colour
+    return "#{:02x}{:02x}{:02x}".format(*value) if kind == "rgb" else str(value)
+
+
+@dataclass(frozen=True)
+class _Block:
+    """What entities inside a block reference inherit from it."""
+
+    matrix: Any  # ezdxf Matrix44: block coordinates -> WCS
+    layer: str  # for entities on layer "0"
+    colour: Colour | None  # for BYBLOCK colours
+    linetype: str | None  # for BYBLOCK linetypes
+    where: str  # " in block 'NAME' (INSERT 2F)"
+    depth: int
+
+
+@dataclass(frozen=True)
+class _Item:
+    """An entity with its effective layer, colour and linetype."""
+
+    entity: Any
+    block: _Block | None
+    layer: str
+    own_colour: Colour | None  # the entity's own colour; None: BYLAYER
+    layer_colour: Colour
+    linetype: str
+
+    @property
+    def colour(self) -> Colour:
+        return self.own_colour if self.own_colour is not None else self.layer_colour
+
+    def classify(self) -> str | None:
+        letter = _by_layer_name(self.layer)
+        if letter is None:
+            letter = _by_colour(self.colour)
+        if letter is None and ("DASH" in self.linetype or "HIDDEN" in self.linetype):
+            letter = "V"
         return letter
-    layer = doc.layers.get(layer_name) if doc.layers.has_entry(layer_name) else None
-    if entity.dxf.hasattr("true_color"):
-        letter = _by_rgb(entity.rgb)
-        if letter:
-            return letter
-    aci = entity.dxf.get("color", 256)
-    if aci not in (0, 256):  # not BYBLOCK / BYLAYER
-        letter = _by_aci(aci)
-        if letter:
-            return letter
-    elif layer is not None:
-        if layer.dxf.hasattr("true_color"):
-            letter = _by_rgb(layer.rgb)
-            if letter:
-                return letter
-        letter = _by_aci(abs(layer.dxf.get("color", 7)))
-        if letter:
-            return letter
-    linetype = str(entity.dxf.get("linetype", "BYLAYER")).upper()
-    if linetype in ("BYLAYER", "BYBLOCK") and layer is not None:
-        linetype = str(layer.dxf.get("linetype", "CONTINUOUS")).upper()
-    if "DASH" in linetype or "HIDDEN" in linetype:
-        return "V"
-    return None
+
+    def describe(self) -> str:
+        where = self.block.where if self.block is not None else ""
+        by = "" if self.own_colour is not None else " (by layer)"
+        return (
+            f"handle {self.entity.dxf.get('handle', '?')}{where} ({self.entity.dxftype()}) "
+            f"on layer {self.layer!r}, colour {_colour_text(self.colour)}{by}"
+        )
 
 
-def _describe(entity) -> str:
-    return (
-        f"handle {entity.dxf.handle} ({entity.dxftype()}) on layer "
-        f"{entity.dxf.get('layer', '0')!r}, colour {entity.dxf.get('color', 256)}"
-    )
+def _layer_props(doc: Any, name: str) -> tuple[Colour, str]:
+    """Colour and linetype (upper case) of a layer; white, CONTINUOUS if undefined."""
+    layer = doc.layers.get(name) if doc.layers.has_entry(name) else None
+    if layer is None:
+        return ("aci", 7), "CONTINUOUS"
+    rgb = layer.rgb if layer.dxf.hasattr("true_color") else None
+    colour: Colour = ("rgb", tuple(rgb)) if rgb is not None else ("aci", abs(layer.dxf.color))
+    return colour, str(layer.dxf.get("linetype", "CONTINUOUS")).upper()
 
 
-def _entities(space, depth: int = 0):
-    for e in space:
-        if e.dxftype() == "INSERT" and depth < 16:
-            yield from _entities(e.virtual_entities(), depth + 1)
+def _item(entity: Any, doc: Any, block: _Block | None) -> _Item:
+    dxf = entity.dxf
+    layer = str(dxf.get("layer", "0"))
+    if layer == "0" and block is not None:
+        layer = block.layer
+    layer_colour, layer_linetype = _layer_props(doc, layer)
+    own: Colour | None
+    rgb = entity.rgb if dxf.hasattr("true_color") else None
+    if rgb is not None:
+        own = ("rgb", tuple(rgb))
+    else:
+        aci = int(dxf.get("color", 256))
+        if aci == 0:  # BYBLOCK
+            own = block.colour if block is not None else None
+        elif aci == 256:  # BYLAYER
+            own = None
         else:
-            yield e
+            own = ("aci", abs(aci))
+    linetype = str(dxf.get("linetype", "BYLAYER")).upper()
+    if linetype == "BYBLOCK":
+        linetype = (block.linetype if block is not None else None) or "BYLAYER"
+    if linetype == "BYLAYER":
+        linetype = layer_linetype
+    return _Item(entity, block, layer, own, layer_colour, linetype)
 
 
+def _walk(space: Iterable[Any], doc: Any, block: _Block | None = None) -> Iterator[_Item]:
+    """Every entity of a layout, entering block references (nested)."""
+    from ezdxf.math import Matrix44
+
+    for entity in space:
+        if entity.dxftype() != "INSERT":
+            yield _item(entity, doc, block)
+            continue
+        depth = 0 if block is None else block.depth + 1
+        if depth > _MAX_DEPTH:
+            raise PatternError(
+                f"block references nested deeper than {_MAX_DEPTH} levels (a block "
+                f"that contains itself?) at handle {entity.dxf.get('handle', '?')}"
+            )
+        ref = _item(entity, doc, block)
+        layout = entity.block()
+        name = entity.dxf.get("name", "?")
+        handle = entity.dxf.get("handle", "?")
+        if layout is None:
+            raise PatternError(
+                f"INSERT {handle} refers to block {name!r}, which the file does not define"
+            )
+        inserts = entity.multi_insert() if entity.mcount > 1 else [entity]
+        for ins in inserts:
+            m = ins.matrix44()
+            if block is not None:
+                m = Matrix44.chain(m, block.matrix)
+            inner = _Block(
+                matrix=m,
+                layer=ref.layer,
+                colour=ref.colour,
+                linetype=ref.linetype,
+                where=f" in block {name!r} (INSERT {handle})"
+                + (block.where if block is not None else ""),
+                depth=depth,
+            )
+            yield from _walk(layout, doc, inner)
+
+
+# ------------------------------------------------------------------ geometry
+def _points(item: _Item, flatten: float) -> tuple[list[list[tuple[float, float]]], bool]:
+    """Vertex chains (WCS drawing units, z dropped) of an entity; whether it is curved."""
+    from ezdxf import path as ezpath
+
+    e = item.entity
+    m = item.block.matrix if item.block is not None else None
+    if e.dxftype() == "LINE":
+        ends = [e.dxf.start, e.dxf.end]
+        if m is not None:
+            ends = list(m.transform_vertices(ends))
+        return [[(float(v.x), float(v.y)) for v in ends]], False
+    try:
+        p = ezpath.make_path(e)
+    except (TypeError, ValueError) as exc:
+        raise PatternError(f"{item.describe()}: cannot read its geometry ({exc})") from None
+    if m is not None:
+        p = p.transform(m)
+    parts = list(p.sub_paths()) if p.has_sub_paths else [p]
+    chains = [[(float(v.x), float(v.y)) for v in part.flattening(flatten)] for part in parts]
+    return chains, bool(p.has_curves)
+
+
+def _hole(item: _Item, scale: float) -> Hole:
+    e = item.entity
+    ocs = e.ocs()
+    centre = ocs.to_wcs(e.dxf.center)
+    r = float(e.dxf.radius)
+    ux, uy = ocs.ux * r, ocs.uy * r
+    if item.block is not None:
+        m = item.block.matrix
+        centre = m.transform(centre)
+        ux, uy = m.transform_direction(ux), m.transform_direction(uy)
+    rx, ry = ux.vec2.magnitude, uy.vec2.magnitude
+    if abs(rx - ry) > 1e-9 * max(rx, ry):
+        raise PatternError(
+            f"{item.describe()}: the hole is distorted into an ellipse "
+            "(non-uniform scaling or tilt); holes must be circles"
+        )
+    return Hole(float(centre.x) * scale, float(centre.y) * scale, 2 * rx * scale)
+
+
+def _mm_per_unit(doc: Any) -> float:
+    from ezdxf import units
+
+    code = int(doc.header.get("$INSUNITS", 0))
+    if code in _MM_PER_UNIT:
+        return _MM_PER_UNIT[code]
+    try:
+        return float(units.conversion_factor(code, 4))
+    except (TypeError, ValueError, IndexError):
+        raise PatternError(f"$INSUNITS = {code} is not a known unit code") from None
+
+
+def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
+    """Cut edges on the outer boundary of the sheet become border (ORIPA's outline)."""
+    cut = np.flatnonzero(cp.assignments == "C")
+    if cut.size == 0 or not cp.faces:
+        return cp
+    parts = shapely.get_parts(shapely.union_all(cp.face_polygons()))
+    polys = parts[shapely.get_type_id(parts) == 3]  # Polygon
+    if polys.size == 0:
+        return cp
+    rings = shapely.get_exterior_ring(polys)
+    mids = shapely.points(cp.vertices[cp.edges[cut]].mean(axis=1))
+    on = shapely.dwithin(mids[:, None], rings[None, :], 4 * cp.tolerance).any(axis=1)
+    if not on.any():
+        return cp
+    assign = cp.assignments.copy()
+    assign[cut[on]] = "B"
+    out = CreasePattern(
+        cp.vertices, cp.edges, assign, metadata={"title": title}, tolerance=cp.tolerance
+    )
+    note = Problem(
+        "outline-cuts",
+        f"{int(on.sum())} cut edges on the outer boundary of the sheet taken as border",
+        severity=Severity.INFO,
+    )
+    out.notes = (*cp.notes, *out.notes, note)
+    return out
+
+
+# ------------------------------------------------------------------- reading
 def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
-    """Read a crease pattern from a DXF file (converted to mm).
+    """Read a crease pattern from a DXF file, converted to millimetres.
+
+    Parameters
+    ----------
+    path : path-like
+        A ``.dxf`` file (any DXF version ezdxf reads; ASCII or binary).
+
+    Returns
+    -------
+    CreasePattern
+        Vertices in mm, edges classified as described in the module
+        documentation, holes from circles on a ``Holes`` layer, and
+        ``metadata["title"]`` the file name's stem. Fold angles are the
+        defaults (+-180 degrees for mountains and valleys, 0 otherwise).
 
     Raises
     ------
     PatternError
-        Naming the file and the entities that could not be read or classified.
+        If the file is missing or not a readable DXF, if a line cannot be
+        classified as mountain, valley, cut or border, if a crease is curved,
+        or if there are no crease lines; the message starts with the path and
+        names the entities concerned.
     """
-    import ezdxf
-    from ezdxf import path as ezpath
-
     p = Path(path)
     if not p.is_file():
         raise PatternError(f"{p}: no such file")
     try:
-        doc = ezdxf.readfile(str(p))
-    except (OSError, ezdxf.DXFError) as exc:
-        raise PatternError(f"{p}: not a readable DXF file ({exc})") from None
-    scale = _UNITS.get(int(doc.header.get("$INSUNITS", 0)), 1.0)
-    segments: list[tuple[tuple[float, float], tuple[float, float], str]] = []
-    holes: list[Hole] = []
-    unknown: list[str] = []
-    for e in _entities(doc.modelspace()):
-        kind = e.dxftype()
-        if kind not in ("LINE", "LWPOLYLINE", "POLYLINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE"):
-            continue
-        layer = str(e.dxf.get("layer", "0")).lower()
-        if kind == "CIRCLE" and "hole" in layer:
-            c = e.dxf.center
-            holes.append(Hole(c.x * scale, c.y * scale, 2 * e.dxf.radius * scale))
-            continue
-        letter = _classify(e, doc)
-        if letter is None:
-            unknown.append(_describe(e))
-            continue
-        if kind == "LINE":
-            a, b = e.dxf.start, e.dxf.end
-            segments.append(((a.x, a.y), (b.x, b.y), letter))
-            continue
-        curved = kind in ("ARC", "CIRCLE", "ELLIPSE", "SPLINE") or (
-            kind == "LWPOLYLINE" and any(abs(v[4]) > 1e-12 for v in e.get_points("xyseb"))
-        )
-        if curved and letter not in ("B", "C"):
-            name = {"M": "mountain", "V": "valley"}.get(letter, "crease")
-            raise PatternError(
-                f"{p}: {_describe(e)} is a curved {name} line; creases must be straight "
-                "to fold rigidly"
-            )
-        if curved:
-            pts = [(v.x, v.y) for v in ezpath.make_path(e).flattening(0.01 / scale)]
-        elif kind == "LWPOLYLINE":
-            pts = [(x, y) for x, y in e.get_points("xy")]
-            if e.closed:
-                pts.append(pts[0])
-        else:
-            pts = [(v.dxf.location.x, v.dxf.location.y) for v in e.vertices]
-            if e.is_closed:
-                pts.append(pts[0])
-        segments += [(a, b, letter) for a, b in itertools.pairwise(pts) if a != b]
-    if unknown:
-        listed = "; ".join(unknown[:3]) + (
-            f"; and {len(unknown) - 3} more" if len(unknown) > 3 else ""
-        )
-        raise PatternError(
-            f"{p}: {len(unknown)} lines cannot be classified as mountain, valley, cut or "
-            f"border by layer, colour or linetype ({listed})"
-        )
-    if not segments:
-        raise PatternError(f"{p}: no crease lines found (no LINE, POLYLINE or ARC entities)")
-    coords = np.array([[a, b] for a, b, _ in segments], dtype=float) * scale
-    letters = [s[2] for s in segments]
-    verts = coords.reshape(-1, 2)
-    edges = np.arange(len(verts)).reshape(-1, 2)
-    try:
-        cp = CreasePattern(verts, edges, letters, metadata={"title": p.stem})
-        if "C" in letters:  # ORIPA: cut lines on the sheet's outline are its border
-            outline = shapely.union_all(cp.face_polygons())
-            boundary = outline.boundary
-            mids = (cp.vertices[cp.edges[:, 0]] + cp.vertices[cp.edges[:, 1]]) / 2
-            on = shapely.dwithin(shapely.points(mids), boundary, 1e-6 * max(cp.size, 1.0))
-            assign = np.where((cp.assignments == "C") & on, "B", cp.assignments)
-            if np.any(assign != cp.assignments):
-                cp = CreasePattern(
-                    cp.vertices, cp.edges, assign, cp.fold_angles, metadata={"title": p.stem}
-                )
+        return _read(p)
     except PatternError as exc:
         raise PatternError(f"{p}: {exc}") from None
+
+
+def _read(p: Path) -> CreasePattern:
+    import ezdxf
+
+    try:
+        doc = ezdxf.readfile(str(p))
+    except Exception as exc:  # ezdxf raises OSError, DXFStructureError, StopIteration, ...
+        problem = str(exc) or type(exc).__name__
+        if isinstance(exc, OSError) and str(p) in problem:
+            problem = "not a DXF file"
+        raise PatternError(f"not a readable DXF file ({problem})") from None
+    scale = _mm_per_unit(doc)
+    flatten = _FLATTEN_MM / scale
+    segments: list[tuple[float, float, float, float]] = []
+    letters: list[str] = []
+    holes: list[Hole] = []
+    unknown: list[str] = []
+    skipped: Counter[str] = Counter()
+    for item in _walk(doc.modelspace(), doc):
+        e = item.entity
+        kind = e.dxftype()
+        if kind not in _LINEAR + _CURVED:
+            skipped[kind] += 1
+            continue
+        if kind == "POLYLINE" and not (e.is_2d_polyline or e.is_3d_polyline):
+            skipped["POLYLINE (mesh)"] += 1
+            continue
+        if kind == "CIRCLE" and "hole" in item.layer.lower():
+            holes.append(_hole(item, scale))
+            continue
+        letter = item.classify()
+        if letter is None:
+            unknown.append(item.describe())
+            continue
+        chains, curved = _points(item, flatten)
+        if curved and letter not in ("B", "C"):
+            raise PatternError(
+                f"{item.describe()} is a curved {_NAMES[letter]} line; only border and "
+                "cut lines may be curved (a curved crease cannot be folded rigidly)"
+            )
+        for chain in chains:
+            for a, b in itertools.pairwise(chain):
+                if a != b:
+                    segments.append((*a, *b))
+                    letters.append(letter)
+    if unknown:
+        shown = "; ".join(unknown[:3])
+        if len(unknown) > 3:
+            shown += f"; and {len(unknown) - 3} more"
+        raise PatternError(
+            f"{len(unknown)} lines cannot be classified as mountain/valley/cut/border by "
+            f"layer name, colour or linetype ({shown}); put them on a layer named "
+            "Mountain, Valley, Cut or Border, or colour them red, blue, green or black"
+        )
+    if not segments:
+        found = ", ".join(f"{n} {k}" for k, n in skipped.most_common()) or "nothing"
+        raise PatternError(
+            f"no crease lines found (found {found}{' and holes' if holes else ''}; crease "
+            "lines are LINE, LWPOLYLINE, POLYLINE, ARC, CIRCLE, ELLIPSE or SPLINE entities)"
+        )
+    coords = np.asarray(segments, dtype=float).reshape(-1, 2) * scale
+    edges = np.arange(len(coords)).reshape(-1, 2)
+    title = p.stem
+    cp = CreasePattern(coords, edges, letters, metadata={"title": title})
+    cp = _outline_cuts_to_border(cp, title)
     return cp.with_holes(holes) if holes else cp
