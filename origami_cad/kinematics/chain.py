@@ -103,15 +103,31 @@ def chain_joints(
     """Joints of the TG chain as complex numbers ``x + iy``, ``T_s`` first, ``T_e`` last.
 
     Eq. 4, ``T_e = T_s + sum v_i``, with every partial sum: shape ``(D, S, n + 2)``,
-    mm. Arguments as :func:`chain_points`.
+    mm. Arguments as :func:`chain_points`. The headings are built without
+    trigonometry: with ``t = tan(Delta alpha / 2)`` from eq. 2, the turn
+    ``exp(i Delta alpha) = (1 - t^2 + 2 i t) / (1 + t^2)`` exactly, and each heading
+    is the running product of the turns.
     """
     lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    alpha = chain_angles(theta, shape_angles, entry_flag, hypar_base)
-    d, s = alpha.shape[:2]
-    out = np.empty((d, s, lengths.shape[1] + 1), dtype=complex)
+    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    d = max(lengths.shape[0], beta.shape[0])
+    ef0 = np.broadcast_to(np.asarray(entry_flag, dtype=np.int64).reshape(-1), (d,))
+    n = beta.shape[1]
+    sign = 1.0 - 2.0 * ((ef0[:, None] + np.arange(n)[None, :]) % 2)  # (-1)^EF_{i-1}
+    theta = np.asarray(theta, dtype=float).reshape(-1)
+    t = np.sin(theta / 2.0)[None, :, None] * (np.tan(beta) * sign)[:, None, :]  # eq. 2
+    t2 = t * t
+    turn = (1.0 - t2 + 2j * t) / (1.0 + t2)
+    hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
+    a0 = np.where(hyp[:, None], hypar_alpha0(theta)[None, :], 0.0)  # eq. 3, (D, S)
+    heading = np.empty((d, len(theta), n + 1), dtype=complex)
+    heading[..., 0] = np.exp(1j * a0)
+    np.cumprod(turn, axis=2, out=heading[..., 1:])
+    heading[..., 1:] *= heading[..., :1]
+    out = np.empty((d, len(theta), n + 2), dtype=complex)
     st = np.asarray(start, dtype=float).reshape(-1, 2)
     out[:, :, 0] = (st[:, 0] + 1j * st[:, 1])[:, None]
-    np.cumsum(lengths[:, None, :] * np.exp(1j * alpha), axis=2, out=out[:, :, 1:])
+    np.cumsum(lengths[:, None, :] * heading, axis=2, out=out[:, :, 1:])
     out[:, :, 1:] += out[:, :, :1]
     return out
 
