@@ -338,26 +338,45 @@ def _walk(space: Iterable[Any], doc: Any, block: _Block | None = None) -> Iterat
 
 
 # ------------------------------------------------------------------ geometry
-def _points(item: _Item, flatten: float) -> tuple[list[list[tuple[float, float]]], bool]:
-    """Vertex chains (WCS drawing units, z dropped) of an entity; whether it is curved."""
-    from ezdxf import path as ezpath
+def _is_curved(e: Any) -> bool:
+    """Whether an entity has curved parts (arcs, splines, bulged polyline segments)."""
+    kind = e.dxftype()
+    if kind == "LWPOLYLINE":
+        return any(abs(b) > 0 for (b,) in e.get_points("b"))
+    if kind == "POLYLINE":
+        return e.is_2d_polyline and any(abs(v.dxf.get("bulge", 0)) > 0 for v in e.vertices)
+    return kind in _CURVED
 
-    e = item.entity
+
+def _flat_pieces(e: Any, flatten: float) -> Iterator[list[Any]]:
+    """Vertex chains (Vec3, block or WCS coordinates) of an entity, curves flattened."""
+    kind = e.dxftype()
+    if kind == "LINE":
+        yield [e.dxf.start, e.dxf.end]
+    elif kind in ("LWPOLYLINE", "POLYLINE"):
+        for piece in e.virtual_entities():  # LINE and ARC entities, in WCS
+            yield from _flat_pieces(piece, flatten)
+    else:  # ARC, CIRCLE, ELLIPSE, SPLINE: points on the curve itself, chords within flatten
+        yield list(e.flattening(flatten))
+
+
+def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
+    """Vertex chains of an entity in WCS drawing units (z dropped; curves flattened).
+
+    ``flatten`` is the largest distance (drawing units) between a curve and its chords.
+    """
     m = item.block.matrix if item.block is not None else None
-    if e.dxftype() == "LINE":
-        ends = [e.dxf.start, e.dxf.end]
-        if m is not None:
-            ends = list(m.transform_vertices(ends))
-        return [[(float(v.x), float(v.y)) for v in ends]], False
+    if m is not None:  # flatten in block coordinates, finer by the block's largest stretch
+        ux, uy = m.transform_direction((1, 0, 0)), m.transform_direction((0, 1, 0))
+        stretch = float(np.linalg.norm([[ux.x, ux.y], [uy.x, uy.y]], 2))
+        flatten /= max(stretch, 1e-300)
     try:
-        p = ezpath.make_path(e)
-    except (TypeError, ValueError) as exc:
+        chains = list(_flat_pieces(item.entity, flatten))
+    except (TypeError, ValueError, ZeroDivisionError, ArithmeticError) as exc:
         raise PatternError(f"{item.describe()}: cannot read its geometry ({exc})") from None
     if m is not None:
-        p = p.transform(m)
-    parts = list(p.sub_paths()) if p.has_sub_paths else [p]
-    chains = [[(float(v.x), float(v.y)) for v in part.flattening(flatten)] for part in parts]
-    return chains, bool(p.has_curves)
+        chains = [list(m.transform_vertices(chain)) for chain in chains]
+    return [[(float(v.x), float(v.y)) for v in chain] for chain in chains]
 
 
 def _hole(item: _Item, scale: float) -> Hole:
@@ -486,13 +505,12 @@ def _read(p: Path) -> CreasePattern:
         if letter is None:
             unknown.append(item.describe())
             continue
-        chains, curved = _points(item, flatten)
-        if curved and letter not in ("B", "C"):
+        if letter not in ("B", "C") and _is_curved(e):
             raise PatternError(
                 f"{item.describe()} is a curved {_NAMES[letter]} line; only border and "
                 "cut lines may be curved (a curved crease cannot be folded rigidly)"
             )
-        for chain in chains:
+        for chain in _points(item, flatten):
             for a, b in itertools.pairwise(chain):
                 if a != b:
                     segments.append((*a, *b))
@@ -512,8 +530,14 @@ def _read(p: Path) -> CreasePattern:
             f"no crease lines found (found {found}{' and holes' if holes else ''}; crease "
             "lines are LINE, LWPOLYLINE, POLYLINE, ARC, CIRCLE, ELLIPSE or SPLINE entities)"
         )
-    coords = np.asarray(segments, dtype=float).reshape(-1, 2) * scale
-    edges = np.arange(len(coords)).reshape(-1, 2)
+    # shared end points become one vertex here (in order of first appearance), so the
+    # pattern's notes report only real repairs (near-coincident vertices, crossings, ...)
+    ends = np.asarray(segments, dtype=float).reshape(-1, 2)
+    uniq, first, inverse = np.unique(ends, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    coords, edges = uniq[order] * scale, rank[inverse.reshape(-1)].reshape(-1, 2)
     title = p.stem
     cp = CreasePattern(coords, edges, letters, metadata={"title": title})
     cp = _outline_cuts_to_border(cp, title)
