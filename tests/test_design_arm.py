@@ -258,3 +258,28 @@ def test_circle_obstacle(tmp_path):
     path.write_text(text)
     task, _ = load_task(path)
     assert task.prohibited[0].area == pytest.approx(math.pi * 30**2, rel=1e-3)
+
+
+def test_compiled_predicates_agree_with_the_numpy_ones():
+    from origami_cad.design import _kernels, fitness
+    from origami_cad.kinematics.chain import chain_joints
+
+    assert _kernels.AVAILABLE
+    box = shapely.Polygon(
+        [(150, 40), (400, 40), (400, 400), (150, 400)], [[(200, 100), (300, 100), (300, 200)]]
+    )
+    task = ArmTask(
+        points=[[250.0, 0.0], [50.0, 133.3]],
+        vectors=8,
+        samples=20,
+        unit_width=0,
+        prohibited=(box,),
+        warning=(shapely.box(140, 30, 2000, 2000),),
+    )
+    lengths, beta = _random_designs(task, 300, seed=11)
+    z = chain_joints(np.linspace(0, math.pi, 20), lengths, beta, np.arange(300) % 2, True)
+    edges = fitness.area_edges(task.prohibited)[0]
+    tips = np.stack([z[:, :, -1].real, z[:, :, -1].imag], axis=-1)
+    assert np.array_equal(_kernels.self_intersections(z), fitness._self_intersections(z))
+    assert np.array_equal(_kernels.touches_area(z, edges), fitness._touches_area(z, edges))
+    assert np.array_equal(_kernels.inside_counts(tips, edges), fitness._inside(tips, edges))

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 import shapely
 
+from origami_cad.design import _kernels
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import chain_joints
 from origami_cad.pattern.miura import leg_gaps
@@ -289,14 +290,15 @@ def arm_fitness(
         mid_index[:, j] = k
         lowest = k
         f = f + task.weights[j] / (10.0 + d_mid[:, j])
-    improper = _self_intersections(z)
+    kernels = _kernels.AVAILABLE
+    improper = _kernels.self_intersections(z) if kernels else _self_intersections(z)
     for edges in area_edges(task.warning):
-        improper |= _inside(tips, edges)
+        improper |= _kernels.inside_counts(tips, edges) if kernels else _inside(tips, edges)
     n_improper = improper.sum(axis=1)
     f = f - 4.0 * n_improper
     hits = np.zeros((n_designs, n_samples), dtype=bool)
     for edges in area_edges(task.prohibited):
-        hits |= _touches_area(z, edges)
+        hits |= _kernels.touches_area(z, edges) if kernels else _touches_area(z, edges)
     n_hits = hits.sum(axis=1)
     legs = np.zeros(n_designs, dtype=np.int64)
     if task.unit_width > 0:
