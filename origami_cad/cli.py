@@ -223,29 +223,17 @@ def _cmd_fabricate(args: argparse.Namespace) -> int:
 
 
 def _cmd_route(args: argparse.Namespace) -> int:
-    import json
 
     from origami_cad._fileio import atomic_directory
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings import load_route, simulate_dcqc
-    from origami_cad.viz.render3d import render_folded
-    from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
+    from origami_cad.viz.strings_plots import write_route_outputs
 
     design = load_pattern_source(args.design)
     route = load_route(args.route, design.pattern)
     result = simulate_dcqc(design, route)
     with atomic_directory(args.output) as tmp:
-        with open(tmp / "dcqc.json", "w", encoding="utf-8") as fh:
-            json.dump(result.to_dict(), fh, indent=1)
-        save_dcqc_png(result, tmp / "dcqc.png")
-        save_route_png(design.pattern, route, tmp / "route.png")
-        render_folded(
-            design.pattern,
-            result.final_coords,
-            tmp / "route_folded.png",
-            strings=result.final_strings,
-            title=f"p = {result.final['p']:.3f}",
-        )
+        write_route_outputs(design.pattern, route, result, tmp)
     for v in result.violations + result.cutting:
         print(f"warning: {v}")
     state = "final" if result.valid else "INVALID routing"

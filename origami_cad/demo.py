@@ -204,29 +204,14 @@ def step_fig4(out: Path, root: Path, quick: bool) -> StepReport:
 
 def step_fig5(out: Path, root: Path, quick: bool) -> StepReport:
     """Fig. 5: a ring TSA folds the 6 x 4 Miura through DCQC-routed strings."""
-    import json
-
-    from origami_cad._fileio import atomic_write
     from origami_cad.pattern.design import load_design
     from origami_cad.strings import load_route, simulate_dcqc
-    from origami_cad.viz.render3d import render_folded
-    from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
+    from origami_cad.viz.strings_plots import write_route_outputs
 
     design = load_design(EXAMPLES / "miura_6x4.toml")
     route = load_route(EXAMPLES / "miura_route.toml", design.pattern)
     result = simulate_dcqc(design, route)
-    out.mkdir(parents=True, exist_ok=True)
-    with atomic_write(out / "dcqc.json", "w", encoding="utf-8") as fh:
-        json.dump(result.to_dict(), fh, indent=1)
-    save_route_png(design.pattern, route, out / "route.png")
-    save_dcqc_png(result, out / "dcqc.png")
-    render_folded(
-        design.pattern,
-        result.final_coords,
-        out / "route_folded.png",
-        strings=result.final_strings,
-        title=f"final p = {result.final['p']:.3f}",
-    )
+    write_route_outputs(design.pattern, route, result, out)
     rep = StepReport("fig5", "Fig. 5 - folding by a twisted string actuator (DCQC)")
     rep.summary = (
         "One ring TSA twists four strings that reach the sheet from guides on a ring of 70 mm "

@@ -23,6 +23,7 @@ __all__ = [
     "chain_angles",
     "chain_joints",
     "chain_points",
+    "half_turn_tangents",
     "hypar_alpha0",
     "tip_positions",
     "turning_angles",
@@ -38,6 +39,22 @@ def hypar_alpha0(theta: np.ndarray) -> np.ndarray:
     c = np.cos(np.asarray(theta, dtype=float) / 2.0)
     c = np.clip(c, 0.0, 1.0)
     return np.arccos(np.clip(np.sqrt(2.0 * c / (1.0 + c)), 0.0, 1.0))
+
+
+def half_turn_tangents(
+    theta: np.ndarray, shape_angles: np.ndarray, entry_flag: np.ndarray
+) -> np.ndarray:
+    """``tan(Delta alpha_i / 2) = sin(theta/2) tan(beta_i) (-1)^EF_{i-1}``, the core of eq. 2.
+
+    Shapes as :func:`turning_angles`: returns (D, S, n).
+    """
+    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    ef0 = np.broadcast_to(np.asarray(entry_flag, dtype=np.int64).reshape(-1), (beta.shape[0],))
+    n = beta.shape[1]
+    flags_before = (ef0[:, None] + np.arange(n)[None, :]) % 2  # EF_0 .. EF_{n-1}
+    sign = 1.0 - 2.0 * flags_before  # (-1)^EF
+    s = np.sin(np.asarray(theta, dtype=float).reshape(-1) / 2.0)
+    return s[None, :, None] * (np.tan(beta) * sign)[:, None, :]
 
 
 def turning_angles(
@@ -59,13 +76,7 @@ def turning_angles(
     ndarray, shape (D, S, n)
         Turning angle at each joint, radians.
     """
-    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
-    ef0 = np.broadcast_to(np.asarray(entry_flag, dtype=np.int64).reshape(-1), (beta.shape[0],))
-    n = beta.shape[1]
-    flags_before = (ef0[:, None] + np.arange(n)[None, :]) % 2  # EF_0 .. EF_{n-1}
-    sign = 1.0 - 2.0 * flags_before  # (-1)^EF
-    s = np.sin(np.asarray(theta, dtype=float).reshape(-1) / 2.0)
-    return 2.0 * np.arctan(s[None, :, None] * (np.tan(beta) * sign)[:, None, :])
+    return 2.0 * np.arctan(half_turn_tangents(theta, shape_angles, entry_flag))
 
 
 def chain_angles(
@@ -109,13 +120,10 @@ def chain_joints(
     is the running product of the turns.
     """
     lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
-    d = max(lengths.shape[0], beta.shape[0])
-    ef0 = np.broadcast_to(np.asarray(entry_flag, dtype=np.int64).reshape(-1), (d,))
-    n = beta.shape[1]
-    sign = 1.0 - 2.0 * ((ef0[:, None] + np.arange(n)[None, :]) % 2)  # (-1)^EF_{i-1}
     theta = np.asarray(theta, dtype=float).reshape(-1)
-    t = np.sin(theta / 2.0)[None, :, None] * (np.tan(beta) * sign)[:, None, :]  # eq. 2
+    t = half_turn_tangents(theta, shape_angles, entry_flag)  # eq. 2
+    d, _, n = t.shape
+    d = max(d, lengths.shape[0])
     t2 = t * t
     turn = (1.0 - t2 + 2j * t) / (1.0 + t2)
     hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
