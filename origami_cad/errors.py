@@ -7,7 +7,7 @@ command-line tool can print it as one line and exit with code 2.
 
 from __future__ import annotations
 
-__all__ = ["DesignError", "OrigamiCadError", "PatternError"]
+__all__ = ["DesignError", "OrigamiCadError", "PatternError", "SimulationError"]
 
 
 class OrigamiCadError(Exception):
@@ -20,3 +20,7 @@ class PatternError(OrigamiCadError, ValueError):
 
 class DesignError(OrigamiCadError, ValueError):
     """A design or task description (usually a TOML file) is malformed."""
+
+
+class SimulationError(OrigamiCadError, ValueError):
+    """A simulation cannot be set up or run with the given parameters."""

@@ -52,9 +52,12 @@ class SimulationParams:
     gravity : float
         Gravitational acceleration along -z, mm/s^2 (0: none; 9810 on Earth).
     ground : float or None
-        Height of a ground plane, mm (None: no ground).
+        Height of a ground plane, mm (None: no ground). The panels' bottom faces
+        rest on it: nodes on the mid-surface stay half a panel thickness above it.
     friction : float
-        Friction coefficient on the ground.
+        Coulomb friction coefficient between the structure and the ground (0: none).
+    ground_stiffness : float
+        Penalty stiffness of the ground per node, normal and tangential (stick), N/mm.
     """
 
     panel_modulus: float = 3500.0
@@ -69,6 +72,7 @@ class SimulationParams:
     gravity: float = 0.0
     ground: float | None = None
     friction: float = 0.5
+    ground_stiffness: float = 100.0
 
     @property
     def crease_stiffness(self) -> float:
@@ -132,6 +136,7 @@ def build_structure(
     params: SimulationParams | None = None,
     fixed_panel: str | None = None,
     fold_limits: dict[int, float] | None = None,
+    free: bool = False,
 ) -> Structure:
     """Build the bar-and-hinge model of ``cp``.
 
@@ -147,6 +152,9 @@ def build_structure(
     fold_limits : dict, optional
         Fold limit of particular creases, ``{edge index: degrees}`` (blockers);
         the others use ``params.fold_limit``.
+    free : bool
+        Hold no panel: the structure rests on the ground (needs gravity and a
+        ground plane, which :func:`~origami_cad.simulation.simulate` checks).
     """
     params = params or SimulationParams()
     if not cp.faces:
@@ -204,14 +212,19 @@ def build_structure(
     mass = tri_area * params.panel_thickness * params.density * 1e-3 / 1000.0  # kg
     np.add.at(weight, tris.ravel(), np.repeat(mass / 3.0, 3) * params.gravity / 1000.0)  # N
     # the held panel
-    if fixed_panel is None:
+    fixed = np.zeros(cp.n_vertices, dtype=bool)
+    if free:
+        fixed_face = -1
+        note = "no panel is held: the structure rests on the ground"
+    elif fixed_panel is None:
         centre = cp.vertices.mean(axis=0)
         dist = np.linalg.norm(cp.face_centroids() - centre, axis=1)
         fixed_face = int(np.argmin(dist))
     else:
         fixed_face = cp.face_index(fixed_panel)
-    fixed = np.zeros(cp.n_vertices, dtype=bool)
-    fixed[cp.faces[fixed_face]] = True
+    if fixed_face >= 0:
+        fixed[cp.faces[fixed_face]] = True
+        note = f"panel {cp.face_labels[fixed_face]} is held in place"
     k_fold = np.array(hk)
     return Structure(
         x0=x0,
@@ -229,5 +242,5 @@ def build_structure(
         # a blocker or a closed chamfer is rigid: the barrier out-stiffens the panels
         limit_k=1e3 * float(max(np.max(k_fold), 1.0)),
         limit_margin=math.radians(params.limit_margin),
-        notes=[f"panel {cp.face_labels[fixed_face]} is held in place"],
+        notes=[note],
     )

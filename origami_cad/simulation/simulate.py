@@ -9,19 +9,13 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.errors import PatternError
-from origami_cad.kinematics.fold3d import fold_angles_from_coords
+from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.model import CreasePattern
+from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
-from origami_cad.simulation.solver import (
-    SimString,
-    StringSet,
-    solve_equilibrium,
-    string_length,
-    total_energy,
-)
-from origami_cad.strings.route import RouteSpec, hole_frames
+from origami_cad.simulation.solver import Ground, _Assembly, solve_equilibrium, total_energy
+from origami_cad.strings.route import RouteSpec, hole_frames, panel_frame
 
 __all__ = ["SimulationResult", "simulate"]
 
@@ -57,16 +51,21 @@ def _strings(
                     "the panel"
                 )
         sides = np.asarray(s.sides, dtype=float)
-        out.append(
-            SimString(
-                np.asarray(s.anchor, float),
-                tri,
-                ab,
-                orient,
-                sides,
-                route.thickness * float(np.sum(np.diff(sides) != 0)),
-            )
+        sim = SimString(
+            np.asarray(s.anchor, float),
+            tri,
+            ab,
+            orient,
+            sides,
+            route.thickness * float(np.sum(np.diff(sides) != 0)),
         )
+        if s.anchor_face >= 0:  # an onboard TSA: the anchor rides on its panel
+            sim.anchor_tri, sim.anchor_ab = panel_frame(cp, s.anchor_face, *s.anchor[:2])
+            f = cp.vertices[sim.anchor_tri]
+            f1, f2 = f[1] - f[0], f[2] - f[0]
+            sim.anchor_orient = float(np.sign(f1[0] * f2[1] - f1[1] * f2[0]))
+            sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
+        out.append(sim)
     strings = StringSet(out, route.thickness / 2.0, route.tsa)
     for s in strings.strings:
         s.free_length, _ = string_length(x, s, strings)
@@ -93,6 +92,7 @@ def simulate(
     tension_limit: float = math.inf,
     still_steps: int = 3,
     progress: Callable[[int, int], None] | None = None,
+    free: bool = False,
 ) -> SimulationResult:
     """Turn the route's TSA step by step and find the equilibrium at each step.
 
@@ -118,10 +118,23 @@ def simulate(
     tension_limit : float
         Stop when a string's tension exceeds it, N.
     still_steps : int
-        Stop when no crease has turned by more than 0.01 deg for this many steps.
+        Stop when, for this many steps, no crease has turned by more than 0.01 deg
+        and no node has moved by more than 1e-4 of the pattern's size.
+    progress : callable, optional
+        Called as ``progress(step, steps)`` after each equilibrium.
+    free : bool
+        Hold no panel: the structure lies on the ground plane, held there by
+        gravity and friction (a walking structure). Needs ``params.gravity > 0``
+        and ``params.ground``.
     """
     params = params or SimulationParams()
-    st: Structure = build_structure(cp, params, fixed_panel or route.fixed_panel, fold_limits)
+    if free and (params.ground is None or params.gravity <= 0):
+        raise SimulationError(
+            "a free structure (no panel held) needs gravity > 0 and a ground plane to rest on"
+        )
+    st: Structure = build_structure(
+        cp, params, fixed_panel or route.fixed_panel, fold_limits, free=free
+    )
     result = SimulationResult(notes=list(st.notes))
     # pre-fold toward the assignments so that the strings have a way to go
     sign = np.zeros(len(st.hinges))
@@ -132,9 +145,20 @@ def simulate(
         np.where(cp.assignments[st.hinge_edge[folds]] == "V", 1.0, 0.0),
     )
     st.hinge_rest = sign * math.radians(prefold)
-    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=params.ground)
+    ground = None
+    if params.ground is not None:
+        # nodes lie on the mid-surface: the bottom face touches the ground
+        contact = params.ground + 0.5 * params.panel_thickness
+        ground = Ground(contact, params.ground_stiffness, params.friction)
+        ground.start(st.x0)
+        if free:  # lay the sheet on the ground
+            st.x0[:, 2] = contact
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
     st.hinge_rest = np.zeros(len(st.hinges))
     strings = _strings(cp, route, x, params)
+    assembly = _Assembly(st, strings)
+    if ground is not None:
+        ground.start(x)
     n_steps = steps if steps is not None else int(route.max_turns * 2 * math.pi / route.step)
     if steps is not None:
         step_angle = route.max_turns * 2 * math.pi / max(steps, 1)
@@ -143,11 +167,17 @@ def simulate(
     dtheta = 1e-4
     still = 0
     previous_angles = None
+    previous = None
     for k in range(n_steps + 1):
         strings.theta = k * step_angle
-        x_new, info = solve_equilibrium(x, st, strings, ground=params.ground)
+        # secant predictor: the equilibrium path is smooth in the TSA angle
+        start = x if previous is None else 2.0 * x - previous
+        x_new, info = solve_equilibrium(start, st, strings, ground=ground, assembly=assembly)
+        previous = x
         moved = float(np.max(np.linalg.norm(x_new - x, axis=1))) if k else 0.0
         x = x_new
+        if ground is not None:
+            ground.slip(x)
         result.states.append(x.copy())
         # TSA torque: tension times the string the TSA takes per radian (virtual work)
         torque = 0.0
@@ -158,8 +188,9 @@ def simulate(
                 - float(strings.tsa.consumed(strings.theta, x_dis))
             ) / dtheta
             torque += tension * rate
-        angles = np.degrees(fold_angles_from_coords(cp, x))
         rho = fold_angles(x, st.hinges)[folds]
+        angles = np.zeros(cp.n_edges)
+        angles[st.hinge_edge[folds]] = np.degrees(rho)
         limit_active = bool(np.any(np.abs(rho) >= st.hinge_limit[folds] - st.limit_margin))
         result.steps.append(
             {
@@ -168,7 +199,7 @@ def simulate(
                 "turns": strings.theta / (2 * math.pi),
                 "tensions_N": [float(t) for t in info.tensions],
                 "tsa_torque_Nmm": torque,
-                "energy_Nmm": total_energy(x, st, strings, ground=params.ground),
+                "energy_Nmm": total_energy(x, st, strings, ground),
                 "energy_per_iteration": info.energies,
                 "iterations": info.iterations,
                 "converged": info.converged,
@@ -184,14 +215,14 @@ def simulate(
                 f"{tension_limit:g} N"
             )
             break
-        # the fold has stopped when no crease turns by more than 0.01 deg in a step
+        # the fold has stopped when no crease turns by more than 0.01 deg and nothing moves
         turned = (
             math.inf
             if previous_angles is None
             else float(np.max(np.abs(angles - previous_angles), initial=0.0))
         )
         previous_angles = angles
-        still = still + 1 if turned < 0.01 else 0
+        still = still + 1 if turned < 0.01 and moved < 1e-4 * cp.size else 0
         if still >= still_steps:
             result.reason = (
                 "fold limit reached"

@@ -1,4 +1,4 @@
-"""Quasi-static equilibrium of the bar-and-hinge model with strings.
+"""Quasi-static equilibrium of the bar-and-hinge model with strings and ground contact.
 
 Total energy (N mm)::
 
@@ -6,13 +6,23 @@ Total energy (N mm)::
       + sum_limits k_lim/2 (|rho| - (rho_max - margin))_+^2           (smooth barrier)
       + sum_strings k_s/2 (L_s - L_free)_+^2                          (tension only)
       + sum_nodes W z + k_g/2 (z_ground - z)_+^2                      (gravity, ground)
+      + sum_contacts phi_mu(x_t - a)                                  (friction)
 
-Each solve minimises E over the free nodes by Gauss-Newton with Levenberg
-damping on sparse matrices and an Armijo backtracking line search, so the
-energy decreases at every accepted iteration (recorded, and asserted by the
-tests). A string's length runs from its anchor through its holes (on the panel
-faces, half the thickness off the mid-surface); its TSA's share follows the
-same model as the DCQC simulation (``TSAParams.consumed``).
+Friction is an elastic-plastic tangential spring per node in contact: stiffness
+``k_g`` up to the Coulomb force ``mu N`` (``N`` the node's normal force at the
+start of the step), then sliding at ``mu N``: ``phi = k_g/2 |d|^2`` for
+``|d| <= mu N / k_g``, else ``mu N (|d| - mu N / (2 k_g))``, ``d`` the node's
+tangential displacement from its anchor ``a``. Between steps the anchors follow
+the slip (a return mapping), so a step's energy is the incremental potential of
+quasi-static Coulomb friction.
+
+Each solve minimises E over the free nodes by Newton's method on the exact
+Hessian (bars' and strings' geometric stiffness, the hinges' second
+derivatives, the exit points' curvature) with Levenberg damping where that
+Hessian is not positive definite (checked by the inertia of its LDL^T
+factorisation), sparse SuperLU with a symmetric minimum-degree ordering, and an
+Armijo backtracking line search, so the energy decreases at every accepted
+iteration (recorded, and asserted by the tests).
 """
 
 from __future__ import annotations
@@ -22,119 +32,119 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
+from scipy.sparse.linalg import splu
 
-from origami_cad.errors import OrigamiCadError
-from origami_cad.simulation.mechanics import bar_lengths, fold_angles, hinge_gradients
+from origami_cad.errors import SimulationError
+from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
+from origami_cad.simulation.mechanics import (
+    bar_hessians,
+    bar_lengths,
+    fold_angles,
+    hinge_gradients,
+    hinge_hessians,
+)
 from origami_cad.simulation.model import Structure
 
-__all__ = ["SimString", "SolveInfo", "StringSet", "solve_equilibrium", "total_energy"]
+__all__ = [
+    "Ground",
+    "SimString",
+    "SolveInfo",
+    "StringSet",
+    "solve_equilibrium",
+    "total_energy",
+]
 
 
 @dataclass
-class SimString:
-    """A string in the model: anchor (mm), holes as node triples with affine coordinates."""
+class Ground:
+    """A ground plane ``z = height`` with penalty contact and Coulomb friction.
 
-    anchor: np.ndarray  # (3,)
-    tri: np.ndarray  # (k, 3) node indices of each hole's panel frame
-    ab: np.ndarray  # (k, 2) affine coordinates of each hole in that frame
-    orient: np.ndarray  # (k,) +1/-1: keeps the frame normal on the top face
-    sides: np.ndarray  # (k,) +1 top / -1 bottom: face along which the string reaches hole k
-    through: float  # length spent crossing the sheet where the side changes, mm
-    free_length: float = math.inf  # L0: the string's length (mm)
-    stiffness: float = 0.0  # EA / L0, N/mm
+    Attributes
+    ----------
+    height : float
+        Height of the plane, mm.
+    stiffness : float
+        Normal (and tangential stick) penalty stiffness per node, N/mm.
+    friction : float
+        Coulomb friction coefficient (0: frictionless).
+    anchors : ndarray, optional
+        (n, 2) where each node's tangential spring is anchored, mm.
+    normal : ndarray, optional
+        (n,) each node's normal force at the start of the step, N.
+    """
 
+    height: float
+    stiffness: float = 100.0
+    friction: float = 0.0
+    anchors: np.ndarray | None = None
+    normal: np.ndarray | None = None
 
-@dataclass
-class StringSet:
-    strings: list[SimString]
-    offset: float  # half the panel thickness, mm
-    tsa: object  # TSAParams
-    theta: float = 0.0  # TSA rotation, rad
+    def start(self, x: np.ndarray) -> None:
+        """Anchor every node where it is and take its normal force from ``x``."""
+        self.anchors = x[:, :2].copy()
+        self.normal = self.stiffness * np.clip(self.height - x[:, 2], 0.0, None)
 
+    def slip(self, x: np.ndarray) -> None:
+        """Return mapping after a step: anchors follow the slip; new normal forces."""
+        if self.anchors is None:
+            self.start(x)
+            return
+        d = x[:, :2] - self.anchors
+        dist = np.linalg.norm(d, axis=1)
+        reach = self._reach()
+        over = dist > reach
+        self.anchors[over] = x[over, :2] - (reach[over] / dist[over])[:, None] * d[over]
+        self.normal = self.stiffness * np.clip(self.height - x[:, 2], 0.0, None)
+        airborne = self.normal <= 0
+        self.anchors[airborne] = x[airborne, :2]
 
-def _exits(x: np.ndarray, s: SimString, e: float) -> tuple[np.ndarray, np.ndarray]:
-    v0, v1, v2 = x[s.tri[:, 0]], x[s.tri[:, 1]], x[s.tri[:, 2]]
-    e1, e2 = v1 - v0, v2 - v0
-    centre = v0 + s.ab[:, :1] * e1 + s.ab[:, 1:] * e2
-    n = np.cross(e1, e2) * s.orient[:, None]
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
-    arrive = centre + e * s.sides[:, None] * n
-    leave_sides = np.r_[s.sides[1:], s.sides[-1]]
-    leave = centre + e * leave_sides[:, None] * n
-    return arrive, leave
+    def _reach(self) -> np.ndarray:
+        return self.friction * self.normal / self.stiffness
 
+    def energy(self, x: np.ndarray) -> float:
+        below = np.clip(self.height - x[:, 2], 0.0, None)
+        out = 0.5 * self.stiffness * float(np.dot(below, below))
+        if self.friction > 0 and self.anchors is not None:
+            d = np.linalg.norm(x[:, :2] - self.anchors, axis=1)
+            reach = self._reach()
+            stick = d <= reach
+            out += 0.5 * self.stiffness * float(np.dot(d[stick], d[stick]))
+            fn = self.friction * self.normal[~stick]
+            out += float(np.sum(fn * (d[~stick] - 0.5 * reach[~stick])))
+        return out
 
-def string_length(x: np.ndarray, s: SimString, strings: StringSet) -> tuple[float, float]:
-    """(length demanded by the string incl. the TSA's share, x_dis), mm."""
-    arrive, leave = _exits(x, s, strings.offset)
-    x_dis = float(np.linalg.norm(arrive[0] - s.anchor))
-    rest = float(np.linalg.norm(arrive[1:] - leave[:-1], axis=1).sum()) + s.through
-    return float(strings.tsa.consumed(strings.theta, x_dis)) + rest, x_dis
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """Cross-product matrices ``[v]x`` of vectors ``v`` (k, 3), shape (k, 3, 3)."""
-    out = np.zeros((len(v), 3, 3))
-    out[:, 0, 1], out[:, 0, 2] = -v[:, 2], v[:, 1]
-    out[:, 1, 0], out[:, 1, 2] = v[:, 2], -v[:, 0]
-    out[:, 2, 0], out[:, 2, 1] = -v[:, 1], v[:, 0]
-    return out
-
-
-def _exit_jacobians(x: np.ndarray, s: SimString, e: float, sides: np.ndarray) -> np.ndarray:
-    """d(exit point)/d(v0, v1, v2) for each hole, shape (k, 3, 3, 3): [hole, node, out, in]."""
-    v0, v1, v2 = x[s.tri[:, 0]], x[s.tri[:, 1]], x[s.tri[:, 2]]
-    e1, e2 = v1 - v0, v2 - v0
-    n = np.cross(e1, e2) * s.orient[:, None]
-    norm = np.linalg.norm(n, axis=1)
-    nh = n / norm[:, None]
-    proj = (np.eye(3)[None] - nh[:, :, None] * nh[:, None, :]) / norm[:, None, None]
-    # d n = o (d e1 x e2 + e1 x d e2) = o (-[e2]x d e1 + [e1]x d e2)
-    dn_de1 = -_skew(e2) * s.orient[:, None, None]
-    dn_de2 = _skew(e1) * s.orient[:, None, None]
-    off = (e * sides)[:, None, None]
-    eye = np.eye(3)[None]
-    d1 = s.ab[:, 0, None, None] * eye + off * proj @ dn_de1
-    d2 = s.ab[:, 1, None, None] * eye + off * proj @ dn_de2
-    d0 = eye - d1 - d2
-    return np.stack([d0, d1, d2], axis=1)
-
-
-def _string_gradient(x: np.ndarray, s: SimString, strings: StringSet):
-    """Gradient of a string's length w.r.t. its panels' nodes (analytic): (nodes, (m, 3))."""
-    arrive, leave = _exits(x, s, strings.offset)
-    leave_sides = np.r_[s.sides[1:], s.sides[-1]]
-    ja = _exit_jacobians(x, s, strings.offset, s.sides)
-    jl = _exit_jacobians(x, s, strings.offset, leave_sides)
-    # d length / d points
-    ga = np.zeros_like(arrive)
-    gl = np.zeros_like(leave)
-    first = arrive[0] - s.anchor
-    x_dis = float(np.linalg.norm(first))
-    h = 1e-6 * max(x_dis, 1.0)
-    rate = (
-        float(strings.tsa.consumed(strings.theta, x_dis + h))
-        - float(strings.tsa.consumed(strings.theta, x_dis - h))
-    ) / (2 * h)
-    ga[0] += rate * first / x_dis
-    seg = arrive[1:] - leave[:-1]
-    unit = seg / np.linalg.norm(seg, axis=1, keepdims=True)
-    ga[1:] += unit
-    gl[:-1] -= unit
-    per_node = np.einsum("ko,kjoi->kji", ga, ja) + np.einsum("ko,kjoi->kji", gl, jl)
-    nodes, inverse = np.unique(s.tri.ravel(), return_inverse=True)
-    grad = np.zeros((len(nodes), 3))
-    np.add.at(grad, inverse, per_node.reshape(-1, 3))
-    return nodes, grad
+    def derivatives(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Gradient (n, 3), N, and per-node Hessian blocks (n, 3, 3), N/mm."""
+        n = len(x)
+        grad = np.zeros((n, 3))
+        hess = np.zeros((n, 3, 3))
+        below = self.height - x[:, 2]
+        touching = below > 0
+        grad[touching, 2] = -self.stiffness * below[touching]
+        hess[touching, 2, 2] = self.stiffness
+        if self.friction > 0 and self.anchors is not None:
+            d = x[:, :2] - self.anchors
+            dist = np.linalg.norm(d, axis=1)
+            reach = self._reach()
+            active = self.normal > 0
+            stick = active & (dist <= reach)
+            slide = active & ~stick
+            grad[stick, :2] = self.stiffness * d[stick]
+            hess[stick, 0, 0] = hess[stick, 1, 1] = self.stiffness
+            fn = self.friction * self.normal[slide]
+            dh = d[slide] / dist[slide, None]
+            grad[slide, :2] = fn[:, None] * dh
+            hess[slide, :2, :2] = (fn / dist[slide])[:, None, None] * (
+                np.eye(2) - dh[:, :, None] * dh[:, None, :]
+            )
+        return grad, hess
 
 
 def total_energy(
     x: np.ndarray,
     st: Structure,
     strings: StringSet | None,
-    ground_k: float = 0.0,
-    ground: float | None = None,
+    ground: Ground | None = None,
 ) -> float:
     """The total energy of configuration ``x`` (n, 3), N mm."""
     length, _ = bar_lengths(x, st.bars)
@@ -145,8 +155,7 @@ def total_energy(
     energy += 0.5 * st.limit_k * float(np.sum(np.where(over > 0, over, 0.0) ** 2))
     energy += float(np.dot(st.weight, x[:, 2]))
     if ground is not None:
-        below = ground - x[:, 2]
-        energy += 0.5 * ground_k * float(np.sum(np.where(below > 0, below, 0.0) ** 2))
+        energy += ground.energy(x)
     if strings is not None:
         for s in strings.strings:
             stretch = string_length(x, s, strings)[0] - s.free_length
@@ -155,25 +164,73 @@ def total_energy(
     return energy
 
 
-def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground_k, ground):
+def _dofs(nodes: np.ndarray) -> np.ndarray:
+    """Degrees of freedom ``3 node + axis`` of node groups (..., m) -> (..., 3m)."""
+    return (3 * nodes[..., :, None] + np.arange(3)).reshape(*nodes.shape[:-1], -1)
+
+
+class _Assembly:
+    """The free-free Hessian's sparsity pattern, computed once per structure.
+
+    Each element block (bars 6 x 6, hinges 12 x 12, a string's nodes, a node's
+    3 x 3 for contact and damping) maps its entries to positions in the CSC data
+    array, so that each iteration only sums values (``np.bincount``).
+    """
+
+    def __init__(self, st: Structure, strings: StringSet | None) -> None:
+        n = len(st.x0)
+        free = np.repeat(~st.fixed, 3)
+        self.free = free
+        index = np.full(3 * n, -1)
+        index[free] = np.arange(int(free.sum()))
+        self.size = int(free.sum())
+        groups = [_dofs(st.bars), _dofs(st.hinges), _dofs(np.arange(n)[:, None])]
+        self.string_nodes = []
+        if strings is not None:
+            for s in strings.strings:
+                nodes = np.unique(s.tri.ravel())
+                self.string_nodes.append(nodes)
+                groups.append(_dofs(nodes[None, :]))
+        keys, spans = [], []
+        for dofs in groups:
+            r = index[dofs][:, :, None]
+            c = index[dofs][:, None, :]
+            r, c = np.broadcast_arrays(r, c)
+            key = np.where((r >= 0) & (c >= 0), c * self.size + r, -1).ravel()
+            keys.append(key)
+            spans.append(key.size)
+        allkeys = np.concatenate(keys)
+        valid = allkeys >= 0
+        unique, inverse = np.unique(allkeys[valid], return_inverse=True)
+        position = np.full(allkeys.size, unique.size)  # out-of-pattern entries land past the end
+        position[valid] = inverse
+        self.positions = np.split(position, np.cumsum(spans)[:-1])
+        self.nnz = unique.size
+        self.indices = (unique % self.size).astype(np.int32)
+        cols = unique // self.size
+        self.indptr = np.searchsorted(cols, np.arange(self.size + 1)).astype(np.int32)
+        diag = unique[(unique % self.size) == (unique // self.size)]
+        self.diagonal = np.searchsorted(unique, diag)
+
+    def matrix(self, values: list[np.ndarray], shift: float = 0.0) -> sp.csc_matrix:
+        data = np.zeros(self.nnz + 1)
+        for pos, val in zip(self.positions, values, strict=False):
+            if val is not None:
+                data += np.bincount(pos, weights=val.ravel(), minlength=self.nnz + 1)
+        data = data[:-1]
+        data[self.diagonal] += shift
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.size, self.size))
+
+
+def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground: Ground | None, asm):
+    """Gradient (n, 3) and the element Hessian blocks in the assembly's order."""
     n = len(x)
     grad = np.zeros((n, 3))
-    rows, cols, vals = [], [], []
-
-    def add_block(nodes: np.ndarray, g: np.ndarray, k: np.ndarray) -> None:
-        # Gauss-Newton term k g g^T over the dofs of ``nodes`` (batched)
-        dofs = (3 * nodes[:, :, None] + np.arange(3)[None, None, :]).reshape(len(nodes), -1)
-        gflat = g.reshape(len(nodes), -1)
-        m = dofs.shape[1]
-        rows.append(np.repeat(dofs, m, axis=1).ravel())
-        cols.append(np.tile(dofs, (1, m)).ravel())
-        vals.append((k[:, None, None] * gflat[:, :, None] * gflat[:, None, :]).ravel())
-
     length, unit = bar_lengths(x, st.bars)
     force = st.bar_k * (length - st.bar_rest)
     np.add.at(grad, st.bars[:, 1], force[:, None] * unit)
     np.add.at(grad, st.bars[:, 0], -force[:, None] * unit)
-    add_block(st.bars, np.stack([-unit, unit], axis=1), st.bar_k)
+    h_bars = bar_hessians(x, st.bars, st.bar_k, st.bar_rest)
     rho = fold_angles(x, st.hinges)
     dr = hinge_gradients(x, st.hinges)
     over = np.abs(rho) - (st.hinge_limit - st.limit_margin)
@@ -181,18 +238,17 @@ def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground_k, gro
     moment = st.hinge_k * (rho - st.hinge_rest) + np.where(
         active, st.limit_k * over, 0.0
     ) * np.sign(rho)
-    for c in range(4):
-        np.add.at(grad, st.hinges[:, c], moment[:, None] * dr[:, c])
-    add_block(st.hinges, dr, st.hinge_k + np.where(active, st.limit_k, 0.0))
+    np.add.at(grad, st.hinges.ravel(), (moment[:, None, None] * dr).reshape(-1, 3))
+    k_rot = st.hinge_k + np.where(active, st.limit_k, 0.0)
+    drf = dr.reshape(len(dr), 12)
+    h_hinges = k_rot[:, None, None] * drf[:, :, None] * drf[:, None, :]
+    h_hinges += moment[:, None, None] * hinge_hessians(x, st.hinges)
     grad[:, 2] += st.weight
+    h_nodes = None
     if ground is not None:
-        below = ground - x[:, 2]
-        touching = below > 0
-        grad[touching, 2] -= ground_k * below[touching]
-        idx = np.flatnonzero(touching)
-        rows.append(3 * idx + 2)
-        cols.append(3 * idx + 2)
-        vals.append(np.full(len(idx), ground_k))
+        g_ground, h_nodes = ground.derivatives(x)
+        grad += g_ground
+    values = [h_bars, h_hinges, h_nodes]
     tensions = []
     if strings is not None:
         for s in strings.strings:
@@ -201,13 +257,13 @@ def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground_k, gro
             tension = s.stiffness * stretch if stretch > 0 else 0.0
             tensions.append(tension)
             if tension > 0:
-                nodes, g = _string_gradient(x, s, strings)
-                np.add.at(grad, nodes, tension * g)
-                add_block(nodes[None, :], g[None, :, :], np.array([s.stiffness]))
-    hess = sp.coo_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(3 * n, 3 * n)
-    ).tocsr()
-    return grad, hess, tensions
+                nodes, g, h = string_derivatives(x, s, strings)
+                grad[nodes] += tension * g
+                gf = g.ravel()
+                values.append(s.stiffness * np.outer(gf, gf) + tension * h)
+            else:
+                values.append(None)
+    return grad, values, tensions
 
 
 @dataclass
@@ -215,10 +271,30 @@ class SolveInfo:
     """What one equilibrium solve did."""
 
     iterations: int = 0
+    factorisations: int = 0
     energies: list[float] = field(default_factory=list)
     gradient_norm: float = math.inf
     converged: bool = False
     tensions: list[float] = field(default_factory=list)
+
+
+def _factorise(a: sp.csc_matrix):
+    """LDL^T-like factorisation with diagonal pivots; None unless ``a`` is positive definite."""
+    try:
+        lu = splu(
+            a,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+    except RuntimeError:  # exactly singular
+        return None
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    pivots = lu.U.diagonal()
+    if not np.all(pivots > 0):
+        return None  # Sylvester: a non-positive pivot means the matrix is not positive definite
+    return lu
 
 
 def solve_equilibrium(
@@ -226,54 +302,82 @@ def solve_equilibrium(
     st: Structure,
     strings: StringSet | None = None,
     *,
+    ground: Ground | None = None,
     tol: float = 1e-7,
     max_iter: int = 200,
-    ground_k: float = 100.0,
-    ground: float | None = None,
+    assembly: _Assembly | None = None,
 ) -> tuple[np.ndarray, SolveInfo]:
-    """Minimise the energy from ``x`` with the held nodes fixed; returns (x, info)."""
+    """Minimise the energy from ``x`` (n, 3), mm, with the held nodes fixed.
+
+    Parameters
+    ----------
+    x : ndarray
+        Starting configuration (n, 3), mm.
+    st : Structure
+        The bar-and-hinge model.
+    strings : StringSet, optional
+        Strings and the TSA's current rotation.
+    ground : Ground, optional
+        Ground plane with its friction anchors (advance them with ``ground.slip``
+        after each step).
+    tol : float
+        Convergence: largest residual force on a free node, N.
+    max_iter : int
+        Newton iterations at most.
+
+    Returns
+    -------
+    (x, SolveInfo)
+        The equilibrium (n, 3), mm, and what the solve did.
+    """
     x = np.array(x, dtype=float)
-    free = np.repeat(~st.fixed, 3)
+    asm = assembly or _Assembly(st, strings)
+    free = asm.free
     info = SolveInfo()
-    energy = total_energy(x, st, strings, ground_k, ground)
+    energy = total_energy(x, st, strings, ground)
     info.energies.append(energy)
-    damping = 1e-9
     scale = max(float(np.max(st.bar_k)), 1.0)
+    damping = 0.0
     for it in range(max_iter):
-        grad, hess, tensions = _gradient_hessian(x, st, strings, ground_k, ground)
+        grad, values, tensions = _gradient_hessian(x, st, strings, ground, asm)
         g = grad.ravel()[free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
         if not np.all(np.isfinite(g)):
-            raise OrigamiCadError("the simulation diverged (a degenerate panel or string?)")
+            raise SimulationError("the simulation diverged (a degenerate panel or string?)")
         if info.gradient_norm < tol:
             info.converged = True
             break
-        h = hess[free][:, free]
         accepted = False
-        for _ in range(12):
-            a = h + sp.identity(h.shape[0], format="csr") * (damping * scale)
-            step = -spsolve(a.tocsc(), g)
+        for _ in range(16):
+            a = asm.matrix(values, damping * scale)
+            lu = _factorise(a)
+            info.factorisations += 1
+            if lu is None:
+                damping = max(damping * 10.0, 1e-10)
+                continue
+            step = -lu.solve(g)
+            step -= lu.solve(g + a @ step)  # one round of iterative refinement
             slope = float(g @ step)
             t = 1.0
-            while t > 1e-6:
+            while t > 1e-6 and slope < 0:
                 trial = x.copy()
                 trial.reshape(-1)[free] += t * step
-                e_trial = total_energy(trial, st, strings, ground_k, ground)
+                e_trial = total_energy(trial, st, strings, ground)
                 if e_trial <= energy + 1e-4 * t * slope:
                     accepted = True
                     break
                 t *= 0.5
             if accepted:
                 break
-            damping = max(damping * 100.0, 1e-9)
+            damping = max(damping * 10.0, 1e-10)
         if not accepted:
             break  # no descent possible: as converged as the model allows
         x = trial
         moved = abs(energy - e_trial)
         energy = e_trial
         info.energies.append(energy)
-        damping = max(damping / 10.0, 1e-12)
+        damping = damping / 100.0 if damping > 1e-12 else 0.0
         info.iterations = it + 1
         if moved <= 1e-15 * max(abs(energy), 1.0) and t * float(np.max(np.abs(step))) < 1e-10:
             info.converged = True

@@ -18,6 +18,8 @@ Route file (TOML)::
                               # vertex centroid stays in place)
     [[route.strings]]
     anchor = [60.0, -10.0, 20.0]          # A: where the string leaves the TSA, mm
+    # anchor_panel = "c0r0s0"             # optional: the TSA rides on this panel (onboard);
+                                          # anchor = [x, y, height above its top face]
     holes = ["c0r0s2", "c0r1s2"]          # panel labels (auto hole) or [x, y] points
     sides = "auto"                        # or ["top", "bottom", ...], one per hole
 
@@ -46,10 +48,12 @@ from origami_cad.strings.tsa import TSAParams
 __all__ = [
     "RouteSpec",
     "StringRoute",
+    "anchor_points",
     "cutting_segments",
     "hole_exits",
     "hole_frames",
     "load_route",
+    "panel_frame",
     "side_rule",
     "string_lengths",
     "string_path",
@@ -69,6 +73,7 @@ class StringRoute:
     sides: tuple[int, ...]
     names: tuple[str, ...]
     violations: tuple[str, ...] = ()
+    anchor_face: int = -1  # >= 0: the anchor rides on this panel, anchor = (x, y, height)
 
 
 @dataclass(frozen=True)
@@ -159,6 +164,20 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     for si, item in enumerate(raw):
         t = Table(item, f"{p} [[route.strings]] #{si + 1}")
         anchor = t.point("anchor", dims=3)
+        anchor_face = -1
+        if t.has("anchor_panel"):
+            label = t.string("anchor_panel")
+            if label not in cp.face_labels:
+                raise t.error("anchor_panel", f"no panel labelled {label!r}")
+            anchor_face = cp.face_index(label)
+            if cp.face_of_point(anchor[0], anchor[1]) != anchor_face:
+                raise t.error(
+                    "anchor",
+                    f"({anchor[0]:g}, {anchor[1]:g}) mm is not on panel {label!r} "
+                    "(anchor_panel): give the mount's [x, y] on that panel and its height",
+                )
+            if anchor[2] < 0:
+                raise t.error("anchor", "the height above the mounting panel must be >= 0 mm")
         holes = t.data.get("holes")
         t.used.add("holes")
         if not isinstance(holes, list) or not holes:
@@ -221,6 +240,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 tuple(sides),
                 tuple(names),
                 tuple(violations),
+                anchor_face,
             )
         )
     return RouteSpec(
@@ -244,20 +264,48 @@ def hole_frames(cp: CreasePattern, string: StringRoute) -> tuple[np.ndarray, np.
     tri = np.empty((len(string.faces), 3), dtype=np.int64)
     ab = np.empty((len(string.faces), 2))
     for k, (fi, (x, y)) in enumerate(zip(string.faces, string.points, strict=True)):
-        ring = cp.faces[fi]
-        xy = cp.vertices[ring]
-        # the corner with the largest triangle makes a well-conditioned frame
-        best, pick = -1.0, (0, 1, 2)
-        for i in range(1, len(ring) - 1):
-            for j in range(i + 1, len(ring)):
-                e1, e2 = xy[i] - xy[0], xy[j] - xy[0]
-                area = abs(e1[0] * e2[1] - e1[1] * e2[0])
-                if area > best:
-                    best, pick = area, (0, i, j)
-        tri[k] = ring[list(pick)]
-        e1, e2 = xy[pick[1]] - xy[0], xy[pick[2]] - xy[0]
-        ab[k] = np.linalg.solve(np.column_stack([e1, e2]), np.array([x, y]) - xy[0])
+        tri[k], ab[k] = panel_frame(cp, fi, x, y)
     return tri, ab
+
+
+def panel_frame(cp: CreasePattern, face: int, x: float, y: float) -> tuple[np.ndarray, np.ndarray]:
+    """Three vertices of panel ``face`` and the affine coordinates of point (x, y), mm."""
+    ring = cp.faces[face]
+    xy = cp.vertices[ring]
+    # the corner with the largest triangle makes a well-conditioned frame
+    best, pick = -1.0, (0, 1, 2)
+    for i in range(1, len(ring) - 1):
+        for j in range(i + 1, len(ring)):
+            e1, e2 = xy[i] - xy[0], xy[j] - xy[0]
+            area = abs(e1[0] * e2[1] - e1[1] * e2[0])
+            if area > best:
+                best, pick = area, (0, i, j)
+    e1, e2 = xy[pick[1]] - xy[0], xy[pick[2]] - xy[0]
+    ab = np.linalg.solve(np.column_stack([e1, e2]), np.array([x, y]) - xy[0])
+    return ring[list(pick)], ab
+
+
+def anchor_points(
+    cp: CreasePattern, coords: np.ndarray, string: StringRoute, thickness: float
+) -> np.ndarray:
+    """Where the string leaves its TSA in folded states ``coords`` (P, n, 3): (P, 3), mm.
+
+    A fixed anchor stays put; one on a panel (``anchor_face``) moves with it, at
+    its height above the panel's top face.
+    """
+    coords = np.asarray(coords, dtype=float)
+    if string.anchor_face < 0:
+        return np.broadcast_to(np.asarray(string.anchor, dtype=float), (len(coords), 3))
+    x, y, height = string.anchor
+    tri, ab = panel_frame(cp, string.anchor_face, x, y)
+    v0, v1, v2 = coords[:, tri[0]], coords[:, tri[1]], coords[:, tri[2]]
+    e1, e2 = v1 - v0, v2 - v0
+    normal = np.cross(e1, e2)
+    flat = cp.vertices[tri]
+    f1, f2 = flat[1] - flat[0], flat[2] - flat[0]
+    normal *= np.sign(f1[0] * f2[1] - f1[1] * f2[0])  # keep +z as the top
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    return v0 + ab[0] * e1 + ab[1] * e2 + (height + thickness / 2.0) * normal
 
 
 def hole_exits(
@@ -308,7 +356,7 @@ def string_lengths(
     sheet where the string changes side).
     """
     arrive, leave, _ = hole_exits(cp, coords, string, thickness, frames)
-    x_dis = np.linalg.norm(arrive[:, 0] - np.asarray(string.anchor), axis=-1)
+    x_dis = np.linalg.norm(arrive[:, 0] - anchor_points(cp, coords, string, thickness), axis=-1)
     seg = np.linalg.norm(arrive[:, 1:] - leave[:, :-1], axis=-1).sum(axis=-1)
     through = thickness * float(np.sum(np.diff(np.asarray(string.sides)) != 0))
     return x_dis, seg + through
@@ -319,7 +367,7 @@ def string_path(
 ) -> np.ndarray:
     """The string as a polyline in one folded state ``coords`` (n, 3): anchor, then holes (mm)."""
     arrive, leave, _ = hole_exits(cp, np.asarray(coords)[None], string, thickness)
-    pts = [np.asarray(string.anchor, dtype=float)]
+    pts = [anchor_points(cp, np.asarray(coords)[None], string, thickness)[0]]
     for k in range(len(string.faces)):
         pts.append(arrive[0, k])
         if not np.allclose(arrive[0, k], leave[0, k]):
@@ -340,7 +388,7 @@ def cutting_segments(
     sides = np.asarray(string.sides, dtype=float)
     out = []
     tol = 1e-9 * max(cp.size, 1.0)
-    first = np.asarray(string.anchor, dtype=float) - arrive[0]
+    first = anchor_points(cp, np.asarray(coords)[None], string, thickness)[0] - arrive[0]
     if np.dot(first, sides[0] * normal[0]) < -tol:
         out.append(
             f"string {index + 1}: the segment from the anchor cuts through panel "
