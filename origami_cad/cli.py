@@ -432,7 +432,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             limits[int(edge)] = float(angle or 60.0)
         except ValueError:
             raise DesignError(f"--blocker expects EDGE:DEGREES, got {item!r}") from None
-    params = SimulationParams(gravity=args.gravity, ground=args.ground)
+    if args.friction < 0:
+        raise DesignError(f"--friction must be >= 0, got {args.friction:g}")
+    params = SimulationParams(gravity=args.gravity, ground=args.ground, friction=args.friction)
     with Progress(transient=True) as bar:
         task = bar.add_task("simulating", total=None)
         result = simulate(
@@ -442,6 +444,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             steps=args.steps,
             fold_limits=limits or None,
             progress=lambda k, n: bar.update(task, completed=k, total=n),
+            free=args.free,
         )
     with atomic_directory(args.output) as tmp:
         frames = [
@@ -696,6 +699,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--gravity", type=float, default=0.0, help="gravity along -z, mm/s^2")
     p.add_argument("--ground", type=float, default=None, help="height of a ground plane, mm")
+    p.add_argument(
+        "--friction", type=float, default=0.5, help="Coulomb friction on the ground (default 0.5)"
+    )
+    p.add_argument(
+        "--free",
+        action="store_true",
+        help="hold no panel: the structure rests on the ground (needs --gravity and --ground); "
+        "give anchor_panel in the route for a TSA riding on the structure",
+    )
     p.set_defaults(func=_cmd_simulate)
 
     p = sub.add_parser(

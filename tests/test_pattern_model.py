@@ -34,6 +34,16 @@ def test_diagonal_fold_faces_and_defaults():
     assert codes(cp) == []
 
 
+def test_assignments_as_one_letter_a_string_of_letters_or_a_list():
+    edges = [*BORDER, [0, 2]]
+    assert CreasePattern(SQUARE, edges, "BBBBV").assignments.tolist() == ["B"] * 4 + ["V"]
+    assert CreasePattern(SQUARE, edges, "u").assignments.tolist() == ["U"] * 5
+    with pytest.raises(PatternError, match="4 assignments given for 5 edges"):
+        CreasePattern(SQUARE, edges, "BBBV")
+    with pytest.raises(PatternError, match="'VV' is not one letter"):
+        CreasePattern(SQUARE, edges, ["B", "B", "B", "B", "VV"])
+
+
 def test_snapping_merges_close_vertices_and_reports_it():
     verts = np.vstack([SQUARE, [[100 + 1e-8, 100 - 1e-8], [50, 50]]])
     edges = [*BORDER, [0, 4]]  # diagonal ends at a near-duplicate of vertex 2

@@ -125,10 +125,16 @@ class Hole:
 
 
 def _as_assignments(assignments: str | Iterable[str], n: int) -> np.ndarray:
-    if isinstance(assignments, str):
+    if isinstance(assignments, str) and len(assignments) == 1:  # one letter for every edge
         arr = np.full(n, assignments.upper(), dtype="<U1")
+    elif isinstance(assignments, str):  # one letter per edge, "BBBBV"
+        arr = np.array(list(assignments.upper()), dtype="<U1")
     else:
-        arr = np.array([str(a).upper() for a in assignments], dtype="<U1")
+        items = [str(a).upper() for a in assignments]
+        long = [a for a in items if len(a) != 1]
+        if long:
+            raise PatternError(f"assignment {long[0]!r} is not one letter (M V B F U C J)")
+        arr = np.array(items, dtype="<U1")
     if arr.shape != (n,):
         raise PatternError(f"{arr.shape[0]} assignments given for {n} edges")
     bad = np.flatnonzero(~np.isin(arr, list(_VALID)))

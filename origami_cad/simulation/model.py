@@ -57,7 +57,10 @@ class SimulationParams:
     friction : float
         Coulomb friction coefficient between the structure and the ground (0: none).
     ground_stiffness : float
-        Penalty stiffness of the ground per node, normal and tangential (stick), N/mm.
+        Penalty stiffness of the ground per node, N/mm.
+    slip : float
+        Friction's stick-slip regularisation: a node pushed sideways below
+        ``friction x normal force`` creeps by about this much per step, mm.
     """
 
     panel_modulus: float = 3500.0
@@ -73,6 +76,7 @@ class SimulationParams:
     ground: float | None = None
     friction: float = 0.5
     ground_stiffness: float = 100.0
+    slip: float = 1e-3
 
     @property
     def crease_stiffness(self) -> float:

@@ -149,7 +149,7 @@ def simulate(
     if params.ground is not None:
         # nodes lie on the mid-surface: the bottom face touches the ground
         contact = params.ground + 0.5 * params.panel_thickness
-        ground = Ground(contact, params.ground_stiffness, params.friction)
+        ground = Ground(contact, params.ground_stiffness, params.friction, params.slip)
         ground.start(st.x0)
         if free:  # lay the sheet on the ground
             st.x0[:, 2] = contact
@@ -170,14 +170,19 @@ def simulate(
     previous = None
     for k in range(n_steps + 1):
         strings.theta = k * step_angle
-        # secant predictor: the equilibrium path is smooth in the TSA angle
-        start = x if previous is None else 2.0 * x - previous
+        # secant predictor (the equilibrium path is smooth in the TSA angle), kept
+        # when it starts lower than the last state (not where panels turn fast)
+        start = x
+        if previous is not None:
+            guess = 2.0 * x - previous
+            if total_energy(guess, st, strings, ground) < total_energy(x, st, strings, ground):
+                start = guess
         x_new, info = solve_equilibrium(start, st, strings, ground=ground, assembly=assembly)
         previous = x
         moved = float(np.max(np.linalg.norm(x_new - x, axis=1))) if k else 0.0
         x = x_new
         if ground is not None:
-            ground.slip(x)
+            ground.start(x)  # the next step's friction starts from here
         result.states.append(x.copy())
         # TSA torque: tension times the string the TSA takes per radian (virtual work)
         torque = 0.0

@@ -6,15 +6,13 @@ Total energy (N mm)::
       + sum_limits k_lim/2 (|rho| - (rho_max - margin))_+^2           (smooth barrier)
       + sum_strings k_s/2 (L_s - L_free)_+^2                          (tension only)
       + sum_nodes W z + k_g/2 (z_ground - z)_+^2                      (gravity, ground)
-      + sum_contacts phi_mu(x_t - a)                                  (friction)
+      + sum_contacts mu N (sqrt(|d|^2 + s^2) - s)                     (friction)
 
-Friction is an elastic-plastic tangential spring per node in contact: stiffness
-``k_g`` up to the Coulomb force ``mu N`` (``N`` the node's normal force at the
-start of the step), then sliding at ``mu N``: ``phi = k_g/2 |d|^2`` for
-``|d| <= mu N / k_g``, else ``mu N (|d| - mu N / (2 k_g))``, ``d`` the node's
-tangential displacement from its anchor ``a``. Between steps the anchors follow
-the slip (a return mapping), so a step's energy is the incremental potential of
-quasi-static Coulomb friction.
+Friction is the incremental potential of quasi-static Coulomb friction: a node
+in contact that slides by ``d`` (its tangential displacement in the step)
+dissipates ``mu N |d|``, ``N`` its normal force at the start of the step,
+regularised over a slip ``s`` (1 um by default) so that the energy stays smooth
+and Newton's method keeps its pace through stick-slip transitions.
 
 Each solve minimises E over the free nodes by Newton's method on the exact
 Hessian (bars' and strings' geometric stiffness, the hinges' second
@@ -62,13 +60,16 @@ class Ground:
     Attributes
     ----------
     height : float
-        Height of the plane, mm.
+        Height of the plane the nodes rest on, mm.
     stiffness : float
-        Normal (and tangential stick) penalty stiffness per node, N/mm.
+        Normal penalty stiffness per node, N/mm.
     friction : float
         Coulomb friction coefficient (0: frictionless).
+    slip : float
+        Regularisation of the stick-slip transition: a node pushed sideways by
+        a force below ``mu N`` creeps by about ``slip`` mm per step, mm.
     anchors : ndarray, optional
-        (n, 2) where each node's tangential spring is anchored, mm.
+        (n, 2) each node's position at the start of the step, mm.
     normal : ndarray, optional
         (n,) each node's normal force at the start of the step, N.
     """
@@ -76,41 +77,22 @@ class Ground:
     height: float
     stiffness: float = 100.0
     friction: float = 0.0
+    slip: float = 1e-3
     anchors: np.ndarray | None = None
     normal: np.ndarray | None = None
 
     def start(self, x: np.ndarray) -> None:
-        """Anchor every node where it is and take its normal force from ``x``."""
+        """Begin a step at ``x`` (n, 3): anchor the nodes there, take their normal forces."""
         self.anchors = x[:, :2].copy()
         self.normal = self.stiffness * np.clip(self.height - x[:, 2], 0.0, None)
-
-    def slip(self, x: np.ndarray) -> None:
-        """Return mapping after a step: anchors follow the slip; new normal forces."""
-        if self.anchors is None:
-            self.start(x)
-            return
-        d = x[:, :2] - self.anchors
-        dist = np.linalg.norm(d, axis=1)
-        reach = self._reach()
-        over = dist > reach
-        self.anchors[over] = x[over, :2] - (reach[over] / dist[over])[:, None] * d[over]
-        self.normal = self.stiffness * np.clip(self.height - x[:, 2], 0.0, None)
-        airborne = self.normal <= 0
-        self.anchors[airborne] = x[airborne, :2]
-
-    def _reach(self) -> np.ndarray:
-        return self.friction * self.normal / self.stiffness
 
     def energy(self, x: np.ndarray) -> float:
         below = np.clip(self.height - x[:, 2], 0.0, None)
         out = 0.5 * self.stiffness * float(np.dot(below, below))
         if self.friction > 0 and self.anchors is not None:
-            d = np.linalg.norm(x[:, :2] - self.anchors, axis=1)
-            reach = self._reach()
-            stick = d <= reach
-            out += 0.5 * self.stiffness * float(np.dot(d[stick], d[stick]))
-            fn = self.friction * self.normal[~stick]
-            out += float(np.sum(fn * (d[~stick] - 0.5 * reach[~stick])))
+            d = x[:, :2] - self.anchors
+            r = np.sqrt(np.einsum("ij,ij->i", d, d) + self.slip**2)
+            out += self.friction * float(np.dot(self.normal, r - self.slip))
         return out
 
     def derivatives(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -124,18 +106,11 @@ class Ground:
         hess[touching, 2, 2] = self.stiffness
         if self.friction > 0 and self.anchors is not None:
             d = x[:, :2] - self.anchors
-            dist = np.linalg.norm(d, axis=1)
-            reach = self._reach()
-            active = self.normal > 0
-            stick = active & (dist <= reach)
-            slide = active & ~stick
-            grad[stick, :2] = self.stiffness * d[stick]
-            hess[stick, 0, 0] = hess[stick, 1, 1] = self.stiffness
-            fn = self.friction * self.normal[slide]
-            dh = d[slide] / dist[slide, None]
-            grad[slide, :2] = fn[:, None] * dh
-            hess[slide, :2, :2] = (fn / dist[slide])[:, None, None] * (
-                np.eye(2) - dh[:, :, None] * dh[:, None, :]
+            r = np.sqrt(np.einsum("ij,ij->i", d, d) + self.slip**2)
+            fn = self.friction * self.normal
+            grad[:, :2] = (fn / r)[:, None] * d
+            hess[:, :2, :2] = (fn / r)[:, None, None] * (
+                np.eye(2) - d[:, :, None] * d[:, None, :] / (r**2)[:, None, None]
             )
         return grad, hess
 
