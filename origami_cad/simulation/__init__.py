@@ -2,15 +2,17 @@
 
 A headless, Python counterpart of Origami Simulator's model (Schenk and Guest; Liu and
 Paulino; Ghassaei), with strings through holes, TSAs, thickness-aware fold limits
-(eq. 6, blockers), gravity and a ground plane.
+(eq. 6, blockers), gravity and a ground plane with Coulomb friction, free structures and
+TSAs riding on a panel.
 """
 
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles, hinge_gradients
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.simulate import SimulationResult, simulate
-from origami_cad.simulation.solver import solve_equilibrium, total_energy
+from origami_cad.simulation.solver import Ground, solve_equilibrium, total_energy
 
 __all__ = [
+    "Ground",
     "SimulationParams",
     "SimulationResult",
     "Structure",
