@@ -11,7 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["bar_lengths", "fold_angles", "hinge_gradients"]
+__all__ = [
+    "bar_hessians",
+    "bar_lengths",
+    "fold_angles",
+    "hinge_gradients",
+    "hinge_hessians",
+    "skew",
+]
 
 
 def bar_lengths(x: np.ndarray, bars: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -33,28 +40,49 @@ def fold_angles(x: np.ndarray, hinges: np.ndarray) -> np.ndarray:
     return np.arctan2(sin, cos)
 
 
+def _hinge_terms(x: np.ndarray, hinges: np.ndarray) -> dict[str, np.ndarray]:
+    """What the hinges' first and second derivatives share (Liu and Paulino's terms).
+
+    Axis ``e = x_j - x_i``; wings ``a = x_k - x_i``, ``b = x_l - x_i``; triangle
+    normals ``n1 = e x a``, ``n2 = b x e``; ``gk``, ``gl`` the wing tips'
+    gradients; ``tk``, ``tl`` where the wing tips project on the axis.
+    """
+    i, j, k, l = hinges.T
+    e = x[j] - x[i]
+    e2 = np.einsum("ij,ij->i", e, e)
+    elen = np.sqrt(e2)
+    a = x[k] - x[i]
+    b = x[l] - x[i]
+    n1 = np.cross(e, a)
+    n2 = np.cross(b, e)
+    n1_2 = np.einsum("ij,ij->i", n1, n1)
+    n2_2 = np.einsum("ij,ij->i", n2, n2)
+    return {
+        "e": e,
+        "e2": e2,
+        "elen": elen,
+        "a": a,
+        "b": b,
+        "n1": n1,
+        "n2": n2,
+        "n1_2": n1_2,
+        "n2_2": n2_2,
+        # moving a wing tip along its triangle's normal opens or closes the hinge
+        "gk": (elen / n1_2)[:, None] * n1,
+        "gl": (elen / n2_2)[:, None] * n2,
+        "tk": np.einsum("ij,ij->i", a, e) / e2,
+        "tl": np.einsum("ij,ij->i", b, e) / e2,
+    }
+
+
 def hinge_gradients(x: np.ndarray, hinges: np.ndarray) -> np.ndarray:
-    """Gradient of every hinge's fold angle w.r.t. its four nodes, shape (H, 4, 3).
+    """Gradient of every hinge's fold angle w.r.t. its four nodes, shape (H, 4, 3), 1/mm.
 
     Rows follow ``(i, j, k, l)``. The sign matches :func:`fold_angles`.
     """
-    i, j, k, l = hinges.T
-    # Liu & Paulino: axis nodes j, k -> here i, j; wings i, l -> here k, l
-    r_axis = x[j] - x[i]
-    axis_len2 = np.einsum("ij,ij->i", r_axis, r_axis)
-    axis_len = np.sqrt(axis_len2)
-    a = x[k] - x[i]  # wing k from the axis start
-    b = x[l] - x[i]  # wing l from the axis start
-    n1 = np.cross(r_axis, a)
-    n2 = np.cross(b, r_axis)
-    n1_2 = np.einsum("ij,ij->i", n1, n1)
-    n2_2 = np.einsum("ij,ij->i", n2, n2)
-    # moving a wing tip along its triangle's normal opens or closes the hinge
-    g_k = (axis_len / n1_2)[:, None] * n1
-    g_l = (axis_len / n2_2)[:, None] * n2
+    t = _hinge_terms(x, hinges)
+    g_k, g_l, t_k, t_l = t["gk"], t["gl"], t["tk"], t["tl"]
     # the axis nodes take the rest, weighted by where the wing tips project on the axis
-    t_k = np.einsum("ij,ij->i", a, r_axis) / axis_len2
-    t_l = np.einsum("ij,ij->i", b, r_axis) / axis_len2
     g_i = (t_k - 1.0)[:, None] * g_k + (t_l - 1.0)[:, None] * g_l
     g_j = -t_k[:, None] * g_k - t_l[:, None] * g_l
     return np.stack([g_i, g_j, g_k, g_l], axis=1)
@@ -89,21 +117,11 @@ def hinge_hessians(x: np.ndarray, hinges: np.ndarray) -> np.ndarray:
     the analytic derivative of :func:`hinge_gradients` (a test checks it
     against finite differences).
     """
-    i, j, k, l = hinges.T
-    e = x[j] - x[i]
-    e2 = np.einsum("ij,ij->i", e, e)
-    elen = np.sqrt(e2)
+    t = _hinge_terms(x, hinges)
+    e, e2, elen, a, b = t["e"], t["e2"], t["elen"], t["a"], t["b"]
+    n1, n2, n1_2, n2_2 = t["n1"], t["n2"], t["n1_2"], t["n2_2"]
+    gk, gl, tk, tl = t["gk"], t["gl"], t["tk"], t["tl"]
     ehat = e / elen[:, None]
-    a = x[k] - x[i]
-    b = x[l] - x[i]
-    n1 = np.cross(e, a)
-    n2 = np.cross(b, e)
-    n1_2 = np.einsum("ij,ij->i", n1, n1)
-    n2_2 = np.einsum("ij,ij->i", n2, n2)
-    gk = (elen / n1_2)[:, None] * n1
-    gl = (elen / n2_2)[:, None] * n2
-    tk = np.einsum("ij,ij->i", a, e) / e2
-    tl = np.einsum("ij,ij->i", b, e) / e2
     eye = np.eye(3)
     zero = np.zeros((len(hinges), 3))
     # d(n/|n|^2)/dn = (I - 2 n n^T/|n|^2) / |n|^2, times |e|; M [v]x has rows m_r x v
