@@ -197,3 +197,28 @@ def test_cli_free_structure_without_gravity_exits_2_and_writes_nothing(tmp_path,
     data = json.loads((out / "simulation.json").read_text())
     assert data["notes"][0].startswith("no panel is held")
     assert data["steps"][-1]["tensions_N"][0] > 0
+
+
+def test_an_anchor_on_the_held_panel_acts_as_the_same_anchor_fixed_in_space():
+    # the TSA rides on the held panel, which has no hole of its own: the string runs
+    # from it straight to the flap, so the result must equal a fixed anchor there
+    cp = CreasePattern(
+        [(0, 0), (40, 0), (60, 0), (60, 40), (40, 40), (0, 40)],
+        [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 0), (1, 4)],
+        "BBBBBBV",
+    )
+    body, flap = cp.face_of_point(20, 20), cp.face_of_point(50, 20)
+    held = cp.face_labels[body]
+    mounted = StringRoute(
+        (20.0, 20.0, 8.0), (flap,), ((50.0, 20.0),), (TOP,), ("b",), anchor_face=body
+    )
+    fixed = StringRoute((20.0, 20.0, 8.0 + 1.1), (flap,), ((50.0, 20.0),), (TOP,), ("b",))
+    results = [
+        simulate(
+            cp, RouteSpec(ONBOARD, (s,), 2.2, math.radians(10), 6.0), steps=6, fixed_panel=held
+        )
+        for s in (mounted, fixed)
+    ]
+    crease = int(np.flatnonzero(cp.assignments == "V")[0])
+    assert results[0].steps[-1]["fold_angles_deg"][crease] > 10.0
+    np.testing.assert_allclose(results[0].states[-1], results[1].states[-1], atol=1e-6)

@@ -160,12 +160,8 @@ class _Assembly:
         index[free] = np.arange(int(free.sum()))
         self.size = int(free.sum())
         groups = [_dofs(st.bars), _dofs(st.hinges), _dofs(np.arange(n)[:, None])]
-        self.string_nodes = []
-        if strings is not None:
-            for s in strings.strings:
-                nodes = np.unique(s.tri.ravel())
-                self.string_nodes.append(nodes)
-                groups.append(_dofs(nodes[None, :]))
+        if strings is not None:  # every panel a string's points ride on, as string_derivatives
+            groups += [_dofs(np.unique(s.frames()[0].ravel())[None, :]) for s in strings.strings]
         keys, spans = [], []
         for dofs in groups:
             r = index[dofs][:, :, None]
@@ -197,7 +193,7 @@ class _Assembly:
         return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.size, self.size))
 
 
-def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground: Ground | None, asm):
+def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground: Ground | None):
     """Gradient (n, 3) and the element Hessian blocks in the assembly's order."""
     n = len(x)
     grad = np.zeros((n, 3))
@@ -314,7 +310,7 @@ def solve_equilibrium(
     scale = max(float(np.max(st.bar_k)), 1.0)
     damping = 0.0
     for it in range(max_iter):
-        grad, values, tensions = _gradient_hessian(x, st, strings, ground, asm)
+        grad, values, tensions = _gradient_hessian(x, st, strings, ground)
         g = grad.ravel()[free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
