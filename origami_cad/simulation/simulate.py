@@ -150,9 +150,9 @@ def simulate(
         # nodes lie on the mid-surface: the bottom face touches the ground
         contact = params.ground + 0.5 * params.panel_thickness
         ground = Ground(contact, params.ground_stiffness, params.friction, params.slip)
-        ground.start(st.x0)
         if free:  # lay the sheet on the ground
             st.x0[:, 2] = contact
+        ground.start(st.x0)
     x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
     st.hinge_rest = np.zeros(len(st.hinges))
     strings = _strings(cp, route, x, params)
