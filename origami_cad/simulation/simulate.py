@@ -15,7 +15,7 @@ from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, _Assembly, solve_equilibrium, total_energy
-from origami_cad.strings.route import RouteSpec, hole_frames, panel_frame
+from origami_cad.strings.route import RouteSpec, frame_orientation, hole_frames, panel_frame
 
 __all__ = ["SimulationResult", "simulate"]
 
@@ -39,9 +39,7 @@ def _strings(
     out = []
     for k, s in enumerate(route.strings):
         tri, ab = hole_frames(cp, s)
-        flat = cp.vertices[tri]
-        f1, f2 = flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]
-        orient = np.sign(f1[:, 0] * f2[:, 1] - f1[:, 1] * f2[:, 0])
+        orient = frame_orientation(cp, tri)
         for h, (fi, (px, py)) in enumerate(zip(s.faces, s.points, strict=True)):
             ring = cp.vertices[cp.faces[fi]]
             d = np.min(_distance_to_ring(np.array([px, py]), ring))
@@ -61,9 +59,7 @@ def _strings(
         )
         if s.anchor_face >= 0:  # an onboard TSA: the anchor rides on its panel
             sim.anchor_tri, sim.anchor_ab = panel_frame(cp, s.anchor_face, *s.anchor[:2])
-            f = cp.vertices[sim.anchor_tri]
-            f1, f2 = f[1] - f[0], f[2] - f[0]
-            sim.anchor_orient = float(np.sign(f1[0] * f2[1] - f1[1] * f2[0]))
+            sim.anchor_orient = float(frame_orientation(cp, sim.anchor_tri))
             sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
         out.append(sim)
     strings = StringSet(out, route.thickness / 2.0, route.tsa)

@@ -50,6 +50,7 @@ __all__ = [
     "StringRoute",
     "anchor_points",
     "cutting_segments",
+    "frame_orientation",
     "hole_exits",
     "hole_frames",
     "load_route",
@@ -285,6 +286,25 @@ def panel_frame(cp: CreasePattern, face: int, x: float, y: float) -> tuple[np.nd
     return ring[list(pick)], ab
 
 
+def frame_orientation(cp: CreasePattern, tri: np.ndarray) -> np.ndarray:
+    """+1 or -1 per panel frame ``tri`` (..., 3): the sign that keeps ``e1 x e2`` on the top."""
+    flat = cp.vertices[np.asarray(tri)]
+    f1, f2 = flat[..., 1, :] - flat[..., 0, :], flat[..., 2, :] - flat[..., 0, :]
+    return np.sign(f1[..., 0] * f2[..., 1] - f1[..., 1] * f2[..., 0])
+
+
+def _frame_points(
+    cp: CreasePattern, coords: np.ndarray, tri: np.ndarray, ab: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points ``ab`` of frames ``tri`` (k, 3) and their top normals in ``coords`` (P, n, 3)."""
+    v0, v1, v2 = coords[:, tri[:, 0]], coords[:, tri[:, 1]], coords[:, tri[:, 2]]
+    e1, e2 = v1 - v0, v2 - v0
+    centre = v0 + ab[None, :, :1] * e1 + ab[None, :, 1:] * e2
+    normal = np.cross(e1, e2) * frame_orientation(cp, tri)[None, :, None]
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    return centre, normal
+
+
 def anchor_points(
     cp: CreasePattern, coords: np.ndarray, string: StringRoute, thickness: float
 ) -> np.ndarray:
@@ -298,14 +318,8 @@ def anchor_points(
         return np.broadcast_to(np.asarray(string.anchor, dtype=float), (len(coords), 3))
     x, y, height = string.anchor
     tri, ab = panel_frame(cp, string.anchor_face, x, y)
-    v0, v1, v2 = coords[:, tri[0]], coords[:, tri[1]], coords[:, tri[2]]
-    e1, e2 = v1 - v0, v2 - v0
-    normal = np.cross(e1, e2)
-    flat = cp.vertices[tri]
-    f1, f2 = flat[1] - flat[0], flat[2] - flat[0]
-    normal *= np.sign(f1[0] * f2[1] - f1[1] * f2[0])  # keep +z as the top
-    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
-    return v0 + ab[0] * e1 + ab[1] * e2 + (height + thickness / 2.0) * normal
+    centre, normal = _frame_points(cp, coords, tri[None], ab[None])
+    return (centre + (height + thickness / 2.0) * normal)[:, 0]
 
 
 def hole_exits(
@@ -325,15 +339,7 @@ def hole_exits(
     """
     coords = np.asarray(coords, dtype=float)
     tri, ab = frames if frames is not None else hole_frames(cp, string)
-    v0, v1, v2 = coords[:, tri[:, 0]], coords[:, tri[:, 1]], coords[:, tri[:, 2]]
-    e1, e2 = v1 - v0, v2 - v0
-    centre = v0 + ab[None, :, :1] * e1 + ab[None, :, 1:] * e2
-    normal = np.cross(e1, e2)
-    flat = cp.vertices[tri]
-    f1, f2 = flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]
-    orient = np.sign(f1[:, 0] * f2[:, 1] - f1[:, 1] * f2[:, 0])  # keep +z as the top
-    normal = normal * orient[None, :, None]
-    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    centre, normal = _frame_points(cp, coords, tri, ab)
     e = thickness / 2.0
     sides = np.asarray(string.sides, dtype=float)
     leave_sides = np.r_[sides[1:], sides[-1]]
