@@ -237,10 +237,7 @@ def _cmd_route(args: argparse.Namespace) -> int:
     for v in result.violations + result.cutting:
         print(f"warning: {v}")
     state = "final" if result.valid else "INVALID routing"
-    print(
-        f"{state}: p = {result.final['p']:.4f} after {result.final['turns']:.2f} turns; "
-        f"{result.reason}"
-    )
+    print(f"{state}: p = {result.p[-1]:.4f} after {result.turns[-1]:.2f} turns; {result.reason}")
     print(f"wrote {args.output}/: dcqc.json dcqc.png route.png route_folded.png")
     return 0 if result.valid else 1
 
@@ -410,6 +407,7 @@ def _cmd_part(args: argparse.Namespace) -> int:
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
     import json
+    import math
 
     from rich.progress import Progress
 
@@ -434,13 +432,19 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             raise DesignError(f"--blocker expects EDGE:DEGREES, got {item!r}") from None
     if args.friction < 0:
         raise DesignError(f"--friction must be >= 0, got {args.friction:g}")
-    params = SimulationParams(gravity=args.gravity, ground=args.ground, friction=args.friction)
+    loads = {"gravity": args.gravity, "ground": args.ground, "friction": args.friction}
+    params = (
+        SimulationParams.from_fabrication(route.fabrication, **loads)
+        if route.fabrication is not None
+        else SimulationParams(**loads)
+    )
     with Progress(transient=True) as bar:
         task = bar.add_task("simulating", total=None)
         result = simulate(
             cp,
             route,
             params,
+            design=design,
             steps=args.steps,
             fold_limits=limits or None,
             progress=lambda k, n: bar.update(task, completed=k, total=n),
@@ -448,22 +452,20 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         )
     with atomic_directory(args.output) as tmp:
         frames = [
-            folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
-            for x, s in zip(result.states, result.steps, strict=True)
+            folded_frame(x, a, f"theta_s = {math.degrees(t):.0f} deg")
+            for x, a, t in zip(result.states, result.fold_angles, result.theta, strict=True)
         ]
         write_fold(cp, tmp / "states.fold", frames=frames)
         with open(tmp / "simulation.json", "w", encoding="utf-8") as fh:
             json.dump(result.to_dict(), fh, indent=1)
         every = max(1, len(result.states) // 40)
         render_folding_gif(cp, [*result.states[::every], result.states[-1]], tmp / "fold.gif")
-    last = result.steps[-1]
     print(
-        f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
-        f"{result.reason}"
+        f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; {result.reason}"
     )
     print(
-        f"string tensions {', '.join(f'{t:.3g}' for t in last['tensions_N'])} N, "
-        f"TSA torque {last['tsa_torque_Nmm']:.3g} N mm"
+        f"string tensions {', '.join(f'{t:.3g}' for t in result.tensions[-1])} N, "
+        f"TSA torque {result.torque[-1]:.3g} N mm"
     )
     print(f"wrote {args.output}/: states.fold simulation.json fold.gif")
     return 0

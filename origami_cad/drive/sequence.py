@@ -144,8 +144,9 @@ def _mapping(t: Table, base: Path) -> np.ndarray:
             raise t.error("mapping", f"{path}: no such file")
         try:
             data = json.loads(path.read_text())
-            steps = data["steps"]
-            pairs = [(s["p"], s["tsa_length_mm"][0] - steps[0]["tsa_length_mm"][0]) for s in steps]
+            states = data["states"]  # columns: p (S,), tsa_length_mm (S, strings)
+            taken = [row[0] - states["tsa_length_mm"][0][0] for row in states["tsa_length_mm"]]
+            pairs = list(zip(states["p"], taken, strict=True))
         except (ValueError, KeyError, IndexError, TypeError):
             raise t.error("mapping", f"{path} is not a dcqc.json result") from None
         arr = np.array(pairs, dtype=float)

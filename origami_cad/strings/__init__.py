@@ -18,6 +18,7 @@ from origami_cad.strings.tsa import (
     onboard_contraction,
     onboard_transmission,
     ring_length,
+    ring_length_derivatives,
 )
 
 __all__ = [
@@ -34,6 +35,7 @@ __all__ = [
     "onboard_contraction",
     "onboard_transmission",
     "ring_length",
+    "ring_length_derivatives",
     "side_rule",
     "simulate_dcqc",
     "string_lengths",
