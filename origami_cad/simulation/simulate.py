@@ -41,7 +41,7 @@ from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, _Assembly, solve_equilibrium, total_energy
-from origami_cad.strings.dcqc import Jam, StopReason, segment_names
+from origami_cad.strings.dcqc import Jam, StopReason, segment_names, tsa_step
 from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,
@@ -52,7 +52,7 @@ from origami_cad.strings.route import (
 
 __all__ = ["SimulationResult", "fold_ratio_fit", "simulate"]
 
-POSE_ROUNDS = 1  # re-placements of the anchors per step at most (mean pose)
+POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
 
 @dataclass
@@ -510,7 +510,7 @@ def simulate(
                 speed = abs(p - rows["p"][-2]) / gained if gained > 0 else 0.0
                 if speed * ds > max_dp:  # fold at most max_dp per step
                     ds = max(max_dp / speed, route.take_up / 20.0)
-            dtheta = min(route.step, ds / max(float(np.max(rate, initial=0.0)), 1e-12))
+            dtheta = tsa_step(route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta))
         theta = min(theta + dtheta, theta_end)
     notes.append(reason)
     return SimulationResult(

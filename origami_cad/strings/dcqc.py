@@ -59,6 +59,7 @@ __all__ = [
     "segment_lengths",
     "segment_names",
     "simulate_dcqc",
+    "tsa_step",
 ]
 
 
@@ -191,6 +192,29 @@ class DCQCResult:
             },
             "final": {"turns": float(self.turns[-1]), "p": float(self.p[-1])},
         }
+
+
+def tsa_step(tsa, theta: float, x_dis: np.ndarray, take_up: float, cap: float) -> float:
+    """The TSA rotation (rad) from ``theta`` that takes up ``take_up`` mm of string.
+
+    For the string that takes most (``x_dis`` (k,) mm each), at most ``cap`` rad:
+    the slow start of eq. 8 costs few steps and its fast end stays accurate.
+    """
+    x_dis = np.atleast_1d(np.asarray(x_dis, dtype=float))
+    if not len(x_dis):
+        return cap
+    now = tsa.consumed(theta, x_dis)
+
+    def taken(d: float) -> float:
+        return float(np.max(tsa.consumed(theta + d, x_dis) - now))
+
+    if taken(cap) <= take_up:
+        return cap
+    lo, hi = 0.0, cap
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if taken(mid) < take_up else (lo, mid)
+    return hi
 
 
 def segment_names(string: StringRoute) -> list[str]:
@@ -385,9 +409,9 @@ def simulate_dcqc(
                 else "the TSA's strands reached their maximum helix angle"
             )
             break
-        xd = at(p, x_dis)
-        _, rate, _, _ = tsa.consumed_derivatives(theta, xd)
-        dtheta = min(route.step, route.take_up / max(float(np.max(rate)), 1e-12), theta_end - theta)
+        dtheta = tsa_step(
+            tsa, theta, at(p, x_dis), route.take_up, min(route.step, theta_end - theta)
+        )
         for _ in range(30):
             new = theta + dtheta
             outcome = _advance(tsa, new, p, ratios, x_dis, rest, l0)

@@ -81,8 +81,10 @@ def ring_length_derivatives(
     With ``l = sqrt(x^2 + q(theta))`` (``q`` the second term of eq. 8):
     ``dl/dtheta = q'(theta) / (2 l)``, ``dl/dx = x / l`` and ``d2l/dx2 = q / l^3``;
     ``q' = d1 d2 sin(theta) / 2`` on the first branch and
-    ``d_s (d2 + d1 + (theta - pi) d_s) / 2`` on the wound one (both vanish or
-    agree at ``theta = pi``, so the rate is continuous).
+    ``d_s (d2 + d1 + (theta - pi) d_s) / 2`` on the wound one. The length is
+    continuous at ``theta = pi`` but its rate jumps there, from 0 to
+    ``d_s (d1 + d2) / (4 l)``, where the strings start winding on each other; at
+    ``pi`` the wound branch's (right-hand) rate is returned.
 
     Parameters are those of :func:`ring_length` (radians, mm). Returns mm,
     mm/rad, dimensionless and 1/mm.
