@@ -94,6 +94,7 @@ def test_single_crease_matches_the_closed_form_moment_balance():
         )
 
     rest = demand(0.0, 0.0)  # the string is tight on the flat sheet (eq. 7)
+    rest_angle = math.radians(3.0)  # the crease rests pre-folded (simulate's prefold)
     k_string = params.string_axial_stiffness / rest
     assert len(result) == 13
     for k in range(1, len(result)):
@@ -101,7 +102,8 @@ def test_single_crease_matches_the_closed_form_moment_balance():
 
         def energy(rho: float, theta: float = theta) -> float:
             return (
-                0.5 * k_crease * rho**2 + 0.5 * k_string * max(0.0, demand(rho, theta) - rest) ** 2
+                0.5 * k_crease * (rho - rest_angle) ** 2
+                + 0.5 * k_string * max(0.0, demand(rho, theta) - rest) ** 2
             )
 
         best = minimize_scalar(

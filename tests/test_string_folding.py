@@ -144,7 +144,8 @@ def test_breaking_the_side_rule_on_one_crease_jams_both_models(tmp_path):
         assert "string 5" in result.reason and "c1r1s2 -> c1r1s3" in result.reason
         assert result.jam.stretch_mm > 0
     assert not dcqc.valid and dcqc.p[-1] == 0.0  # it never folds
-    assert sim.p[-1] < 0.02
+    # the elastic string 5 lets the other strings fold the sheet a little before the jam
+    assert sim.p[-1] < 0.3 and sim.stretch[-1, 4] == sim.stretch[-1].max()
     assert sim.to_dict()["jam"]["segment"] == "c1r1s2 -> c1r1s3"
 
 
@@ -233,7 +234,7 @@ def test_route_file_limits_and_fabrication_are_read(tmp_path):
     assert params.fold_limit == pytest.approx(math.degrees(route.fabrication.theta_max))
     assert params.hinge_zone == 7.0 and params.panel_thickness == 2.2
     bad = tmp_path / "bad.toml"
-    bad.write_text('[fabrication]\nbias = -1\n[route]\n[[route.strings]]\nanchor = [0, 0, 1]\n')
+    bad.write_text("[fabrication]\nbias = -1\n[route]\n[[route.strings]]\nanchor = [0, 0, 1]\n")
     from origami_cad.errors import DesignError
 
     with pytest.raises(DesignError, match="key 'bias'"):

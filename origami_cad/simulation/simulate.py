@@ -265,7 +265,7 @@ def simulate(
     steps: int | None = None,
     fixed_panel: str | None = None,
     fold_limits: dict[int, float] | None = None,
-    prefold: float = 1.0,
+    prefold: float = 3.0,
     tension_limit: float | None = None,
     jam_ratio: float = 0.8,
     jam_steps: int = 3,
@@ -299,9 +299,11 @@ def simulate(
     fold_limits : dict, optional
         ``{edge: degrees}``: fold limits of particular creases (blockers).
     prefold : float
-        The flat sheet is a bifurcation point; the creases are first pre-folded by
-        this many degrees in the sense of their assignments (the strings, tight on
-        the flat sheet, go slack by what the pre-fold saves), deg.
+        The flat sheet is a bifurcation point (it can fold into several branches);
+        the creases rest this many degrees folded in the sense of their assignments,
+        as a printed sheet pre-folded by hand does, so that the strings fold it along
+        its assigned branch. The strings are tight on the flat sheet (eq. 7) and
+        slack by what the pre-fold saves, deg.
     tension_limit : float, optional
         Stop when a string's tension exceeds it, N (default: the route's ``max_tension``).
     jam_ratio, jam_steps : float, int
@@ -356,7 +358,6 @@ def simulate(
     if ground is not None:
         ground.start(st.x0)
     x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
-    st.hinge_rest = np.zeros(len(st.hinges))
     assembly = _Assembly(st, strings)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
@@ -510,7 +511,9 @@ def simulate(
                 speed = abs(p - rows["p"][-2]) / gained if gained > 0 else 0.0
                 if speed * ds > max_dp:  # fold at most max_dp per step
                     ds = max(max_dp / speed, route.take_up / 20.0)
-            dtheta = tsa_step(route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta))
+            dtheta = tsa_step(
+                route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta)
+            )
         theta = min(theta + dtheta, theta_end)
     notes.append(reason)
     return SimulationResult(
