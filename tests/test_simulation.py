@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import json
 import math
@@ -21,8 +20,8 @@ from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.simulation import SimulationParams, fold_angles, hinge_gradients, simulate
 from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
 from origami_cad.strings import TOP, TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
 from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
 from origami_cad.strings.tsa import onboard_contraction, onboard_transmission
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

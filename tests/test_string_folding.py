@@ -39,7 +39,7 @@ def _gap(sim, dcqc) -> np.ndarray:
 
 
 def test_the_sheets_fold_limit_is_its_first_crease_at_eq6_legs_included(fig5):
-    design, route, dcqc, _ = fig5
+    design, route, _, _ = fig5
     limit = fold_limit(design, route)
     assert limit.source == "eq6" and limit.p == pytest.approx(0.54, abs=0.01)
     assert limit.p < route.fabrication.p_max - 0.2  # the main creases alone: 0.814
@@ -53,7 +53,7 @@ def test_the_sheets_fold_limit_is_its_first_crease_at_eq6_legs_included(fig5):
 
 
 def test_fig5_dcqc_folds_continuously_from_flat_to_the_fold_limit(fig5):
-    _, route, dcqc, _ = fig5
+    _, _, dcqc, _ = fig5
     assert dcqc.valid and dcqc.stop is StopReason.FOLD_LIMIT
     assert dcqc.p[0] == 0.0 and dcqc.turns[0] == 0.0
     assert np.all(np.diff(dcqc.p) >= 0) and np.all(np.diff(dcqc.turns) > 0)
