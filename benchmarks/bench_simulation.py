@@ -29,7 +29,7 @@ def _run(n: int, steps: int = 100) -> tuple[float, int, int]:
     route = RouteSpec(tsa, (string,), 2.2, math.radians(60), 20.0, fixed_panel=labels[0])
     t0 = time.perf_counter()
     result = simulate(cp, route, steps=steps)
-    return time.perf_counter() - t0, cp.n_vertices, len(result.steps)
+    return time.perf_counter() - t0, cp.n_vertices, len(result)
 
 
 def run() -> list[tuple[str, float, str]]:
