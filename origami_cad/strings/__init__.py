@@ -1,6 +1,13 @@
 """Strings: twisted string actuators, routing through panel holes, DCQC folding (section IV-B)."""
 
-from origami_cad.strings.dcqc import DCQCResult, simulate_dcqc
+from origami_cad.strings.dcqc import (
+    DCQCResult,
+    FoldLimit,
+    Jam,
+    StopReason,
+    fold_limit,
+    simulate_dcqc,
+)
 from origami_cad.strings.route import (
     BOTTOM,
     TOP,
@@ -25,9 +32,13 @@ __all__ = [
     "BOTTOM",
     "TOP",
     "DCQCResult",
+    "FoldLimit",
+    "Jam",
     "RouteSpec",
+    "StopReason",
     "StringRoute",
     "TSAParams",
+    "fold_limit",
     "hole_exits",
     "load_route",
     "onboard_angle",
