@@ -165,10 +165,12 @@ class DCQCResult:
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (``dcqc.json``)."""
 
-        def col(a: np.ndarray) -> list:
-            return (
-                np.where(np.isfinite(a), a, np.nan).tolist() if a.dtype.kind == "f" else a.tolist()
-            )
+        def col(a: np.ndarray) -> list:  # NaN (no crease stiffness given) -> null
+            if a.dtype.kind != "f":
+                return a.tolist()
+            out = a.astype(object)
+            out[~np.isfinite(a)] = None
+            return out.tolist()
 
         return {
             "valid": self.valid,
