@@ -487,8 +487,7 @@ def simulate(
                 reason = (
                     f"jam: string {culprit + 1} stretches ({record['stretch'][culprit]:.3g} mm, "
                     f"strain {100 * strain[culprit]:.2g} %) instead of folding the sheet"
-                    f"{'' if math.isnan(p) else f' at p = {p:.3f}'}; its segment {segment} "
-                    "lengthens as the sheet folds (check its sides against the DCQC rule)"
+                    f"{'' if math.isnan(p) else f' at p = {p:.3f}'}; {jam.hint()}"
                 )
             break
         if theta >= theta_end - 1e-12:

@@ -92,8 +92,19 @@ class Jam:
     def describe(self) -> str:
         return (
             f"jam: string {self.string + 1} would have to stretch by {self.stretch_mm:.3g} mm "
-            f"at p = {self.p:.3f}; its segment {self.segment} lengthens as the sheet folds "
-            "(check its sides against the DCQC rule)"
+            f"at p = {self.p:.3f}; {self.hint()}"
+        )
+
+    def hint(self) -> str:
+        """What lengthens, and what to change."""
+        if self.segment.startswith("anchor"):
+            return (
+                f"its segment {self.segment} lengthens as the sheet folds (the first hole "
+                "moves away from the TSA: move the anchor or thread from another side)"
+            )
+        return (
+            f"its segment {self.segment} lengthens as the sheet folds (check its sides "
+            "against the DCQC rule)"
         )
 
     def to_dict(self) -> dict[str, Any]:
