@@ -289,7 +289,8 @@ def simulate(
         default printed sheet).
     design : Design, optional
         The pattern's design, to fit each state's fold ratio ``p`` to the same rigid
-        folding as the DCQC model (default: the degree-4 folder when it applies).
+        folding as the DCQC model (``Design(cp, None, "file")`` for the degree-4
+        folder); without it ``p`` is NaN (fitting costs a hundred rigid folds).
     steps : int, optional
         Turn the TSA in exactly this many equal steps up to ``route.max_turns``
         instead of steps of string taken up (benchmarks, animations).
@@ -362,9 +363,7 @@ def simulate(
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
-    if design is None:
-        design = Design(cp, None, "file")
-    table = _rigid_table(design)
+    table = None if design is None else _rigid_table(design)
     creases = cp.edge_mask("M", "V")
     limit_edges = st.hinge_edge[folds]
     limits = st.hinge_limit[folds]
