@@ -7,13 +7,45 @@ Bad input prints one line ``origami-cad: error: ...`` and exits with code 2;
 from __future__ import annotations
 
 import argparse
+import contextlib
 import inspect
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
 from origami_cad import __version__
+from origami_cad._fileio import (
+    Interrupted,
+    atomic_directory,
+    check_outputs,
+    handle_signals,
+    interrupted,
+)
 from origami_cad.errors import DesignError, OrigamiCadError
+
+_PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
+_MAX_FRAMES = 10_000  # folded states in one file or animation
+
+
+def _finite(text: str) -> float:
+    """argparse type: a finite number (NaN and infinities are refused)."""
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _check_suffix(path: str, allowed: Sequence[str], what: str) -> None:
+    if Path(path).suffix.lower() not in allowed:
+        raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
 
 __all__ = ["build_parser", "main"]
 
@@ -21,6 +53,8 @@ __all__ = ["build_parser", "main"]
 def _cmd_convert(args: argparse.Namespace) -> int:
     from origami_cad.pattern import read_pattern
 
+    _check_suffix(args.output, _PATTERN_SUFFIXES, "a pattern")
+    check_outputs([args.input], files=[args.output])
     cp = read_pattern(args.input)
     out = Path(args.output)
     _write_pattern_any(cp, out, labels=args.labels)
@@ -56,6 +90,9 @@ def _write_pattern_any(cp, out: Path, labels: bool = False) -> None:
 def _cmd_pattern(args: argparse.Namespace) -> int:
     from origami_cad.pattern.design import load_pattern_source
 
+    for out in args.output:
+        _check_suffix(out, _PATTERN_SUFFIXES, "a pattern")
+    check_outputs([args.design], files=args.output)
     design = load_pattern_source(args.design)
     cp = design.pattern
     for out in args.output:
@@ -77,12 +114,13 @@ def _cmd_fold(args: argparse.Namespace) -> int:
 
     if not 0.0 <= args.ratio <= 1.0:
         raise DesignError(f"--ratio must lie in [0, 1], got {args.ratio}")
-    if args.frames < 1:
-        raise DesignError(f"--frames must be >= 1, got {args.frames}")
+    if not 1 <= args.frames <= _MAX_FRAMES:
+        raise DesignError(f"--frames must lie in 1..{_MAX_FRAMES}, got {args.frames}")
     out = Path(args.output)
     suffix = out.suffix.lower()
     if suffix not in (".fold", ".png", ".gif"):
         raise DesignError(f"{out}: the folded state is written as .fold, .png or .gif")
+    check_outputs([args.design], files=[out])
     design = load_pattern_source(args.design)
     frames = args.frames if args.frames > 1 or suffix != ".gif" else 30
     ratios = np.linspace(0.0, args.ratio, frames) if frames > 1 else [args.ratio]
@@ -108,6 +146,8 @@ def _cmd_tg(args: argparse.Namespace) -> int:
     from origami_cad.pattern.design import load_design
     from origami_cad.viz.tg_plot import save_tg_png
 
+    _check_suffix(args.output, (".png",), "the TG plot")
+    check_outputs([args.design], files=[args.output])
     design = load_design(args.design)
     if design.tg is None:
         raise DesignError(f"{args.design}: kind {design.kind!r} has no transition graph")
@@ -124,6 +164,11 @@ def _cmd_design_arm(args: argparse.Namespace) -> int:
 
     from origami_cad.design import design_arm, load_task, write_design_outputs
 
+    check_outputs([args.task], folders=[args.output])
+    for name in ("runs", "seed", "max_generations"):
+        value = getattr(args, name)
+        if value is not None and value < (0 if name == "seed" else 1):
+            raise DesignError(f"--{name.replace('_', '-')} must be >= {0 if name == 'seed' else 1}")
     task, settings = load_task(args.task)
     changes = {
         k: v
@@ -155,7 +200,9 @@ def _cmd_design_arm(args: argparse.Namespace) -> int:
         for i in ids:
             bar.update(i, total=bar.tasks[i].completed or 1)
     seconds = time.perf_counter() - t0
-    paths = write_design_outputs(results, task, settings, args.output, seconds=seconds)
+    with atomic_directory(args.output, inputs=[args.task]) as tmp:
+        names = write_design_outputs(results, task, settings, tmp, seconds=seconds)
+    paths = {k: Path(args.output) / p.name for k, p in names.items()}
     best = results[0]
     print(
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
@@ -171,7 +218,6 @@ def _cmd_design_arm(args: argparse.Namespace) -> int:
 def _cmd_fabricate(args: argparse.Namespace) -> int:
     import math
 
-    from origami_cad._fileio import atomic_directory
     from origami_cad.fabrication import (
         FabricationParams,
         bias_for_theta_max,
@@ -202,9 +248,10 @@ def _cmd_fabricate(args: argparse.Namespace) -> int:
         hole_diameter=args.hole_diameter,
         holes=holes,
     )
+    check_outputs([args.design], folders=[args.output])
     design = load_pattern_source(args.design)
     fab = fabricate(design, params)
-    with atomic_directory(args.output) as tmp:
+    with atomic_directory(args.output, inputs=_inputs(args.design, design)) as tmp:
         write_fabrication(fab, tmp)
         save_panels_png(fab, tmp / "panels.png")
     report = fab.report()
@@ -222,17 +269,26 @@ def _cmd_fabricate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_route(args: argparse.Namespace) -> int:
+def _inputs(*paths) -> list:
+    """Input paths, and the file a design was read from, that no output may replace."""
+    out = []
+    for p in paths:
+        src = getattr(p, "source", p)
+        if src is not None:
+            out.append(src)
+    return out
 
-    from origami_cad._fileio import atomic_directory
+
+def _cmd_route(args: argparse.Namespace) -> int:
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings import load_route, simulate_dcqc
     from origami_cad.viz.strings_plots import write_route_outputs
 
+    check_outputs([args.design, args.route], folders=[args.output])
     design = load_pattern_source(args.design)
     route = load_route(args.route, design.pattern)
     result = simulate_dcqc(design, route)
-    with atomic_directory(args.output) as tmp:
+    with atomic_directory(args.output, inputs=_inputs(args.design, args.route, design)) as tmp:
         write_route_outputs(design.pattern, route, result, tmp)
     for v in result.violations + result.cutting:
         print(f"warning: {v}")
@@ -252,6 +308,8 @@ def _parse_ids(text: str) -> list[int]:
         raise DesignError(f"--ids must be comma-separated servo IDs, got {text!r}") from None
     if not ids or any(not 0 <= i <= 252 for i in ids):
         raise DesignError(f"--ids must be servo IDs in 0..252, got {text!r}")
+    if len(set(ids)) != len(ids):
+        raise DesignError(f"--ids names a servo twice: {text!r}")
     return ids
 
 
@@ -281,6 +339,10 @@ def _cmd_drive(args: argparse.Namespace) -> int:
     from origami_cad.drive.sequence import load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
+    outputs = [p for p in (args.log, args.plot) if p]
+    check_outputs([args.sequence], files=outputs)
+    if args.plot:
+        _check_suffix(args.plot, (".png",), "the drive plot")
     seq = load_sequence(args.sequence)
     if not args.dry_run and not args.port:
         raise DesignError("give --port PORT, or --dry-run to use the emulator")
@@ -363,6 +425,7 @@ def _cmd_part(args: argparse.Namespace) -> int:
         raise DesignError(f"unknown part {args.name!r} (known: {', '.join(PARTS)})")
     if not args.output:
         raise DesignError("give the output folder with -o DIR")
+    check_outputs([args.pattern] if args.pattern else [], folders=[args.output])
     func = PARTS[args.name]
     known = _part_params(func)
     kwargs: dict = {}
@@ -400,7 +463,9 @@ def _cmd_part(args: argparse.Namespace) -> int:
     part = func(**kwargs)
     from origami_cad.fabrication.export import export_part
 
-    paths = export_part(part, Path(args.output), args.name)
+    with atomic_directory(args.output, inputs=[args.pattern] if args.pattern else []) as tmp:
+        names = export_part(part, tmp, args.name)
+    paths = [Path(args.output) / p.name for p in names]
     print(
         f"{args.name}: volume {part.volume / 1000:.2f} cm3; wrote "
         + ", ".join(str(p) for p in paths)
@@ -413,7 +478,6 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     from rich.progress import Progress
 
-    from origami_cad._fileio import atomic_directory
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.simulation import SimulationParams, simulate
@@ -422,6 +486,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     if args.steps is not None and args.steps < 1:
         raise DesignError(f"--steps must be >= 1, got {args.steps}")
+    check_outputs([args.pattern, args.route], folders=[args.output])
     design = load_pattern_source(args.pattern)
     cp = design.pattern
     route = load_route(args.route, cp)
@@ -429,9 +494,16 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     for item in args.blocker or []:
         edge, _, angle = item.partition(":")
         try:
-            limits[int(edge)] = float(angle or 60.0)
-        except ValueError:
+            index, degrees = int(edge), _finite(angle or "60")
+        except (ValueError, argparse.ArgumentTypeError):
             raise DesignError(f"--blocker expects EDGE:DEGREES, got {item!r}") from None
+        if not 0 <= index < cp.n_edges or cp.assignments[index] not in ("M", "V", "F"):
+            raise DesignError(f"--blocker {item}: edge {index} is not a crease of {args.pattern}")
+        if not 0 < degrees <= 180:
+            raise DesignError(f"--blocker {item}: the angle must lie in (0, 180] degrees")
+        limits[index] = degrees
+    if args.steps is not None and args.steps > 100_000:
+        raise DesignError(f"--steps must be at most 100000, got {args.steps}")
     if args.friction < 0:
         raise DesignError(f"--friction must be >= 0, got {args.friction:g}")
     params = SimulationParams(gravity=args.gravity, ground=args.ground, friction=args.friction)
@@ -446,7 +518,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             progress=lambda k, n: bar.update(task, completed=k, total=n),
             free=args.free,
         )
-    with atomic_directory(args.output) as tmp:
+    with atomic_directory(args.output, inputs=_inputs(args.pattern, args.route, design)) as tmp:
         frames = [
             folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
             for x, s in zip(result.states, result.steps, strict=True)
@@ -507,7 +579,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("input", help="pattern file (.fold, .dxf or .svg)")
     p.add_argument(
         "--angle-tolerance",
-        type=float,
+        type=_finite,
         default=1e-6,
         help="tolerance of Kawasaki's theorem, radians (default 1e-6)",
     )
@@ -539,7 +611,7 @@ def build_parser() -> argparse.ArgumentParser:
         "degrees); .png: a render of the final state; .gif: an animation from p = 0.",
     )
     p.add_argument("design", help="design file (.toml) or pattern file")
-    p.add_argument("--ratio", type=float, default=0.5, help="fold ratio p = theta/pi in [0, 1]")
+    p.add_argument("--ratio", type=_finite, default=0.5, help="fold ratio p = theta/pi in [0, 1]")
     p.add_argument(
         "--frames",
         type=int,
@@ -581,28 +653,36 @@ def build_parser() -> argparse.ArgumentParser:
         "TPU on extruder 2), fabrication.json and panels.png into OUT. Lengths in mm.",
     )
     p.add_argument("design", help="design file (.toml) or pattern file (.fold/.dxf/.svg)")
-    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
-    p.add_argument("--bias", type=float, help="inner bias b, mm (default 3)")
-    p.add_argument("--theta-max", type=float, help="target theta_max in degrees (gives b, eq. 6)")
-    p.add_argument("--p-max", type=float, help="target p_max in [0, 1] (gives b, eq. 6)")
-    p.add_argument("--height", type=float, default=2.2, help="panel height h, mm (default 2.2)")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output folder; only this command's files are written into it, all else is kept",
+    )
+    p.add_argument("--bias", type=_finite, help="inner bias b, mm (default 3)")
+    p.add_argument("--theta-max", type=_finite, help="target theta_max in degrees (gives b, eq. 6)")
+    p.add_argument("--p-max", type=_finite, help="target p_max in [0, 1] (gives b, eq. 6)")
+    p.add_argument("--height", type=_finite, default=2.2, help="panel height h, mm (default 2.2)")
     p.add_argument(
         "--thickness",
-        type=float,
+        type=_finite,
         default=0.4,
         help="crease/mid-layer thickness t, mm (default 0.4)",
     )
-    p.add_argument("--shell", type=float, default=0.8, help="shell wall s, mm (default 0.8)")
+    p.add_argument("--shell", type=_finite, default=0.8, help="shell wall s, mm (default 0.8)")
     p.add_argument(
-        "--midlayer-bias", type=float, default=0.5, help="extra mid-layer inset m, mm (default 0.5)"
+        "--midlayer-bias",
+        type=_finite,
+        default=0.5,
+        help="extra mid-layer inset m, mm (default 0.5)",
     )
     p.add_argument(
         "--border-margin",
-        type=float,
+        type=_finite,
         default=0.0,
         help="inset from border and cut edges, mm (default 0)",
     )
-    p.add_argument("--hole-diameter", type=float, default=2.0, help="hole diameter, mm")
+    p.add_argument("--hole-diameter", type=_finite, default=2.0, help="hole diameter, mm")
     p.add_argument(
         "--holes",
         choices=("auto", "pattern", "none"),
@@ -613,7 +693,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--hole",
         nargs=2,
-        type=float,
+        type=_finite,
         action="append",
         metavar=("X", "Y"),
         help="a hole at X Y (mm); repeat; replaces --holes",
@@ -630,7 +710,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("design", help="design file (.toml) or pattern file")
     p.add_argument("route", help="route file (.toml, see examples/miura_route.toml)")
-    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output folder; only this command's files are written into it, all else is kept",
+    )
     p.set_defaults(func=_cmd_route)
 
     p = sub.add_parser(
@@ -641,7 +726,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--protocol", choices=("dynamixel", "serial"), default="dynamixel")
     p.add_argument("--ids", default="1", help="comma-separated servo IDs, e.g. 1,2,3,4")
-    p.add_argument("--seconds", type=float, default=0.0, help="stop after this long (0: never)")
+    p.add_argument("--seconds", type=_finite, default=0.0, help="stop after this long (0: never)")
     p.set_defaults(func=_cmd_emulate)
 
     p = sub.add_parser(
@@ -657,7 +742,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--baudrate", type=int, default=57600)
     p.add_argument("--dry-run", action="store_true", help="start the emulator and drive it")
     p.add_argument(
-        "--speed", type=float, default=8.0, help="time acceleration of a dry run (default 8)"
+        "--speed", type=_finite, default=8.0, help="time acceleration of a dry run (default 8)"
     )
     p.add_argument("--log", default="drive_log.csv", help="CSV log (default drive_log.csv)")
     p.add_argument("--plot", help="also save a PNG of commanded and measured turns")
@@ -689,7 +774,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("pattern", help="design file (.toml) or pattern file (.fold/.dxf/.svg)")
     p.add_argument("route", help="route file (.toml): TSA and strings")
-    p.add_argument("-o", "--output", required=True, help="output folder (replaced atomically)")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output folder; only this command's files are written into it, all else is kept",
+    )
     p.add_argument("--steps", type=int, help="actuation steps over the route's max_turns")
     p.add_argument(
         "--blocker",
@@ -697,10 +787,10 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="EDGE:DEG",
         help="a blocker stopping crease EDGE at DEG degrees (repeat)",
     )
-    p.add_argument("--gravity", type=float, default=0.0, help="gravity along -z, mm/s^2")
-    p.add_argument("--ground", type=float, default=None, help="height of a ground plane, mm")
+    p.add_argument("--gravity", type=_finite, default=0.0, help="gravity along -z, mm/s^2")
+    p.add_argument("--ground", type=_finite, default=None, help="height of a ground plane, mm")
     p.add_argument(
-        "--friction", type=float, default=0.5, help="Coulomb friction on the ground (default 0.5)"
+        "--friction", type=_finite, default=0.5, help="Coulomb friction on the ground (default 0.5)"
     )
     p.add_argument(
         "--free",
@@ -730,21 +820,57 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command != "part":
             parser.error(f"unrecognized arguments: {' '.join(extra)}")
         args.params = extra  # the part's own --name value parameters
+    main_thread = threading.current_thread() is threading.main_thread()
+    with handle_signals() if main_thread else contextlib.nullcontext():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the command; every failure becomes one line on stderr and an exit code."""
     try:
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        if interrupted():  # an interrupt a library swallowed: the outputs were not written
+            raise Interrupted(interrupted())
+        return code
     except OrigamiCadError as exc:
-        print(f"origami-cad: error: {exc}", file=sys.stderr)
-        return 2
-    except (FileNotFoundError, IsADirectoryError, PermissionError, NotADirectoryError) as exc:
-        name = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
-        print(f"origami-cad: error: {name}{exc.strerror or exc}", file=sys.stderr)
+        _error(str(exc))
         return 2
     except KeyboardInterrupt:
-        print("origami-cad: interrupted", file=sys.stderr)
-        return 130
+        return _run_interrupted()
     except BrokenPipeError:  # output piped into a program that stopped reading (| head)
         sys.stderr.close()
         return 0
+    except RecursionError:
+        _error("the input is nested too deeply to read")
+        return 2
+    except MemoryError:
+        _error("out of memory: the input asks for more than this machine has")
+        return 2
+    except OSError as exc:  # the file system said no: missing file, full disk, bad name...
+        name = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        _error(f"{name}{exc.strerror or exc}")
+        return 2
+    except Exception as exc:  # the last line of defence: one line, never a traceback
+        if interrupted():  # the interrupt surfaced as another error (e.g. inside an import)
+            return _run_interrupted()
+        _error(
+            f"internal error ({type(exc).__name__}: {exc}); this is a bug in origami-cad "
+            f"{__version__}, please report it with the command and its input files"
+        )
+        return 3
+
+
+def _run_interrupted() -> int:
+    signum = interrupted() or signal.SIGINT
+    word = "terminated" if signum == signal.SIGTERM else "interrupted"
+    print(f"origami-cad: {word}; nothing more was written", file=sys.stderr)
+    return 128 + signum
+
+
+def _error(message: str) -> None:
+    """Print one error line; control characters of user-supplied names are escaped."""
+    safe = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+    print(f"origami-cad: error: {safe}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover
