@@ -84,8 +84,11 @@ def test_check_exit_codes(tmp_path, capsys):
     [
         (["convert", "missing.fold", "x.svg"], "missing.fold: no such file"),
         (["convert", str(EXAMPLES / "fig2_tg.toml"), "x.fold"], "unknown crease-pattern format"),
-        (["fold", str(EXAMPLES / "fig2_tg.toml"), "--ratio", "1.5", "-o", "x.fold"], "--ratio"),
-        (["fold", str(EXAMPLES / "fig2_tg.toml"), "-o", "x.obj"], ".fold, .png or .gif"),
+        (
+            ["fold", str(EXAMPLES / "fig2_tg.toml"), "--ratio", "1.5", "-o", "x.fold"],
+            "fold ratio must lie in [0, 1]",
+        ),
+        (["fold", str(EXAMPLES / "fig2_tg.toml"), "-o", "x.obj"], ".fold, .png, .gif"),
         (["pattern", "nothing.toml", "-o", "x.fold"], "nothing.toml: no such file"),
     ],
 )

@@ -7,7 +7,6 @@
 """
 
 from origami_cad.design.fitness import INFEASIBLE_COST, FitnessResult, arm_fitness, sample_angles
-from origami_cad.design.outputs import write_design_outputs
 from origami_cad.design.search import ArmDesign, decode, design_arm, run_one
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
 
@@ -24,5 +23,4 @@ __all__ = [
     "run_one",
     "sample_angles",
     "task_to_dict",
-    "write_design_outputs",
 ]

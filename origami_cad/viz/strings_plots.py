@@ -18,7 +18,7 @@ from origami_cad.strings.route import TOP, RouteSpec
 from origami_cad.viz._figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
 
-__all__ = ["save_dcqc_png", "save_route_png", "write_route_outputs"]
+__all__ = ["save_dcqc_png", "save_route_png"]
 
 _COLORS = ["#8e44ad", "#e67e22", "#16a085", "#c0392b", "#2c3e50", "#d35400"]
 
@@ -68,31 +68,3 @@ def save_dcqc_png(result: DCQCResult, path: str | os.PathLike[str]) -> Path:
             0.02, 0.96, result.reason, transform=ax.transAxes, fontsize=7.5, va="top", wrap=True
         )
     return Path(path)
-
-
-def write_route_outputs(
-    cp: CreasePattern, route: RouteSpec, result: DCQCResult, folder: str | os.PathLike[str]
-) -> dict[str, Path]:
-    """Write ``dcqc.json``, ``dcqc.png``, ``route.png`` and ``route_folded.png`` into ``folder``."""
-    import json
-
-    from origami_cad._fileio import atomic_write
-    from origami_cad.viz.render3d import render_folded
-
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {
-        name: out / name for name in ("dcqc.json", "dcqc.png", "route.png", "route_folded.png")
-    }
-    with atomic_write(paths["dcqc.json"], "w", encoding="utf-8") as fh:
-        json.dump(result.to_dict(), fh, indent=1)
-    save_dcqc_png(result, paths["dcqc.png"])
-    save_route_png(cp, route, paths["route.png"])
-    render_folded(
-        cp,
-        result.final_coords,
-        paths["route_folded.png"],
-        strings=result.final_strings,
-        title=f"final p = {result.final['p']:.3f}",
-    )
-    return paths
