@@ -10,28 +10,18 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import NamedTuple
 
 from origami_cad import __version__, jobs
 from origami_cad.jobs import Outputs
 from origami_cad.viz.report import StepReport, write_report
 
-__all__ = ["STEPS", "run_demo"]
+__all__ = ["STEPS", "Step", "run_demo", "run_step"]
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
-def _report(key: str, title: str, summary: str, root: Path, *outputs: Outputs) -> StepReport:
-    """A report section from the outputs of the jobs a step chained."""
-    done = Outputs()
-    for out in outputs:
-        done.extend(out)
-    rep = StepReport(key, title, summary=summary, numbers=done.numbers)
-    rep.images = [(p.relative_to(root).as_posix(), caption) for p, caption in done.images]
-    rep.files = [p.relative_to(root).as_posix() for p in dict.fromkeys(done.files)]
-    return rep
-
-
-def step_fig2(out: Path, root: Path, quick: bool) -> StepReport:
+def fig2(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 2: a TG of five vectors becomes a crease pattern and folds to p = 0, 0.5, 0.98."""
     design, view = EXAMPLES / "fig2_tg.toml", (1, -2, 1.5)
     names = ("pattern.png", "pattern.fold", "pattern.svg", "pattern.dxf")
@@ -43,79 +33,43 @@ def step_fig2(out: Path, root: Path, quick: bool) -> StepReport:
     frames = 12 if quick else 40
     chained.append(jobs.run_fold(design, out / "folding.gif", ratio=0.98, frames=frames, view=view))
     chained.append(jobs.run_fold(design, out / "folding.fold", ratio=0.98, frames=frames))
-    summary = (
-        "Five transition vectors drawn at p = 0.5 (unit width 36 mm, three copies) give the "
-        "shape angles of eq. 1; the tessellation then folds rigidly and exactly (eqs. 2-3)."
-    )
-    title = "Fig. 2 - from a transition graph to a folded tessellation"
-    return _report("fig2", title, summary, root, *chained)
+    return chained
 
 
-def step_fig3(out: Path, root: Path, quick: bool) -> StepReport:
+def fig3(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 3: ten CMA-ES runs design a robotic arm around warning and prohibited areas."""
     budget = {"runs": 4, "max_generations": 60} if quick else {}
-    done = jobs.run_design_arm(EXAMPLES / "arm_task.toml", out, **budget)
-    summary = (
-        "T_s = (0, 0); the tip must pass P_start = (250, 0) when flat and P_end = (50, 133.3) "
-        "when folded, never touch the prohibited area (x >= 150, y >= 40) and stay out of "
-        "the warning area (x >= 140, y >= 30). Fitness: eq. 5 with alpha = 120; the winner "
-        "must also be buildable at a 36 mm unit width."
-    )
-    title = "Fig. 3 - computational design of an origami robotic arm"
-    return _report("fig3", title, summary, root, done)
+    return [jobs.run_design_arm(EXAMPLES / "arm_task.toml", out, **budget)]
 
 
-def step_fig4(out: Path, root: Path, quick: bool) -> StepReport:
+def fig4(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 4: the arm winner and the 6 x 4 Miura as dual-material printable parts."""
     miura = EXAMPLES / "miura_6x4.toml"
     chained = [jobs.run_fabricate(miura, out / "miura", renders=True, name="6 x 4 Miura")]
-    winner = root / "fig3" / "best.toml"
+    winner = out.parent / "fig3" / "best.toml"
     if winner.exists():
         chained.append(jobs.run_fabricate(winner, out / "arm", renders=True, name="arm winner"))
-    summary = (
-        "Each panel is two exact B-rep halves (PLA infill wrapped in a TPU shell) with "
-        "chamfers of eq. 6, joined by a PLA mid-layer in a continuous TPU crease sheet. "
-        "Exported as four STL files, one STEP assembly and a 3MF whose PLA parts are on "
-        "extruder 1 and TPU parts on extruder 2 (PrusaSlicer and Bambu/Orca)."
-    )
-    title = "Fig. 4 - dual-material printable structures"
-    return _report("fig4", title, summary, root, *chained)
+    return chained
 
 
-def step_fig5(out: Path, root: Path, quick: bool) -> StepReport:
+def fig5(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 5: a ring TSA folds the 6 x 4 Miura through DCQC-routed strings."""
-    done = jobs.run_route(EXAMPLES / "miura_6x4.toml", EXAMPLES / "miura_route.toml", out)
-    summary = (
-        "One ring TSA twists four strings that reach the sheet from guides on a ring of 70 mm "
-        "radius and thread through panel holes on the side where each crease closes (above "
-        "valleys, below mountains). Each quasi-static step turns the TSA by 2 deg (eq. 8) and "
-        "finds the smallest fold ratio at which every string fits its length (eq. 7)."
-    )
-    title = "Fig. 5 - folding by a twisted string actuator (DCQC)"
-    return _report("fig5", title, summary, root, done)
+    return [jobs.run_route(EXAMPLES / "miura_6x4.toml", EXAMPLES / "miura_route.toml", out)]
 
 
-def step_fig6(out: Path, root: Path, quick: bool) -> StepReport:
+def fig6(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 6: the boat-like pattern read from DXF: panels, holes, parts, TSA folding."""
     boat, route = EXAMPLES / "data" / "boat.dxf", EXAMPLES / "boat_route.toml"
-    chained = [
+    return [
         jobs.run_check(boat),
         jobs.run_pattern(boat, [out / "pattern.png"], labels=True),
         jobs.run_simulate(boat, route, out, steps=24 if quick else 100),
         jobs.run_fabricate(boat, out / "parts", renders=True, name="boat"),
         jobs.run_part("tsa-module", out, pattern=boat, panel="f0"),
     ]
-    summary = (
-        "A 165.6 x 96.6 mm crease pattern drawn in CAD is read from DXF, checked, turned into "
-        "printable parts with one hole per panel, fitted with an onboard TSA module, and folded "
-        "by that TSA's strings in the bar-and-hinge simulation (any pattern, no kinematic "
-        "model needed) until its creases reach eq. 6's limit."
-    )
-    title = "Fig. 6 - a boat-like structure from a DXF file"
-    return _report("fig6", title, summary, root, *chained)
 
 
-def step_fig7(out: Path, root: Path, quick: bool) -> StepReport:
+def fig7(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 7: the crawler's four-TSA gait cycle run against emulated servos (dry run)."""
     speed = 32.0 if quick else 8.0
     done = jobs.run_drive(
@@ -127,24 +81,70 @@ def step_fig7(out: Path, root: Path, quick: bool) -> StepReport:
         plot=out / "crawler_turns.png",
     )
     done.numbers.insert(1, ("dry-run time acceleration", f"{speed:g} x"))
-    summary = (
-        "Four onboard TSAs (servo IDs 1-4) run the 32 s cycle of get ready, step forward, "
-        "crawl and relax, from fold-ratio keyframes turned into motor turns through each "
-        "TSA's model. The servos are emulated: real Dynamixel Protocol 2.0 packets go through "
-        "dynamixel_sdk over a pseudo-terminal; every command and reading is in the CSV log."
-    )
-    title = "Fig. 7 - the crawler's gait on four TSAs (dry run)"
-    return _report("fig7", title, summary, root, done)
+    return [done]
 
 
-STEPS: list[tuple[str, Callable[[Path, Path, bool], StepReport]]] = [
-    ("fig2", step_fig2),
-    ("fig3", step_fig3),
-    ("fig4", step_fig4),
-    ("fig5", step_fig5),
-    ("fig6", step_fig6),
-    ("fig7", step_fig7),
-]
+class Step(NamedTuple):
+    """A section of the report: its key (the sub-folder), title, text and the jobs it chains."""
+
+    key: str
+    title: str
+    summary: str
+    run: Callable[[Path, bool], list[Outputs]]
+
+
+STEPS: list[Step] = [
+    Step("fig2", "Fig. 2 - from a transition graph to a folded tessellation",
+         "Five transition vectors drawn at p = 0.5 (unit width 36 mm, three copies) give the "
+         "shape angles of eq. 1; the tessellation then folds rigidly and exactly (eqs. 2-3).",
+         fig2),
+    Step("fig3", "Fig. 3 - computational design of an origami robotic arm",
+         "T_s = (0, 0); the tip must pass P_start = (250, 0) when flat and P_end = (50, 133.3) "
+         "when folded, never touch the prohibited area (x >= 150, y >= 40) and stay out of "
+         "the warning area (x >= 140, y >= 30). Fitness: eq. 5 with alpha = 120; the winner "
+         "must also be buildable at a 36 mm unit width.",
+         fig3),
+    Step("fig4", "Fig. 4 - dual-material printable structures",
+         "Each panel is two exact B-rep halves (PLA infill wrapped in a TPU shell) with "
+         "chamfers of eq. 6, joined by a PLA mid-layer in a continuous TPU crease sheet. "
+         "Exported as four STL files, one STEP assembly and a 3MF whose PLA parts are on "
+         "extruder 1 and TPU parts on extruder 2 (PrusaSlicer and Bambu/Orca).",
+         fig4),
+    Step("fig5", "Fig. 5 - folding by a twisted string actuator (DCQC)",
+         "One ring TSA twists four strings that reach the sheet from guides on a ring of 70 mm "
+         "radius and thread through panel holes on the side where each crease closes (above "
+         "valleys, below mountains). Each quasi-static step turns the TSA by 2 deg (eq. 8) and "
+         "finds the smallest fold ratio at which every string fits its length (eq. 7).",
+         fig5),
+    Step("fig6", "Fig. 6 - a boat-like structure from a DXF file",
+         "A 165.6 x 96.6 mm crease pattern drawn in CAD is read from DXF, checked, turned into "
+         "printable parts with one hole per panel, fitted with an onboard TSA module, and folded "
+         "by that TSA's strings in the bar-and-hinge simulation (any pattern, no kinematic "
+         "model needed) until its creases reach eq. 6's limit.",
+         fig6),
+    Step("fig7", "Fig. 7 - the crawler's gait on four TSAs (dry run)",
+         "Four onboard TSAs (servo IDs 1-4) run the 32 s cycle of get ready, step forward, "
+         "crawl and relax, from fold-ratio keyframes turned into motor turns through each "
+         "TSA's model. The servos are emulated: real Dynamixel Protocol 2.0 packets go through "
+         "dynamixel_sdk over a pseudo-terminal; every command and reading is in the CSV log.",
+         fig7),
+]  # fmt: skip
+
+
+def run_step(step: Step, root: Path, quick: bool = False) -> StepReport:
+    """Run one step into ``root/<key>/``; its report section, or the error it ended with."""
+    t0 = time.perf_counter()
+    try:
+        done = Outputs()
+        for out in step.run(root / step.key, quick):
+            done.extend(out)
+        rep = StepReport(step.key, step.title, summary=step.summary, numbers=done.numbers)
+        rep.images = [(p.relative_to(root).as_posix(), caption) for p, caption in done.images]
+        rep.files = [p.relative_to(root).as_posix() for p in dict.fromkeys(done.files)]
+    except Exception as exc:  # reported in the page; run_demo raises at the end
+        rep = StepReport(step.key, step.title, error=f"{type(exc).__name__}: {exc}")
+    rep.seconds = time.perf_counter() - t0
+    return rep
 
 
 def run_demo(out: Path, quick: bool = False, echo: Callable[[str], None] = print) -> Path:
@@ -158,16 +158,12 @@ def run_demo(out: Path, quick: bool = False, echo: Callable[[str], None] = print
     reports = []
     t_all = time.perf_counter()
     failed = []
-    for key, func in STEPS:
-        echo(f"[{key}] {func.__doc__.splitlines()[0]}")
-        t0 = time.perf_counter()
-        try:
-            rep = func(out / key, out, quick)
-        except Exception as exc:  # reported in the page, re-raised at the end
-            rep = StepReport(key, key, error=f"{type(exc).__name__}: {exc}")
-            failed.append(key)
-        rep.seconds = time.perf_counter() - t0
-        echo(f"[{key}] {'FAILED' if rep.error else 'done'} in {rep.seconds:.1f} s")
+    for step in STEPS:
+        echo(f"[{step.key}] {step.run.__doc__.splitlines()[0]}")
+        rep = run_step(step, out, quick)
+        if rep.error:
+            failed.append(step.key)
+        echo(f"[{step.key}] {'FAILED' if rep.error else 'done'} in {rep.seconds:.1f} s")
         reports.append(rep)
     total = time.perf_counter() - t_all
     index = write_report(

@@ -666,6 +666,27 @@ def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
     return limits
 
 
+def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+    from origami_cad.viz.strings_plots import save_route_png
+
+    frames = [
+        folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
+        for x, s in zip(result.states, result.steps, strict=True)
+    ]
+    write_fold(cp, stage / names[0], frames=frames)
+    with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+        json.dump(result.to_dict(), fh, indent=1)
+    every = max(1, len(result.states) // max(gif_frames, 1))
+    shown = [*result.states[::every], result.states[-1]]
+    view = (1, -1.5, 1)
+    render_folding_gif(cp, shown, stage / names[2], view=view)
+    title = f"after {result.steps[-1]['turns']:.1f} TSA turns"
+    render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
+    save_route_png(cp, spec, stage / names[4])
+
+
 def run_simulate(
     pattern: PathLike,
     route: PathLike,
@@ -689,12 +710,9 @@ def run_simulate(
     ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
     the number of frames of the animation.
     """
-    from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.simulation import SimulationParams, simulate
     from origami_cad.strings import load_route
-    from origami_cad.viz.render3d import render_folded, render_folding_gif
-    from origami_cad.viz.strings_plots import save_route_png
 
     if steps is not None and not 1 <= steps <= 100_000:
         raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
@@ -713,19 +731,7 @@ def run_simulate(
     last = result.steps[-1]
     names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
-        save_route_png(cp, spec, stage / names[4])
-        frames = [
-            folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
-            for x, s in zip(result.states, result.steps, strict=True)
-        ]
-        write_fold(cp, stage / names[0], frames=frames)
-        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
-            json.dump(result.to_dict(), fh, indent=1)
-        every = max(1, len(result.states) // max(gif_frames, 1))
-        shown = [*result.states[::every], result.states[-1]]
-        render_folding_gif(cp, shown, stage / names[2], view=(1, -1.5, 1))
-        title = f"after {last['turns']:.1f} TSA turns"
-        render_folded(cp, result.states[-1], stage / names[3], title=title, view=(1, -1.5, 1))
+        _write_simulation(stage, names, cp, spec, result, gif_frames)
     files = [Path(folder) / n for n in names]
     tensions = ", ".join(f"{t:.3g}" for t in last["tensions_N"])
     return Outputs(

@@ -27,7 +27,7 @@ def test_quick_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["demo", "-o", str(out), "--quick"]) == 0
     printed = capsys.readouterr().out
-    for key, _ in STEPS:
+    for key in (s.key for s in STEPS):
         assert re.search(rf"\[{key}\] done in \d+\.\d s", printed)
     assert "total" in printed
     page = (out / "index.html").read_text()
@@ -37,8 +37,8 @@ def test_quick_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
     for ref in parser.refs:
         assert "://" not in ref  # viewable offline
         assert (out / ref).is_file(), ref
-    for key, _ in STEPS:
-        assert f"id='{key}'" in page
+    for step in STEPS:
+        assert f"id='{step.key}'" in page
     assert "FAILED" not in printed and "This step failed" not in page
     check_against_before(out)
 
