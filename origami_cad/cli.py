@@ -7,7 +7,6 @@ Bad input prints one line ``origami-cad: error: ...`` and exits with code 2;
 from __future__ import annotations
 
 import argparse
-import inspect
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -159,9 +158,9 @@ def _cmd_design_arm(args: argparse.Namespace) -> int:
     best = results[0]
     print(
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
-        f"|T_e(0) - P_start| = {best.terms['d_start_mm']:.3g} mm, "
-        f"|T_e(pi) - P_end| = {best.terms['d_end_mm']:.3g} mm, N = "
-        f"{best.terms['improper_states']} ({seconds:.1f} s)"
+        f"|T_e(0) - P_start| = {best.terms.d_start:.3g} mm, "
+        f"|T_e(pi) - P_end| = {best.terms.d_end:.3g} mm, N = "
+        f"{best.terms.improper_states} ({seconds:.1f} s)"
     )
     for path in paths.values():
         print(f"wrote {path}")
@@ -344,62 +343,17 @@ def _cmd_drive(args: argparse.Namespace) -> int:
     return 0
 
 
-def _part_params(func) -> dict[str, inspect.Parameter]:
-    skip = {"fab", "panel", "crease", "tsa", "body", "centre", "angles"}
-    return {n: p for n, p in inspect.signature(func).parameters.items() if n not in skip}
-
-
 def _cmd_part(args: argparse.Namespace) -> int:
-    from parts import PARTS
+    from origami_cad.fabrication.export import export_part
+    from origami_cad.parts import build_part, parse_part_options, parts_listing
 
     if args.list or not args.name:
-        for name, func in PARTS.items():
-            doc = (func.__doc__ or "").strip().splitlines()[0]
-            print(f"{name}: {doc}")
-            for pname, p in _part_params(func).items():
-                print(f"    --{pname.replace('_', '-')} (default {p.default!r})")
+        print(parts_listing())
         return 0
-    if args.name not in PARTS:
-        raise DesignError(f"unknown part {args.name!r} (known: {', '.join(PARTS)})")
     if not args.output:
         raise DesignError("give the output folder with -o DIR")
-    func = PARTS[args.name]
-    known = _part_params(func)
-    kwargs: dict = {}
-    extra = list(args.params)
-    while extra:
-        key = extra.pop(0)
-        if not key.startswith("--") or not extra:
-            raise DesignError(f"expected --name value pairs after the part name, got {key!r}")
-        name = key[2:].replace("-", "_")
-        value = extra.pop(0)
-        if name not in known:
-            raise DesignError(
-                f"part {args.name} has no parameter --{key[2:]} (see origami-cad part --list)"
-            )
-        default = known[name].default
-        try:
-            kwargs[name] = type(default)(value) if default is not None else value
-        except ValueError:
-            raise DesignError(
-                f"--{key[2:]}: expected a {type(default).__name__}, got {value!r}"
-            ) from None
-    if args.pattern:
-        from origami_cad.fabrication import fabricate
-        from origami_cad.pattern.design import load_pattern_source
-
-        fab = fabricate(load_pattern_source(args.pattern))
-        if args.name == "blocker":
-            if args.crease is None:
-                raise DesignError("the blocker needs --crease EDGE with --pattern")
-            kwargs.update(fab=fab, crease=args.crease)
-        elif args.name == "tsa-module":
-            if not args.panel:
-                raise DesignError("the TSA module needs --panel LABEL with --pattern")
-            kwargs.update(fab=fab, panel=args.panel)
-    part = func(**kwargs)
-    from origami_cad.fabrication.export import export_part
-
+    values = parse_part_options(args.params)
+    part = build_part(args.name, values, pattern=args.pattern, panel=args.panel, crease=args.crease)
     paths = export_part(part, Path(args.output), args.name)
     print(
         f"{args.name}: volume {part.volume / 1000:.2f} cm3; wrote "

@@ -117,9 +117,9 @@ def step_fig3(out: Path, root: Path, quick: bool) -> StepReport:
         ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
         ("search time", f"{seconds:.1f} s"),
         ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
-        ("|T_e(0) - P_start|", f"{best.terms['d_start_mm']:.3g} mm"),
-        ("|T_e(pi) - P_end|", f"{best.terms['d_end_mm']:.3g} mm"),
-        ("improper states N", str(best.terms["improper_states"])),
+        ("|T_e(0) - P_start|", f"{best.terms.d_start:.3g} mm"),
+        ("|T_e(pi) - P_end|", f"{best.terms.d_end:.3g} mm"),
+        ("improper states N", str(best.terms.improper_states)),
         ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
     ]
@@ -171,11 +171,11 @@ def _fabricate_into(design, folder: Path, root: Path, rep: StepReport, name: str
         (f"{name}: volumes", vols),
         (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),
     ]
-    if fab.limits.get("p_max_kinematic") is not None:
+    if fab.limits.p_max_kinematic is not None:
         rep.numbers.append(
             (
                 f"{name}: p_max of the folded structure (legs first)",
-                f"{100 * fab.limits['p_max_kinematic']:.1f} %",
+                f"{100 * fab.limits.p_max_kinematic:.1f} %",
             )
         )
     rep.numbers.append((f"{name}: build + export time", f"{sum(fab.timings.values()):.1f} s"))
@@ -282,10 +282,10 @@ def step_fig6(out: Path, root: Path, quick: bool) -> StepReport:
     render_folding_gif(
         cp, [*result.states[::every], result.states[-1]], out / "folding.gif", view=(1, -1.5, 1)
     )
-    from origami_cad.fabrication import fabricate
-    from parts import tsa_module
+    from origami_cad.fabrication import plan_panels
+    from origami_cad.parts import tsa_module
 
-    module = tsa_module(fab=fabricate(design), panel="f0")
+    module = tsa_module(plan=plan_panels(design), panel="f0")
     export_part(module, out, "tsa_module")
     keel = int(np.flatnonzero(cp.edge_mask("V"))[0])
     last = result.steps[-1]

@@ -12,13 +12,19 @@ height of the servo horn, the mount sits on the panel's outer face (z = h).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 import shapely
 from build123d import Box, Compound, Cylinder, Location, Part, Plane, Polyline, extrude, make_face
 
 from origami_cad.errors import DesignError
+from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
-__all__ = ["SERVOS", "tsa_module"]
+from .parameters import resolve_params, spec
+
+__all__ = ["SERVOS", "TSAModuleParams", "tsa_module"]
 
 #: Servo bodies: (width, length, height) of the case in mm and the horn axis's distance from
 #: the front end, from the manufacturer's published drawings.
@@ -35,49 +41,73 @@ def _prism(poly: shapely.Polygon, z0: float, z1: float) -> Part:
     return solid if isinstance(solid, Part) else Part(solid.wrapped)
 
 
+@dataclass(frozen=True)
+class TSAModuleParams:
+    """Parameters of :func:`tsa_module`."""
+
+    servo: str = field(
+        default="XL330",
+        metadata=spec("", "XL330 or XL430 (published footprints), or any name with body"),
+    )
+    body: tuple[float, float, float] | None = field(
+        default=None, metadata=spec("mm", "width, length, height of another servo's case")
+    )
+    horn_offset: float | None = field(
+        default=None,
+        metadata=spec("mm", "horn axis from the case's front end (default: the servo's)"),
+    )
+    tsa: TSAParams | None = field(
+        default=None,
+        metadata=spec(
+            "", "the TSA model: its d1 places the hub's anchor holes (default TSAParams())"
+        ),
+    )
+    hub_thickness: float = field(default=4.0, metadata=spec("mm", "hub disc thickness", low=0.0))
+    anchor_hole: float = field(default=1.2, metadata=spec("mm", "anchor hole diameter", low=0.0))
+    guide_distance: float = field(
+        default=20.0, metadata=spec("mm", "string exit guide's distance from the hub", low=0.0)
+    )
+    guide_hole: float = field(
+        default=3.0, metadata=spec("mm", "string exit guide's hole diameter", low=0.0)
+    )
+    mount_thickness: float = field(
+        default=3.0, metadata=spec("mm", "thickness of the mount plate", low=0.0)
+    )
+    heading: float = field(
+        default=0.0, metadata=spec("deg", "direction of the twist axis, from +x")
+    )
+    centre: tuple[float, float] = field(
+        default=(0.0, 0.0), metadata=spec("mm", "where the module stands without a panel")
+    )
+
+
 def tsa_module(
-    servo: str = "XL330",
-    body: tuple[float, float, float] | None = None,
-    horn_offset: float | None = None,
-    tsa: TSAParams | None = None,
-    hub_thickness: float = 4.0,
-    anchor_hole: float = 1.2,
-    guide_distance: float = 20.0,
-    guide_hole: float = 3.0,
-    mount_thickness: float = 3.0,
-    heading: float = 0.0,
-    fab=None,
+    params: TSAModuleParams | None = None,
+    *,
+    plan: PanelPlan | None = None,
     panel: str | None = None,
-    centre: tuple[float, float] = (0.0, 0.0),
+    **values: Any,
 ) -> Compound:
     """An onboard TSA module, as an assembly: ``servo``, ``hub``, ``guide``, ``mount``.
 
     Parameters
     ----------
-    servo : str
-        ``"XL330"`` or ``"XL430"`` (published footprints), or any name with ``body``.
-    body : (float, float, float), optional
-        Width, length, height of another servo's case, mm.
-    horn_offset : float, optional
-        Distance of the horn axis from the case's front end, mm.
-    tsa : TSAParams, optional
-        The TSA model; its ``d1`` places the hub's anchor holes (default ``TSAParams()``).
-    hub_thickness, anchor_hole : float
-        Hub disc thickness and anchor hole diameter, mm.
-    guide_distance, guide_hole : float
-        Distance of the string exit guide from the hub along the axis, and its hole, mm.
-    mount_thickness : float
-        Thickness of the mount plate, mm.
-    heading : float
-        Direction of the twist axis in the pattern plane, degrees from +x.
-    fab : Fabrication, optional
-        With ``panel``: the mount is the panel's outer face inset by 1 mm, with holes
-        at the panel's fabrication holes, placed on the panel (z = h).
+    params : TSAModuleParams, optional
+        The parameters (default ``TSAModuleParams()``).
+    plan : PanelPlan, optional
+        The planned panels of a pattern (``fab.plan`` of a fabrication). With
+        ``panel``: the mount is the panel's outer face inset by 1 mm, with holes
+        at the panel's holes, placed on the panel (z = h).
     panel : str, optional
-        Label of the panel of ``fab`` to mount on.
-    centre : (float, float)
-        Where the module stands without a panel, mm.
+        Label of the panel of ``plan`` to mount on.
+    **values
+        Parameters to change, by name (Python values or text, see
+        :class:`TSAModuleParams` for units): ``tsa_module(servo="XL430")``.
     """
+    p = resolve_params(TSAModuleParams, params, values)
+    servo, body, horn_offset, tsa = p.servo, p.body, p.horn_offset, p.tsa
+    hub_thickness, anchor_hole, mount_thickness = p.hub_thickness, p.anchor_hole, p.mount_thickness
+    guide_distance, guide_hole, heading = p.guide_distance, p.guide_hole, p.heading
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
@@ -95,17 +125,16 @@ def tsa_module(
         raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
     z_base = 0.0
     holes: list[tuple[float, float, float]] = []
-    if fab is not None:
+    if plan is not None:
         if panel is None:
             raise DesignError("give the panel label to mount the TSA module on")
-        fi = fab.pattern.face_index(panel)
-        outline = next(o for o in fab.outlines if o.index == fi)
+        outline = plan.outline(panel)
         foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
-        holes = [(x, y, d) for i, x, y, d in fab.holes if i == fi]
-        z_base = fab.params.height
+        holes = [(h.x, h.y, h.diameter) for h in plan.holes_of(outline.index)]
+        z_base = plan.params.height
         cx, cy = foot.centroid.x, foot.centroid.y
     else:
-        cx, cy = centre
+        cx, cy = p.centre
         foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
     # mount plate with the panel's holes
     mount = _prism(foot, z_base, z_base + mount_thickness)

@@ -182,10 +182,10 @@ def test_paper_task_quality_bar_on_a_small_budget():
     settings = SearchSettings(runs=10, seed=1, max_generations=300)
     results = design_arm(task, settings)
     best = results[0]
-    assert best.terms["d_start_mm"] <= 2.0
-    assert best.terms["d_end_mm"] <= 5.0
-    assert best.terms["improper_states"] == 0
-    assert best.terms["prohibited_states"] == 0
+    assert best.terms.d_start <= 2.0
+    assert best.terms.d_end <= 5.0
+    assert best.terms.improper_states == 0
+    assert best.terms.prohibited_states == 0
     # independently: the chain never touches the prohibited area
     prohibited = task.prohibited[0]
     pts = chain_points(

@@ -24,8 +24,8 @@ def best_design_toml(
     angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
     return (
         f"# Best arm design of run {design.run}: fitness {design.fitness:.4f} (eq. 5)\n"
-        f"# T_e(0) is {design.terms['d_start_mm']:.3f} mm from P_start, T_e(pi) "
-        f"{design.terms['d_end_mm']:.3f} mm from P_end, {design.terms['improper_states']} "
+        f"# T_e(0) is {design.terms.d_start:.3f} mm from P_start, T_e(pi) "
+        f"{design.terms.d_end:.3f} mm from P_end, {design.terms.improper_states} "
         "improper states\n"
         "[pattern]\n"
         'kind = "transition-graph"\n'
