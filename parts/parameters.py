@@ -157,16 +157,15 @@ def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
         if not isinstance(value, str):
             raise DesignError(f"parameter {info.name}: expected text, got {value!r}")
         return value
+    expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
     if isinstance(value, bool) or not isinstance(value, str | int | float):
-        raise DesignError(f"parameter {info.name}: expected a {tp.__name__}, got {value!r}")
+        raise DesignError(f"{expected}, got {value!r}")
     try:
         number = tp(value.strip()) if isinstance(value, str) else tp(value)
     except ValueError:
-        raise DesignError(
-            f"parameter {info.name}: expected a {tp.__name__}, got {value!r}"
-        ) from None
-    if tp is int and not isinstance(value, str) and number != value:
-        raise DesignError(f"parameter {info.name}: expected an int, got {value!r}")
+        raise DesignError(f"{expected}, got {value!r}") from None
+    if number != value and not isinstance(value, str):
+        raise DesignError(f"{expected}, got {value!r}")
     if not math.isfinite(number):
         raise DesignError(f"parameter {info.name}: expected a finite number, got {value!r}")
     if info.low is not None and not number > info.low:

@@ -15,7 +15,13 @@ from origami_cad.fabrication.build import (
     fabricate,
     write_fabrication,
 )
-from origami_cad.fabrication.panels import PanelOutline, offset_ring, panel_outlines, place_holes
+from origami_cad.fabrication.panels import (
+    PanelOutline,
+    offset_ring,
+    panel_outlines,
+    place_holes,
+    plan_holes,
+)
 from origami_cad.fabrication.params import (
     DENSITY_G_CM3,
     FabricationParams,
@@ -45,6 +51,7 @@ __all__ = [
     "offset_ring",
     "panel_outlines",
     "place_holes",
+    "plan_holes",
     "plan_panels",
     "theta_max",
     "write_fabrication",

@@ -21,7 +21,14 @@ from origami_cad.errors import PatternError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern, Hole
 
-__all__ = ["FREE_EDGES", "PanelOutline", "offset_ring", "panel_outlines", "place_holes"]
+__all__ = [
+    "FREE_EDGES",
+    "PanelOutline",
+    "offset_ring",
+    "panel_outlines",
+    "place_holes",
+    "plan_holes",
+]
 
 #: Edges whose sides are free (vertical walls, border margin): border and cut.
 FREE_EDGES = ("B", "C")
@@ -195,6 +202,18 @@ def _centred_pole(region) -> shapely.Point:
 
 
 def place_holes(
+    cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
+) -> list[tuple[int, float, float, float]]:
+    """Legacy form of :func:`plan_holes`: ``(panel index, x, y, diameter)`` tuples.
+
+    Kept only for ``strings/route.py`` until its automatic holes call
+    :func:`~origami_cad.fabrication.plan_panels`; use :func:`plan_holes`.
+    """
+    holes, panels = plan_holes(cp, outlines, params)
+    return [(int(i), h.x, h.y, h.diameter) for h, i in zip(holes, panels, strict=True)]
+
+
+def plan_holes(
     cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
 ) -> tuple[tuple[Hole, ...], np.ndarray]:
     """The holes following ``params.holes`` and the panel each one goes through.

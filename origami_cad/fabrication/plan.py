@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad.errors import PatternError
-from origami_cad.fabrication.panels import PanelOutline, panel_outlines, place_holes
+from origami_cad.fabrication.panels import PanelOutline, panel_outlines, plan_holes
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
@@ -240,7 +240,7 @@ def plan_panels(
     cp = design.pattern
     t0 = time.perf_counter()
     outlines = tuple(panel_outlines(cp, params))
-    holes, hole_panels = place_holes(cp, list(outlines), params)
+    holes, hole_panels = plan_holes(cp, list(outlines), params)
     timings = {"panels_and_holes": time.perf_counter() - t0}
     t0 = time.perf_counter()
     limits = crease_limits(design, params)
