@@ -106,8 +106,7 @@ def tsa_module(
     """
     p = resolve_params(TSAModuleParams, params, values)
     servo, body, horn_offset, tsa = p.servo, p.body, p.horn_offset, p.tsa
-    hub_thickness, anchor_hole, mount_thickness = p.hub_thickness, p.anchor_hole, p.mount_thickness
-    guide_distance, guide_hole, heading = p.guide_distance, p.guide_hole, p.heading
+    heading = p.heading
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
@@ -123,6 +122,34 @@ def tsa_module(
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
         raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
+    mount, cx, cy, z_base = _mount(p, plan, panel, length, w)
+    # the servo lies on its side: its height runs along the twist axis (local x, horn face
+    # at x = 0), its length across (local y, horn axis horn_offset from the front end)
+    z0 = z_base + p.mount_thickness
+    servo_box = Box(h, length, w, align=None).moved(Location((-h, -horn_offset, z0)))
+    servo_part = servo_box if isinstance(servo_box, Part) else Part(servo_box.wrapped)
+    hub, guide = _hub_and_guide(p, tsa, horn_d, z0, z0 + w / 2)
+    shift = Location((cx, cy, 0), (0, 0, 1), heading)
+    children = []
+    for name, part in (("servo", servo_part), ("hub", hub), ("guide", guide)):
+        moved = part.moved(shift)
+        moved = moved if isinstance(moved, Part) else Part(moved.wrapped)
+        moved.label = name
+        children.append(moved)
+    children.append(mount)
+    assembly = Compound(children=children)
+    assembly.label = f"TSA module ({servo})"
+    return assembly
+
+
+def _mount(
+    p: TSAModuleParams, plan: PanelPlan | None, panel: str | None, length: float, w: float
+) -> tuple[Part, float, float, float]:
+    """The mount plate and where the module stands: ``(mount, cx, cy, z_base)``, mm.
+
+    On a planned panel: the panel's outer face inset by 1 mm with the panel's holes, at
+    z = h; otherwise a plate 4 mm larger than the servo around ``p.centre``.
+    """
     z_base = 0.0
     holes: list[tuple[float, float, float]] = []
     if plan is not None:
@@ -136,45 +163,35 @@ def tsa_module(
     else:
         cx, cy = p.centre
         foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
-    # mount plate with the panel's holes
-    mount = _prism(foot, z_base, z_base + mount_thickness)
+    mount = _prism(foot, z_base, z_base + p.mount_thickness)
     for x, y, d in holes:
-        mount = mount - Cylinder(d / 2, mount_thickness + 2, align=None).moved(
+        mount = mount - Cylinder(d / 2, p.mount_thickness + 2, align=None).moved(
             Location((x, y, z_base - 1))
         )
     mount = mount if isinstance(mount, Part) else Part(mount.wrapped)
     mount.label = "mount"
-    # the servo lies on its side: its height runs along the twist axis (local x, horn face
-    # at x = 0), its length across (local y, horn axis horn_offset from the front end)
-    z0 = z_base + mount_thickness
-    axis_z = z0 + w / 2
-    servo_box = Box(h, length, w, align=None).moved(Location((-h, -horn_offset, z0)))
-    servo_part = servo_box if isinstance(servo_box, Part) else Part(servo_box.wrapped)
+    return mount, cx, cy, z_base
+
+
+def _hub_and_guide(
+    p: TSAModuleParams, tsa: TSAParams, horn_d: float, z0: float, axis_z: float
+) -> tuple[Part, Part]:
+    """The twist hub (anchor holes at the TSA's ``d1``) and the string exit guide, local frame."""
     front = 0.0
-    hub_r = max(tsa.d1 / 2 + max(3.0, anchor_hole * 2), horn_d / 2)
-    hub = Cylinder(hub_r, hub_thickness, align=None).moved(
+    hub_r = max(tsa.d1 / 2 + max(3.0, p.anchor_hole * 2), horn_d / 2)
+    hub = Cylinder(hub_r, p.hub_thickness, align=None).moved(
         Location((front + 1.0, 0, axis_z), (0, 1, 0), 90)
     )
     for sign in (1, -1):  # the two anchor holes at the rotation diameter d1
-        hub = hub - Cylinder(anchor_hole / 2, hub_thickness + 2, align=None).moved(
+        hub = hub - Cylinder(p.anchor_hole / 2, p.hub_thickness + 2, align=None).moved(
             Location((front, sign * tsa.d1 / 2, axis_z), (0, 1, 0), 90)
         )
     hub = hub if isinstance(hub, Part) else Part(hub.wrapped)
-    gx = front + 1.0 + hub_thickness + guide_distance
+    gx = front + 1.0 + p.hub_thickness + p.guide_distance
     guide_h = axis_z - z0 + 6.0
     guide = Box(3.0, 2 * hub_r, guide_h, align=None).moved(Location((gx, -hub_r, z0)))
-    guide = guide - Cylinder(guide_hole / 2, 6.0, align=None).moved(
+    guide = guide - Cylinder(p.guide_hole / 2, 6.0, align=None).moved(
         Location((gx - 1.0, 0, axis_z), (0, 1, 0), 90)
     )
     guide = guide if isinstance(guide, Part) else Part(guide.wrapped)
-    shift = Location((cx, cy, 0), (0, 0, 1), heading)
-    children = []
-    for name, part in (("servo", servo_part), ("hub", hub), ("guide", guide)):
-        moved = part.moved(shift)
-        moved = moved if isinstance(moved, Part) else Part(moved.wrapped)
-        moved.label = name
-        children.append(moved)
-    children.append(mount)
-    assembly = Compound(children=children)
-    assembly.label = f"TSA module ({servo})"
-    return assembly
+    return hub, guide
