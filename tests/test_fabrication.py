@@ -5,6 +5,9 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import os
+import subprocess
+import sys
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -337,3 +340,38 @@ def test_a_panel_that_is_not_a_simple_polygon_is_refused(tmp_path):
     framed = CreasePattern(outer + inner, edges, ["B"] * 4 + ["C"] * 4)
     with pytest.raises(PatternError, match="cannot fabricate"):
         fabricate(framed)
+
+
+def test_plots_and_renders_leave_no_global_state(tmp_path):
+    """Importing and using the plots and renders selects no backend and sets no global flag."""
+    script = f"""
+import sys
+import matplotlib
+before = matplotlib.rcParams._get_backend_or_none()
+from origami_cad.pattern.design import miura_design
+from origami_cad.kinematics.folding import fold_sequence
+from origami_cad.fabrication import plan_panels
+from origami_cad.viz import design_plots, drive_plots, tg_plot, parts_render
+from origami_cad.viz.fabrication_plots import save_panels_png
+from origami_cad.viz.render3d import render_folded
+import pyvista
+from vtkmodules.vtkRenderingCore import vtkMapper
+resolve = vtkMapper.GetResolveCoincidentTopology()
+design = miura_design(2, 3, 30.0, 30.0, 65.0)
+save_panels_png(plan_panels(design), r"{tmp_path}/panels.png")
+(state,) = fold_sequence(design, [0.5])
+render_folded(design.pattern, state.coords, r"{tmp_path}/folded.png")
+assert matplotlib.rcParams._get_backend_or_none() == before, "backend selected"
+pyplot = sys.modules.get("matplotlib.pyplot")  # cma imports it, but no figure is open
+assert pyplot is None or not pyplot.get_fignums(), "figures left in pyplot"
+assert not pyvista.OFF_SCREEN, "pyvista.OFF_SCREEN set"
+assert vtkMapper.GetResolveCoincidentTopology() == resolve, "VTK mapper state changed"
+"""
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    folded = imread(tmp_path / "folded.png")[..., :3]
+    ink = np.any(folded < 0.9, axis=-1).mean()  # panels and creases on white
+    assert 0.05 < ink < 0.9
