@@ -30,29 +30,22 @@ def _touch(ax, ay, bx, by, cx, cy, dx, dy) -> bool:
     )
 
 
+@njit(cache=True, inline="always")
+def _row_self_touches(x: np.ndarray, y: np.ndarray, r: int) -> bool:
+    m = x.shape[1]
+    for i in range(m - 3):
+        ax, ay, bx, by = x[r, i], y[r, i], x[r, i + 1], y[r, i + 1]
+        for j in range(i + 2, m - 1):
+            if _touch(ax, ay, bx, by, x[r, j], y[r, j], x[r, j + 1], y[r, j + 1]):
+                return True
+    return False
+
+
 @njit(cache=True)
 def _self_intersections(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    k, m = x.shape
-    out = np.zeros(k, dtype=np.bool_)
-    for r in range(k):
-        hit = False
-        for i in range(m - 3):
-            for j in range(i + 2, m - 1):
-                if _touch(
-                    x[r, i],
-                    y[r, i],
-                    x[r, i + 1],
-                    y[r, i + 1],
-                    x[r, j],
-                    y[r, j],
-                    x[r, j + 1],
-                    y[r, j + 1],
-                ):
-                    hit = True
-                    break
-            if hit:
-                break
-        out[r] = hit
+    out = np.zeros(x.shape[0], dtype=np.bool_)
+    for r in range(x.shape[0]):
+        out[r] = _row_self_touches(x, y, r)
     return out
 
 
@@ -68,38 +61,30 @@ def _inside_one(px: float, py: float, edges: np.ndarray) -> bool:
     return parity
 
 
+@njit(cache=True, inline="always")
+def _row_touches_edges(x: np.ndarray, y: np.ndarray, r: int, edges: np.ndarray) -> bool:
+    m = x.shape[1]
+    for i in range(m):
+        if _inside_one(x[r, i], y[r, i], edges):
+            return True
+    for i in range(m - 1):
+        ax, ay, bx, by = x[r, i], y[r, i], x[r, i + 1], y[r, i + 1]
+        for e in range(edges.shape[0]):
+            cx, cy, dx, dy = edges[e, 0, 0], edges[e, 0, 1], edges[e, 1, 0], edges[e, 1, 1]
+            if _touch(ax, ay, bx, by, cx, cy, dx, dy):
+                return True
+    return False
+
+
 @njit(cache=True)
 def _touches_area(x: np.ndarray, y: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    k, m = x.shape
-    out = np.zeros(k, dtype=np.bool_)
+    out = np.zeros(x.shape[0], dtype=np.bool_)
     lox, loy = edges[:, :, 0].min(), edges[:, :, 1].min()
     hix, hiy = edges[:, :, 0].max(), edges[:, :, 1].max()
-    for r in range(k):
+    for r in range(x.shape[0]):
         if x[r].max() < lox or x[r].min() > hix or y[r].max() < loy or y[r].min() > hiy:
             continue
-        hit = False
-        for i in range(m):
-            if _inside_one(x[r, i], y[r, i], edges):
-                hit = True
-                break
-        if not hit:
-            for i in range(m - 1):
-                for e in range(edges.shape[0]):
-                    if _touch(
-                        x[r, i],
-                        y[r, i],
-                        x[r, i + 1],
-                        y[r, i + 1],
-                        edges[e, 0, 0],
-                        edges[e, 0, 1],
-                        edges[e, 1, 0],
-                        edges[e, 1, 1],
-                    ):
-                        hit = True
-                        break
-                if hit:
-                    break
-        out[r] = hit
+        out[r] = _row_touches_edges(x, y, r, edges)
     return out
 
 
