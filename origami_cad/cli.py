@@ -88,12 +88,14 @@ _PROGRESS = {
 
 def _call(args: argparse.Namespace) -> jobs.Outputs:
     """Call the command's job with the arguments named like its parameters."""
-    if args.command == "part" and (args.list or not args.name):
-        return jobs.Outputs(messages=jobs.part_help())
     if args.command == "part":
+        from origami_cad.parts import parse_part_options, parts_listing
+
+        if args.list or not args.name:
+            return jobs.Outputs(messages=[parts_listing()])
         if not args.folder:
             raise DesignError("give the output folder with -o DIR")
-        args.params = jobs.parse_part_params(args.name, args.params)
+        args.params = parse_part_options(args.params)
     job = _COMMANDS[args.command][0]
     names = inspect.signature(job).parameters
     if any(p.kind == p.VAR_KEYWORD for p in names.values()):  # takes every option of its own

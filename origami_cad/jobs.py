@@ -35,8 +35,6 @@ from origami_cad.errors import DesignError
 __all__ = [
     "Outputs",
     "fabrication_params",
-    "parse_part_params",
-    "part_help",
     "run_check",
     "run_convert",
     "run_design_arm",
@@ -267,8 +265,8 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
     return (
         f"# Best arm design of run {design.run}: fitness {design.fitness:.4f} (eq. 5)\n"
-        f"# T_e(0) is {terms['d_start_mm']:.3f} mm from P_start, T_e(pi) "
-        f"{terms['d_end_mm']:.3f} mm from P_end, {terms['improper_states']} improper states\n"
+        f"# T_e(0) is {terms.d_start:.3f} mm from P_start, T_e(pi) "
+        f"{terms.d_end:.3f} mm from P_end, {terms.improper_states} improper states\n"
         "[pattern]\n"
         'kind = "transition-graph"\n'
         f"unit_width = {task.unit_width or 36.0}   # mm\n"
@@ -346,16 +344,16 @@ def run_design_arm(
         ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
         ("search time", f"{seconds:.1f} s"),
         ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
-        ("|T_e(0) - P_start|", f"{t['d_start_mm']:.3g} mm"),
-        ("|T_e(pi) - P_end|", f"{t['d_end_mm']:.3g} mm"),
-        ("improper states N", str(t["improper_states"])),
+        ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
+        ("|T_e(pi) - P_end|", f"{t.d_end:.3g} mm"),
+        ("improper states N", str(t.improper_states)),
         ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
     ]
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
-        f"|T_e(0) - P_start| = {t['d_start_mm']:.3g} mm, |T_e(pi) - P_end| = "
-        f"{t['d_end_mm']:.3g} mm, N = {t['improper_states']} ({seconds:.1f} s)"
+        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(pi) - P_end| = "
+        f"{t.d_end:.3g} mm, N = {t.improper_states} ({seconds:.1f} s)"
     )
     captions = ["Top designs: chains and the path of T_e"]
     captions += ["Best fitness per generation, one line per run", "The winner's crease pattern"]
@@ -436,8 +434,8 @@ def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
         (f"{name}: volumes", vols),
         (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),
     ]
-    if fab.limits.get("p_max_kinematic") is not None:
-        kinematic = f"{100 * fab.limits['p_max_kinematic']:.1f} %"
+    if fab.limits.p_max_kinematic is not None:
+        kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
         numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
     numbers.append((f"{name}: build + export time", f"{sum(fab.timings.values()):.1f} s"))
     return numbers
@@ -503,52 +501,6 @@ def run_fabricate(
     )
 
 
-def _part_params(func) -> dict[str, Any]:
-    import inspect
-
-    skip = {"fab", "panel", "crease", "tsa", "body", "centre", "angles"}
-    return {n: p for n, p in inspect.signature(func).parameters.items() if n not in skip}
-
-
-def part_help() -> list[str]:
-    """One paragraph per part: its summary and its parameters with their defaults."""
-    from parts import PARTS
-
-    lines = []
-    for name, func in PARTS.items():
-        lines.append(f"{name}: {(func.__doc__ or '').strip().splitlines()[0]}")
-        for pname, p in _part_params(func).items():
-            lines.append(f"    --{pname.replace('_', '-')} (default {p.default!r})")
-    return lines
-
-
-def parse_part_params(name: str, tokens: Sequence[str]) -> dict[str, Any]:
-    """A part's parameters from ``--name value`` tokens, converted to their defaults' types."""
-    from parts import PARTS
-
-    if name not in PARTS:
-        raise DesignError(f"unknown part {name!r} (known: {', '.join(PARTS)})")
-    known = _part_params(PARTS[name])
-    kwargs: dict[str, Any] = {}
-    extra = list(tokens)
-    while extra:
-        key = extra.pop(0)
-        if not key.startswith("--") or not extra:
-            raise DesignError(f"expected --name value pairs after the part name, got {key!r}")
-        pname, value = key[2:].replace("-", "_"), extra.pop(0)
-        if pname not in known:
-            raise DesignError(f"part {name} has no parameter {key} (see origami-cad part --list)")
-        default = known[pname].default
-        kind = type(default) if default is not None else float
-        try:
-            kwargs[pname] = kind(value)
-        except ValueError:
-            raise DesignError(f"{key}: expected a {kind.__name__}, got {value!r}") from None
-        if kind is float and not math.isfinite(kwargs[pname]):
-            raise DesignError(f"{key}: expected a finite number, got {value!r}")
-    return kwargs
-
-
 def run_part(
     name: str,
     folder: PathLike,
@@ -560,39 +512,23 @@ def run_part(
 ) -> Outputs:
     """Build a parametric part (``origami_cad.parts``) and write NAME.step and NAME.stl.
 
-    ``params`` are the part's own parameters (mm, degrees). With ``pattern``, a
-    ``tsa-module`` is fitted to ``panel`` and a ``blocker`` to ``crease``.
+    ``params`` are the part's own parameters (mm, degrees), as values or as the
+    text of ``--name value`` options. With ``pattern``, a ``tsa-module`` is fitted
+    to ``panel`` and a ``blocker`` to ``crease``.
     """
     from origami_cad.fabrication.export import export_part
-    from parts import PARTS
+    from origami_cad.parts import build_part
 
-    if name not in PARTS:
-        raise DesignError(f"unknown part {name!r} (known: {', '.join(PARTS)})")
     inputs = [pattern] if pattern else []
     check_outputs(inputs, folders=[folder])
-    kwargs = dict(params or {})
-    if pattern:
-        from origami_cad.fabrication import fabricate
-        from origami_cad.pattern.design import load_pattern_source
-
-        fab = fabricate(load_pattern_source(pattern))
-        if name == "blocker":
-            if crease is None:
-                raise DesignError("the blocker needs a crease (edge index) with a pattern")
-            kwargs.update(fab=fab, crease=crease)
-        elif name == "tsa-module":
-            if not panel:
-                raise DesignError("the TSA module needs a panel label with a pattern")
-            kwargs.update(fab=fab, panel=panel)
-    part = PARTS[name](**kwargs)
+    part = build_part(name, params, pattern=pattern, panel=panel, crease=crease)
     with atomic_directory(folder, inputs=inputs) as stage:
         files = _moved(export_part(part, stage, name), stage, folder)
+    volume = f"{part.volume / 1000:.2f} cm3"
     return Outputs(
         files=files,
-        numbers=[(f"{name}: volume", f"{part.volume / 1000:.2f} cm3")],
-        messages=[
-            f"{name}: volume {part.volume / 1000:.2f} cm3; wrote " + ", ".join(map(str, files))
-        ],
+        numbers=[(f"{name}: volume", volume)],
+        messages=[f"{name}: volume {volume}; wrote " + ", ".join(map(str, files))],
     )
 
 
