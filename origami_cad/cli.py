@@ -278,13 +278,13 @@ def _cmd_drive(args: argparse.Namespace) -> int:
     from rich.table import Table as RichTable
 
     from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
-    from origami_cad.drive.sequence import load_sequence, run_sequence
+    from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
     seq = load_sequence(args.sequence)
     if not args.dry_run and not args.port:
         raise DesignError("give --port PORT, or --dry-run to use the emulator")
-    scale = args.speed if args.dry_run else 1.0
+    scale = check_time_scale(args.speed, "--speed") if args.dry_run else 1.0
     with contextlib.ExitStack() as stack:
         port = args.port
         if args.dry_run:
@@ -305,7 +305,9 @@ def _cmd_drive(args: argparse.Namespace) -> int:
                 profile_velocity=0,
             )
         else:
-            bus = SerialBus(port, args.baudrate, seq.ids, max_turns=limits)
+            bus = SerialBus(
+                port, args.baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
+            )
         stack.enter_context(bus)
         names = {t.dxl_id: t.name for t in seq.tsas}
 

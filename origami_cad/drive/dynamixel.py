@@ -140,6 +140,8 @@ class DynamixelBus:
     stop_attempts : int
         Attempts per servo to switch its torque off (and read it back as off)
         before :meth:`stop` reports it.
+    reopen_timeout : float
+        How long :meth:`stop` keeps trying to reopen a lost port, s.
 
     Notes
     -----
@@ -175,6 +177,7 @@ class DynamixelBus:
         profile_acceleration: int = 50,
         retries: int = 2,
         stop_attempts: int = 3,
+        reopen_timeout: float = 1.0,
     ) -> None:
         self.port_name = port
         self.baudrate = baudrate
@@ -197,6 +200,7 @@ class DynamixelBus:
         self.profile_acceleration = profile_acceleration
         self.retries = retries
         self.stop_attempts = max(1, int(stop_attempts))
+        self.reopen_timeout = reopen_timeout
         self.current_unit = CURRENT_UNIT_MA
         self.models: dict[int, int] = {}
         self._sdk = None
@@ -560,7 +564,7 @@ class DynamixelBus:
         cause = self._stop_servo(dxl_id)
         if cause is not None:
             raise TorqueOffError(
-                f"torque could not be switched off on servo {dxl_id} on port "
+                f"torque off could not be confirmed on servo {dxl_id} on port "
                 f"{self.port_name} (cut its power): {cause}",
                 [dxl_id],
             )
@@ -586,15 +590,25 @@ class DynamixelBus:
         return self.read_value(dxl_id, ADDR["torque"], 1, tolerate_alert=True) == 0
 
     def _reopen(self) -> str | None:
-        """Reopen the port after it was lost; why that failed, or None."""
+        """Reopen the port after it was lost, trying for ``reopen_timeout`` seconds.
+
+        Returns why that failed, or None. (A USB adapter that glitched comes back
+        within a second, often under a stable ``/dev/serial/by-id/`` link.)
+        """
         with contextlib.suppress(*PORT_ERRORS, AttributeError):
             self._port.closePort()
-        port = self._sdk.PortHandler(self.port_name)
-        try:
-            if not (port.openPort() and port.setBaudRate(self.baudrate)):
-                return f"the baud rate {self.baudrate} cannot be set"
-        except PORT_ERRORS as exc:
-            return port_error_text(exc)
+        deadline = time.monotonic() + self.reopen_timeout
+        while True:
+            port = self._sdk.PortHandler(self.port_name)
+            try:
+                if port.openPort() and port.setBaudRate(self.baudrate):
+                    break
+                reason = f"the baud rate {self.baudrate} cannot be set"
+            except PORT_ERRORS as exc:
+                reason = port_error_text(exc)
+            if time.monotonic() > deadline:
+                return reason
+            time.sleep(0.05)
         self._port = port
         self._dirty = False
         return None
@@ -657,7 +671,7 @@ class DynamixelBus:
                 for msg, ids in grouped.items()
             )
             raise TorqueOffError(
-                f"torque could not be switched off on {_servo_list(failed)} on port "
+                f"torque off could not be confirmed on {_servo_list(failed)} on port "
                 f"{self.port_name} (cut the servos' power): {causes}",
                 list(failed),
             )

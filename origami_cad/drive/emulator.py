@@ -208,10 +208,13 @@ class _PtyDevice:
         """
         self._actions.setdefault(int(n), []).append(action)
 
-    def _count_packet(self) -> None:
+    def _count_packet(self) -> bool:
+        """Count a packet and run its scheduled actions; True if they unplugged the device."""
+        stop = self._stop
         self.received += 1
         for action in self._actions.pop(self.received, []):
             action()
+        return stop.is_set()
 
     def _open_pty(self) -> None:
         self.master, self.slave = os.openpty()
@@ -264,7 +267,10 @@ class _PtyDevice:
                 if not ready:
                     continue
                 data = os.read(master, 4096)
-                for reply in self.feed(data):
+                replies = self.feed(data)
+                if stop.is_set():  # unplugged meanwhile: this descriptor is closed
+                    return
+                for reply in replies:
                     os.write(master, reply)
         except (OSError, ValueError):  # unplugged or stopped meanwhile
             return
@@ -311,7 +317,7 @@ class DynamixelEmulator(_PtyDevice):
             for i in ids
         }
         self._buffer = bytearray()
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()  # plug() from an injected action
         self.packets_in = 0
         self.instructions: Counter[int] = Counter()  # instruction packets received, by kind
 
@@ -347,9 +353,8 @@ class DynamixelEmulator(_PtyDevice):
         with self._lock:
             self._buffer.extend(data)
             for pkt in parse_packets(self._buffer):
-                self._count_packet()
-                if self._stop.is_set():  # unplugged by an injected fault
-                    break
+                if self._count_packet():  # unplugged by an injected fault
+                    return []
                 self.packets_in += 1
                 self.instructions[pkt.instruction] += 1
                 if not pkt.crc_ok:
@@ -421,9 +426,8 @@ class SerialEmulator(_PtyDevice):
         out = []
         while b"\n" in self._buffer:
             line, self._buffer = self._buffer.split(b"\n", 1)
-            self._count_packet()
-            if self._stop.is_set():  # unplugged by an injected fault
-                break
+            if self._count_packet():  # unplugged by an injected fault
+                return []
             reply = self.device.handle(line.decode("ascii", "replace").strip())
             if reply is not None:
                 out.append((reply + "\n").encode("ascii"))

@@ -315,16 +315,17 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
             f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
             f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
         )
-    for tsa in tsas:  # every keyframe must be reachable safely
-        for frame in frames:
+    for k, frame in enumerate(frames):  # every keyframe must be reachable safely
+        where = f"{p} [[keyframe]] #{k + 1}: key '{frame.kind}'"
+        for j, tsa in enumerate(tsas):
             try:
-                turns = Sequence._turns(tsa, frame, tsas.index(tsa))
+                turns = Sequence._turns(tsa, frame, j)
             except DriveError as exc:
-                raise DesignError(f"{p}: keyframe at t = {frame.t:g} s: {exc}") from None
+                raise DesignError(f"{where} (t = {frame.t:g} s): {exc}") from None
             if not math.isfinite(turns) or abs(turns) > tsa.max_turns:
                 raise DesignError(
-                    f"{p}: keyframe at t = {frame.t:g} s asks servo {tsa.dxl_id} ({tsa.name}) "
-                    f"for {turns:.2f} turns, beyond its TSA's {tsa.max_turns:.2f}"
+                    f"{where} (t = {frame.t:g} s) asks servo {tsa.dxl_id} ({tsa.name}) "
+                    f"for {turns:.4g} turns, beyond its TSA's {tsa.max_turns:.4g}"
                 )
     return sequence
 

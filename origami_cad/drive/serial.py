@@ -167,6 +167,8 @@ class SerialBus:
     stop_attempts : int
         Attempts to have ``S`` confirmed by the board before :meth:`stop`
         reports the motors as possibly still on.
+    reopen_timeout : float
+        How long :meth:`stop` keeps trying to reopen a lost port, s.
 
     Notes
     -----
@@ -189,6 +191,7 @@ class SerialBus:
         max_turns: dict | float | None = None,
         current_limit_ma: float | None = None,
         stop_attempts: int = 3,
+        reopen_timeout: float = 1.0,
     ) -> None:
         self.port_name = port
         self.baudrate = baudrate
@@ -205,6 +208,7 @@ class SerialBus:
         self.max_turns = _limits(self.ids, max_turns)
         self.current_limit_ma = current_limit_ma
         self.stop_attempts = max(1, int(stop_attempts))
+        self.reopen_timeout = reopen_timeout
         self.models: dict[int, int] = {}
         self._ser = None
         self._powered = False
@@ -337,6 +341,22 @@ class SerialBus:
                     )
         return out
 
+    def _reopen(self) -> str | None:
+        """Reopen a lost port, trying for ``reopen_timeout`` s; why that failed, or None."""
+        import serial
+
+        with contextlib.suppress(*PORT_ERRORS):
+            self._ser.close()
+        deadline = time.monotonic() + self.reopen_timeout
+        while True:
+            try:
+                self._ser = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
+                return None
+            except (OSError, ValueError) as exc:
+                if time.monotonic() > deadline:
+                    return port_error_text(exc)
+            time.sleep(0.05)
+
     def stop(self) -> None:
         """Turn every motor off: ``S`` until the board confirms it (``stop_attempts`` times).
 
@@ -361,16 +381,9 @@ class SerialBus:
                     cause = f"the port was lost again after reopening it ({exc})"
                     break
                 reopened = True
-                with contextlib.suppress(*PORT_ERRORS):
-                    self._ser.close()
-                import serial
-
-                try:
-                    self._ser = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
-                except (OSError, ValueError) as reopen_exc:
-                    cause = (
-                        f"the port is lost and cannot be reopened ({port_error_text(reopen_exc)})"
-                    )
+                reason = self._reopen()
+                if reason is not None:
+                    cause = f"the port is lost and cannot be reopened ({reason})"
                     break
             except DriveError as exc:
                 cause = str(exc)
