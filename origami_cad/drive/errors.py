@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
+
 from origami_cad.errors import OrigamiCadError
 
 __all__ = ["DriveError", "HardwareError", "PortLostError", "StallError", "TorqueOffError"]
@@ -59,3 +64,26 @@ def port_error_text(exc: BaseException) -> str:
 
         return f"[Errno {errno}] {os.strerror(errno)}"
     return str(exc)
+
+
+@contextlib.contextmanager
+def hold_ctrl_c() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) while the servos are being switched off; raise it afterwards.
+
+    Only in the main thread and only over Python's default handler (a program
+    that installed its own keeps it). An error in the body wins over a held Ctrl-C.
+    """
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        yield
+        return
+    pressed: list[int] = []
+    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if pressed:
+        raise KeyboardInterrupt

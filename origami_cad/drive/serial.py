@@ -38,6 +38,7 @@ from origami_cad.drive.errors import (
     StallError,
     TorqueOffError,
     describe_exit,
+    hold_ctrl_c,
     port_error_text,
 )
 
@@ -262,7 +263,8 @@ class SerialBus:
             return
         try:
             if self._powered:
-                self.stop()
+                with hold_ctrl_c():
+                    self.stop()
         except TorqueOffError as stop_exc:
             if exc is None:
                 raise
@@ -333,7 +335,8 @@ class SerialBus:
         if self.current_limit_ma is not None:
             for i, (turns, current) in out.items():
                 if abs(current) > self.current_limit_ma:
-                    self.stop()
+                    with hold_ctrl_c():
+                        self.stop()
                     raise StallError(
                         f"motor {i}: current {abs(current):.0f} mA exceeds the limit of "
                         f"{self.current_limit_ma:g} mA at {turns:.3f} turns (string tension "
