@@ -658,3 +658,7 @@ def test_emulator_and_bus_refuse_repeated_or_bad_ids():
         DynamixelBus("/dev/null", ids=[254])
     with pytest.raises(DriveError, match="time scale"):
         DynamixelEmulator([1], time_scale=float("nan"))
+    for bus in (DynamixelBus, SerialBus):
+        for baudrate in (0, -9600, 57600.5, True):
+            with pytest.raises(DriveError, match="baud rate must be a positive whole number"):
+                bus("/dev/null", baudrate, ids=[1])

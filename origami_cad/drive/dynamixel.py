@@ -161,7 +161,8 @@ class DynamixelBus:
       including those of the sync read, raises :class:`HardwareError` naming
       the servo and the error, after torque off on every servo;
     - a port that stops working raises :class:`PortLostError` naming it; the
-      shutdown then reopens the port once to reach the servos;
+      shutdown then tries to reopen it for ``reopen_timeout`` seconds to reach
+      the servos;
     - a servo whose torque could not be switched off is never silently
       skipped: :class:`TorqueOffError` names it.
     """
@@ -190,6 +191,8 @@ class DynamixelBus:
         bad = [i for i in self.ids if not 0 <= i <= 252]
         if bad:
             raise DriveError(f"servo IDs {bad} are outside 0..252")
+        if isinstance(baudrate, bool) or not isinstance(baudrate, int) or baudrate <= 0:
+            raise DriveError(f"baud rate must be a positive whole number, got {baudrate!r}")
         limits = _limits(self.ids, max_turns)
         self.max_turns = {i: min(v, EXTENDED_TURNS) for i, v in limits.items()}
         if current_limit_ma is not None and not (
@@ -221,8 +224,12 @@ class DynamixelBus:
         """
         import dynamixel_sdk as sdk
 
+        if self._port is not None:
+            raise DriveError(f"port {self.port_name} is already open")
         self._sdk = sdk
         self._ph = sdk.PacketHandler(2.0)
+        self._reached = []
+        self._dirty = False
         self._port = self._open_port()
         self._powered = True  # a previous run may have left torque on
         try:

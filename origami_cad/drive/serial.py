@@ -199,6 +199,8 @@ class SerialBus:
         self.ids = [int(i) for i in ids]
         if not self.ids or len(set(self.ids)) != len(self.ids):
             raise DriveError(f"motor IDs {self.ids}: give at least one, each once")
+        if isinstance(baudrate, bool) or not isinstance(baudrate, int) or baudrate <= 0:
+            raise DriveError(f"baud rate must be a positive whole number, got {baudrate!r}")
         if not (math.isfinite(timeout) and timeout > 0):
             raise DriveError(f"reply timeout must be finite and > 0 s, got {timeout}")
         if current_limit_ma is not None and not (
@@ -220,6 +222,8 @@ class SerialBus:
         On any failure (a missing motor, Ctrl-C) the board is sent ``S`` and the
         port closed before the error is raised.
         """
+        if self._ser is not None:
+            raise DriveError(f"port {self.port_name} is already open")
         self._ser = self._open_port()
         self._powered = True  # a previous run may have left motors enabled
         try:
