@@ -13,12 +13,17 @@ Safety:
 - a current limit: :meth:`DynamixelBus.read` stops a servo whose present
   current exceeds it (the string is taut, the TSA stalls) and raises
   :class:`StallError` naming it;
-- :meth:`DynamixelBus.stop` disables torque on every servo; leaving the
-  ``with`` block does too, on an exception and on Ctrl-C (KeyboardInterrupt).
+- :meth:`DynamixelBus.stop` disables torque on every servo and reads it back;
+  :meth:`DynamixelBus.close` and leaving the ``with`` block do too, on an
+  exception and on Ctrl-C (KeyboardInterrupt), even one that lands inside a
+  ``dynamixel_sdk`` transaction (see the class notes).
 
 Faults raise :class:`DriveError` naming the servo and the cause: no status
-packet (after ``retries`` further attempts), CRC error, hardware error bits
-(overload, overheating, input voltage, ...), a port that cannot be opened.
+packet (after ``retries`` further attempts), CRC error, a port that cannot be
+opened; :class:`HardwareError` for hardware error bits (overload,
+overheating, input voltage, ...); :class:`PortLostError` for a port that
+stops working; :class:`TorqueOffError` for servos whose torque off could not
+be confirmed. ``docs/driving.md`` lists what happens on each fault.
 """
 
 from __future__ import annotations
@@ -325,7 +330,7 @@ class DynamixelBus:
         """
         port = self._port
         if port is None:
-            raise PortLostError(f"port {self.port_name} is not open")
+            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
         try:
             if self._dirty or port.is_using:
                 self._recover(port)

@@ -168,8 +168,10 @@ def _mapping(t: Table, base: Path, length: float) -> np.ndarray:
     t.used.add("mapping")
     if isinstance(raw, str):
         path = (base / raw).resolve()
-        if not path.is_file():
+        if not path.exists():
             raise t.error("mapping", f"{path}: no such file")
+        if not path.is_file():
+            raise t.error("mapping", f"{path} is not a regular file")
         if path.stat().st_size > MAX_MAPPING_FILE:
             raise t.error("mapping", f"{path} is larger than {MAX_MAPPING_FILE} bytes")
         try:

@@ -284,7 +284,7 @@ class SerialBus:
         """Send one command; its reply, skipping stale replies to earlier commands."""
         who = f"motor {dxl_id}" if dxl_id is not None else "the board"
         if self._ser is None:
-            raise PortLostError(f"port {self.port_name} is not open")
+            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
         parts = text.split()
         expect = " ".join(["OK", *parts[:2]]) if parts[0] != "S" else "OK S"
         try:
