@@ -662,3 +662,53 @@ def test_emulator_and_bus_refuse_repeated_or_bad_ids():
         for baudrate in (0, -9600, 57600.5, True):
             with pytest.raises(DriveError, match="baud rate must be a positive whole number"):
                 bus("/dev/null", baudrate, ids=[1])
+
+
+MUTATIONS = [
+    "nan",
+    "inf",
+    "-inf",
+    "1e308",
+    "-1e308",
+    "0",
+    "-1",
+    "9223372036854775807",
+    "1e-320",
+    '"x"',
+    "true",
+    "[]",
+    "[[]]",
+    "[1]",
+    "{}",
+    "{a = 1}",
+    "[nan, nan]",
+    '"/dev/zero"',
+    '"../../../etc/passwd"',
+    "[[0, 0], [1, 1e308]]",
+    "[[0, 0], [0, 1]]",
+    "[[1.0, 0.0], [0.0, 1.0]]",
+    "2024-01-01",
+    "[0.5, 0.5, 0.5]",
+]
+
+
+def test_mutated_sequence_files_load_or_fail_with_one_line(tmp_path):
+    """400 seeded mutations of a good file: a usable sequence or one clear error, nothing else."""
+    base = write_sequence(tmp_path, IDS).read_text().splitlines()
+    rng = random.Random(2026)
+    path = tmp_path / "mutant.toml"
+    for _ in range(400):
+        lines = list(base)
+        for _ in range(rng.randint(1, 3)):
+            i = rng.choice([k for k, line in enumerate(lines) if " = " in line])
+            lines[i] = f"{lines[i].split(' = ')[0]} = {rng.choice(MUTATIONS)}"
+        path.write_text("\n".join(lines) + "\n")
+        try:
+            seq = load_sequence(path)
+        except OrigamiCadError as exc:
+            assert "\n" not in str(exc) and str(exc).startswith(str(path))
+            continue
+        for t in (0.0, seq.cycle / 3, seq.cycle * seq.repeat):
+            turns = seq.turns_at(t)
+            assert all(abs(turns[tsa.dxl_id]) <= tsa.max_turns for tsa in seq.tsas)
+        assert 0 < seq.rate <= 1000 and seq.cycle * seq.repeat * seq.rate <= 1_000_000

@@ -8,7 +8,10 @@ exceeded (the motor stalls where the string is taut). :class:`SerialEmulator`
 speaks the package's generic line protocol (``docs/serial-protocol.md``).
 
 Faults can be injected for tests: drop the next status packets of a servo,
-corrupt their CRC, or report an overload.
+corrupt their CRC, report an overload, pull the cable (:meth:`~_PtyDevice.unplug`,
+the host's port then fails as a USB adapter's does) and plug it back
+(:meth:`~_PtyDevice.plug`); :meth:`~_PtyDevice.at_packet` times any of them to
+the n-th packet received, so a test hits the same point on every run.
 
 Examples
 --------
