@@ -49,7 +49,7 @@ def describe_exit(exc: BaseException) -> str:
     """One line for an exception that ended a run (to prefix a torque-off failure)."""
     if isinstance(exc, KeyboardInterrupt):
         return "interrupted (Ctrl-C)"
-    if isinstance(exc, DriveError):
+    if isinstance(exc, OrigamiCadError):
         return str(exc)
     return f"{type(exc).__name__}: {exc}"
 
