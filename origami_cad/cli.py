@@ -223,10 +223,15 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
     parser = build_parser()
-    args, extra = parser.parse_known_args(argv)
-    if extra:
-        if args.command != "part":
+    try:
+        args, extra = parser.parse_known_args(argv)
+        if extra and args.command != "part":
             parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    except SystemExit as exc:  # argparse's usage errors: exit code 2, returned like the rest
+        if exc.code in (0, None):
+            raise  # --help, --version
+        return int(exc.code)
+    if extra:
         args.params = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
     with handle_signals() if main_thread else contextlib.nullcontext():

@@ -742,7 +742,9 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, speed:
             profile_velocity=0,
         )
     else:
-        bus = SerialBus(port, baudrate, seq.ids, max_turns=limits)
+        bus = SerialBus(
+            port, baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
+        )
     return stack.enter_context(bus)
 
 
@@ -765,14 +767,14 @@ def run_drive(
     """
     import contextlib
 
-    from origami_cad.drive.sequence import load_sequence, run_sequence
+    from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
     if plot is not None:
         _check_suffix(plot, (".png",), "the drive plot")
     check_outputs([sequence], files=[p for p in (log, plot) if p])
-    if dry_run and not (math.isfinite(speed) and speed > 0):
-        raise DesignError(f"the dry run's speed must be a finite number > 0, got {speed}")
+    if dry_run:
+        speed = check_time_scale(speed, "speed")
     seq = load_sequence(sequence)
     if not dry_run and not port:
         raise DesignError("give the servos' port, or use a dry run on the emulator")
