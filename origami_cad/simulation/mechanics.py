@@ -5,14 +5,25 @@ axis ``i -> j`` shared by the triangles ``(i, j, k)`` and ``(j, i, l)``, ``k`` a
 ``l`` the wing tips. Its fold angle is 0 when flat and positive for a valley
 (FOLD convention), in (-pi, pi). The gradients follow Liu and Paulino (MERLIN,
 2017); a test checks them against finite differences.
+
+The NumPy functions return per-element arrays (the reference, and what the
+tests check against finite differences). The solver's inner loop uses the
+compiled kernels :func:`assemble_bars`, :func:`assemble_hinges` and
+:func:`bar_hinge_energy` (numba), which evaluate the same formulas element by
+element and add the gradients and Hessian blocks straight into the gradient and
+the sparse matrix's data array; a test checks that both give the same matrix.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 __all__ = [
+    "assemble_bars",
+    "assemble_hinges",
     "bar_hessians",
+    "bar_hinge_energy",
     "bar_lengths",
     "fold_angles",
     "hinge_gradients",
@@ -171,3 +182,264 @@ def hinge_hessians(x: np.ndarray, hinges: np.ndarray) -> np.ndarray:
         axis=1,
     )
     return rows.transpose(0, 1, 3, 2, 4).reshape(len(hinges), 12, 12)
+
+
+# --- compiled kernels (numba): one element at a time, straight into the CSC data ---
+
+
+@njit(cache=True)
+def assemble_bars(
+    x: np.ndarray,
+    bars: np.ndarray,
+    k: np.ndarray,
+    rest: np.ndarray,
+    positions: np.ndarray,
+    grad: np.ndarray,
+    data: np.ndarray,
+) -> None:  # pragma: no cover - compiled; checked against bar_hessians by the tests
+    """Add the bars' gradients and exact Hessians (as :func:`bar_hessians`) in place.
+
+    Parameters
+    ----------
+    x : ndarray
+        (n, 3) node positions, mm.
+    bars : ndarray
+        (B, 2) node pairs.
+    k, rest : ndarray
+        (B,) axial stiffness, N/mm, and rest length, mm.
+    positions : ndarray
+        (B, 36) where entry ``6 r + c`` of each bar's 6 x 6 block goes in ``data``
+        (rows and columns ``3 node + axis`` in the order ``(i, j)``).
+    grad : ndarray
+        (n, 3) gradient to add to, N.
+    data : ndarray
+        Sparse matrix values to add to, N/mm.
+    """
+    blk = np.empty((3, 3))
+    for b in range(bars.shape[0]):
+        i, j = bars[b, 0], bars[b, 1]
+        d0 = x[j, 0] - x[i, 0]
+        d1 = x[j, 1] - x[i, 1]
+        d2 = x[j, 2] - x[i, 2]
+        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        u = (d0 / length, d1 / length, d2 / length)
+        force = k[b] * (length - rest[b])
+        geo = force / length
+        for r in range(3):
+            grad[j, r] += force * u[r]
+            grad[i, r] -= force * u[r]
+            for c in range(3):
+                uu = u[r] * u[c]
+                blk[r, c] = k[b] * uu + geo * ((1.0 if r == c else 0.0) - uu)
+        pos = positions[b]
+        for r in range(3):
+            for c in range(3):
+                v = blk[r, c]
+                data[pos[6 * r + c]] += v
+                data[pos[6 * (r + 3) + c + 3]] += v
+                data[pos[6 * r + c + 3]] -= v
+                data[pos[6 * (r + 3) + c]] -= v
+
+
+@njit(cache=True, inline="always")
+def _cross_rows(m: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
+    """Rows of ``m`` (3, 3) crossed with ``v`` (3,), into ``out``."""
+    for r in range(3):
+        out[r, 0] = m[r, 1] * v[2] - m[r, 2] * v[1]
+        out[r, 1] = m[r, 2] * v[0] - m[r, 0] * v[2]
+        out[r, 2] = m[r, 0] * v[1] - m[r, 1] * v[0]
+
+
+@njit(cache=True)
+def assemble_hinges(
+    x: np.ndarray,
+    hinges: np.ndarray,
+    k: np.ndarray,
+    rest: np.ndarray,
+    limit: np.ndarray,
+    limit_k: float,
+    limit_margin: float,
+    positions: np.ndarray,
+    grad: np.ndarray,
+    data: np.ndarray,
+) -> None:  # pragma: no cover - compiled; checked against hinge_hessians by the tests
+    """Add the hinges' gradients and exact Hessians in place.
+
+    Each hinge's energy is ``k/2 (rho - rest)^2`` plus the fold-limit barrier
+    ``limit_k/2 (|rho| - (limit - limit_margin))_+^2``; its Hessian block is
+    ``k_rot g g^T + M d2rho`` with ``g`` the fold angle's gradient
+    (:func:`hinge_gradients`), ``d2rho`` its second derivatives
+    (:func:`hinge_hessians`), ``M`` the moment and ``k_rot`` the rotational
+    stiffness.
+
+    Parameters
+    ----------
+    x : ndarray
+        (n, 3) node positions, mm.
+    hinges : ndarray
+        (H, 4) nodes ``(i, j, k, l)``.
+    k, rest, limit : ndarray
+        (H,) rotational stiffness, N mm/rad; rest angle and fold limit, rad.
+    limit_k, limit_margin : float
+        The barrier's stiffness, N mm/rad, and how early it starts, rad.
+    positions : ndarray
+        (H, 144) where entry ``12 r + c`` of each hinge's 12 x 12 block goes.
+    grad : ndarray
+        (n, 3) gradient to add to, N.
+    data : ndarray
+        Sparse matrix values to add to, N/mm.
+    """
+    eye = np.eye(3)
+    e = np.empty(3)
+    a = np.empty(3)
+    b = np.empty(3)
+    n1 = np.empty(3)
+    n2 = np.empty(3)
+    gk = np.empty(3)
+    gl = np.empty(3)
+    g = np.empty(12)
+    f1 = np.empty((3, 3))
+    f2 = np.empty((3, 3))
+    f1a = np.empty((3, 3))
+    f1e = np.empty((3, 3))
+    f2b = np.empty((3, 3))
+    f2e = np.empty((3, 3))
+    dn1 = np.zeros((4, 3, 3))
+    dn2 = np.zeros((4, 3, 3))
+    dlen = np.zeros((4, 3))
+    dtk = np.zeros((4, 3))
+    dtl = np.zeros((4, 3))
+    dgk = np.empty((3, 3))
+    dgl = np.empty((3, 3))
+    outer = np.empty((3, 3))
+    hess = np.empty((12, 12))
+    for h in range(hinges.shape[0]):
+        ni, nj, nk, nl = hinges[h, 0], hinges[h, 1], hinges[h, 2], hinges[h, 3]
+        for r in range(3):
+            e[r] = x[nj, r] - x[ni, r]
+            a[r] = x[nk, r] - x[ni, r]
+            b[r] = x[nl, r] - x[ni, r]
+        n1[0] = e[1] * a[2] - e[2] * a[1]
+        n1[1] = e[2] * a[0] - e[0] * a[2]
+        n1[2] = e[0] * a[1] - e[1] * a[0]
+        n2[0] = b[1] * e[2] - b[2] * e[1]
+        n2[1] = b[2] * e[0] - b[0] * e[2]
+        n2[2] = b[0] * e[1] - b[1] * e[0]
+        e2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+        elen = np.sqrt(e2)
+        n1_2 = n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]
+        n2_2 = n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]
+        # fold angle, as fold_angles: sin from (n2 x n1) . e/|e|, cos from n1 . n2
+        c0 = n2[1] * n1[2] - n2[2] * n1[1]
+        c1 = n2[2] * n1[0] - n2[0] * n1[2]
+        c2 = n2[0] * n1[1] - n2[1] * n1[0]
+        sin = (c0 * e[0] + c1 * e[1] + c2 * e[2]) / elen
+        cos = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]
+        rho = np.arctan2(sin, cos)
+        over = abs(rho) - (limit[h] - limit_margin)
+        moment = k[h] * (rho - rest[h])
+        k_rot = k[h]
+        if over > 0:
+            moment += limit_k * over * np.sign(rho)
+            k_rot += limit_k
+        tk = (a[0] * e[0] + a[1] * e[1] + a[2] * e[2]) / e2
+        tl = (b[0] * e[0] + b[1] * e[1] + b[2] * e[2]) / e2
+        for r in range(3):
+            gk[r] = elen / n1_2 * n1[r]
+            gl[r] = elen / n2_2 * n2[r]
+            g[r] = (tk - 1.0) * gk[r] + (tl - 1.0) * gl[r]
+            g[3 + r] = -tk * gk[r] - tl * gl[r]
+            g[6 + r] = gk[r]
+            g[9 + r] = gl[r]
+        # second derivatives, as hinge_hessians
+        for r in range(3):
+            for c in range(3):
+                f1[r, c] = (eye[r, c] - 2.0 * n1[r] * n1[c] / n1_2) * (elen / n1_2)
+                f2[r, c] = (eye[r, c] - 2.0 * n2[r] * n2[c] / n2_2) * (elen / n2_2)
+        _cross_rows(f1, a, f1a)
+        _cross_rows(f1, e, f1e)
+        _cross_rows(f2, b, f2b)
+        _cross_rows(f2, e, f2e)
+        for r in range(3):
+            for c in range(3):
+                dn1[0, r, c] = f1a[r, c] - f1e[r, c]
+                dn1[1, r, c] = -f1a[r, c]
+                dn1[2, r, c] = f1e[r, c]
+                dn2[0, r, c] = f2e[r, c] - f2b[r, c]
+                dn2[1, r, c] = f2b[r, c]
+                dn2[3, r, c] = -f2e[r, c]
+            dlen[0, r] = -e[r] / elen
+            dlen[1, r] = e[r] / elen
+            dtk[0, r] = (-e[r] - a[r]) / e2 + 2.0 * tk * e[r] / e2
+            dtk[1, r] = a[r] / e2 - 2.0 * tk * e[r] / e2
+            dtk[2, r] = e[r] / e2
+            dtl[0, r] = (-e[r] - b[r]) / e2 + 2.0 * tl * e[r] / e2
+            dtl[1, r] = b[r] / e2 - 2.0 * tl * e[r] / e2
+            dtl[3, r] = e[r] / e2
+        for q in range(4):
+            for r in range(3):
+                for c in range(3):
+                    dgk[r, c] = n1[r] / n1_2 * dlen[q, c] + dn1[q, r, c]
+                    dgl[r, c] = n2[r] / n2_2 * dlen[q, c] + dn2[q, r, c]
+                    outer[r, c] = gk[r] * dtk[q, c] + gl[r] * dtl[q, c]
+            for r in range(3):
+                for c in range(3):
+                    col = 3 * q + c
+                    hess[r, col] = outer[r, c] + (tk - 1.0) * dgk[r, c] + (tl - 1.0) * dgl[r, c]
+                    hess[3 + r, col] = -outer[r, c] - tk * dgk[r, c] - tl * dgl[r, c]
+                    hess[6 + r, col] = dgk[r, c]
+                    hess[9 + r, col] = dgl[r, c]
+        nodes = (ni, nj, nk, nl)
+        for p in range(4):
+            for r in range(3):
+                grad[nodes[p], r] += moment * g[3 * p + r]
+        pos = positions[h]
+        for r in range(12):
+            for c in range(12):
+                data[pos[12 * r + c]] += k_rot * g[r] * g[c] + moment * hess[r, c]
+
+
+@njit(cache=True)
+def bar_hinge_energy(
+    x: np.ndarray,
+    bars: np.ndarray,
+    bar_k: np.ndarray,
+    bar_rest: np.ndarray,
+    hinges: np.ndarray,
+    hinge_k: np.ndarray,
+    hinge_rest: np.ndarray,
+    limit: np.ndarray,
+    limit_k: float,
+    limit_margin: float,
+) -> float:  # pragma: no cover - compiled; checked against the NumPy energy by the tests
+    """Elastic energy of the bars, the hinges and the fold-limit barrier, N mm.
+
+    ``sum k/2 (L - L0)^2 + sum k/2 (rho - rest)^2 + limit_k/2 (|rho| - (limit -
+    limit_margin))_+^2``, as :func:`bar_lengths` and :func:`fold_angles` give them.
+    """
+    bar_energy = 0.0
+    for b in range(bars.shape[0]):
+        i, j = bars[b, 0], bars[b, 1]
+        d0 = x[j, 0] - x[i, 0]
+        d1 = x[j, 1] - x[i, 1]
+        d2 = x[j, 2] - x[i, 2]
+        stretch = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - bar_rest[b]
+        bar_energy += bar_k[b] * stretch * stretch
+    hinge_energy = 0.0
+    limit_energy = 0.0
+    for h in range(hinges.shape[0]):
+        ni, nj, nk, nl = hinges[h, 0], hinges[h, 1], hinges[h, 2], hinges[h, 3]
+        e0, e1, e2 = x[nj, 0] - x[ni, 0], x[nj, 1] - x[ni, 1], x[nj, 2] - x[ni, 2]
+        a0, a1, a2 = x[nk, 0] - x[ni, 0], x[nk, 1] - x[ni, 1], x[nk, 2] - x[ni, 2]
+        b0, b1, b2 = x[nl, 0] - x[ni, 0], x[nl, 1] - x[ni, 1], x[nl, 2] - x[ni, 2]
+        m0, m1, m2 = e1 * a2 - e2 * a1, e2 * a0 - e0 * a2, e0 * a1 - e1 * a0
+        p0, p1, p2 = b1 * e2 - b2 * e1, b2 * e0 - b0 * e2, b0 * e1 - b1 * e0
+        elen = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        c0, c1, c2 = p1 * m2 - p2 * m1, p2 * m0 - p0 * m2, p0 * m1 - p1 * m0
+        rho = np.arctan2((c0 * e0 + c1 * e1 + c2 * e2) / elen, m0 * p0 + m1 * p1 + m2 * p2)
+        turn = rho - hinge_rest[h]
+        hinge_energy += hinge_k[h] * turn * turn
+        over = abs(rho) - (limit[h] - limit_margin)
+        if over > 0:
+            limit_energy += over * over
+    return 0.5 * bar_energy + 0.5 * hinge_energy + 0.5 * limit_k * limit_energy
