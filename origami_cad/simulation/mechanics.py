@@ -101,10 +101,38 @@ def _cross_rows(m, v, out):  # pragma: no cover - compiled
         out[r, 2] = m[r, 0] * v[1] - m[r, 1] * v[0]
 
 
-_WORK = 3 * 7 + 9 * 9 + 36 * 2 + 12 * 3  # the hinge element's scratch space
-
-
 @njit(cache=True)
+def _hinge_work():  # pragma: no cover - compiled
+    """Scratch arrays of :func:`_hinge_element`, allocated once per loop.
+
+    Seven 3-vectors, nine 3 x 3 matrices, the normals' derivatives (2, 4, 3, 3)
+    and the derivatives of ``|e|``, ``tk``, ``tl`` (3, 4, 3); the entries that
+    the element never writes (nodes a term does not depend on) stay zero.
+    """
+    vec = (
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+    )
+    mat = (
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+    )
+    return vec, mat, np.zeros((2, 4, 3, 3)), np.zeros((3, 4, 3))
+
+
+@njit(cache=True, inline="always")
 def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover - compiled
     """Hinge ``(i, j, k, l)``: the gradient of its fold angle into ``g`` (12,), 1/mm, and,
     when ``second``, its second derivatives into ``hess`` (12, 12), 1/mm^2.
@@ -115,20 +143,11 @@ def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover -
     triangle's normal opens or closes the hinge (``gk = |e| n1 / |n1|^2``,
     ``gl = |e| n2 / |n2|^2``, Liu and Paulino); the axis nodes take the rest,
     weighted by where the wing tips project on the axis (``tk``, ``tl``).
-    ``w`` is scratch space (_WORK,).
+    ``w`` is scratch space from :func:`_hinge_work`.
     """
-    e, a, b, n1, n2, gk, gl = w[0:3], w[3:6], w[6:9], w[9:12], w[12:15], w[15:18], w[18:21]
-    f1, f2 = w[21:30].reshape((3, 3)), w[30:39].reshape((3, 3))
-    f1a, f1e = w[39:48].reshape((3, 3)), w[48:57].reshape((3, 3))
-    f2b, f2e = w[57:66].reshape((3, 3)), w[66:75].reshape((3, 3))
-    dgk, dgl = w[75:84].reshape((3, 3)), w[84:93].reshape((3, 3))
-    outer = w[93:102].reshape((3, 3))
-    dn1, dn2 = w[102:138].reshape((4, 3, 3)), w[138:174].reshape((4, 3, 3))
-    dlen, dtk, dtl = (
-        w[174:186].reshape((4, 3)),
-        w[186:198].reshape((4, 3)),
-        w[198:210].reshape((4, 3)),
-    )
+    (e, a, b, n1, n2, gk, gl), (f1, f2, f1a, f1e, f2b, f2e, dgk, dgl, outer), dn, dq = w
+    dn1, dn2 = dn[0], dn[1]  # (4, 3, 3): rows q = i, j, k, l
+    dlen, dtk, dtl = dq[0], dq[1], dq[2]  # (4, 3)
     for r in range(3):
         e[r] = x[nj, r] - x[ni, r]
         a[r] = x[nk, r] - x[ni, r]
@@ -164,11 +183,6 @@ def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover -
     _cross_rows(f1, e, f1e)
     _cross_rows(f2, b, f2b)
     _cross_rows(f2, e, f2e)
-    dn1[:] = 0.0
-    dn2[:] = 0.0
-    dlen[:] = 0.0
-    dtk[:] = 0.0
-    dtl[:] = 0.0
     for r in range(3):
         # d n1 / d x_(i, j, k, l) = ([a]x - [e]x, -[a]x, [e]x, 0)
         # d n2 / d x_(i, j, k, l) = ([e]x - [b]x, [b]x, 0, -[e]x)
@@ -215,7 +229,7 @@ def _fold_angles(x, hinges):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _hinge_derivatives(x, hinges, grads, hesses, second):  # pragma: no cover - compiled
-    w = np.empty(_WORK)
+    w = _hinge_work()
     dummy = np.empty((12, 12))
     for h in range(hinges.shape[0]):
         hess = hesses[h] if second else dummy
@@ -366,7 +380,7 @@ def assemble_hinges(
     data : ndarray
         Sparse matrix values to add to, N/mm.
     """
-    w = np.empty(_WORK)
+    w = _hinge_work()
     g = np.empty(12)
     hess = np.empty((12, 12))
     nodes = np.empty(4, dtype=np.int64)
