@@ -409,7 +409,25 @@ def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_ite
 
 @dataclass
 class SolveInfo:
-    """What one equilibrium solve did."""
+    """What one equilibrium solve did.
+
+    Attributes
+    ----------
+    iterations : int
+        Accepted Newton iterations.
+    factorisations : int
+        Sparse factorisations (a damped retry counts again).
+    cg_iterations : int
+        Preconditioned conjugate-gradient iterations, over all Newton steps.
+    energies : list of float
+        The energy at the start and after each accepted iteration, N mm.
+    gradient_norm : float
+        The largest residual force on a free node at the end, N.
+    converged : bool
+        Whether that residual fell below the tolerance.
+    tensions : list of float
+        Each string's tension at the end, N.
+    """
 
     iterations: int = 0
     factorisations: int = 0
