@@ -1,6 +1,6 @@
-"""Bar-and-hinge mechanics: bar lengths and hinge fold angles with their gradients.
+"""Bar-and-hinge mechanics: bar lengths and hinge fold angles, their gradients and Hessians.
 
-Vectorised over all bars and hinges. A hinge is four nodes ``(i, j, k, l)``: the
+Over all bars and hinges at once. A hinge is four nodes ``(i, j, k, l)``: the
 axis ``i -> j`` shared by the triangles ``(i, j, k)`` and ``(j, i, l)``, ``k`` and
 ``l`` the wing tips. Its fold angle is 0 when flat and positive for a valley
 (FOLD convention), in (-pi, pi). The gradients follow Liu and Paulino (MERLIN,
