@@ -141,9 +141,9 @@ def test_factorisation_solves_and_tells_the_inertia():
     # not positive definite: refused
     assert asm.factorise(data, -1.0) is None
     # the ordering is a permutation, computed once
-    order = asm._order()[0]
+    order = asm.ordering
     assert sorted(order) == list(range(asm.size))
-    assert asm._order()[0] is order
+    assert asm.ordering is order
     assert isinstance(a, sp.csc_matrix)
 
 
@@ -163,7 +163,8 @@ def _fold(cp, steps: int):
 def test_preconditioned_steps_reach_the_same_equilibria_as_factorised_ones(monkeypatch):
     cp = miura_design(4, 4, 15.0, 15.0, 60.0).pattern
     fast = _fold(cp, 12)
-    monkeypatch.setattr(solver, "_CG_MAX_ITER", 0)  # every Newton step from a fresh factorisation
+    # every Newton step from a fresh factorisation
+    monkeypatch.setattr(HessianAssembly, "reuse_factorisations", False)
     plain = _fold(cp, 12)
     assert len(fast.states) == len(plain.states) > 5
     turned = np.abs(np.array(fast.steps[-1]["fold_angles_deg"])).max()
@@ -172,3 +173,26 @@ def test_preconditioned_steps_reach_the_same_equilibria_as_factorised_ones(monke
         np.testing.assert_allclose(a, b, atol=1e-6)
         np.testing.assert_allclose(sa["tensions_N"], sb["tensions_N"], rtol=1e-6, atol=1e-6)
         assert sa["converged"] and sb["converged"]
+
+
+def test_the_preconditioner_is_kept_across_solves_unless_switched_off(monkeypatch):
+    _, st = _miura_structure()
+    rng = np.random.default_rng(3)
+    st.hinge_rest = np.where(st.folds, rng.choice([-1.0, 1.0], len(st.hinges)) * 0.05, 0.0)
+    start = st.x0 + np.r_[0.0, 0.0, 1.0] * rng.normal(size=(len(st.x0), 1)) * 0.01
+    runs = []
+    for reuse in (True, False):
+        monkeypatch.setattr(HessianAssembly, "reuse_factorisations", reuse)
+        asm = HessianAssembly(st)
+        x1, first = solver.solve_equilibrium(start, st, assembly=asm)
+        st.hinge_rest = st.hinge_rest * 1.1  # the next step: a little further
+        x2, second = solver.solve_equilibrium(x1, st, assembly=asm)
+        st.hinge_rest = st.hinge_rest / 1.1
+        assert first.converged and second.converged
+        runs.append((x2, second))
+    (x_fast, fast), (x_plain, plain) = runs
+    assert fast.cg_iterations > 0 and fast.factorisations < fast.iterations
+    assert plain.cg_iterations == 0 and plain.factorisations >= plain.iterations
+    # both are equilibria to 1e-7 N of residual force: about 1e-6 mm along the soft folding
+    np.testing.assert_allclose(x_fast, x_plain, atol=1e-5)
+    assert np.abs(x_fast - start).max() > 1e-2  # the hinges really folded the sheet

@@ -206,6 +206,12 @@ class HessianAssembly:
         iterations and between solves as the conjugate-gradient preconditioner.
     stale : bool
         Whether the next Newton step should factorise afresh instead.
+    reuse_factorisations : bool
+        Class-wide switch (default True): False factorises at every Newton step
+        (the plain Newton method, for comparisons).
+    ordering : ndarray
+        (size,) the fill-reducing order: row and column ``ordering[k]`` of the
+        Hessian is the factorised matrix's ``k``-th.
     """
 
     def __init__(self, st: Structure, strings: StringSet | None = None) -> None:
@@ -318,6 +324,13 @@ class HessianAssembly:
         values = data[: self.nnz].copy()
         values[self.diagonal] += shift
         return sp.csc_matrix((values, self.indices, self.indptr), shape=(self.size, self.size))
+
+    reuse_factorisations = True
+
+    @property
+    def ordering(self) -> np.ndarray:
+        """(size,) the fill-reducing order (computed at the first use, then kept)."""
+        return self._order()[0]
 
     def _order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The fill-reducing ordering ``q`` and the permuted pattern (data map, indices, indptr)."""
@@ -523,7 +536,7 @@ def solve_equilibrium(
             break
         accepted = False
         # first try: conjugate gradients preconditioned by the latest factorisation
-        if asm.preconditioner is not None and not asm.stale:
+        if asm.reuse_factorisations and asm.preconditioner is not None and not asm.stale:
             a = asm.matrix(values, damping * scale)
             step, cg_iterations = _pcg(a, -g, asm.preconditioner, _CG_RTOL, _CG_MAX_ITER)
             info.cg_iterations += cg_iterations
