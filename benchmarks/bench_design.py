@@ -50,6 +50,6 @@ def run() -> list[tuple[str, float, str]]:
         )
     )
     out.append(("  best fitness (max 60)", results[0].fitness, ""))
-    out.append(("  best |T_e(0) - P_start|, mm", results[0].terms["d_start_mm"], "<= 2"))
-    out.append(("  best |T_e(pi) - P_end|, mm", results[0].terms["d_end_mm"], "<= 5"))
+    out.append(("  best |T_e(0) - P_start|, mm", results[0].terms.d_start, "<= 2"))
+    out.append(("  best |T_e(pi) - P_end|, mm", results[0].terms.d_end, "<= 5"))
     return out

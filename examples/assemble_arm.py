@@ -11,12 +11,12 @@ import sys
 from pathlib import Path
 
 from build123d import Compound, export_step
+from origami_cad.parts import tsa_module
 
 from origami_cad.fabrication import fabricate
 from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.pattern.design import load_design
 from origami_cad.strings import TSAParams
-from parts import tsa_module
 
 HERE = Path(__file__).resolve().parent
 
@@ -30,7 +30,9 @@ def main(out: Path) -> Path:
         part.label = name
         children.append(part)
     # the TSA twists the strings that run along the arm, from its base panel
-    module = tsa_module("XL330", tsa=TSAParams(d1=10.0), fab=fab, panel="c1r0s0", heading=0.0)
+    module = tsa_module(
+        servo="XL330", tsa=TSAParams(d1=10.0), plan=fab.plan, panel="c1r0s0", heading=0.0
+    )
     children.append(module)
     arm = Compound(children=children)
     arm.label = "origami arm with TSA module"

@@ -7,7 +7,13 @@ command-line tool can print it as one line and exit with code 2.
 
 from __future__ import annotations
 
-__all__ = ["DesignError", "OrigamiCadError", "PatternError", "SimulationError"]
+__all__ = [
+    "DesignError",
+    "OrigamiCadError",
+    "OutputError",
+    "PatternError",
+    "SimulationError",
+]
 
 
 class OrigamiCadError(Exception):
@@ -24,3 +30,7 @@ class DesignError(OrigamiCadError, ValueError):
 
 class SimulationError(OrigamiCadError, ValueError):
     """A simulation cannot be set up or run with the given parameters."""
+
+
+class OutputError(OrigamiCadError, ValueError):
+    """An output path cannot be written safely (it is an input, a folder, a device...)."""

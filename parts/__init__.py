@@ -1,33 +1,48 @@
 """Parametric hardware around the origami, as build123d parts (mm, z up, pattern frame).
 
-======================  ==============================================================
-name                    function
-======================  ==============================================================
-``tsa-module``          :func:`parts.tsa_module.tsa_module`: servo, twist hub, exit guide, mount
-``ring-rail``           :func:`parts.ring_rail.ring_rail`: ring slide rail with TSA carriages
-``blocker``             :func:`parts.blocker.blocker`: clip that stops a crease at an angle
-``driver-adapter``      :func:`parts.driver_adapter.driver_adapter`: plate for servo plugs
-======================  ==============================================================
+Installed as ``origami_cad.parts`` (the folder stays at the top of the repository).
+Every part has a typed parameter dataclass (units in its field docs) and is listed
+in :data:`~origami_cad.parts.registry.PARTS`, from which ``origami-cad part`` and
+its ``--list`` are generated:
+
+==================  =========================================  =========================
+name                builder                                    parameters
+==================  =========================================  =========================
+``tsa-module``      :func:`.tsa_module.tsa_module`             :class:`TSAModuleParams`
+``ring-rail``       :func:`.ring_rail.ring_rail`               :class:`RingRailParams`
+``blocker``         :func:`.blocker.blocker`                   :class:`BlockerParams`
+``driver-adapter``  :func:`.driver_adapter.driver_adapter`     :class:`DriverAdapterParams`
+==================  =========================================  =========================
 """
 
-from parts.blocker import blocker
-from parts.driver_adapter import driver_adapter
-from parts.ring_rail import ring_anchor_points, ring_rail
-from parts.tsa_module import SERVOS, tsa_module
-
-#: CLI name of each part and its builder.
-PARTS = {
-    "tsa-module": tsa_module,
-    "ring-rail": ring_rail,
-    "blocker": blocker,
-    "driver-adapter": driver_adapter,
-}
+from .blocker import BlockerParams, blocker, blocker_frame
+from .driver_adapter import DriverAdapterParams, driver_adapter
+from .registry import (
+    PARTS,
+    PartSpec,
+    Placement,
+    build_part,
+    parse_part_options,
+    parts_listing,
+)
+from .ring_rail import RingRailParams, ring_anchor_points, ring_rail
+from .tsa_module import SERVOS, TSAModuleParams, tsa_module
 
 __all__ = [
     "PARTS",
     "SERVOS",
+    "BlockerParams",
+    "DriverAdapterParams",
+    "PartSpec",
+    "Placement",
+    "RingRailParams",
+    "TSAModuleParams",
     "blocker",
+    "blocker_frame",
+    "build_part",
     "driver_adapter",
+    "parse_part_options",
+    "parts_listing",
     "ring_anchor_points",
     "ring_rail",
     "tsa_module",

@@ -10,23 +10,60 @@ outer face flat against the stop face at it.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from build123d import Location, Part, Plane, Polyline, extrude, make_face
 
 from origami_cad.errors import DesignError
+from origami_cad.fabrication.params import FabricationParams, theta_max
+from origami_cad.fabrication.plan import PanelPlan
+from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["blocker", "blocker_frame"]
+from .parameters import resolve_params, spec
+
+__all__ = ["BlockerParams", "blocker", "blocker_frame"]
 
 
-def blocker_frame(fab, crease: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
-    """Frame of a crease of a fabricated pattern.
+@dataclass(frozen=True)
+class BlockerParams:
+    """Parameters of :func:`blocker`; ``bias``, ``height``, ``thickness`` apply without a plan."""
+
+    angle: float = field(
+        default=60.0, metadata=spec("deg", "fold angle at which the crease stops", low=0.0)
+    )
+    length: float = field(default=10.0, metadata=spec("mm", "length along the crease", low=0.0))
+    reach: float = field(
+        default=5.0, metadata=spec("mm", "how far past panel B's chamfer the stop face reaches")
+    )
+    base: float = field(
+        default=6.0, metadata=spec("mm", "length of the foot bonded to panel A", low=0.0)
+    )
+    clearance: float = field(
+        default=0.0, metadata=spec("mm", "gap left at the stop angle (0: contact)")
+    )
+    bias: float = field(
+        default=FabricationParams.bias, metadata=spec("mm", "b of the panels", low=0.0)
+    )
+    height: float = field(
+        default=FabricationParams.height, metadata=spec("mm", "h of the panels", low=0.0)
+    )
+    thickness: float = field(
+        default=FabricationParams.thickness, metadata=spec("mm", "t of the panels", low=0.0)
+    )
+
+
+def blocker_frame(
+    pattern: CreasePattern, crease: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
+    """Frame of a crease of a pattern.
 
     Returns ``(start, direction, across, face_a, face_b)``: the crease's start
     point and unit direction (mm, in the pattern), the unit vector pointing into
     panel ``B`` (the face on the crease's right), and the two face indices.
     """
-    cp = fab.pattern
+    cp = pattern
     if not 0 <= crease < cp.n_edges or cp.assignments[crease] not in ("M", "V"):
         raise DesignError(f"edge {crease} is not a mountain or valley crease of the pattern")
     ef = cp.edge_faces()[crease]
@@ -39,49 +76,39 @@ def blocker_frame(fab, crease: int) -> tuple[np.ndarray, np.ndarray, np.ndarray,
 
 
 def blocker(
-    fab=None,
+    plan: PanelPlan | None = None,
     crease: int | None = None,
-    angle: float = 60.0,
-    length: float = 10.0,
-    reach: float = 5.0,
-    base: float = 6.0,
-    clearance: float = 0.0,
-    bias: float = 3.0,
-    height: float = 2.2,
-    thickness: float = 0.4,
+    params: BlockerParams | None = None,
+    **values: Any,
 ) -> Part:
     """A blocker stopping a valley crease at ``angle`` degrees.
 
     Parameters
     ----------
-    fab : Fabrication, optional
-        A fabricated pattern; with ``crease`` the blocker is placed on that crease
-        (its panel ``A`` is the face on the crease's left) in the pattern frame, and
-        its ``bias``, ``height`` and ``thickness`` are taken from it.
+    plan : PanelPlan, optional
+        The planned panels of a pattern (``fab.plan`` of a fabrication); with
+        ``crease`` the blocker is placed on that crease (its panel ``A`` is the
+        face on the crease's left) in the pattern frame, and the plan's ``bias``,
+        ``height`` and ``thickness`` replace those of ``params``.
     crease : int, optional
-        Edge index of a valley crease of ``fab.pattern``.
-    angle : float
-        Fold angle at which the crease stops, degrees (0 < angle < eq. 6's theta_max).
-    length : float
-        Length of the blocker along the crease, mm.
-    reach : float
-        How far past panel B's chamfer the stop face meets B's outer face, mm.
-    base : float
-        Length of the foot bonded to panel A's outer face, mm.
-    clearance : float
-        Gap left at the stop angle, mm (0: contact).
-    bias, height, thickness : float
-        ``b``, ``h``, ``t`` of the panels, mm, when no ``fab`` is given: the
-        blocker is then built for a crease along +y through the origin, panel
-        ``B`` on the +x side.
+        Edge index of a valley crease of ``plan.pattern``.
+    params : BlockerParams, optional
+        The parameters (default ``BlockerParams()``); without a plan the blocker
+        is built for a crease along +y through the origin, panel ``B`` on the +x side.
+    **values
+        Parameters to change, by name: ``blocker(plan, 3, angle=45)``.
     """
-    if fab is not None:
-        bias, height, thickness = fab.params.bias, fab.params.height, fab.params.thickness
-        theta_max = math.degrees(fab.params.theta_max)
-    else:
-        theta_max = math.degrees(2 * math.atan(2 * bias / (height - thickness)))
-    if not 0 < angle < min(theta_max, 180.0):
-        raise DesignError(f"angle must lie in (0, {theta_max:.1f}) deg (theta_max), got {angle}")
+    p = resolve_params(BlockerParams, params, values)
+    if plan is not None:
+        fp = plan.params
+        p = resolve_params(
+            BlockerParams, p, {"bias": fp.bias, "height": fp.height, "thickness": fp.thickness}
+        )
+    angle, length, reach, base, clearance = p.angle, p.length, p.reach, p.base, p.clearance
+    bias, height, thickness = p.bias, p.height, p.thickness
+    limit = math.degrees(theta_max(bias, height, thickness))
+    if not 0 < angle < min(limit, 180.0):
+        raise DesignError(f"angle must lie in (0, {limit:.1f}) deg (theta_max), got {angle}")
     rho = math.radians(angle)
     z_c = (height + thickness) / 2  # hinge: the crease layer's upper surface
     d = height - z_c + clearance  # distance of the outer face from the hinge
@@ -99,14 +126,10 @@ def blocker(
     # section in the (u, z) plane, extruded along the crease (y)
     solid = extrude(Plane.XZ * face, amount=-length)
     part = solid if isinstance(solid, Part) else Part(solid.wrapped)
-    if fab is not None and crease is not None:
-        start, direction, _, _, _ = blocker_frame(fab, crease)
-        mid = (
-            start
-            + direction
-            * (np.linalg.norm(fab.pattern.vertices[fab.pattern.edges[crease, 1]] - start) - length)
-            / 2
-        )
+    if plan is not None and crease is not None:
+        start, direction, _, _, _ = blocker_frame(plan.pattern, crease)
+        end = plan.pattern.vertices[plan.pattern.edges[crease, 1]]
+        mid = start + direction * (np.linalg.norm(end - start) - length) / 2
         yaw = math.degrees(math.atan2(direction[1], direction[0])) - 90.0
         part = part.moved(Location((float(mid[0]), float(mid[1]), 0.0), (0, 0, 1), yaw))
     part.label = f"blocker {angle:g} deg"

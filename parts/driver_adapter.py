@@ -2,46 +2,65 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 from build123d import Box, Cylinder, Location, Part
 
 from origami_cad.errors import DesignError
 
-__all__ = ["driver_adapter"]
+from .parameters import resolve_params, spec
+
+__all__ = ["DriverAdapterParams", "driver_adapter"]
 
 
-def driver_adapter(
-    connectors: int = 4,
-    board_width: float = 25.0,
-    board_length: float = 45.0,
-    thickness: float = 3.0,
-    margin: float = 6.0,
-    pitch: float = 8.0,
-    slot_width: float = 7.8,
-    slot_depth: float = 2.8,
-    mounting_hole: float = 3.2,
-    pocket: float = 1.2,
-) -> Part:
+@dataclass(frozen=True)
+class DriverAdapterParams:
+    """Parameters of :func:`driver_adapter` (mm unless noted)."""
+
+    connectors: int = field(
+        default=4, metadata=spec("", "number of servo connectors (3-pin plugs, one row), >= 1")
+    )
+    board_width: float = field(
+        default=25.0, metadata=spec("mm", "width of the controller board", low=0.0)
+    )
+    board_length: float = field(
+        default=45.0, metadata=spec("mm", "length of the controller board", low=0.0)
+    )
+    thickness: float = field(default=3.0, metadata=spec("mm", "plate thickness", low=0.0))
+    margin: float = field(
+        default=6.0, metadata=spec("mm", "border around the board and the connector row", low=0.0)
+    )
+    pitch: float = field(
+        default=8.0, metadata=spec("mm", "spacing of the connector slots", low=0.0)
+    )
+    slot_width: float = field(
+        default=7.8, metadata=spec("mm", "through-slot width of each plug housing", low=0.0)
+    )
+    slot_depth: float = field(
+        default=2.8, metadata=spec("mm", "through-slot depth of each plug housing", low=0.0)
+    )
+    mounting_hole: float = field(
+        default=3.2, metadata=spec("mm", "diameter of the four corner holes", low=0.0)
+    )
+    pocket: float = field(default=1.2, metadata=spec("mm", "depth of the board pocket", low=0.0))
+
+
+def driver_adapter(params: DriverAdapterParams | None = None, **values: Any) -> Part:
     """A plate with a pocket for the controller board, connector slots and mounting holes.
 
     Parameters
     ----------
-    connectors : int
-        Number of servo connectors (3-pin plugs, one row), >= 1.
-    board_width, board_length : float
-        Outline of the controller board, mm (it sits in a pocket ``pocket`` deep).
-    thickness : float
-        Plate thickness, mm.
-    margin : float
-        Border around the board and the connector row; mounting holes sit in it, mm.
-    pitch : float
-        Spacing of the connector slots, mm.
-    slot_width, slot_depth : float
-        Through-slot of each plug (JST/Dupont 3-pin housing), mm.
-    mounting_hole : float
-        Diameter of the four corner holes (M3 clearance by default), mm.
-    pocket : float
-        Depth of the board pocket, mm.
+    params : DriverAdapterParams, optional
+        The parameters (default ``DriverAdapterParams()``).
+    **values
+        Parameters to change, by name (Python values or text, see
+        :class:`DriverAdapterParams` for units): ``driver_adapter(connectors=6)``.
     """
+    p = resolve_params(DriverAdapterParams, params, values)
+    connectors, thickness, pocket, margin = p.connectors, p.thickness, p.pocket, p.margin
+    board_width, board_length, pitch = p.board_width, p.board_length, p.pitch
+    slot_width, slot_depth, mounting_hole = p.slot_width, p.slot_depth, p.mounting_hole
     if connectors < 1:
         raise DesignError(f"connectors must be >= 1, got {connectors}")
     if pocket >= thickness:

@@ -10,70 +10,87 @@ a routing can be set up from the rail.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
 
 from build123d import Box, Compound, Cylinder, Location, Part
 
 from origami_cad.errors import DesignError
 
-__all__ = ["ring_anchor_points", "ring_rail"]
+from .parameters import resolve_params, spec
+
+__all__ = ["RingRailParams", "ring_anchor_points", "ring_rail"]
 
 
 #: Thickness of a carriage's walls, mm; the string eyelet goes through its inner wall.
 WALL = 2.0
 
 
-def ring_anchor_points(
-    inner_diameter: float = 140.0,
-    angles: Sequence[float] = (45.0, 135.0, 225.0, 315.0),
-    centre: Sequence[float] = (0.0, 0.0),
-    z_top: float = 20.0,
-    height: float = 8.0,
-) -> list[list[float]]:
+@dataclass(frozen=True)
+class RingRailParams:
+    """Parameters of :func:`ring_rail`."""
+
+    inner_diameter: float = field(
+        default=140.0, metadata=spec("mm", "diameter of the inner circular space", low=0.0)
+    )
+    width: float = field(default=12.0, metadata=spec("mm", "radial width of the ring", low=0.0))
+    height: float = field(default=8.0, metadata=spec("mm", "height of the ring", low=0.0))
+    angles: tuple[float, ...] = field(
+        default=(45.0, 135.0, 225.0, 315.0),
+        metadata=spec("deg", "angular positions of the carriages"),
+    )
+    centre: tuple[float, float] = field(
+        default=(0.0, 0.0), metadata=spec("mm", "centre of the ring (pattern frame)")
+    )
+    z_top: float = field(
+        default=20.0, metadata=spec("mm", "height of the ring's top above the sheet's bottom face")
+    )
+    carriage_length: float = field(
+        default=24.0, metadata=spec("mm", "length of a carriage along the ring", low=0.0)
+    )
+    carriage_height: float = field(
+        default=10.0, metadata=spec("mm", "height of a carriage above the ring", low=0.0)
+    )
+    lock_screw: float = field(
+        default=3.2, metadata=spec("mm", "diameter of each carriage's lock-screw hole", low=0.0)
+    )
+    eyelet: float = field(
+        default=2.0, metadata=spec("mm", "diameter of each carriage's string eyelet", low=0.0)
+    )
+
+
+def ring_anchor_points(params: RingRailParams | None = None, **values: Any) -> list[list[float]]:
     """Where the strings leave the carriages' eyelets, ``[x, y, z]`` mm (route ``anchor``).
 
     The eyelet crosses the carriage's inner wall at half the ring's height; the
-    point is on the wall's inner face, toward the sheet. Arguments as :func:`ring_rail`.
+    point is on the wall's inner face, toward the sheet. Parameters as :func:`ring_rail`.
     """
-    r = inner_diameter / 2.0 - WALL
-    z = z_top - height / 2.0
+    p = resolve_params(RingRailParams, params, values)
+    r = p.inner_diameter / 2.0 - WALL
+    z = p.z_top - p.height / 2.0
+    cx, cy = p.centre
     return [
-        [centre[0] + r * math.cos(math.radians(a)), centre[1] + r * math.sin(math.radians(a)), z]
-        for a in angles
+        [cx + r * math.cos(math.radians(a)), cy + r * math.sin(math.radians(a)), z]
+        for a in p.angles
     ]
 
 
-def ring_rail(
-    inner_diameter: float = 140.0,
-    width: float = 12.0,
-    height: float = 8.0,
-    angles: Sequence[float] = (45.0, 135.0, 225.0, 315.0),
-    centre: Sequence[float] = (0.0, 0.0),
-    z_top: float = 20.0,
-    carriage_length: float = 24.0,
-    carriage_height: float = 10.0,
-    lock_screw: float = 3.2,
-    eyelet: float = 2.0,
-) -> Compound:
+def ring_rail(params: RingRailParams | None = None, **values: Any) -> Compound:
     """The rail (a ring) and its carriages, as an assembly with named children.
 
     Parameters
     ----------
-    inner_diameter : float
-        Diameter of the inner circular space, mm (the paper: 140, a 70 mm radius).
-    width, height : float
-        Radial width and height of the ring, mm.
-    angles : sequence of float
-        Angular positions of the carriages, degrees.
-    centre : (float, float)
-        Centre of the ring in pattern coordinates, mm.
-    z_top : float
-        Height of the ring's top above the sheet's bottom face, mm.
-    carriage_length, carriage_height : float
-        Size of each carriage along the ring and above it, mm.
-    lock_screw, eyelet : float
-        Diameters of each carriage's lock-screw hole and string eyelet, mm.
+    params : RingRailParams, optional
+        The parameters (default ``RingRailParams()``; the paper's ring has a 70 mm
+        inner radius).
+    **values
+        Parameters to change, by name (Python values or text, see
+        :class:`RingRailParams` for units): ``ring_rail(angles=(0, 120, 240))``.
     """
+    p = resolve_params(RingRailParams, params, values)
+    inner_diameter, width, height, angles = p.inner_diameter, p.width, p.height, p.angles
+    centre, z_top, carriage_length = p.centre, p.z_top, p.carriage_length
+    carriage_height, lock_screw, eyelet = p.carriage_height, p.lock_screw, p.eyelet
     if not inner_diameter > 0 or not width > 0 or not height > 0:
         raise DesignError("inner_diameter, width and height must be > 0 mm")
     if not len(angles):

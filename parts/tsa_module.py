@@ -12,13 +12,19 @@ height of the servo horn, the mount sits on the panel's outer face (z = h).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 import shapely
 from build123d import Box, Compound, Cylinder, Location, Part, Plane, Polyline, extrude, make_face
 
 from origami_cad.errors import DesignError
+from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
-__all__ = ["SERVOS", "tsa_module"]
+from .parameters import resolve_params, spec
+
+__all__ = ["SERVOS", "TSAModuleParams", "tsa_module"]
 
 #: Servo bodies: (width, length, height) of the case in mm and the horn axis's distance from
 #: the front end, from the manufacturer's published drawings.
@@ -35,49 +41,72 @@ def _prism(poly: shapely.Polygon, z0: float, z1: float) -> Part:
     return solid if isinstance(solid, Part) else Part(solid.wrapped)
 
 
+@dataclass(frozen=True)
+class TSAModuleParams:
+    """Parameters of :func:`tsa_module`."""
+
+    servo: str = field(
+        default="XL330",
+        metadata=spec("", "XL330 or XL430 (published footprints), or any name with body"),
+    )
+    body: tuple[float, float, float] | None = field(
+        default=None, metadata=spec("mm", "width, length, height of another servo's case")
+    )
+    horn_offset: float | None = field(
+        default=None,
+        metadata=spec("mm", "horn axis from the case's front end (default: the servo's)"),
+    )
+    tsa: TSAParams | None = field(
+        default=None,
+        metadata=spec(
+            "", "the TSA model: its d1 places the hub's anchor holes (default TSAParams())"
+        ),
+    )
+    hub_thickness: float = field(default=4.0, metadata=spec("mm", "hub disc thickness", low=0.0))
+    anchor_hole: float = field(default=1.2, metadata=spec("mm", "anchor hole diameter", low=0.0))
+    guide_distance: float = field(
+        default=20.0, metadata=spec("mm", "string exit guide's distance from the hub", low=0.0)
+    )
+    guide_hole: float = field(
+        default=3.0, metadata=spec("mm", "string exit guide's hole diameter", low=0.0)
+    )
+    mount_thickness: float = field(
+        default=3.0, metadata=spec("mm", "thickness of the mount plate", low=0.0)
+    )
+    heading: float = field(
+        default=0.0, metadata=spec("deg", "direction of the twist axis, from +x")
+    )
+    centre: tuple[float, float] = field(
+        default=(0.0, 0.0), metadata=spec("mm", "where the module stands without a panel")
+    )
+
+
 def tsa_module(
-    servo: str = "XL330",
-    body: tuple[float, float, float] | None = None,
-    horn_offset: float | None = None,
-    tsa: TSAParams | None = None,
-    hub_thickness: float = 4.0,
-    anchor_hole: float = 1.2,
-    guide_distance: float = 20.0,
-    guide_hole: float = 3.0,
-    mount_thickness: float = 3.0,
-    heading: float = 0.0,
-    fab=None,
+    params: TSAModuleParams | None = None,
+    *,
+    plan: PanelPlan | None = None,
     panel: str | None = None,
-    centre: tuple[float, float] = (0.0, 0.0),
+    **values: Any,
 ) -> Compound:
     """An onboard TSA module, as an assembly: ``servo``, ``hub``, ``guide``, ``mount``.
 
     Parameters
     ----------
-    servo : str
-        ``"XL330"`` or ``"XL430"`` (published footprints), or any name with ``body``.
-    body : (float, float, float), optional
-        Width, length, height of another servo's case, mm.
-    horn_offset : float, optional
-        Distance of the horn axis from the case's front end, mm.
-    tsa : TSAParams, optional
-        The TSA model; its ``d1`` places the hub's anchor holes (default ``TSAParams()``).
-    hub_thickness, anchor_hole : float
-        Hub disc thickness and anchor hole diameter, mm.
-    guide_distance, guide_hole : float
-        Distance of the string exit guide from the hub along the axis, and its hole, mm.
-    mount_thickness : float
-        Thickness of the mount plate, mm.
-    heading : float
-        Direction of the twist axis in the pattern plane, degrees from +x.
-    fab : Fabrication, optional
-        With ``panel``: the mount is the panel's outer face inset by 1 mm, with holes
-        at the panel's fabrication holes, placed on the panel (z = h).
+    params : TSAModuleParams, optional
+        The parameters (default ``TSAModuleParams()``).
+    plan : PanelPlan, optional
+        The planned panels of a pattern (``fab.plan`` of a fabrication). With
+        ``panel``: the mount is the panel's outer face inset by 1 mm, with holes
+        at the panel's holes, placed on the panel (z = h).
     panel : str, optional
-        Label of the panel of ``fab`` to mount on.
-    centre : (float, float)
-        Where the module stands without a panel, mm.
+        Label of the panel of ``plan`` to mount on.
+    **values
+        Parameters to change, by name (Python values or text, see
+        :class:`TSAModuleParams` for units): ``tsa_module(servo="XL430")``.
     """
+    p = resolve_params(TSAModuleParams, params, values)
+    servo, body, horn_offset, tsa = p.servo, p.body, p.horn_offset, p.tsa
+    heading = p.heading
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
@@ -93,51 +122,13 @@ def tsa_module(
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
         raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
-    z_base = 0.0
-    holes: list[tuple[float, float, float]] = []
-    if fab is not None:
-        if panel is None:
-            raise DesignError("give the panel label to mount the TSA module on")
-        fi = fab.pattern.face_index(panel)
-        outline = next(o for o in fab.outlines if o.index == fi)
-        foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
-        holes = [(x, y, d) for i, x, y, d in fab.holes if i == fi]
-        z_base = fab.params.height
-        cx, cy = foot.centroid.x, foot.centroid.y
-    else:
-        cx, cy = centre
-        foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
-    # mount plate with the panel's holes
-    mount = _prism(foot, z_base, z_base + mount_thickness)
-    for x, y, d in holes:
-        mount = mount - Cylinder(d / 2, mount_thickness + 2, align=None).moved(
-            Location((x, y, z_base - 1))
-        )
-    mount = mount if isinstance(mount, Part) else Part(mount.wrapped)
-    mount.label = "mount"
+    mount, cx, cy, z_base = _mount(p, plan, panel, length, w)
     # the servo lies on its side: its height runs along the twist axis (local x, horn face
     # at x = 0), its length across (local y, horn axis horn_offset from the front end)
-    z0 = z_base + mount_thickness
-    axis_z = z0 + w / 2
+    z0 = z_base + p.mount_thickness
     servo_box = Box(h, length, w, align=None).moved(Location((-h, -horn_offset, z0)))
     servo_part = servo_box if isinstance(servo_box, Part) else Part(servo_box.wrapped)
-    front = 0.0
-    hub_r = max(tsa.d1 / 2 + max(3.0, anchor_hole * 2), horn_d / 2)
-    hub = Cylinder(hub_r, hub_thickness, align=None).moved(
-        Location((front + 1.0, 0, axis_z), (0, 1, 0), 90)
-    )
-    for sign in (1, -1):  # the two anchor holes at the rotation diameter d1
-        hub = hub - Cylinder(anchor_hole / 2, hub_thickness + 2, align=None).moved(
-            Location((front, sign * tsa.d1 / 2, axis_z), (0, 1, 0), 90)
-        )
-    hub = hub if isinstance(hub, Part) else Part(hub.wrapped)
-    gx = front + 1.0 + hub_thickness + guide_distance
-    guide_h = axis_z - z0 + 6.0
-    guide = Box(3.0, 2 * hub_r, guide_h, align=None).moved(Location((gx, -hub_r, z0)))
-    guide = guide - Cylinder(guide_hole / 2, 6.0, align=None).moved(
-        Location((gx - 1.0, 0, axis_z), (0, 1, 0), 90)
-    )
-    guide = guide if isinstance(guide, Part) else Part(guide.wrapped)
+    hub, guide = _hub_and_guide(p, tsa, horn_d, z0, z0 + w / 2)
     shift = Location((cx, cy, 0), (0, 0, 1), heading)
     children = []
     for name, part in (("servo", servo_part), ("hub", hub), ("guide", guide)):
@@ -149,3 +140,58 @@ def tsa_module(
     assembly = Compound(children=children)
     assembly.label = f"TSA module ({servo})"
     return assembly
+
+
+def _mount(
+    p: TSAModuleParams, plan: PanelPlan | None, panel: str | None, length: float, w: float
+) -> tuple[Part, float, float, float]:
+    """The mount plate and where the module stands: ``(mount, cx, cy, z_base)``, mm.
+
+    On a planned panel: the panel's outer face inset by 1 mm with the panel's holes, at
+    z = h; otherwise a plate 4 mm larger than the servo around ``p.centre``.
+    """
+    z_base = 0.0
+    holes: list[tuple[float, float, float]] = []
+    if plan is not None:
+        if panel is None:
+            raise DesignError("give the panel label to mount the TSA module on")
+        outline = plan.outline(panel)
+        foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
+        holes = [(h.x, h.y, h.diameter) for h in plan.holes_of(outline.index)]
+        z_base = plan.params.height
+        cx, cy = foot.centroid.x, foot.centroid.y
+    else:
+        cx, cy = p.centre
+        foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
+    mount = _prism(foot, z_base, z_base + p.mount_thickness)
+    for x, y, d in holes:
+        mount = mount - Cylinder(d / 2, p.mount_thickness + 2, align=None).moved(
+            Location((x, y, z_base - 1))
+        )
+    mount = mount if isinstance(mount, Part) else Part(mount.wrapped)
+    mount.label = "mount"
+    return mount, cx, cy, z_base
+
+
+def _hub_and_guide(
+    p: TSAModuleParams, tsa: TSAParams, horn_d: float, z0: float, axis_z: float
+) -> tuple[Part, Part]:
+    """The twist hub (anchor holes at the TSA's ``d1``) and the string exit guide, local frame."""
+    front = 0.0
+    hub_r = max(tsa.d1 / 2 + max(3.0, p.anchor_hole * 2), horn_d / 2)
+    hub = Cylinder(hub_r, p.hub_thickness, align=None).moved(
+        Location((front + 1.0, 0, axis_z), (0, 1, 0), 90)
+    )
+    for sign in (1, -1):  # the two anchor holes at the rotation diameter d1
+        hub = hub - Cylinder(p.anchor_hole / 2, p.hub_thickness + 2, align=None).moved(
+            Location((front, sign * tsa.d1 / 2, axis_z), (0, 1, 0), 90)
+        )
+    hub = hub if isinstance(hub, Part) else Part(hub.wrapped)
+    gx = front + 1.0 + p.hub_thickness + p.guide_distance
+    guide_h = axis_z - z0 + 6.0
+    guide = Box(3.0, 2 * hub_r, guide_h, align=None).moved(Location((gx, -hub_r, z0)))
+    guide = guide - Cylinder(p.guide_hole / 2, 6.0, align=None).moved(
+        Location((gx - 1.0, 0, axis_z), (0, 1, 0), 90)
+    )
+    guide = guide if isinstance(guide, Part) else Part(guide.wrapped)
+    return hub, guide

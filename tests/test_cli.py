@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ink
 
 from origami_cad.cli import main
 from origami_cad.pattern import read_fold, read_fold_frames
@@ -33,7 +34,10 @@ def test_pattern_fold_and_tg_from_the_fig2_example(tmp_path, capsys):
     )
     cp = read_fold(tmp_path / "cp.fold")
     assert len(cp.faces) == 30
-    assert (tmp_path / "cp.png").read_bytes()[:4] == b"\x89PNG"
+    covered, (left, top, right, bottom) = ink(tmp_path / "cp.png")
+    assert 0.01 < covered < 0.5  # creases and border drawn, not a blank or black picture
+    width, height = cp.bounds[2] - cp.bounds[0], cp.bounds[3] - cp.bounds[1]
+    assert (right - left) / (bottom - top) == pytest.approx(width / height, rel=0.1)
     assert (
         main(["fold", design, "--ratio", "0.98", "--frames", "4", "-o", str(tmp_path / "f.fold")])
         == 0
@@ -48,12 +52,15 @@ def test_pattern_fold_and_tg_from_the_fig2_example(tmp_path, capsys):
     last = np.array(data["file_frames"][-1]["edges_foldAngle"])
     assert np.isclose(np.abs(last), 0.98 * 180, atol=1e-6).sum() >= 15  # main creases, 3 copies
     assert main(["tg", design, "-o", str(tmp_path / "tg.png")]) == 0
-    assert (tmp_path / "tg.png").stat().st_size > 10_000
+    covered, _ = ink(tmp_path / "tg.png")
+    assert 0.005 < covered < 0.5
 
 
 def test_fold_renders_png_and_gif(tmp_path):
     design = str(EXAMPLES / "miura_6x4.toml")
     assert main(["fold", design, "--ratio", "0.6", "-o", str(tmp_path / "m.png")]) == 0
+    covered, _ = ink(tmp_path / "m.png")
+    assert 0.05 < covered < 0.9  # the folded sheet fills a good part of the view
     assert (
         main(["fold", design, "--ratio", "0.6", "--frames", "3", "-o", str(tmp_path / "m.gif")])
         == 0
@@ -84,8 +91,11 @@ def test_check_exit_codes(tmp_path, capsys):
     [
         (["convert", "missing.fold", "x.svg"], "missing.fold: no such file"),
         (["convert", str(EXAMPLES / "fig2_tg.toml"), "x.fold"], "unknown crease-pattern format"),
-        (["fold", str(EXAMPLES / "fig2_tg.toml"), "--ratio", "1.5", "-o", "x.fold"], "--ratio"),
-        (["fold", str(EXAMPLES / "fig2_tg.toml"), "-o", "x.obj"], ".fold, .png or .gif"),
+        (
+            ["fold", str(EXAMPLES / "fig2_tg.toml"), "--ratio", "1.5", "-o", "x.fold"],
+            "fold ratio must lie in [0, 1]",
+        ),
+        (["fold", str(EXAMPLES / "fig2_tg.toml"), "-o", "x.obj"], ".fold, .png, .gif"),
         (["pattern", "nothing.toml", "-o", "x.fold"], "nothing.toml: no such file"),
     ],
 )

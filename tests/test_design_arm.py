@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from matplotlib.image import imread
 
 from origami_cad.cli import main
 from origami_cad.design import (
@@ -24,6 +25,7 @@ from origami_cad.design import (
 from origami_cad.errors import DesignError
 from origami_cad.kinematics import chain_points
 from origami_cad.pattern.design import load_design
+from origami_cad.viz.design_plots import plot_trajectories
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PAPER_TASK = EXAMPLES / "arm_task.toml"
@@ -182,10 +184,10 @@ def test_paper_task_quality_bar_on_a_small_budget():
     settings = SearchSettings(runs=10, seed=1, max_generations=300)
     results = design_arm(task, settings)
     best = results[0]
-    assert best.terms["d_start_mm"] <= 2.0
-    assert best.terms["d_end_mm"] <= 5.0
-    assert best.terms["improper_states"] == 0
-    assert best.terms["prohibited_states"] == 0
+    assert best.terms.d_start <= 2.0
+    assert best.terms.d_end <= 5.0
+    assert best.terms.improper_states == 0
+    assert best.terms.prohibited_states == 0
     # independently: the chain never touches the prohibited area
     prohibited = task.prohibited[0]
     pts = chain_points(
@@ -225,7 +227,22 @@ def test_cli_writes_results_and_a_buildable_design_file(tmp_path):
     assert design.tg is not None and design.pattern.check() == []
     assert design.tg.lengths == pytest.approx(first["lengths_mm"], abs=1e-5)
     for name in ("trajectories.png", "convergence.png"):
-        assert (out / name).read_bytes()[:4] == b"\x89PNG"
+        image = imread(out / name)
+        ink = np.any(image[..., :3] < 0.9, axis=-1).mean()  # not white: lines, areas, text
+        assert 0.02 < ink < 0.6, (name, ink)
+
+
+def test_trajectory_plot_shows_the_task_and_the_designs():
+    task, _ = load_task(PAPER_TASK)
+    best = run_one(task, SearchSettings(runs=1, seed=3, max_generations=10), 0)
+    ax = plot_trajectories([best], task)
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    shown = np.vstack([task.points, [task.start], best.tips])
+    assert x0 < shown[:, 0].min() and shown[:, 0].max() < x1
+    assert y0 < shown[:, 1].min() and shown[:, 1].max() < y1
+    (tip_line,) = [line for line in ax.lines if line.get_linestyle() == "--"]
+    np.testing.assert_allclose(tip_line.get_xydata(), best.tips)
 
 
 @pytest.mark.parametrize(
@@ -260,26 +277,46 @@ def test_circle_obstacle(tmp_path):
     assert task.prohibited[0].area == pytest.approx(math.pi * 30**2, rel=1e-3)
 
 
-def test_compiled_predicates_agree_with_the_numpy_ones():
-    from origami_cad.design import _kernels, fitness
+def test_predicates_agree_with_shapely_on_random_chains():
+    """The one implementation of each predicate of eq. 5, against shapely directly."""
+    from origami_cad.design.fitness import area_edges
+    from origami_cad.design.predicates import points_inside, self_intersections, touches_area
     from origami_cad.kinematics.chain import chain_joints
 
-    assert _kernels.AVAILABLE
     box = shapely.Polygon(
         [(150, 40), (400, 40), (400, 400), (150, 400)], [[(200, 100), (300, 100), (300, 200)]]
     )
-    task = ArmTask(
-        points=[[250.0, 0.0], [50.0, 133.3]],
-        vectors=8,
-        samples=20,
-        unit_width=0,
-        prohibited=(box,),
-        warning=(shapely.box(140, 30, 2000, 2000),),
-    )
-    lengths, beta = _random_designs(task, 300, seed=11)
-    z = chain_joints(np.linspace(0, math.pi, 20), lengths, beta, np.arange(300) % 2, True)
-    edges = fitness.area_edges(task.prohibited)[0]
-    tips = np.stack([z[:, :, -1].real, z[:, :, -1].imag], axis=-1)
-    assert np.array_equal(_kernels.self_intersections(z), fitness._self_intersections(z))
-    assert np.array_equal(_kernels.touches_area(z, edges), fitness._touches_area(z, edges))
-    assert np.array_equal(_kernels.inside_counts(tips, edges), fitness._inside(tips, edges))
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=8, samples=20, unit_width=0)
+    lengths, beta = _random_designs(task, 200, seed=11)
+    z = chain_joints(np.linspace(0, math.pi, 20), lengths, beta, np.arange(200) % 2, True)
+    pts = np.stack([z.real, z.imag], axis=-1)  # (designs, samples, joints, 2)
+    lines = shapely.linestrings(pts.reshape(-1, pts.shape[2], 2)).reshape(pts.shape[:2])
+    edges = area_edges((box,))[0]
+    touches = touches_area(z, edges)
+    assert np.array_equal(touches, shapely.intersects(lines, box))
+    assert 0 < touches.sum() < touches.size  # both outcomes were tested
+    tips = pts[:, :, -1]
+    inside = points_inside(tips, edges)
+    assert np.array_equal(inside, shapely.contains_xy(box, tips[..., 0], tips[..., 1]))
+    assert 0 < inside.sum() < inside.size
+    crossing = self_intersections(z)
+    segs = [
+        [shapely.LineString(p[k : k + 2]) for k in range(len(p) - 1)]
+        for p in pts[:20].reshape(-1, pts.shape[2], 2)
+    ]
+    expected = [
+        any(s[a].intersects(s[b]) for a in range(len(s)) for b in range(a + 2, len(s)))
+        for s in segs
+    ]
+    assert crossing[:20].reshape(-1).tolist() == expected
+
+
+def test_terms_are_a_dataclass_and_json_keeps_its_keys():
+    task = ArmTask(points=[[250.0, 0.0], [150.0, -60.0], [50.0, 133.3]], weights=[100.0], vectors=3)
+    res = arm_fitness(task, np.array([[100.0, 80.0, 70.0]]), np.radians([[40.0, 140.0]]), [1])
+    terms = res.terms(0)
+    assert terms.d_start == pytest.approx(res.d_start[0]) and terms.d_end == res.d_end[0]
+    assert terms.intermediate_sample == (int(res.mid_index[0, 0]),)
+    data = json.loads(json.dumps(terms.to_dict()))
+    assert data["d_start_mm"] == terms.d_start and data["improper_states"] == terms.improper_states
+    assert data["d_intermediate_mm"] == list(terms.d_intermediate)

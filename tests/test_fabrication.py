@@ -5,6 +5,9 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import os
+import subprocess
+import sys
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
@@ -14,21 +17,27 @@ import numpy as np
 import pytest
 import shapely
 import trimesh
-from build123d import Axis, Compound, Vertex, import_step
+from build123d import Axis, Compound, Edge, Vertex, import_step
+from matplotlib.image import imread
 
 from origami_cad.cli import main
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.fabrication import (
     FabricationParams,
+    LimitStatus,
     bias_for_theta_max,
+    build_fabrication,
     fabricate,
     offset_ring,
+    plan_panels,
     theta_max,
     write_fabrication,
 )
 from origami_cad.fabrication.solids import PART_NAMES
+from origami_cad.kinematics.folding import fold_sequence
 from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import miura_design
+from origami_cad.viz.fabrication_plots import save_panels_png
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -82,7 +91,7 @@ def test_parts_are_valid_disjoint_and_fill_the_envelope(small_fab):
         mid = offset_ring(o.polygon, np.where(o.crease_edge, p.bias / 2, p.border_margin))
         areas = [shapely.Polygon(r).area for r in (o.inner, mid, o.outer)]
         envelope += 2 * p.half_height / 6 * (areas[0] + 4 * areas[1] + areas[2])
-    envelope -= sum(math.pi * (d / 2) ** 2 * p.height for _, _, _, d in fab.holes)
+    envelope -= sum(math.pi * (h.diameter / 2) ** 2 * p.height for h in fab.holes)
     assert total == pytest.approx(envelope, rel=1e-3)
 
 
@@ -120,22 +129,23 @@ def test_folding_two_panels_by_theta_max_brings_chamfers_into_contact(assignment
 def test_holes_go_through_every_part_at_panel_centres(small_fab):
     fab = small_fab
     assert len(fab.holes) == len(fab.outlines)
-    for (fi, x, y, d), o in zip(fab.holes, fab.outlines, strict=True):
-        assert fi == o.index and d == 2.0
-        assert o.region.contains(shapely.Point(x, y).buffer(d / 2))
+    assert fab.plan.hole_panels.tolist() == [o.index for o in fab.outlines]
+    for hole, o in zip(fab.holes, fab.outlines, strict=True):
+        x, y, d = hole.x, hole.y, hole.diameter
+        assert d == 2.0 and fab.pattern.face_of_point(x, y) == o.index
+        region = o.region_polygon()
+        assert region.contains(shapely.Point(x, y).buffer(d / 2))
         # a pole of inaccessibility: (nearly) the largest clearance in the region ...
         from shapely.ops import polylabel
 
-        best = o.region.exterior.distance(polylabel(o.region, tolerance=1e-4))
-        assert o.region.exterior.distance(shapely.Point(x, y)) >= 0.98 * best
+        best = region.exterior.distance(polylabel(region, tolerance=1e-4))
+        assert region.exterior.distance(shapely.Point(x, y)) >= 0.98 * best
         # ... and among those, the one nearest the region's centroid
-        c = o.region.centroid
-        core = o.region.buffer(-0.99 * best)
+        c = region.centroid
+        core = region.buffer(-0.99 * best)
         assert math.hypot(c.x - x, c.y - y) <= core.distance(c) + 1e-6
     # a vertical line through a hole meets no part
-    _, x, y, _ = fab.holes[0]
-    from build123d import Edge
-
+    x, y = fab.holes[0].x, fab.holes[0].y
     probe = Edge.make_line((x, y, -1.0), (x, y, fab.params.height + 1.0))
     for name in PART_NAMES:
         assert Compound(fab.parts.solids[name]).distance_to(probe) > 0.9, name
@@ -218,10 +228,69 @@ def test_exports_read_back(tmp_path, small_fab):
 
 def test_crease_limits_from_the_rigid_folding(small_fab):
     limits = small_fab.limits
-    assert limits["foldable"]
+    assert limits.status is LimitStatus.FOLDABLE and limits.foldable
     # the legs of a Miura fold faster than its main creases
-    assert 0 < limits["p_max_kinematic"] < small_fab.params.p_max
-    assert limits["limiting_creases"]
+    assert 0 < limits.p_max_kinematic < small_fab.params.p_max
+    assert len(limits.limiting_edges) > 0 and limits.creases_before_p_max > 0
+    # independently: at p_max_kinematic a limiting crease is folded by theta_max
+    cp = small_fab.pattern
+    design = miura_design(2, 3, 30.0, 30.0, 65.0)
+    (state,) = fold_sequence(design, [limits.p_max_kinematic])
+    edge = int(limits.limiting_edges[0])
+    assert abs(state.fold_angles[edge]) == pytest.approx(
+        math.degrees(small_fab.params.theta_max), abs=0.5
+    )
+    mid = cp.vertices[cp.edges[edge]].mean(axis=0)
+    np.testing.assert_allclose(limits.limiting_midpoints[0], mid, atol=1e-3)
+    assert limits.limiting_assignments[0] == cp.assignments[edge]
+
+
+def test_crease_limits_have_one_schema_whatever_the_pattern():
+    keys = None
+    for source in (miura_design(2, 3, 30.0, 30.0, 65.0), two_panels()):
+        limits = plan_panels(source, FabricationParams(holes="none")).limits
+        data = json.loads(json.dumps(limits.to_dict()))
+        keys = keys or set(data)
+        assert set(data) == keys
+    assert data["status"] == "not checked" and data["p_max_kinematic"] is None
+    assert data["reason"] and data["limiting_creases"] == []
+
+
+def test_the_plan_is_plain_data_and_the_solids_follow_it():
+    design = miura_design(2, 3, 30.0, 30.0, 65.0)
+    params = FabricationParams(shell=0.5, holes=[(15.0, 10.0), (45.0, 40.0)], hole_diameter=1.5)
+    plan = plan_panels(design, params)
+    for value in vars(plan).values():  # no build123d object in the plan
+        assert "build123d" not in type(value).__module__
+    assert [(h.x, h.y, h.diameter) for h in plan.holes] == [(15.0, 10.0, 1.5), (45.0, 40.0, 1.5)]
+    faces = [plan.pattern.face_of_point(h.x, h.y) for h in plan.holes]
+    assert plan.hole_panels.tolist() == faces
+    label = plan.pattern.face_labels[faces[1]]
+    assert plan.holes_by_label()[label] == (plan.holes[1],)
+    assert plan.pattern_with_holes.holes == plan.holes
+    fab = build_fabrication(plan)
+    assert fab.plan is plan and fab.holes == plan.holes
+    for hole in plan.holes:  # each planned hole goes through the built parts
+        probe = Edge.make_line((hole.x, hole.y, -1.0), (hole.x, hole.y, params.height + 1.0))
+        for name in PART_NAMES:
+            assert Compound(fab.parts.solids[name]).distance_to(probe) > 0.7 * hole.diameter / 2
+    report = fab.report()
+    assert [h["panel"] for h in report["holes"]] == [plan.pattern.face_labels[f] for f in faces]
+    assert report["crease_limits"] == plan.limits.to_dict()
+
+
+def test_panels_png_shows_the_sheet(tmp_path, small_fab):
+    path = save_panels_png(small_fab.plan, tmp_path / "panels.png")
+    image = imread(path)[..., :3]
+    ink = np.any(image < 0.9, axis=-1)  # anything but the white background
+    assert 0.05 < ink.mean() < 0.8
+    # the panels' fill colour covers a box of the sheet's aspect ratio (equal axes)
+    fill = np.all(np.abs(image - np.array([246, 239, 224]) / 255) < 0.02, axis=-1)
+    rows, cols = np.flatnonzero(fill.any(axis=1)), np.flatnonzero(fill.any(axis=0))
+    x0, y0, x1, y1 = small_fab.pattern.bounds
+    drawn = (rows[-1] - rows[0]) / (cols[-1] - cols[0])
+    assert drawn == pytest.approx((y1 - y0) / (x1 - x0), rel=0.05)
+    assert 0.2 < fill.mean() < 0.8
 
 
 @pytest.mark.parametrize(
@@ -271,3 +340,38 @@ def test_a_panel_that_is_not_a_simple_polygon_is_refused(tmp_path):
     framed = CreasePattern(outer + inner, edges, ["B"] * 4 + ["C"] * 4)
     with pytest.raises(PatternError, match="cannot fabricate"):
         fabricate(framed)
+
+
+def test_plots_and_renders_leave_no_global_state(tmp_path):
+    """Importing and using the plots and renders selects no backend and sets no global flag."""
+    script = f"""
+import sys
+import matplotlib
+before = matplotlib.rcParams._get_backend_or_none()
+from origami_cad.pattern.design import miura_design
+from origami_cad.kinematics.folding import fold_sequence
+from origami_cad.fabrication import plan_panels
+from origami_cad.viz import design_plots, drive_plots, tg_plot, parts_render
+from origami_cad.viz.fabrication_plots import save_panels_png
+from origami_cad.viz.render3d import render_folded
+import pyvista
+from vtkmodules.vtkRenderingCore import vtkMapper
+resolve = vtkMapper.GetResolveCoincidentTopology()
+design = miura_design(2, 3, 30.0, 30.0, 65.0)
+save_panels_png(plan_panels(design), r"{tmp_path}/panels.png")
+(state,) = fold_sequence(design, [0.5])
+render_folded(design.pattern, state.coords, r"{tmp_path}/folded.png")
+assert matplotlib.rcParams._get_backend_or_none() == before, "backend selected"
+pyplot = sys.modules.get("matplotlib.pyplot")  # cma imports it, but no figure is open
+assert pyplot is None or not pyplot.get_fignums(), "figures left in pyplot"
+assert not pyvista.OFF_SCREEN, "pyvista.OFF_SCREEN set"
+assert vtkMapper.GetResolveCoincidentTopology() == resolve, "VTK mapper state changed"
+"""
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    folded = imread(tmp_path / "folded.png")[..., :3]
+    ink = np.any(folded < 0.9, axis=-1).mean()  # panels and creases on white
+    assert 0.05 < ink < 0.9

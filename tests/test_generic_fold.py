@@ -10,7 +10,7 @@ import pytest
 from origami_cad.cli import main
 from origami_cad.kinematics.fold3d import face_normals, fold_angles_from_coords, fold_tessellation
 from origami_cad.kinematics.folding import fold_design
-from origami_cad.kinematics.generic import _closure, degree4_ratio, fold_degree4
+from origami_cad.kinematics.generic import degree4_ratio, fold_degree4, vertex_closure
 from origami_cad.pattern import CreasePattern, PatternError, read_fold, write_fold, write_pattern
 from origami_cad.pattern.design import Design, miura_design
 from origami_cad.pattern.tg import TGDesign, tg_pattern
@@ -42,7 +42,7 @@ def test_degree4_ratio_closes_every_vertex():
                 continue
             for rho0 in (0.1, 1.0, 2.5):
                 rho = np.array([rho0, 2 * math.atan(c * math.tan(rho0 / 2))] * 2) * s
-                assert _closure(sectors, rho) < 1e-9
+                assert vertex_closure(sectors, rho) < 1e-9
     with pytest.raises(ValueError, match="Maekawa"):
         degree4_ratio(np.array([1.0, 1.2, math.pi - 1.0, math.pi - 1.2]), np.array([1, 1, 1, 1.0]))
 

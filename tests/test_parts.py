@@ -11,16 +11,29 @@ import pytest
 import shapely
 import trimesh
 from build123d import Axis, Compound, Vector, import_step
+from origami_cad.parts import (
+    PARTS,
+    BlockerParams,
+    Placement,
+    blocker,
+    blocker_frame,
+    build_part,
+    driver_adapter,
+    parse_part_options,
+    parts_listing,
+    ring_anchor_points,
+    ring_rail,
+    tsa_module,
+)
+from origami_cad.parts.parameters import param_info
 
 from origami_cad.cli import main
-from origami_cad.errors import DesignError
-from origami_cad.fabrication import FabricationParams, fabricate
+from origami_cad.errors import DesignError, PatternError
+from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, theta_max
 from origami_cad.fabrication.export import export_part
 from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import load_design
 from origami_cad.strings import TSAParams
-from parts import PARTS, blocker, driver_adapter, ring_anchor_points, ring_rail, tsa_module
-from parts.blocker import blocker_frame
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -52,7 +65,7 @@ def assert_valid_and_watertight(shape, tmp_path, name):
     ],
 )
 def test_every_part_is_a_valid_closed_solid(name, kwargs, tmp_path):
-    shape = PARTS[name](**kwargs)
+    shape = build_part(name, kwargs)
     assert_valid_and_watertight(shape, tmp_path, name)
     assert shape.volume > 0
 
@@ -84,7 +97,7 @@ def test_ring_rail_anchors_sit_in_the_carriage_eyelets():
     rail = ring_rail(inner_diameter=150.0, angles=angles, centre=(60.0, 60.0), z_top=20.0)
     labels = [c.label for c in rail.children]
     assert labels[0] == "rail" and len(labels) == 4
-    anchors = ring_anchor_points(150.0, angles, (60.0, 60.0), 20.0)
+    anchors = ring_anchor_points(inner_diameter=150.0, angles=angles, centre=(60, 60), z_top=20)
     for a, (x, y, z) in zip(angles, anchors, strict=True):
         assert math.hypot(x - 60, y - 60) == pytest.approx(73.0)  # the wall's inner face
         carriage = next(c for c in rail.children if f"({a:g} deg)" in c.label)
@@ -111,21 +124,22 @@ def test_tsa_hub_holes_follow_the_tsa_model_d1():
 
 def test_tsa_mount_fits_its_panel_and_its_holes():
     design = load_design(EXAMPLES / "miura_6x4.toml")
-    fab = fabricate(design)
-    module = tsa_module(fab=fab, panel="c0r1s2")
+    plan = plan_panels(design)  # no solid is built
+    module = tsa_module(plan=plan, panel="c0r1s2")
     mount = next(c for c in module.children if c.label == "mount")
-    fi = fab.pattern.face_index("c0r1s2")
-    outline = next(o for o in fab.outlines if o.index == fi)
+    fi = plan.pattern.face_index("c0r1s2")
+    outline = plan.outlines[fi]
     bb = mount.bounding_box()
-    assert bb.min.Z == pytest.approx(fab.params.height)  # on the panel's outer face
+    assert bb.min.Z == pytest.approx(plan.params.height)  # on the panel's outer face
     footprint = shapely.MultiPoint([(v.X, v.Y) for v in mount.vertices()]).convex_hull
     assert shapely.Polygon(outline.outer).buffer(1e-6).contains(footprint)
-    ((_, x, y, d),) = [h for h in fab.holes if h[0] == fi]
-    z = fab.params.height + 1.5
+    (hole,) = [h for h, i in zip(plan.holes, plan.hole_panels, strict=True) if i == fi]
+    x, y, d = hole.x, hole.y, hole.diameter
+    z = plan.params.height + 1.5
     assert not mount.is_inside(Vector(x, y, z))  # the panel's hole goes through the mount
     assert mount.is_inside(Vector(x + d / 2 + 0.5, y, z))
     with pytest.raises(DesignError, match="unknown servo"):
-        tsa_module("XM999")
+        tsa_module(servo="XM999")
 
 
 def two_panels() -> CreasePattern:
@@ -138,8 +152,8 @@ def two_panels() -> CreasePattern:
 def test_blocker_stops_the_fold_at_its_angle(angle):
     fab = fabricate(two_panels(), FabricationParams(holes="none"))
     crease = int(np.flatnonzero(fab.pattern.assignments == "V")[0])
-    blk = blocker(fab, crease, angle=angle)
-    start, direction, _, face_a, face_b = blocker_frame(fab, crease)
+    blk = blocker(fab.plan, crease, angle=angle)
+    start, direction, _, face_a, face_b = blocker_frame(fab.pattern, crease)
     panel_a = Compound(list(fab.parts.halves[face_a]))
     panel_b = Compound(list(fab.parts.halves[face_b]))
     hinge_z = (fab.params.height + fab.params.thickness) / 2
@@ -157,14 +171,20 @@ def test_blocker_stops_the_fold_at_its_angle(angle):
     assert at.distance_to(blk) < 1e-6 and overlap(at, blk) < 1e-6  # contact
     assert overlap(panel_b.rotate(axis, -(angle + 2.0)), blk) > 1e-2  # beyond: blocked
     with pytest.raises(DesignError, match="theta_max"):
-        blocker(fab, crease, angle=170.0)
+        blocker(fab.plan, crease, angle=170.0)
 
 
 def test_cli_part_and_the_assembly_example(tmp_path, capsys):
     assert main(["part", "--list"]) == 0
     listing = capsys.readouterr().out
-    for name in PARTS:
-        assert name in listing
+    assert listing.strip() == parts_listing()
+    for name, spec in PARTS.items():
+        assert f"{name}: " in listing
+        for info in param_info(spec.params):
+            if info.text:
+                assert f"--{info.name.replace('_', '-')} " in listing
+    assert "--horn-offset FLOAT or none (mm)" in listing
+    assert "--angles FLOAT,... (deg)" in listing
     assert main(["part", "driver-adapter", "-o", str(tmp_path), "--connectors", "3"]) == 0
     assert (tmp_path / "driver-adapter.step").is_file()
     assert main(["part", "driver-adapter", "-o", str(tmp_path), "--connectors", "x"]) == 2
@@ -182,3 +202,96 @@ def test_cli_part_and_the_assembly_example(tmp_path, capsys):
     found = labels(assembly)
     assert {"infills", "shells", "creases", "midlayers"} <= found
     assert {"servo", "hub", "guide", "mount"} <= found
+
+
+def test_text_parameters_get_their_declared_types():
+    # the default of horn_offset is None: the text must still become a float (it was '12')
+    module = build_part("tsa-module", {"horn-offset": "12"})
+    servo = next(c for c in module.children if c.label == "servo")
+    assert servo.bounding_box().min.Y == pytest.approx(-12.0)
+    rail = build_part("ring-rail", {"angles": "0, 120, 240", "centre": "10,20"})
+    assert [c.label for c in rail.children[1:]] == [
+        "carriage 1 (0 deg)",
+        "carriage 2 (120 deg)",
+        "carriage 3 (240 deg)",
+    ]
+    assert rail.children[0].center().X == pytest.approx(10.0, abs=1e-6)
+    plate = build_part("driver-adapter", {"connectors": 2, "thickness": 4})  # typed values
+    assert plate.label == "driver adapter (2 connectors)"
+    assert plate.bounding_box().size.Z == pytest.approx(4.0)
+    assert parse_part_options(["--horn-offset", "12"]) == {"horn_offset": "12"}
+
+
+@pytest.mark.parametrize(
+    "name, values, message",
+    [
+        ("tsa-module", {"horn_offset": "twelve"}, "parameter horn_offset: expected a float"),
+        ("tsa-module", {"body": "20,34"}, "parameter body: expected 3 comma-separated"),
+        ("tsa-module", {"tsa": "10"}, "parameter tsa: expected a TSAParams"),
+        ("driver-adapter", {"connectors": "2.5"}, "parameter connectors: expected an int"),
+        ("driver-adapter", {"connectors": 2.5}, "parameter connectors: expected an int"),
+        ("driver-adapter", {"pitch": "-3"}, "parameter pitch: must be > 0 mm"),
+        ("ring-rail", {"angles": "0,nan"}, "parameter angles: expected a finite number"),
+        ("blocker", {"angel": "30"}, "unknown parameter 'angel'"),
+        ("blocker", {"angle": True}, "parameter angle: expected a float"),
+        ("nope", {}, "unknown part 'nope'"),
+    ],
+)
+def test_bad_part_parameters_are_named(name, values, message):
+    with pytest.raises(DesignError, match=message):
+        build_part(name, values)
+
+
+def test_placement_follows_the_registry(tmp_path):
+    assert {n: s.placement for n, s in PARTS.items()} == {
+        "tsa-module": Placement.PANEL,
+        "ring-rail": Placement.NONE,
+        "blocker": Placement.CREASE,
+        "driver-adapter": Placement.NONE,
+    }
+    design = EXAMPLES / "miura_6x4.toml"
+    with pytest.raises(DesignError, match="give the panel label"):
+        build_part("tsa-module", pattern=design)
+    with pytest.raises(DesignError, match="give the crease edge"):
+        build_part("blocker", pattern=design)
+    with pytest.raises(DesignError, match="not placed on a pattern"):
+        build_part("ring-rail", pattern=design)
+    with pytest.raises(DesignError, match="need --pattern"):
+        build_part("blocker", crease=3)
+    with pytest.raises(PatternError, match="no panel labelled 'zz'"):
+        build_part("tsa-module", pattern=design, panel="zz")
+    code = main(["part", "tsa-module", "-o", str(tmp_path), "--pattern", str(design)])
+    assert code == 2
+
+
+def test_every_part_parameter_has_a_type_a_unit_or_none_and_a_doc():
+    for spec in PARTS.values():
+        for info in param_info(spec.params):
+            assert info.doc, (spec.name, info.name)
+            assert info.unit in ("", "mm", "deg"), (spec.name, info.name)
+            if info.unit:  # lengths and angles are numbers
+                assert "FLOAT" in info.type_name, (spec.name, info.name)
+
+
+def test_blocker_limit_is_eq6_of_its_panels():
+    params = BlockerParams(bias=1.0, height=3.0, thickness=1.0)
+    limit = math.degrees(theta_max(1.0, 3.0, 1.0))  # 90 deg
+    blocker(params=params, angle=limit - 1.0)
+    with pytest.raises(DesignError, match=f"\\(0, {limit:.1f}\\) deg"):
+        blocker(params=params, angle=limit + 1.0)
+
+
+def test_parts_are_installed_inside_the_package():
+    import tomllib
+
+    import origami_cad.parts
+
+    root = Path(__file__).resolve().parents[1]
+    assert Path(origami_cad.parts.__file__).parent == root / "parts"
+    setup = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert setup["package-dir"] == {"origami_cad.parts": "parts"}
+    found = {
+        ".".join(p.parent.relative_to(root).parts)
+        for p in (root / "origami_cad").rglob("__init__.py")
+    }
+    assert set(setup["packages"]) == found | {"origami_cad.parts"}

@@ -6,8 +6,13 @@
 11
 """
 
-from origami_cad.design.fitness import INFEASIBLE_COST, FitnessResult, arm_fitness, sample_angles
-from origami_cad.design.outputs import write_design_outputs
+from origami_cad.design.fitness import (
+    INFEASIBLE_COST,
+    FitnessResult,
+    FitnessTerms,
+    arm_fitness,
+    sample_angles,
+)
 from origami_cad.design.search import ArmDesign, decode, design_arm, run_one
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
 
@@ -16,6 +21,7 @@ __all__ = [
     "ArmDesign",
     "ArmTask",
     "FitnessResult",
+    "FitnessTerms",
     "SearchSettings",
     "arm_fitness",
     "decode",
@@ -24,5 +30,4 @@ __all__ = [
     "run_one",
     "sample_angles",
     "task_to_dict",
-    "write_design_outputs",
 ]

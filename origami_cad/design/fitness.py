@@ -37,15 +37,67 @@ from typing import Any
 import numpy as np
 import shapely
 
-from origami_cad.design import _kernels
+from origami_cad.design.predicates import points_inside, self_intersections, touches_area
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import chain_joints
 from origami_cad.pattern.miura import leg_gaps
 
-__all__ = ["INFEASIBLE_COST", "FitnessResult", "area_edges", "arm_fitness", "sample_angles"]
+__all__ = [
+    "INFEASIBLE_COST",
+    "FitnessResult",
+    "FitnessTerms",
+    "area_edges",
+    "arm_fitness",
+    "sample_angles",
+]
 
 #: Cost (negated fitness) of an infeasible design, above that of any feasible one.
 INFEASIBLE_COST = 1.0e4
+
+
+@dataclass(frozen=True)
+class FitnessTerms:
+    """Eq. 5 and its terms for one design, as plain numbers.
+
+    Attributes
+    ----------
+    fitness : float
+        ``f`` of eq. 5 (``-inf`` for an infeasible design).
+    d_start, d_end : float
+        ``|T_e(0) - P_start|`` and ``|T_e(pi) - P_end|``, mm.
+    d_intermediate : tuple of float
+        Distance of each intermediate point to its matched ``T_e`` sample, mm.
+    intermediate_sample : tuple of int
+        Sample index at which each intermediate point is matched.
+    improper_states : int
+        ``N``: the number of improper sampled states.
+    prohibited_states : int
+        Number of sampled states in which the chain touches a prohibited area.
+    leg_gap_violations : int
+        Number of segments whose neighbouring legs are closer than ``min_leg_gap``.
+    """
+
+    fitness: float
+    d_start: float
+    d_end: float
+    d_intermediate: tuple[float, ...]
+    intermediate_sample: tuple[int, ...]
+    improper_states: int
+    prohibited_states: int
+    leg_gap_violations: int
+
+    def to_dict(self) -> dict[str, Any]:
+        """The terms for a JSON file, with units in the keys."""
+        return {
+            "fitness": self.fitness,
+            "d_start_mm": self.d_start,
+            "d_end_mm": self.d_end,
+            "d_intermediate_mm": list(self.d_intermediate),
+            "intermediate_sample": list(self.intermediate_sample),
+            "improper_states": self.improper_states,
+            "prohibited_states": self.prohibited_states,
+            "leg_gap_violations": self.leg_gap_violations,
+        }
 
 
 @dataclass(frozen=True)
@@ -92,18 +144,18 @@ class FitnessResult:
         violations = (self.prohibited_hits + self.leg_violations).astype(float)
         return np.where(self.feasible, -self.fitness, INFEASIBLE_COST + violations)
 
-    def terms(self, k: int) -> dict[str, Any]:
-        """The fitness terms of design ``k`` as plain numbers."""
-        return {
-            "fitness": float(self.fitness[k]),
-            "d_start_mm": float(self.d_start[k]),
-            "d_end_mm": float(self.d_end[k]),
-            "d_intermediate_mm": self.d_mid[k].tolist(),
-            "intermediate_sample": self.mid_index[k].tolist(),
-            "improper_states": int(self.improper[k]),
-            "prohibited_states": int(self.prohibited_hits[k]),
-            "leg_gap_violations": int(self.leg_violations[k]),
-        }
+    def terms(self, k: int) -> FitnessTerms:
+        """The fitness terms of design ``k``."""
+        return FitnessTerms(
+            fitness=float(self.fitness[k]),
+            d_start=float(self.d_start[k]),
+            d_end=float(self.d_end[k]),
+            d_intermediate=tuple(self.d_mid[k].tolist()),
+            intermediate_sample=tuple(self.mid_index[k].tolist()),
+            improper_states=int(self.improper[k]),
+            prohibited_states=int(self.prohibited_hits[k]),
+            leg_gap_violations=int(self.leg_violations[k]),
+        )
 
 
 def sample_angles(samples: int) -> np.ndarray:
@@ -122,128 +174,6 @@ def area_edges(areas: tuple[Any, ...]) -> list[np.ndarray]:
             segs.append(np.stack([c[:-1], c[1:]], axis=1))
         out.append(np.concatenate(segs))
     return out
-
-
-def _cross(ax, ay, bx, by):
-    return ax * by - ay * bx
-
-
-def _segments_touch(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """Whether segments ab and cd intersect or touch (broadcasting over leading axes)."""
-    o1 = _cross(
-        b[..., 0] - a[..., 0], b[..., 1] - a[..., 1], c[..., 0] - a[..., 0], c[..., 1] - a[..., 1]
-    )
-    o2 = _cross(
-        b[..., 0] - a[..., 0], b[..., 1] - a[..., 1], d[..., 0] - a[..., 0], d[..., 1] - a[..., 1]
-    )
-    o3 = _cross(
-        d[..., 0] - c[..., 0], d[..., 1] - c[..., 1], a[..., 0] - c[..., 0], a[..., 1] - c[..., 1]
-    )
-    o4 = _cross(
-        d[..., 0] - c[..., 0], d[..., 1] - c[..., 1], b[..., 0] - c[..., 0], b[..., 1] - c[..., 1]
-    )
-    boxes = (
-        (np.minimum(a[..., 0], b[..., 0]) <= np.maximum(c[..., 0], d[..., 0]))
-        & (np.minimum(c[..., 0], d[..., 0]) <= np.maximum(a[..., 0], b[..., 0]))
-        & (np.minimum(a[..., 1], b[..., 1]) <= np.maximum(c[..., 1], d[..., 1]))
-        & (np.minimum(c[..., 1], d[..., 1]) <= np.maximum(a[..., 1], b[..., 1]))
-    )
-    return (o1 * o2 <= 0) & (o3 * o4 <= 0) & boxes
-
-
-def _inside(points: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Even-odd point-in-polygon test of ``points (..., 2)`` against boundary ``edges``."""
-    px, py = points[..., 0, None], points[..., 1, None]
-    x0, y0 = edges[:, 0, 0], edges[:, 0, 1]
-    x1, y1 = edges[:, 1, 0], edges[:, 1, 1]
-    straddle = (y0 > py) != (y1 > py)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x_at = x0 + (py - y0) * (x1 - x0) / (y1 - y0)
-    crossings = straddle & (px < x_at)
-    return (np.count_nonzero(crossings, axis=-1) % 2) == 1
-
-
-def _self_intersections(z: np.ndarray) -> np.ndarray:
-    """Per sample, whether two non-adjacent segments of the chain intersect or touch.
-
-    ``z``: complex joints ``(..., m)``. The orientation of joint ``k`` to segment
-    ``i`` is ``cross(v_i, z_k - z_i)``; all of them come from one outer product.
-    Two segments cross when each one's end points lie on opposite sides of the
-    other; a zero orientation (touching, collinear) is decided exactly with boxes.
-    """
-    m = z.shape[-1]
-    i, j = np.triu_indices(m - 1, k=2)
-    lead = z.shape[:-1]
-    if len(i) == 0:
-        return np.zeros(lead, dtype=bool)
-    zf = z.reshape(-1, m)
-    # (joint, sample) layout: every operation runs over long contiguous rows
-    x, y = np.ascontiguousarray(zf.real.T), np.ascontiguousarray(zf.imag.T)
-    vx, vy = np.diff(x, axis=0), np.diff(y, axis=0)
-    c = vx[:, None, :] * y[None, :, :]
-    c -= vy[:, None, :] * x[None, :, :]
-    c -= np.diagonal(c, axis1=0, axis2=1).T[:, None, :]
-    o = c.reshape(-1, len(zf))
-    p12 = o[i * m + j] * o[i * m + j + 1]
-    p34 = o[j * m + i] * o[j * m + i + 1]
-    hit = ((p12 < 0) & (p34 < 0)).any(axis=0)
-    p12, p34 = p12.T, p34.T
-    x, y = x.T, y.T
-    rows, pairs = np.nonzero((p12 <= 0) & (p34 <= 0) & ~hit[:, None])
-    if len(rows):
-        pts = np.stack([x, y], axis=-1)
-        ii, jj = i[pairs], j[pairs]
-        touch = _segments_touch(pts[rows, ii], pts[rows, ii + 1], pts[rows, jj], pts[rows, jj + 1])
-        hit[rows[touch]] = True
-    return hit.reshape(lead)
-
-
-def _touches_area(z: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Per sample, whether the chain (complex joints ``z``) touches the polygon with ``edges``.
-
-    True if a joint lies inside the polygon or a chain segment meets a boundary
-    segment (touching included).
-    """
-    lead = z.shape[:-1]
-    zf = z.reshape(-1, z.shape[-1])
-    out = np.zeros(len(zf), dtype=bool)
-    lo, hi = edges.min(axis=(0, 1)), edges.max(axis=(0, 1))
-    x, y = zf.real, zf.imag
-    cand = np.flatnonzero(
-        (x.max(axis=1) >= lo[0])
-        & (x.min(axis=1) <= hi[0])
-        & (y.max(axis=1) >= lo[1])
-        & (y.min(axis=1) <= hi[1])
-    )
-    if not len(cand):
-        return out.reshape(lead)
-    x, y = x[cand], y[cand]
-    vx, vy = np.diff(x, axis=1), np.diff(y, axis=1)
-    hit = np.zeros(len(cand), dtype=bool)
-    parity = np.zeros(x.shape, dtype=bool)
-    for (ax, ay), (bx, by) in edges:
-        ex, ey = bx - ax, by - ay
-        # joints against the edge line, edge ends against each chain segment
-        oj = ex * (y - ay) - ey * (x - ax)
-        s12 = oj[:, :-1] * oj[:, 1:]
-        oa = vx * (ay - y[:, :-1]) - vy * (ax - x[:, :-1])
-        ob = vx * (by - y[:, :-1]) - vy * (bx - x[:, :-1])
-        s34 = oa * ob
-        meet = (s12 <= 0) & (s34 <= 0)
-        boxes = (
-            (np.minimum(x[:, :-1], x[:, 1:]) <= max(ax, bx))
-            & (np.maximum(x[:, :-1], x[:, 1:]) >= min(ax, bx))
-            & (np.minimum(y[:, :-1], y[:, 1:]) <= max(ay, by))
-            & (np.maximum(y[:, :-1], y[:, 1:]) >= min(ay, by))
-        )
-        hit |= (meet & boxes).any(axis=1)
-        # even-odd ray cast of every joint towards +x
-        if ay != by:
-            straddle = (ay > y) != (by > y)
-            x_at = ax + (y - ay) * (bx - ax) / (by - ay)
-            parity ^= straddle & (x < x_at)
-    out[cand] = hit | parity.any(axis=1)
-    return out.reshape(lead)
 
 
 def arm_fitness(
@@ -290,15 +220,14 @@ def arm_fitness(
         mid_index[:, j] = k
         lowest = k
         f = f + task.weights[j] / (10.0 + d_mid[:, j])
-    kernels = _kernels.AVAILABLE
-    improper = _kernels.self_intersections(z) if kernels else _self_intersections(z)
+    improper = self_intersections(z)
     for edges in area_edges(task.warning):
-        improper |= _kernels.inside_counts(tips, edges) if kernels else _inside(tips, edges)
+        improper |= points_inside(tips, edges)
     n_improper = improper.sum(axis=1)
     f = f - 4.0 * n_improper
     hits = np.zeros((n_designs, n_samples), dtype=bool)
     for edges in area_edges(task.prohibited):
-        hits |= _kernels.touches_area(z, edges) if kernels else _touches_area(z, edges)
+        hits |= touches_area(z, edges)
     n_hits = hits.sum(axis=1)
     legs = np.zeros(n_designs, dtype=np.int64)
     if task.unit_width > 0:

@@ -35,7 +35,7 @@ from typing import Any
 import cma
 import numpy as np
 
-from origami_cad.design.fitness import FitnessResult, arm_fitness
+from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
 from origami_cad.design.task import ArmTask, SearchSettings
 from origami_cad.pattern.tg import TGDesign
 
@@ -58,13 +58,33 @@ def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @dataclass(frozen=True)
 class ArmDesign:
-    """One designed arm: the TG design variables, its fitness terms and trajectory."""
+    """One designed arm: the TG design variables, its fitness terms and trajectory.
+
+    Attributes
+    ----------
+    lengths : tuple of float
+        ``l_0 .. l_n``, mm.
+    shape_angles : tuple of float
+        ``beta_1 .. beta_n``, degrees.
+    entry_flag : int
+        ``EF_0``.
+    fitness : float
+        ``f`` of eq. 5.
+    terms : FitnessTerms
+        The terms of eq. 5.
+    tips : ndarray, shape (S, 2)
+        ``T_e`` at every sample, mm.
+    run, generations : int
+        Index of the CMA-ES run and the number of generations it ran.
+    history : tuple of float
+        Best fitness after each generation.
+    """
 
     lengths: tuple[float, ...]
     shape_angles: tuple[float, ...]
     entry_flag: int
     fitness: float
-    terms: dict[str, Any]
+    terms: FitnessTerms
     tips: np.ndarray
     run: int
     generations: int
@@ -83,13 +103,14 @@ class ArmDesign:
         )
 
     def to_dict(self) -> dict[str, Any]:
+        """The design for a JSON file (``results.json``), with units in the keys."""
         return {
             "run": self.run,
             "fitness": self.fitness,
             "lengths_mm": list(self.lengths),
             "shape_angles_deg": list(self.shape_angles),
             "entry_flag": self.entry_flag,
-            "terms": self.terms,
+            "terms": self.terms.to_dict(),
             "generations": self.generations,
             "tip_mm": self.tips.tolist(),
             "best_fitness_per_generation": list(self.history),

@@ -5,16 +5,25 @@ Everything runs without hardware against :mod:`origami_cad.drive.emulator`.
 
 from origami_cad.drive.dynamixel import DynamixelBus, max_turns_for, ticks_to_turns, turns_to_ticks
 from origami_cad.drive.emulator import DynamixelEmulator, SerialEmulator
-from origami_cad.drive.errors import DriveError, StallError
+from origami_cad.drive.errors import (
+    DriveError,
+    HardwareError,
+    PortLostError,
+    StallError,
+    TorqueOffError,
+)
 from origami_cad.drive.serial import SerialBus
 
 __all__ = [
     "DriveError",
     "DynamixelBus",
     "DynamixelEmulator",
+    "HardwareError",
+    "PortLostError",
     "SerialBus",
     "SerialEmulator",
     "StallError",
+    "TorqueOffError",
     "max_turns_for",
     "ticks_to_turns",
     "turns_to_ticks",

@@ -8,7 +8,10 @@ exceeded (the motor stalls where the string is taut). :class:`SerialEmulator`
 speaks the package's generic line protocol (``docs/serial-protocol.md``).
 
 Faults can be injected for tests: drop the next status packets of a servo,
-corrupt their CRC, or report an overload.
+corrupt their CRC, report an overload, pull the cable (:meth:`~_PtyDevice.unplug`,
+the host's port then fails as a USB adapter's does) and plug it back
+(:meth:`~_PtyDevice.plug`); :meth:`~_PtyDevice.at_packet` times any of them to
+the n-th packet received, so a test hits the same point on every run.
 
 Examples
 --------
@@ -18,6 +21,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import select
@@ -28,6 +32,7 @@ import tty
 from collections import Counter
 from dataclasses import dataclass, field
 
+from origami_cad.drive.errors import DriveError
 from origami_cad.drive.protocol2 import (
     BROADCAST,
     CLEAR,
@@ -178,31 +183,78 @@ class EmulatedServo:
         return _HW_ALERT if self.table[70] else 0
 
 
+def _check_ids(ids: list[int]) -> None:
+    if not ids:
+        raise DriveError("an emulator needs at least one servo ID")
+    repeated = sorted({i for i in ids if ids.count(i) > 1})
+    if repeated:
+        raise DriveError(f"servo IDs {repeated} are given more than once (IDs {ids})")
+    bad = [i for i in ids if not 0 <= i <= 252]
+    if bad:
+        raise DriveError(f"servo IDs {bad} are outside 0..252")
+
+
 class _PtyDevice:
     """A pseudo-terminal whose device side runs in a thread."""
 
     def __init__(self) -> None:
+        self._open_pty()
+        self._thread: threading.Thread | None = None
+        self.received = 0  # instruction packets (or command lines) received so far
+        self._actions: dict[int, list] = {}
+
+    def at_packet(self, n: int, action) -> None:
+        """Call ``action()`` when the ``n``-th packet (or line) arrives, before answering it.
+
+        Deterministic fault injection for tests: e.g. ``emu.at_packet(40, emu.unplug)``
+        or ``emu.at_packet(40, lambda: emu.report_overload(2))``.
+        """
+        self._actions.setdefault(int(n), []).append(action)
+
+    def _count_packet(self) -> bool:
+        """Count a packet and run its scheduled actions; True if they unplugged the device."""
+        stop = self._stop
+        self.received += 1
+        for action in self._actions.pop(self.received, []):
+            action()
+        return stop.is_set()
+
+    def _open_pty(self) -> None:
         self.master, self.slave = os.openpty()
         tty.setraw(self.slave)
         tty.setraw(self.master)
         self.port = os.ttyname(self.slave)
         self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
 
     def start(self):
         self._thread = threading.Thread(target=self._loop, daemon=True, name="servo-emulator")
         self._thread.start()
         return self
 
+    def unplug(self) -> None:
+        """Pull the cable: the host's port fails (EIO); the devices keep their state."""
+        self.stop()
+
+    def plug(self) -> None:
+        """Plug the cable back in: a new pseudo-terminal, so :attr:`port` changes
+        (as a USB adapter may come back under another name)."""
+        self._open_pty()
+        self._reset_input()
+        self.start()
+
+    def _reset_input(self) -> None:
+        pass
+
     def stop(self) -> None:
+        """Stop answering and close the pseudo-terminal (the host's port then fails)."""
         self._stop.set()
-        if self._thread is not None:
+        if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2)
-        for fd in (self.master, self.slave):
-            try:
-                os.close(fd)
-            except OSError:
-                pass
+        fds, self.master, self.slave = (self.master, self.slave), -1, -1
+        for fd in fds:  # once only: a closed descriptor's number may be reused
+            if fd >= 0:
+                with contextlib.suppress(OSError):
+                    os.close(fd)
 
     def __enter__(self):
         return self.start()
@@ -211,16 +263,20 @@ class _PtyDevice:
         self.stop()
 
     def _loop(self) -> None:
-        while not self._stop.is_set():
-            ready, _, _ = select.select([self.master], [], [], 0.02)
-            if not ready:
-                continue
-            try:
-                data = os.read(self.master, 4096)
-            except OSError:
-                return
-            for reply in self.feed(data):
-                os.write(self.master, reply)
+        stop, master = self._stop, self.master  # this pseudo-terminal's, even after plug()
+        try:
+            while not stop.is_set():
+                ready, _, _ = select.select([master], [], [], 0.02)
+                if not ready:
+                    continue
+                data = os.read(master, 4096)
+                replies = self.feed(data)
+                if stop.is_set():  # unplugged meanwhile: this descriptor is closed
+                    return
+                for reply in replies:
+                    os.write(master, reply)
+        except (OSError, ValueError):  # unplugged or stopped meanwhile
+            return
 
     def feed(self, data: bytes) -> list[bytes]:  # pragma: no cover - overridden
         raise NotImplementedError
@@ -250,6 +306,12 @@ class DynamixelEmulator(_PtyDevice):
         load_turns: dict | None = None,
         time_scale: float = 1.0,
     ) -> None:
+        ids = [int(i) for i in ids]
+        _check_ids(ids)
+        if not (math.isfinite(time_scale) and time_scale > 0):
+            raise DriveError(f"emulator time scale must be finite and > 0, got {time_scale}")
+        if model not in MODELS:
+            raise DriveError(f"unknown servo model {model!r}; one of {', '.join(MODELS)}")
         super().__init__()
         self.servos = {
             i: EmulatedServo(
@@ -258,9 +320,13 @@ class DynamixelEmulator(_PtyDevice):
             for i in ids
         }
         self._buffer = bytearray()
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()  # plug() from an injected action
         self.packets_in = 0
         self.instructions: Counter[int] = Counter()  # instruction packets received, by kind
+
+    def _reset_input(self) -> None:
+        with self._lock:
+            self._buffer.clear()
 
     # -- fault injection
     def drop_status(self, dxl_id: int, count: int = 1) -> None:
@@ -290,6 +356,8 @@ class DynamixelEmulator(_PtyDevice):
         with self._lock:
             self._buffer.extend(data)
             for pkt in parse_packets(self._buffer):
+                if self._count_packet():  # unplugged by an injected fault
+                    return []
                 self.packets_in += 1
                 self.instructions[pkt.instruction] += 1
                 if not pkt.crc_ok:
@@ -344,6 +412,8 @@ class SerialEmulator(_PtyDevice):
     """A board speaking the generic line protocol (see :mod:`origami_cad.drive.serial`)."""
 
     def __init__(self, ids, corrupt_replies: int = 0) -> None:
+        ids = [int(i) for i in ids]
+        _check_ids(ids)
         super().__init__()
         from origami_cad.drive.serial import LineDevice
 
@@ -351,11 +421,16 @@ class SerialEmulator(_PtyDevice):
         self.device.corrupt_replies = corrupt_replies
         self._buffer = b""
 
+    def _reset_input(self) -> None:
+        self._buffer = b""
+
     def feed(self, data: bytes) -> list[bytes]:
         self._buffer += data
         out = []
         while b"\n" in self._buffer:
             line, self._buffer = self._buffer.split(b"\n", 1)
+            if self._count_packet():  # unplugged by an injected fault
+                return []
             reply = self.device.handle(line.decode("ascii", "replace").strip())
             if reply is not None:
                 out.append((reply + "\n").encode("ascii"))

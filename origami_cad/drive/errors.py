@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
+
 from origami_cad.errors import OrigamiCadError
 
-__all__ = ["DriveError", "StallError"]
+__all__ = ["DriveError", "HardwareError", "PortLostError", "StallError", "TorqueOffError"]
 
 
 class DriveError(OrigamiCadError, RuntimeError):
@@ -13,3 +18,72 @@ class DriveError(OrigamiCadError, RuntimeError):
 
 class StallError(DriveError):
     """A TSA stalled: its current exceeded the limit (string tension too high)."""
+
+
+class HardwareError(DriveError):
+    """A servo reported a hardware error (overload, overheating, input voltage, ...)."""
+
+
+class PortLostError(DriveError):
+    """The serial port stopped working (bus unplugged, emulator killed)."""
+
+
+class TorqueOffError(DriveError):
+    """Torque could not be switched off on some servos; ``servos`` lists their IDs."""
+
+    def __init__(self, message: str, servos: list[int] | tuple[int, ...] = ()) -> None:
+        super().__init__(message)
+        self.servos = list(servos)
+
+
+try:  # pyserial raises termios.error (not an OSError) on a vanished pseudo-terminal
+    import termios
+
+    #: What a serial port raises when it stops working (unplugged, emulator gone).
+    PORT_ERRORS: tuple[type[BaseException], ...] = (OSError, termios.error)
+except ImportError:  # pragma: no cover - Windows
+    PORT_ERRORS = (OSError,)
+
+
+def describe_exit(exc: BaseException) -> str:
+    """One line for an exception that ended a run (to prefix a torque-off failure)."""
+    if isinstance(exc, KeyboardInterrupt):
+        return "interrupted (Ctrl-C)"
+    if isinstance(exc, OrigamiCadError):
+        return str(exc)
+    return f"{type(exc).__name__}: {exc}"
+
+
+def port_error_text(exc: BaseException) -> str:
+    """A port failure in words: ``[Errno 5] Input/output error`` (also for ``termios.error``)."""
+    errno = getattr(exc, "errno", None)
+    if errno is None and len(exc.args) == 2 and isinstance(exc.args[0], int):
+        errno = exc.args[0]  # termios.error(errno, text)
+    if errno:
+        import os
+
+        return f"[Errno {errno}] {os.strerror(errno)}"
+    return str(exc)
+
+
+@contextlib.contextmanager
+def hold_ctrl_c() -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) while the servos are being switched off; raise it afterwards.
+
+    Only in the main thread and only over Python's default handler (a program
+    that installed its own keeps it). An error in the body wins over a held Ctrl-C.
+    """
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    ):
+        yield
+        return
+    pressed: list[int] = []
+    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    if pressed:
+        raise KeyboardInterrupt

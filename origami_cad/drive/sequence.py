@@ -25,6 +25,7 @@ through the TSA model (never beyond its maximum twist).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import itertools
 import json
@@ -38,13 +39,21 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._fileio import atomic_write
 from origami_cad._toml import Table, load_toml
 from origami_cad.drive.errors import DriveError
 from origami_cad.errors import DesignError
 from origami_cad.strings.tsa import TSAParams, onboard_angle
 
-__all__ = ["Keyframe", "Sequence", "SequenceTSA", "load_sequence", "run_sequence"]
+__all__ = [
+    "LOG_FIELDS",
+    "MAX_STEPS",
+    "Keyframe",
+    "Sequence",
+    "SequenceTSA",
+    "check_time_scale",
+    "load_sequence",
+    "run_sequence",
+]
 
 
 @dataclass(frozen=True)
@@ -102,6 +111,7 @@ class Sequence:
     repeat: int = 1
     rate: float = 20.0
     current_limit: float | None = None
+    source: Path | None = None  # the file it was read from
 
     @property
     def cycle(self) -> float:
@@ -135,31 +145,96 @@ class Sequence:
         return tsa.turns(v)
 
 
-def _mapping(t: Table, base: Path) -> np.ndarray:
+#: Largest dcqc.json a mapping may name, bytes.
+MAX_MAPPING_FILE = 50_000_000
+#: Most command/read cycles in one run (about 14 h at 20 Hz).
+MAX_STEPS = 1_000_000
+#: Highest command rate, Hz (a 57600 bps bus manages about 100 Hz).
+MAX_RATE = 1000.0
+
+
+def _finite_number(value: Any) -> bool:
+    return (
+        not isinstance(value, bool)
+        and isinstance(value, int | float)
+        and math.isfinite(value)
+        and abs(value) < 1e12
+    )
+
+
+def _mapping(t: Table, base: Path, length: float) -> np.ndarray:
+    """The ``mapping`` key: ``[[p, contraction_mm], ...]`` or a dcqc.json path, checked."""
     raw = t.data.get("mapping")
     t.used.add("mapping")
     if isinstance(raw, str):
         path = (base / raw).resolve()
-        if not path.is_file():
+        if not path.exists():
             raise t.error("mapping", f"{path}: no such file")
+        if not path.is_file():
+            raise t.error("mapping", f"{path} is not a regular file")
+        if path.stat().st_size > MAX_MAPPING_FILE:
+            raise t.error("mapping", f"{path} is larger than {MAX_MAPPING_FILE} bytes")
         try:
-            data = json.loads(path.read_text())
+            data = json.loads(path.read_text(encoding="utf-8"))
             states = data["states"]  # columns: p (S,), tsa_length_mm (S, strings)
-            taken = [row[0] - states["tsa_length_mm"][0][0] for row in states["tsa_length_mm"]]
-            pairs = list(zip(states["p"], taken, strict=True))
-        except (ValueError, KeyError, IndexError, TypeError):
+            first = states["tsa_length_mm"][0][0]
+            pairs = [
+                (p, row[0]) for p, row in zip(states["p"], states["tsa_length_mm"], strict=True)
+            ]
+        except (ValueError, KeyError, IndexError, TypeError, RecursionError):
             raise t.error("mapping", f"{path} is not a dcqc.json result") from None
-        arr = np.array(pairs, dtype=float)
+        for k, (fold, taken) in enumerate(pairs):
+            if not (_finite_number(fold) and _finite_number(taken) and _finite_number(first)):
+                raise t.error(
+                    "mapping",
+                    f"{path}: step {k}: 'p' and 'tsa_length_mm' must be finite numbers, "
+                    f"got {fold!r} and {taken!r}",
+                )
+        arr = np.array([(fold, taken - first) for fold, taken in pairs], dtype=float)
         # keep the strictly increasing part (a DCQC result may pause at a fold ratio)
         keep = np.r_[True, np.diff(arr[:, 0]) > 1e-9]
         arr = arr[keep]
+        if len(arr) < 2:
+            raise t.error("mapping", f"{path}: fewer than two distinct fold ratios")
     elif isinstance(raw, list):
         arr = np.array(t.pairs("mapping", min_length=2))
     else:
         raise t.error("mapping", "expected [[p, contraction_mm], ...] or a dcqc.json path")
+    for k, (fold, contraction) in enumerate(arr):
+        if not (math.isfinite(fold) and 0.0 <= fold <= 1.0):
+            raise t.error("mapping", f"item {k}: fold ratio {fold!r} is not within [0, 1]")
+        if not (math.isfinite(contraction) and 0.0 <= contraction < length):
+            raise t.error(
+                "mapping",
+                f"item {k}: contraction {contraction!r} mm is not within [0, {length:g}) mm "
+                "(the strands' length)",
+            )
     if np.any(np.diff(arr[:, 0]) <= 0) or np.any(np.diff(arr[:, 1]) < 0):
         raise t.error("mapping", "fold ratios must increase and contractions must not decrease")
     return arr
+
+
+def _name(t: Table, default: str) -> str:
+    name = t.string("name", default)
+    if not name.strip() or len(name) > 100 or any(ord(c) < 32 or ord(c) == 127 for c in name):
+        raise t.error("name", f"expected 1-100 printable characters, got {name[:40]!r}")
+    return name
+
+
+def check_time_scale(time_scale: Any, what: str = "time_scale") -> float:
+    """``time_scale`` (the CLI's ``--speed``) as a float; :class:`DesignError` unless finite, > 0.
+
+    At most 1000: beyond it the emulated servos cannot keep up and the run
+    would only measure the host's scheduling.
+    """
+    if (
+        isinstance(time_scale, bool)
+        or not isinstance(time_scale, int | float)
+        or not math.isfinite(time_scale)
+        or not 0 < time_scale <= 1000
+    ):
+        raise DesignError(f"{what} must be a number in (0, 1000], got {time_scale!r}")
+    return float(time_scale)
 
 
 def load_sequence(path: str | os.PathLike[str]) -> Sequence:
@@ -175,61 +250,113 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         raise DesignError(f"{p}: expected at least one [[tsa]] table")
     if not isinstance(raw_frames, list) or len(raw_frames) < 2:
         raise DesignError(f"{p}: expected at least two [[keyframe]] tables")
-    tsas = []
+    if len(raw_tsas) > 253:
+        raise DesignError(f"{p}: {len(raw_tsas)} [[tsa]] tables; a bus holds at most 253 servos")
+    if len(raw_frames) > 100_000:
+        raise DesignError(f"{p}: {len(raw_frames)} [[keyframe]] tables; at most 100000")
+    tsas: list[SequenceTSA] = []
+    first_table: dict[int, int] = {}
     for k, item in enumerate(raw_tsas):
         t = Table(item, f"{p} [[tsa]] #{k + 1}")
+        dxl_id = t.integer("id", low=0, high=252)
+        if dxl_id in first_table:
+            raise t.error(
+                "id", f"servo id {dxl_id} is already used by [[tsa]] #{first_table[dxl_id] + 1}"
+            )
+        first_table[dxl_id] = k
+        length = t.number("length", 100.0, low=0, high=10_000, low_open=True)
+        radius = t.number("radius", 0.5, low=0.01, high=100)
+        if radius >= length:
+            raise t.error("radius", f"{radius:g} mm must be smaller than the length {length:g} mm")
         tsa = SequenceTSA(
-            dxl_id=t.integer("id", low=0, high=252),
-            name=t.string("name", f"tsa {k + 1}"),
+            dxl_id=dxl_id,
+            name=_name(t, f"tsa {k + 1}"),
             tsa=TSAParams(
                 model="onboard",
-                length=t.number("length", 100.0, low=0, low_open=True),
-                radius=t.number("radius", 0.5, low=0, low_open=True),
+                length=length,
+                radius=radius,
                 max_helix_angle=t.number(
                     "max_helix_angle", 80.0, low=0, high=90, low_open=True, high_open=True
                 ),
             ),
-            mapping=_mapping(t, p.parent),
+            mapping=_mapping(t, p.parent, length),
         )
         t.finish()
         tsas.append(tsa)
-    if len({t.dxl_id for t in tsas}) != len(tsas):
-        raise DesignError(f"{p}: two [[tsa]] tables have the same servo id")
     frames = []
     for k, item in enumerate(raw_frames):
         t = Table(item, f"{p} [[keyframe]] #{k + 1}")
-        when = t.number("t", low=0)
+        when = t.number("t", low=0, high=1e7)
         kinds = [name for name in ("p", "contraction", "turns") if t.has(name)]
         if len(kinds) != 1:
             raise DesignError(f"{t.where}: give exactly one of 'p', 'contraction', 'turns'")
         values = t.numbers(kinds[0], length=len(tsas))
         t.finish()
         frames.append(Keyframe(when, kinds[0], tuple(values)))
-    if frames[0].t != 0 or any(b.t <= a.t for a, b in itertools.pairwise(frames)):
-        raise DesignError(f"{p}: keyframe times must start at 0 and increase")
+    if frames[0].t != 0:
+        raise DesignError(f"{p} [[keyframe]] #1: key 't': the first keyframe must be at t = 0")
+    for k, (a, b) in enumerate(itertools.pairwise(frames)):
+        if b.t <= a.t:
+            raise DesignError(
+                f"{p} [[keyframe]] #{k + 2}: key 't': {b.t:g} s does not come after the "
+                f"previous keyframe's {a.t:g} s (times must increase)"
+            )
     sequence = Sequence(
         tuple(tsas),
         tuple(frames),
-        repeat=seq.integer("repeat", 1, low=1),
-        rate=seq.number("rate", 20.0, low=0, low_open=True),
-        current_limit=seq.number("current_limit", None, low=0)
+        repeat=seq.integer("repeat", 1, low=1, high=1_000_000),
+        rate=seq.number("rate", 20.0, low=0, high=MAX_RATE, low_open=True),
+        current_limit=seq.number("current_limit", None, low=0, high=100_000, low_open=True)
         if seq.has("current_limit")
         else None,
+        source=p,
     )
     seq.used.add("current_limit")
     seq.finish()
-    for tsa in tsas:  # every keyframe must be reachable safely
-        for frame in frames:
+    steps = sequence.cycle * sequence.repeat * sequence.rate
+    if steps > MAX_STEPS:
+        raise DesignError(
+            f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
+            f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
+        )
+    for k, frame in enumerate(frames):  # every keyframe must be reachable safely
+        where = f"{p} [[keyframe]] #{k + 1}: key '{frame.kind}'"
+        for j, tsa in enumerate(tsas):
             try:
-                turns = Sequence._turns(tsa, frame, tsas.index(tsa))
+                turns = Sequence._turns(tsa, frame, j)
             except DriveError as exc:
-                raise DesignError(f"{p}: keyframe at t = {frame.t:g} s: {exc}") from None
-            if abs(turns) > tsa.max_turns:
+                raise DesignError(f"{where} (t = {frame.t:g} s): {exc}") from None
+            if not math.isfinite(turns) or abs(turns) > tsa.max_turns:
                 raise DesignError(
-                    f"{p}: keyframe at t = {frame.t:g} s asks servo {tsa.dxl_id} ({tsa.name}) "
-                    f"for {turns:.2f} turns, beyond its TSA's {tsa.max_turns:.2f}"
+                    f"{where} (t = {frame.t:g} s) asks servo {tsa.dxl_id} ({tsa.name}) "
+                    f"for {turns:.4g} turns, beyond its TSA's {tsa.max_turns:.4g}"
                 )
     return sequence
+
+
+LOG_FIELDS = ("t_s", "id", "target_turns", "measured_turns", "current_mA")
+
+
+@contextlib.contextmanager
+def _open_log(log, sequence: Sequence):
+    """The CSV log, opened before anything moves; None without ``log``."""
+    if log is None:
+        yield None
+        return
+    path = Path(log)
+    if sequence.source is not None and path.exists():
+        with contextlib.suppress(OSError):
+            if path.samefile(sequence.source):
+                raise DesignError(f"{path}: the log would overwrite the sequence file itself")
+    if path.exists() and not (path.is_file() or path.is_char_device() or path.is_fifo()):
+        raise DesignError(f"{path}: the log must be a file, not a folder")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fh = open(path, "w", newline="", encoding="utf-8")
+    except OSError as exc:
+        raise DesignError(f"{path}: the log cannot be written ({exc.strerror or exc})") from None
+    with fh:
+        yield fh
 
 
 def run_sequence(
@@ -243,26 +370,39 @@ def run_sequence(
 ) -> list[dict[str, Any]]:
     """Run a sequence on an open bus; every command and reading goes to the CSV ``log``.
 
-    ``time_scale`` > 1 runs faster than real time (dry runs). Returns the log rows.
+    ``time_scale`` > 1 runs faster than real time (dry runs); it must be
+    finite and in (0, 1000]. Returns the log rows.
+
+    The log is written as the run goes, one flushed row per reading (columns
+    :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
+    hardware error or a lost port leaves a valid CSV up to its last reading.
+    It is opened (and checked) before the first command; a log path that is
+    the sequence file itself is refused.
     """
+    time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
     period = 1.0 / sequence.rate
     rows: list[dict[str, Any]] = []
-    start = time.monotonic()
-    k = 0
-    while True:
-        t = k * period
-        if t > total + 1e-9:
-            break
-        wake = start + t / time_scale
-        delay = wake - time.monotonic()
-        if delay > 0:
-            time.sleep(delay)
-        targets = sequence.turns_at(t)
-        bus.set_turns(targets)
-        state = bus.read()
-        for i in sequence.ids:
-            rows.append(
+    with _open_log(log, sequence) as fh:
+        writer = None
+        if fh is not None:
+            writer = csv.DictWriter(fh, fieldnames=list(LOG_FIELDS))
+            writer.writeheader()
+            fh.flush()
+        start = time.monotonic()
+        k = 0
+        while True:
+            t = k * period
+            if t > total + 1e-9:
+                break
+            wake = start + t / time_scale
+            delay = wake - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+            targets = sequence.turns_at(t)
+            bus.set_turns(targets)
+            state = bus.read()
+            new = [
                 {
                     "t_s": round(t, 6),
                     "id": i,
@@ -270,13 +410,13 @@ def run_sequence(
                     "measured_turns": state[i][0],
                     "current_mA": state[i][1],
                 }
-            )
-        if progress is not None:
-            progress(t, targets, state)
-        k += 1
-    if log is not None:
-        with atomic_write(log, "w", newline="", encoding="utf-8") as fh:
-            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            writer.writeheader()
-            writer.writerows(rows)
+                for i in sequence.ids
+            ]
+            rows.extend(new)
+            if writer is not None:
+                writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
+                fh.flush()
+            if progress is not None:
+                progress(t, targets, state)
+            k += 1
     return rows

@@ -27,12 +27,30 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
-from origami_cad.drive.errors import DriveError
+from origami_cad.drive.errors import (
+    PORT_ERRORS,
+    DriveError,
+    PortLostError,
+    StallError,
+    TorqueOffError,
+    describe_exit,
+    hold_ctrl_c,
+    port_error_text,
+)
 
-__all__ = ["LineDevice", "SerialBus", "crc8", "frame", "unframe"]
+__all__ = [
+    "LineDevice",
+    "SerialBus",
+    "check_turn_limit",
+    "crc8",
+    "frame",
+    "turn_limits",
+    "unframe",
+]
 
 #: The largest motor position the protocol accepts, turns.
 MAX_TURNS = 10000.0
@@ -152,6 +170,24 @@ class SerialBus:
         Seconds to wait for each reply.
     max_turns : dict or float, optional
         Safety limit per motor (or for all), turns.
+    current_limit_ma : float, optional
+        A motor whose current exceeds it stops every motor (``S``) and raises
+        :class:`StallError` naming it, mA.
+    stop_attempts : int
+        Attempts to have ``S`` confirmed by the board before :meth:`stop`
+        reports the motors as possibly still on.
+    reopen_timeout : float
+        How long :meth:`stop` keeps trying to reopen a lost port, s.
+
+    Notes
+    -----
+    The same safety guarantees as :class:`~origami_cad.drive.DynamixelBus`:
+    :meth:`open` pings every motor before any is enabled and, on any failure
+    (Ctrl-C included), sends ``S`` before raising; :meth:`close` and leaving
+    the ``with`` block send ``S`` until the board confirms it; a reply to an
+    earlier, interrupted command is recognised and skipped; a lost port raises
+    :class:`PortLostError` naming it (the shutdown reopens it once); a stop
+    that is never confirmed raises :class:`TorqueOffError` naming the motors.
     """
 
     def __init__(
@@ -162,77 +198,223 @@ class SerialBus:
         *,
         timeout: float = 0.5,
         max_turns: dict | float | None = None,
+        current_limit_ma: float | None = None,
+        stop_attempts: int = 3,
+        reopen_timeout: float = 1.0,
     ) -> None:
         self.port_name = port
         self.baudrate = baudrate
         self.ids = [int(i) for i in ids]
+        if not self.ids or len(set(self.ids)) != len(self.ids):
+            raise DriveError(f"motor IDs {self.ids}: give at least one, each once")
+        if isinstance(baudrate, bool) or not isinstance(baudrate, int) or baudrate <= 0:
+            raise DriveError(f"baud rate must be a positive whole number, got {baudrate!r}")
+        if not (math.isfinite(timeout) and timeout > 0):
+            raise DriveError(f"reply timeout must be finite and > 0 s, got {timeout}")
+        if current_limit_ma is not None and not (
+            math.isfinite(current_limit_ma) and current_limit_ma > 0
+        ):
+            raise DriveError(f"current limit must be finite and > 0 mA, got {current_limit_ma}")
         self.timeout = timeout
-        self.max_turns = _limits(self.ids, max_turns)
+        self.max_turns = turn_limits(self.ids, max_turns)
+        self.current_limit_ma = current_limit_ma
+        self.stop_attempts = max(1, int(stop_attempts))
+        self.reopen_timeout = reopen_timeout
         self.models: dict[int, int] = {}
         self._ser = None
+        self._powered = False
 
     def open(self) -> SerialBus:
+        """Open the port and ping every motor (nothing is enabled until the first goal).
+
+        On any failure (a missing motor, Ctrl-C) the board is sent ``S`` and the
+        port closed before the error is raised.
+        """
+        if self._ser is not None:
+            raise DriveError(f"port {self.port_name} is already open")
+        self._ser = self._open_port()
+        self._powered = True  # a previous run may have left motors enabled
+        try:
+            missing = {}
+            for i in self.ids:
+                try:
+                    self.models[i] = int(self._ask(f"P {i}", i).split()[3])
+                except PortLostError:
+                    raise
+                except (DriveError, ValueError, IndexError) as exc:
+                    missing[i] = (
+                        str(exc) if isinstance(exc, DriveError) else f"motor {i}: bad reply"
+                    )
+            if missing:
+                raise DriveError("; ".join(missing.values()) + "; no motor was enabled")
+        except BaseException as exc:
+            self._shutdown(exc)
+            raise
+        return self
+
+    def _open_port(self):
         import serial
 
         try:
-            self._ser = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
-        except (serial.SerialException, OSError) as exc:
+            return serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
+        except (serial.SerialException, OSError, ValueError) as exc:
             raise DriveError(f"port {self.port_name} cannot be opened: {exc}") from None
-        for i in self.ids:
-            reply = self._ask(f"P {i}", i).split()
-            self.models[i] = int(reply[3])
-        return self
 
     def close(self) -> None:
-        if self._ser is not None:
-            self._ser.close()
-            self._ser = None
+        """Stop every motor (``S``, see :meth:`stop`), then close the port."""
+        self._shutdown(None)
 
     def __enter__(self) -> SerialBus:
         return self.open()
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self._shutdown(exc)
+
+    def _shutdown(self, exc: BaseException | None) -> None:
+        if self._ser is None:
+            return
         try:
-            if self._ser is not None:
-                self.stop()
+            if self._powered:
+                with hold_ctrl_c():
+                    self.stop()
+        except TorqueOffError as stop_exc:
+            if exc is None:
+                raise
+            if isinstance(exc, TorqueOffError):
+                return
+            raise TorqueOffError(f"{describe_exit(exc)}; {stop_exc}", stop_exc.servos) from exc
         finally:
-            self.close()
+            ser, self._ser = self._ser, None
+            with contextlib.suppress(*PORT_ERRORS):
+                ser.close()
 
     def _ask(self, text: str, dxl_id: int | None = None) -> str:
+        """Send one command; its reply, skipping stale replies to earlier commands."""
         who = f"motor {dxl_id}" if dxl_id is not None else "the board"
-        self._ser.reset_input_buffer()
-        self._ser.write((frame(text) + "\n").encode("ascii"))
-        raw = self._ser.readline()
-        if not raw:
-            raise DriveError(f"{who}: no reply to {text!r} (timeout)")
+        if self._ser is None:
+            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        parts = text.split()
+        expect = " ".join(["OK", *parts[:2]]) if parts[0] != "S" else "OK S"
         try:
-            reply = unframe(raw.decode("ascii", "replace"))
-        except DriveError as exc:
-            raise DriveError(f"{who}: {exc}") from None
-        if reply.startswith("ERR"):
-            raise DriveError(f"{who}: the board answered {reply!r} to {text!r}")
-        return reply
+            self._ser.reset_input_buffer()
+            self._ser.write((frame(text) + "\n").encode("ascii"))
+            deadline = time.monotonic() + self.timeout
+            while True:
+                raw = self._ser.readline()
+                if not raw:
+                    raise DriveError(f"{who}: no reply to {text!r} (timeout)")
+                try:
+                    reply = unframe(raw.decode("ascii", "replace"))
+                except DriveError as exc:
+                    raise DriveError(f"{who}: {exc}") from None
+                if reply.startswith("ERR"):
+                    raise DriveError(f"{who}: the board answered {reply!r} to {text!r}")
+                if reply == expect or reply.startswith(expect + " "):
+                    return reply
+                if time.monotonic() > deadline:  # only stale replies: give up
+                    raise DriveError(f"{who}: no reply to {text!r} (got {reply!r})")
+        except PORT_ERRORS as exc:
+            raise PortLostError(
+                f"port {self.port_name} was lost ({port_error_text(exc)}): "
+                "the board was unplugged, lost power or its emulator stopped"
+            ) from exc
 
     def set_turns(self, targets: dict[int, float]) -> None:
-        """Command motor positions, turns."""
+        """Command motor positions, turns (every goal is checked before any is sent)."""
         for i, turns in targets.items():
-            _check_limit(i, turns, self.max_turns)
+            if i not in self.max_turns:
+                raise DriveError(f"motor {i} is not on this bus (ids {self.ids})")
+            check_turn_limit(i, turns, self.max_turns)
+        for i, turns in targets.items():
             self._ask(f"G {i} {turns:.4f}", i)
 
     def read(self) -> dict[int, tuple[float, float]]:
-        """Present position (turns) and current (mA) of every motor."""
+        """Present position (turns) and current (mA) of every motor.
+
+        With ``current_limit_ma``, a motor above it stops every motor and
+        raises :class:`StallError` naming it.
+        """
         out = {}
         for i in self.ids:
-            parts = self._ask(f"R {i}", i).split()
-            out[i] = (float(parts[3]), float(parts[4]))
+            reply = self._ask(f"R {i}", i)
+            try:
+                turns, current = (float(v) for v in reply.split()[3:5])
+            except ValueError:
+                raise DriveError(f"motor {i}: malformed reply {reply!r}") from None
+            if not (math.isfinite(turns) and math.isfinite(current)):
+                raise DriveError(f"motor {i}: non-finite reading in {reply!r}")
+            out[i] = (turns, current)
+        if self.current_limit_ma is not None:
+            for i, (turns, current) in out.items():
+                if abs(current) > self.current_limit_ma:
+                    with hold_ctrl_c():
+                        self.stop()
+                    raise StallError(
+                        f"motor {i}: current {abs(current):.0f} mA exceeds the limit of "
+                        f"{self.current_limit_ma:g} mA at {turns:.3f} turns (string tension "
+                        "too high); every motor was stopped"
+                    )
         return out
 
+    def _reopen(self) -> str | None:
+        """Reopen a lost port, trying for ``reopen_timeout`` s; why that failed, or None."""
+        import serial
+
+        with contextlib.suppress(*PORT_ERRORS):
+            self._ser.close()
+        deadline = time.monotonic() + self.reopen_timeout
+        while True:
+            try:
+                self._ser = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
+                return None
+            except (OSError, ValueError) as exc:
+                if time.monotonic() > deadline:
+                    return port_error_text(exc)
+            time.sleep(0.05)
+
     def stop(self) -> None:
-        """Turn every motor off."""
-        self._ask("S")
+        """Turn every motor off: ``S`` until the board confirms it (``stop_attempts`` times).
+
+        A lost port is reopened once; a Ctrl-C meanwhile is held until the stop
+        is confirmed or given up, then raised. Raises :class:`TorqueOffError`
+        naming the motors if the board never confirmed.
+        """
+        if self._ser is None:
+            return
+        interrupt: KeyboardInterrupt | None = None
+        cause = ""
+        reopened = confirmed = False
+        for _ in range(self.stop_attempts + 1):  # + 1: one reopening of a lost port
+            try:
+                self._ask("S")
+                confirmed = True
+                break
+            except KeyboardInterrupt as exc:
+                interrupt, cause = exc, "interrupted while stopping"
+            except PortLostError as exc:
+                if reopened:
+                    cause = f"the port was lost again after reopening it ({exc})"
+                    break
+                reopened = True
+                reason = self._reopen()
+                if reason is not None:
+                    cause = f"the port is lost and cannot be reopened ({reason})"
+                    break
+            except DriveError as exc:
+                cause = str(exc)
+        if not confirmed:
+            raise TorqueOffError(
+                f"motors {', '.join(map(str, self.ids))} on port {self.port_name} may still be "
+                f"on: the board did not confirm the stop (cut their power): {cause}",
+                self.ids,
+            )
+        self._powered = False
+        if interrupt is not None:
+            raise interrupt
 
 
-def _limits(ids, max_turns) -> dict[int, float]:
+def turn_limits(ids, max_turns) -> dict[int, float]:
+    """Each servo's twist limit, turns: ``max_turns`` is one number, a dict by ID or ``None``."""
     if max_turns is None:
         return {i: math.inf for i in ids}
     if isinstance(max_turns, dict):
@@ -240,7 +422,8 @@ def _limits(ids, max_turns) -> dict[int, float]:
     return {i: float(max_turns) for i in ids}
 
 
-def _check_limit(dxl_id: int, turns: float, limits: dict[int, float]) -> None:
+def check_turn_limit(dxl_id: int, turns: float, limits: dict[int, float]) -> None:
+    """Raise :class:`DriveError` if ``turns`` is not finite or exceeds the servo's limit (turns)."""
     limit = limits.get(dxl_id, math.inf)
     if not math.isfinite(turns) or abs(turns) > limit:
         raise DriveError(

@@ -1,4 +1,4 @@
-"""Fabricate a crease pattern: footprints, holes, solids, checks and every export."""
+"""Fabricate a crease pattern, second step: build the B-rep solids of a plan, and export them."""
 
 from __future__ import annotations
 
@@ -10,42 +10,67 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
-from origami_cad.errors import PatternError
-from origami_cad.fabrication.panels import PanelOutline, panel_outlines, place_holes
+from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
+from origami_cad.fabrication.plan import CreaseLimits, PanelPlan, plan_panels
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts, build_parts
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
 
-__all__ = ["Fabrication", "crease_limits", "fabricate", "write_fabrication"]
+__all__ = ["Fabrication", "build_fabrication", "fabricate", "write_fabrication"]
 
 
 @dataclass
 class Fabrication:
-    """A fabricated structure: panels, holes, parts and what was measured.
+    """A fabricated structure: its :class:`PanelPlan`, the solids built from it, timings.
 
     ``parts`` holds build123d solids and stays inside the fabrication stage;
-    everything else is plain data.
+    everything else is plain data. The plan's fields are readable here too
+    (``fab.holes`` is ``fab.plan.holes``).
     """
 
-    pattern: CreasePattern
-    params: FabricationParams
-    outlines: list[PanelOutline]
-    holes: list[tuple[int, float, float, float]]
+    plan: PanelPlan
     parts: Parts
-    warnings: list[str] = field(default_factory=list)
-    limits: dict[str, Any] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def pattern(self) -> CreasePattern:
+        """The crease pattern."""
+        return self.plan.pattern
+
+    @property
+    def params(self) -> FabricationParams:
+        """The fabrication parameters."""
+        return self.plan.params
+
+    @property
+    def outlines(self) -> tuple[PanelOutline, ...]:
+        """Footprints of every panel."""
+        return self.plan.outlines
+
+    @property
+    def holes(self) -> tuple[Hole, ...]:
+        """The string holes, mm (panel of each: ``plan.hole_panels``)."""
+        return self.plan.holes
+
+    @property
+    def limits(self) -> CreaseLimits:
+        """Where the rigid folding brings creases to ``theta_max``."""
+        return self.plan.limits
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What may print or fold badly."""
+        return self.plan.warnings
 
     @property
     def pattern_with_holes(self) -> CreasePattern:
         """The crease pattern carrying the placed holes (for FOLD files and routing)."""
-        return self.pattern.with_holes(Hole(x, y, d) for _, x, y, d in self.holes)
+        return self.plan.pattern_with_holes
 
     def volumes(self) -> dict[str, float]:
         """Volume of each part, mm^3."""
@@ -54,6 +79,7 @@ class Fabrication:
     def report(self) -> dict[str, Any]:
         """The content of ``fabrication.json``."""
         vols = self.volumes()
+        labels = self.pattern.face_labels
         return {
             "origami_cad_version": __version__,
             "parameters": self.params.to_dict(),
@@ -73,108 +99,38 @@ class Fabrication:
                 vols[n] / 1000.0 * DENSITY_G_CM3[PART_MATERIALS[n]] for n in PART_NAMES
             ),
             "holes": [
-                {"panel": self.outlines[i].label, "x_mm": x, "y_mm": y, "diameter_mm": d}
-                for i, x, y, d in self.holes
+                {"panel": labels[i], "x_mm": h.x, "y_mm": h.y, "diameter_mm": h.diameter}
+                for h, i in zip(self.holes, self.plan.hole_panels.tolist(), strict=True)
             ],
-            "crease_limits": self.limits,
-            "warnings": self.warnings,
+            "crease_limits": self.limits.to_dict(),
+            "warnings": list(self.warnings),
             "timings_s": self.timings,
         }
 
 
-def crease_limits(design: Design, params: FabricationParams, samples: int = 101) -> dict[str, Any]:
-    """Where the rigid folding of ``design`` brings creases to ``theta_max`` (eq. 6).
-
-    Every crease's fold angle grows with the fold ratio ``p`` at its own rate:
-    the legs of a Miura fold faster than its main creases. Returns the fold
-    ratio at which each crease reaches ``theta_max``, the structure's
-    kinematic ``p_max`` (the first such ratio) and the creases that limit it.
-    Empty when the pattern cannot be folded rigidly by the kinematics.
-
-    This does not model collisions between several thick panels around one
-    vertex (the paper's multi-layer caveat): creases that reach ``theta_max``
-    first are where such collisions start.
-    """
-    from origami_cad.kinematics.folding import fold_sequence
-
-    ratios = np.linspace(0.0, 1.0, samples)
-    try:
-        states = fold_sequence(design, ratios)
-    except (PatternError, ImportError) as exc:
-        return {"foldable": False, "reason": str(exc)}
-    cp = design.pattern
-    creases = np.flatnonzero(cp.edge_mask("M", "V"))
-    angles = np.abs(np.array([s.fold_angles[creases] for s in states]))  # (samples, creases)
-    limit = math.degrees(params.theta_max)
-    reached = angles >= limit
-    first = np.where(reached.any(axis=0), np.argmax(reached, axis=0), -1)
-    p_first = np.where(first >= 0, ratios[np.maximum(first, 0)], np.nan)
-    # refine by interpolation between samples
-    for k in np.flatnonzero(first > 0):
-        i = first[k]
-        a0, a1 = angles[i - 1, k], angles[i, k]
-        p_first[k] = ratios[i - 1] + (limit - a0) / (a1 - a0) * (ratios[i] - ratios[i - 1])
-    if np.all(np.isnan(p_first)):
-        return {"foldable": True, "p_max_kinematic": 1.0, "limiting_creases": []}
-    p_kin = float(np.nanmin(p_first))
-    limiting = creases[np.isclose(p_first, p_kin, atol=1e-3)]
-    early = creases[p_first < params.p_max - 1e-3]
-    mids = (cp.vertices[cp.edges[:, 0]] + cp.vertices[cp.edges[:, 1]]) / 2
-    return {
-        "foldable": True,
-        "p_max_kinematic": p_kin,
-        "limiting_creases": [
-            {
-                "edge": int(e),
-                "midpoint_mm": mids[e].round(3).tolist(),
-                "assignment": str(cp.assignments[e]),
-            }
-            for e in limiting[:50]
-        ],
-        "creases_before_p_max": len(early),
-    }
+def build_fabrication(plan: PanelPlan) -> Fabrication:
+    """Build the B-rep solids of the four parts of a plan (the second step of fabrication)."""
+    cp = plan.pattern
+    t0 = time.perf_counter()
+    sheet = shapely.union_all(cp.face_polygons())
+    parts = build_parts(list(plan.outlines), plan.holes, plan.hole_panels, plan.params, sheet)
+    return Fabrication(plan, parts, {**plan.timings, "solids": time.perf_counter() - t0})
 
 
 def fabricate(
     source: CreasePattern | Design, params: FabricationParams | None = None
 ) -> Fabrication:
-    """Build the printable structure of a crease pattern (or design).
+    """Plan the panels of a crease pattern (or design) and build its printable solids.
+
+    ``build_fabrication(plan_panels(source, params))``; use :func:`plan_panels`
+    alone when no solid is needed (plots, hole positions, part placement).
 
     Raises
     ------
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
-    params = params or FabricationParams()
-    design = source if isinstance(source, Design) else Design(source, None, "file")
-    cp = design.pattern
-    timings = {}
-    t0 = time.perf_counter()
-    outlines = panel_outlines(cp, params)
-    holes = place_holes(cp, outlines, params)
-    timings["panels_and_holes"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    sheet = shapely.union_all(cp.face_polygons())
-    parts = build_parts(outlines, holes, params, sheet)
-    timings["solids"] = time.perf_counter() - t0
-    warnings = []
-    infill = params.half_height - params.shell
-    if infill < 0.2:
-        warnings.append(
-            f"the infill is only {infill:.2g} mm thick between the shell skin and the crease "
-            f"layer (half height {(params.half_height):.2g} mm, shell {params.shell:g} mm): "
-            "consider a thinner shell or a taller panel"
-        )
-    t0 = time.perf_counter()
-    limits = crease_limits(design, params) if design.tg is not None else {}
-    timings["crease_limits"] = time.perf_counter() - t0
-    if limits.get("creases_before_p_max"):
-        warnings.append(
-            f"{limits['creases_before_p_max']} creases reach theta_max before the main crease "
-            f"(structure p_max {limits['p_max_kinematic']:.3f} < eq. 6 p_max "
-            f"{params.p_max:.3f})"
-        )
-    return Fabrication(cp, params, outlines, holes, parts, warnings, limits, timings)
+    return build_fabrication(plan_panels(source, params))
 
 
 def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:

@@ -123,6 +123,36 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         voff += len(v)
         toff += len(t)
     verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
+    model = _model_xml(verts, tris, mat, name)
+    prusa, bambu = _slicer_configs(ranges, name)
+    content_types = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+        '<Default Extension="rels" '
+        'ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+        '<Default Extension="model" '
+        'ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+        '<Default Extension="config" ContentType="text/xml"/>'
+        "</Types>"
+    )
+    rels = (
+        '<?xml version="1.0" encoding="UTF-8"?>\n'
+        '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+        '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+        'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+        "</Relationships>"
+    )
+    with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("[Content_Types].xml", content_types)
+        zf.writestr("_rels/.rels", rels)
+        zf.writestr("3D/3dmodel.model", "\n".join(model))
+        zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
+        zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
+    return Path(path)
+
+
+def _model_xml(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray, name: str) -> list[str]:
+    """The lines of ``3D/3dmodel.model``: one object, a material index per triangle."""
     model = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         '<model unit="millimeter" xml:lang="en-US" '
@@ -157,6 +187,11 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         " </build>",
         "</model>",
     ]
+    return model
+
+
+def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str], list[str]]:
+    """The lines of PrusaSlicer's and Bambu Studio's configs: each part's triangles and extruder."""
     prusa = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         "<config>",
@@ -188,30 +223,7 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         ]
     prusa += [" </object>", "</config>"]
     bambu += [" </object>", "</config>"]
-    content_types = (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
-        '<Default Extension="rels" '
-        'ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
-        '<Default Extension="model" '
-        'ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
-        '<Default Extension="config" ContentType="text/xml"/>'
-        "</Types>"
-    )
-    rels = (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
-        '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
-        'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
-        "</Relationships>"
-    )
-    with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("[Content_Types].xml", content_types)
-        zf.writestr("_rels/.rels", rels)
-        zf.writestr("3D/3dmodel.model", "\n".join(model))
-        zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
-        zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
-    return Path(path)
+    return prusa, bambu
 
 
 def export_part(part, folder: str | os.PathLike[str], name: str) -> list[Path]:

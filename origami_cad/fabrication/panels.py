@@ -1,4 +1,4 @@
-"""Panel outlines of the printed structure in 2D (plain data: NumPy arrays and shapely).
+"""Panel outlines of the printed structure in 2D (plain data: NumPy arrays).
 
 Every solid of a panel is bounded by planes parallel to its edges, so each
 footprint is the panel polygon with every edge moved inward by its own offset:
@@ -19,9 +19,16 @@ from shapely.ops import nearest_points, polylabel
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.params import FabricationParams
-from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.model import CreasePattern, Hole
 
-__all__ = ["PanelOutline", "offset_ring", "panel_outlines", "place_holes"]
+__all__ = [
+    "FREE_EDGES",
+    "PanelOutline",
+    "offset_ring",
+    "panel_outlines",
+    "place_holes",
+    "plan_holes",
+]
 
 #: Edges whose sides are free (vertical walls, border margin): border and cut.
 FREE_EDGES = ("B", "C")
@@ -94,8 +101,10 @@ class PanelOutline:
         Footprints of the infill on the crease layer and at ``s`` below the outer face.
     midlayer : ndarray (k, 2)
         The mid-layer patch (creases at offset ``b + m``).
-    region : shapely Polygon
-        Maximum operation region: where holes may go.
+    region : tuple of tuple of ndarray (k, 2)
+        Maximum operation region, where holes may go: for each of its polygons,
+        the exterior ring then any interior rings, closed (first point repeated).
+        Empty when nothing is left. :meth:`region_polygon` gives it as shapely.
     """
 
     index: int
@@ -107,7 +116,24 @@ class PanelOutline:
     infill_inner: np.ndarray
     infill_outer: np.ndarray
     midlayer: np.ndarray
-    region: object
+    region: tuple[tuple[np.ndarray, ...], ...]
+
+    def region_polygon(self) -> shapely.Polygon | shapely.MultiPolygon:
+        """The operation region as a shapely geometry (empty if nothing is left)."""
+        polys = [shapely.Polygon(rings[0], rings[1:]) for rings in self.region]
+        if len(polys) == 1:
+            return polys[0]
+        return shapely.MultiPolygon(polys) if polys else shapely.Polygon()
+
+
+def _rings(region: shapely.Polygon | shapely.MultiPolygon) -> tuple[tuple[np.ndarray, ...], ...]:
+    """Every polygon of ``region`` as closed coordinate rings, exterior first."""
+    if region.is_empty:
+        return ()
+    return tuple(
+        tuple(shapely.get_coordinates(r) for r in (poly.exterior, *poly.interiors))
+        for poly in shapely.get_parts(region)
+    )
 
 
 def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOutline]:
@@ -143,7 +169,16 @@ def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOu
         )
         out.append(
             PanelOutline(
-                fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, region
+                fi,
+                label,
+                poly,
+                crease,
+                inner,
+                outer,
+                infill_inner,
+                infill_outer,
+                mid,
+                _rings(region),
             )
         )
     return out
@@ -169,50 +204,75 @@ def _centred_pole(region) -> shapely.Point:
 def place_holes(
     cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
 ) -> list[tuple[int, float, float, float]]:
-    """Hole centres ``(panel index, x, y, diameter)`` following ``params.holes`` (mm).
+    """Legacy form of :func:`plan_holes`: ``(panel index, x, y, diameter)`` tuples.
+
+    Kept only for ``strings/route.py`` until its automatic holes call
+    :func:`~origami_cad.fabrication.plan_panels`; use :func:`plan_holes`.
+    """
+    holes, panels = plan_holes(cp, outlines, params)
+    return [(int(i), h.x, h.y, h.diameter) for h, i in zip(holes, panels, strict=True)]
+
+
+def plan_holes(
+    cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
+) -> tuple[tuple[Hole, ...], np.ndarray]:
+    """The holes following ``params.holes`` and the panel each one goes through.
 
     ``auto`` puts one hole per panel at the pole of inaccessibility of its
     operation region (the centre of its largest inscribed circle; among nearly
     equal candidates, the one nearest the centroid); a panel whose region
     cannot hold the hole is an error naming it (never a silently shifted or
     dropped hole).
+
+    Returns
+    -------
+    holes : tuple of Hole
+        Centres and diameters, mm.
+    panels : ndarray of int, shape (len(holes),)
+        Index of the panel (face of ``cp``) of each hole.
     """
     spec = params.holes
     diameter = params.hole_diameter
-    r = diameter / 2.0
     if spec == "none":
-        return []
+        return (), np.zeros(0, dtype=np.int64)
     if spec == "auto":
-        holes = []
-        for o in outlines:
-            if o.region.is_empty:
-                raise PatternError(f"panel {o.label}: no operation region left for a hole")
-            centre = _centred_pole(o.region)
-            room = o.region.exterior.distance(centre)
-            if room < r:
-                raise PatternError(
-                    f"panel {o.label}: a {diameter:g} mm hole does not fit its operation region "
-                    f"(room for {2 * room:.3g} mm); use a smaller hole_diameter or holes = 'none'"
-                )
-            holes.append((o.index, float(centre.x), float(centre.y), diameter))
-        return holes
-    points = (
-        [(h.x, h.y, h.diameter) for h in cp.holes]
-        if spec == "pattern"
-        else [(x, y, diameter) for x, y in spec]
-    )
-    holes = []
-    by_index = {o.index: o for o in outlines}
-    for k, (x, y, d) in enumerate(points):
-        fi = cp.face_of_point(x, y)
-        if fi < 0:
-            raise PatternError(f"hole {k} at ({x:g}, {y:g}) mm is not on any panel")
-        o = by_index[fi]
-        disc = shapely.Point(x, y).buffer(d / 2.0, quad_segs=32)
-        if not o.region.contains(disc):
-            raise PatternError(
-                f"hole {k} at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
-                f"region of panel {o.label}"
-            )
-        holes.append((fi, float(x), float(y), float(d)))
-    return holes
+        placed = [(o.index, _auto_hole(o, diameter)) for o in outlines]
+    else:
+        points = (
+            [(h.x, h.y, h.diameter) for h in cp.holes]
+            if spec == "pattern"
+            else [(x, y, diameter) for x, y in spec]
+        )
+        by_index = {o.index: o for o in outlines}
+        placed = [_given_hole(cp, by_index, k, x, y, d) for k, (x, y, d) in enumerate(points)]
+    return tuple(h for _, h in placed), np.array([i for i, _ in placed], dtype=np.int64)
+
+
+def _auto_hole(o: PanelOutline, diameter: float) -> Hole:
+    region = o.region_polygon()
+    if region.is_empty:
+        raise PatternError(f"panel {o.label}: no operation region left for a hole")
+    centre = _centred_pole(region)
+    room = region.exterior.distance(centre)
+    if room < diameter / 2.0:
+        raise PatternError(
+            f"panel {o.label}: a {diameter:g} mm hole does not fit its operation region "
+            f"(room for {2 * room:.3g} mm); use a smaller hole_diameter or holes = 'none'"
+        )
+    return Hole(float(centre.x), float(centre.y), diameter)
+
+
+def _given_hole(
+    cp: CreasePattern, by_index: dict[int, PanelOutline], k: int, x: float, y: float, d: float
+) -> tuple[int, Hole]:
+    fi = cp.face_of_point(x, y)
+    if fi < 0:
+        raise PatternError(f"hole {k} at ({x:g}, {y:g}) mm is not on any panel")
+    o = by_index[fi]
+    disc = shapely.Point(x, y).buffer(d / 2.0, quad_segs=32)
+    if not o.region_polygon().contains(disc):
+        raise PatternError(
+            f"hole {k} at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
+            f"region of panel {o.label}"
+        )
+    return fi, Hole(float(x), float(y), float(d))

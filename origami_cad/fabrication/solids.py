@@ -11,6 +11,7 @@ build123d objects never leave ``origami_cad.fabrication``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -20,6 +21,7 @@ from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
+from origami_cad.pattern.model import Hole
 
 __all__ = ["PART_MATERIALS", "PART_NAMES", "Parts", "build_parts", "half_solid"]
 
@@ -66,9 +68,10 @@ def half_solid(low: np.ndarray, z_low: float, high: np.ndarray, z_high: float) -
     return solid
 
 
-def _cylinders(holes: list[tuple[float, float, float]], z0: float, z1: float) -> list[Solid]:
+def _cylinders(holes: Sequence[Hole], z0: float, z1: float) -> list[Solid]:
     return [
-        Solid.make_cylinder(d / 2.0, (z1 - z0) + 2.0, Plane((x, y, z0 - 1.0))) for x, y, d in holes
+        Solid.make_cylinder(h.diameter / 2.0, (z1 - z0) + 2.0, Plane((h.x, h.y, z0 - 1.0)))
+        for h in holes
     ]
 
 
@@ -92,19 +95,32 @@ def _planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
 
 
 def build_parts(
-    outlines: list[PanelOutline],
-    holes: list[tuple[int, float, float, float]],
+    outlines: Sequence[PanelOutline],
+    holes: Sequence[Hole],
+    hole_panels: np.ndarray,
     params: FabricationParams,
     sheet_outline: shapely.Polygon | shapely.MultiPolygon,
 ) -> Parts:
-    """Build the four parts: infills, mid-layers, shells (per panel) and the crease sheet."""
+    """Build the four parts: infills, mid-layers, shells (per panel) and the crease sheet.
+
+    Parameters
+    ----------
+    outlines : sequence of PanelOutline
+        Footprints of the panels.
+    holes : sequence of Hole
+        String holes, mm; ``hole_panels[k]`` is the panel (face index) of ``holes[k]``.
+    params : FabricationParams
+        Heights and thicknesses, mm.
+    sheet_outline : shapely geometry
+        The whole sheet (union of the panels), for the crease sheet.
+    """
     h, t, half = params.height, params.thickness, params.half_height
     z_layer_lo, z_layer_hi = half, half + t
     s = params.shell
     parts = Parts()
-    by_panel: dict[int, list[tuple[float, float, float]]] = {}
-    for fi, x, y, d in holes:
-        by_panel.setdefault(fi, []).append((x, y, d))
+    by_panel: dict[int, list[Hole]] = {}
+    for hole, fi in zip(holes, np.asarray(hole_panels).tolist(), strict=True):
+        by_panel.setdefault(fi, []).append(hole)
     mid_polys = []
     for o in outlines:
         cyl = _cylinders(by_panel.get(o.index, []), 0.0, h)

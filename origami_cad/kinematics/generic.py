@@ -24,7 +24,7 @@ from origami_cad.errors import PatternError
 from origami_cad.pattern.check import interior_vertices, kawasaki_residuals
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["degree4_ratio", "fold_degree4"]
+__all__ = ["degree4_ratio", "fold_degree4", "vertex_closure"]
 
 _FOLD = ("M", "V")
 
@@ -39,8 +39,13 @@ def _rz(a: float) -> np.ndarray:
     return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
-def _closure(sectors: np.ndarray, rho: np.ndarray) -> float:
-    """How far a vertex with these sector and fold angles is from closing (0 = closed)."""
+def vertex_closure(sectors: np.ndarray, rho: np.ndarray) -> float:
+    """How far a vertex with these sector and fold angles is from closing (0 = closed).
+
+    ``sectors`` are the sector angles around the vertex and ``rho`` the fold
+    angles of the creases between them, radians. The result is the Frobenius
+    norm of the product of the rotations minus the identity (dimensionless).
+    """
     m = np.eye(3)
     for sector, r in zip(sectors, rho, strict=True):
         m = m @ _rx(r) @ _rz(sector)
@@ -83,7 +88,7 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
     c = abs(num / den)
     probe = 0.3
     rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2) * np.asarray(signs)
-    if _closure(np.asarray(sectors, dtype=float), rho) > 1e-9:
+    if vertex_closure(np.asarray(sectors, dtype=float), rho) > 1e-9:
         raise ValueError("no rigid folding with these signs")
     return c
 

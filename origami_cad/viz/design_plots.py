@@ -8,19 +8,16 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt
 import numpy as np
 import shapely
+from matplotlib.axes import Axes
 from matplotlib.patches import PathPatch
 from matplotlib.path import Path as MplPath
 
 from origami_cad.design.search import ArmDesign
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import chain_points
-from origami_cad.viz._figure import png_subplots
+from origami_cad.viz.figure import new_axes, png_subplots
 
 __all__ = ["plot_trajectories", "save_convergence_png", "save_trajectories_png"]
 
@@ -34,22 +31,8 @@ def _polygon_patch(poly, **kwargs) -> PathPatch:
     return PathPatch(MplPath(verts, codes), **kwargs)
 
 
-def plot_trajectories(
-    results: Sequence[ArmDesign],
-    task: ArmTask,
-    ax: plt.Axes | None = None,
-    top: int = 3,
-    ratios: Sequence[float] = (0.0, 0.25, 0.5, 0.75, 1.0),
-) -> plt.Axes:
-    """Obstacles, target points, the chains of the best designs at several p and their T_e paths."""
-    if ax is None:
-        _, ax = plt.subplots(figsize=(8, 7))
-    pts = np.vstack([task.points, [task.start]])
-    for r in results[:top]:
-        pts = np.vstack([pts, r.tips])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.15 * max(hi - lo)
-    view = shapely.box(lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad)
+def _draw_areas(ax: Axes, task: ArmTask, view) -> None:
+    """The warning and prohibited areas of the task, clipped to the view."""
     for poly in task.warning:
         ax.add_patch(
             _polygon_patch(
@@ -67,7 +50,26 @@ def plot_trajectories(
                 label="prohibited area",
             )
         )
-    colors = plt.get_cmap("tab10")
+
+
+def plot_trajectories(
+    results: Sequence[ArmDesign],
+    task: ArmTask,
+    ax: Axes | None = None,
+    top: int = 3,
+    ratios: Sequence[float] = (0.0, 0.25, 0.5, 0.75, 1.0),
+) -> Axes:
+    """Obstacles, target points, the chains of the best designs at several p and their T_e paths."""
+    if ax is None:
+        ax = new_axes((8, 7))
+    pts = np.vstack([task.points, [task.start]])
+    for r in results[:top]:
+        pts = np.vstack([pts, r.tips])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.15 * max(hi - lo)
+    view = shapely.box(lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad)
+    _draw_areas(ax, task, view)
+    colors = matplotlib.colormaps.get_cmap("tab10")
     for rank, r in enumerate(results[:top]):
         color = colors(rank)
         ax.plot(

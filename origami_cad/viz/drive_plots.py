@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.viz._figure import png_subplots
+from origami_cad.viz.figure import png_subplots
 
 __all__ = ["save_drive_png"]
 

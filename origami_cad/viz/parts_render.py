@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._fileio import atomic_path
-from origami_cad.viz.render3d import _new_plotter, _pyvista
+from origami_cad.viz.render3d import offscreen_plotter
 
 __all__ = ["PART_COLORS", "render_parts"]
 
@@ -47,11 +47,11 @@ def render_parts(
         cut outlined in black, seen along the normal (choose a plane perpendicular to
         a crease for the paper's Fig. 4e).
     """
-    pv = _pyvista()
+    import pyvista as pv
+
     meshes = {name: pv.read(str(p)) for name, p in stls.items()}
     size = max(np.ptp(np.asarray(m.bounds).reshape(3, 2), axis=1).max() for m in meshes.values())
-    plotter = _new_plotter(window_size)
-    try:
+    with offscreen_plotter(window_size) as plotter:
         for name, mesh in meshes.items():
             if mode == "exploded":
                 mesh = mesh.translate((0, 0, _EXPLODE.get(name, 0.0) * 0.08 * size), inplace=False)
@@ -88,6 +88,4 @@ def render_parts(
             plotter.add_text(title, font_size=10, color="black")
         with atomic_path(path) as tmp:
             plotter.screenshot(str(tmp))
-    finally:
-        plotter.close()
     return Path(path)

@@ -6,17 +6,13 @@ import os
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Circle
 
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.viz._figure import png_subplots
+from origami_cad.viz.figure import new_axes, png_subplots
 
 __all__ = ["EDGE_STYLES", "plot_pattern", "save_pattern_png"]
 
@@ -35,12 +31,12 @@ _NAMES = {"B": "border", "M": "mountain", "V": "valley", "C": "cut", "F": "flat"
 
 def plot_pattern(
     cp: CreasePattern,
-    ax: plt.Axes | None = None,
+    ax: Axes | None = None,
     *,
     labels: bool = False,
     legend: bool = True,
     title: str | None = None,
-) -> plt.Axes:
+) -> Axes:
     """Draw a crease pattern on matplotlib axes (mm, equal aspect).
 
     Parameters
@@ -57,7 +53,7 @@ def plot_pattern(
         Axes title (default: the pattern's title).
     """
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 7 * _aspect(cp)))
+        ax = new_axes((7, 7 * _aspect(cp)))
     for letter, (color, style, width) in EDGE_STYLES.items():
         mask = cp.assignments == letter
         if not mask.any():

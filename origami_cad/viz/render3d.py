@@ -1,49 +1,40 @@
-"""pyvista renders of folded states, off-screen (no display needed)."""
+"""pyvista renders of folded states, off-screen (no display needed).
+
+Plotters are created with ``off_screen=True``; nothing here sets pyvista's or
+VTK's global flags for longer than a render (see :func:`offscreen_plotter`).
+"""
 
 from __future__ import annotations
 
+import contextlib
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["folded_mesh", "render_folded", "render_folding_gif"]
+__all__ = ["folded_mesh", "offscreen_plotter", "render_folded", "render_folding_gif"]
 
 _PANEL_COLOR = "#f2e6c9"
 _CREASE_COLORS = {"M": "#d62728", "V": "#1f4fd6", "B": "#222222", "C": "#2ca02c"}
 _STRING_COLOR = "#8e44ad"
 
 
-def _pyvista():
-    import pyvista as pv
-
-    pv.OFF_SCREEN = True
-    try:  # silence VTK's complaint about the missing X server; rendering is off-screen
-        from vtkmodules.vtkCommonCore import vtkLogger
-
-        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
-        from vtkmodules.vtkRenderingCore import vtkMapper
-
-        # draw crease lines in front of the panels they lie on (no z-fighting)
-        vtkMapper.SetResolveCoincidentTopologyToPolygonOffset()
-    except ImportError:  # pragma: no cover
-        pass
-    return pv
-
-
 def folded_mesh(cp: CreasePattern, coords: np.ndarray):
     """The panels of a folded state as a pyvista ``PolyData`` (polygon faces, mm)."""
-    pv = _pyvista()
+    import pyvista as pv
+
     faces = np.concatenate([np.r_[len(f), f] for f in cp.faces])
     return pv.PolyData(np.asarray(coords, float), faces)
 
 
 def _add_state(plotter, cp: CreasePattern, coords: np.ndarray, strings=None) -> None:
-    pv = _pyvista()
+    import pyvista as pv
+
     coords = np.asarray(coords, float)
     plotter.add_mesh(folded_mesh(cp, coords), color=_PANEL_COLOR, ambient=0.3, specular=0.2)
     for letter, color in _CREASE_COLORS.items():
@@ -57,11 +48,55 @@ def _add_state(plotter, cp: CreasePattern, coords: np.ndarray, strings=None) -> 
         plotter.add_mesh(pv.lines_from_points(pts), color=_STRING_COLOR, line_width=4)
 
 
-def _new_plotter(window_size: tuple[int, int]):
-    pv = _pyvista()
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
-    return plotter
+@contextlib.contextmanager
+def _quiet_polygon_offset() -> Iterator[None]:
+    """For one render: draw lines in front of the polygons they lie on, VTK's logger silent.
+
+    Both are class-wide VTK settings, restored on exit. The polygon offset keeps
+    crease lines from z-fighting with their panels; the logger would otherwise
+    complain about the missing X server before falling back to off-screen rendering.
+    """
+    from vtkmodules.vtkCommonCore import vtkLogger
+    from vtkmodules.vtkRenderingCore import vtkMapper
+
+    resolve = vtkMapper.GetResolveCoincidentTopology()
+    verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+    vtkMapper.SetResolveCoincidentTopologyToPolygonOffset()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    try:
+        yield
+    finally:
+        vtkMapper.SetResolveCoincidentTopology(resolve)
+        vtkLogger.SetStderrVerbosity(verbosity)
+
+
+@contextlib.contextmanager
+def offscreen_plotter(window_size: tuple[int, int]) -> Iterator[Any]:
+    """A pyvista ``Plotter`` rendering off-screen on a white background, closed on exit.
+
+    Parameters
+    ----------
+    window_size : (int, int)
+        Width and height of the picture, pixels.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> with offscreen_plotter((64, 48)) as plotter:
+    ...     _ = plotter.add_mesh(pv.Sphere())
+    ...     image = plotter.screenshot(return_img=True)
+    >>> image.shape
+    (48, 64, 3)
+    """
+    import pyvista as pv
+
+    with _quiet_polygon_offset():
+        plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+        try:
+            plotter.set_background("white")
+            yield plotter
+        finally:
+            plotter.close()
 
 
 def _set_view(plotter, view: Sequence[float] | str, bounds=None) -> None:
@@ -105,16 +140,13 @@ def render_folded(
     title : str
         Text in the upper-left corner.
     """
-    plotter = _new_plotter(window_size)
-    try:
+    with offscreen_plotter(window_size) as plotter:
         _add_state(plotter, cp, coords, strings)
         _set_view(plotter, view)
         if title:
             plotter.add_text(title, font_size=10, color="black")
         with atomic_path(path) as tmp:
             plotter.screenshot(str(tmp))
-    finally:
-        plotter.close()
     return Path(path)
 
 
@@ -133,11 +165,12 @@ def render_folding_gif(
     """
     if not frames:
         raise ValueError("no frames to render")
-    pv = _pyvista()
+    import pyvista as pv
+
     bounds = pv.PolyData(np.concatenate([np.asarray(f, float) for f in frames])).bounds
     with atomic_path(path) as tmp:
-        plotter = _new_plotter(window_size)
-        try:
+        # closing the plotter also closes the GIF writer, before the rename
+        with offscreen_plotter(window_size) as plotter:
             plotter.open_gif(str(tmp), fps=fps)
             for k, coords in enumerate(frames):
                 plotter.clear_actors()
@@ -145,6 +178,4 @@ def render_folding_gif(
                 if k == 0:
                     _set_view(plotter, view, bounds=bounds)
                 plotter.write_frame()
-        finally:
-            plotter.close()  # also closes the GIF writer, before the rename
     return Path(path)

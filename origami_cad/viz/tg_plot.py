@@ -8,25 +8,22 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
-
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
 
 from origami_cad.kinematics.chain import chain_points
 from origami_cad.pattern.tg import TGDesign
-from origami_cad.viz._figure import png_subplots
+from origami_cad.viz.figure import new_axes, png_subplots
 
 __all__ = ["plot_tg", "save_tg_png"]
 
 
 def plot_tg(
     design: TGDesign,
-    ax: plt.Axes | None = None,
+    ax: Axes | None = None,
     ratios: Sequence[float] = (0.0, 0.25, 0.5, 0.75, 1.0),
     samples: int = 91,
-) -> plt.Axes:
+) -> Axes:
     """Draw the TG chain at several fold ratios and the path of ``T_e`` (mm).
 
     Parameters
@@ -39,7 +36,7 @@ def plot_tg(
         Number of ``theta`` samples of the ``T_e`` path from 0 to pi.
     """
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 6))
+        ax = new_axes((7, 6))
     args = (
         design.lengths,
         np.radians(design.shape_angles),
@@ -49,7 +46,7 @@ def plot_tg(
     )
     path = chain_points(np.linspace(0, math.pi, samples), *args)[0, :, -1]
     ax.plot(path[:, 0], path[:, 1], color="#7f7f7f", lw=1.2, ls="--", label="$T_e$, p = 0 to 1")
-    cmap = plt.get_cmap("viridis")
+    cmap = matplotlib.colormaps.get_cmap("viridis")
     chains = chain_points(np.asarray(ratios, float) * math.pi, *args)[0]
     for k, (p, pts) in enumerate(zip(ratios, chains, strict=True)):
         color = cmap(k / max(len(ratios) - 1, 1))

@@ -1,0 +1,269 @@
+"""The first step of fabrication: plan the panels as plain data, before any solid is built.
+
+A :class:`PanelPlan` holds what the solids will be made from and what the
+plots, the parts library and the string routing need: each panel's footprints
+(:class:`~origami_cad.fabrication.panels.PanelOutline`), the holes
+(:class:`~origami_cad.pattern.model.Hole` records and the panel of each), the
+crease limits of the rigid folding (:class:`CreaseLimits`) and the warnings.
+It is cheap (no B-rep); :func:`origami_cad.fabrication.build_fabrication` turns it
+into solids.
+
+>>> from origami_cad.fabrication import plan_panels
+>>> from origami_cad.pattern.design import miura_design
+>>> plan = plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0))
+>>> len(plan.outlines), len(plan.holes), plan.limits.status.value
+(6, 6, 'foldable')
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from origami_cad.errors import PatternError
+from origami_cad.fabrication.panels import PanelOutline, panel_outlines, plan_holes
+from origami_cad.fabrication.params import FabricationParams
+from origami_cad.pattern.design import Design
+from origami_cad.pattern.model import CreasePattern, Hole
+
+__all__ = ["CreaseLimits", "LimitStatus", "PanelPlan", "crease_limits", "plan_panels"]
+
+
+class LimitStatus(enum.Enum):
+    """Whether the crease limits of a pattern were found."""
+
+    #: The rigid folding ran: the limits are known.
+    FOLDABLE = "foldable"
+    #: The kinematics could not fold the pattern rigidly (``reason`` says why).
+    NOT_FOLDABLE = "not foldable"
+    #: Not checked: the pattern has no transition graph to fold it by.
+    NOT_CHECKED = "not checked"
+
+
+@dataclass(frozen=True)
+class CreaseLimits:
+    """Where the rigid folding brings creases to ``theta_max`` (eq. 6), one schema for all cases.
+
+    Attributes
+    ----------
+    status : LimitStatus
+        Whether the limits were found.
+    reason : str
+        Why they were not (empty when ``FOLDABLE``).
+    p_max_kinematic : float or None
+        Fold ratio at which the first crease reaches ``theta_max`` (1.0 if none
+        does before the pattern is flat-folded); ``None`` unless ``FOLDABLE``.
+    limiting_edges : ndarray of int, shape (k,)
+        The creases that reach ``theta_max`` at ``p_max_kinematic`` (at most 50).
+    limiting_midpoints : ndarray, shape (k, 2)
+        Their midpoints, mm (rounded to 1 um).
+    limiting_assignments : tuple of str
+        Their assignments (``"M"`` or ``"V"``).
+    creases_before_p_max : int
+        Number of creases reaching ``theta_max`` before eq. 6's ``p_max``.
+    """
+
+    status: LimitStatus
+    reason: str = ""
+    p_max_kinematic: float | None = None
+    limiting_edges: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    limiting_midpoints: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    limiting_assignments: tuple[str, ...] = ()
+    creases_before_p_max: int = 0
+
+    @property
+    def foldable(self) -> bool:
+        """Whether the rigid folding found the limits."""
+        return self.status is LimitStatus.FOLDABLE
+
+    def to_dict(self) -> dict[str, Any]:
+        """The limits for ``fabrication.json`` (the same keys whatever the status)."""
+        return {
+            "status": self.status.value,
+            "reason": self.reason,
+            "p_max_kinematic": self.p_max_kinematic,
+            "limiting_creases": [
+                {"edge": int(e), "midpoint_mm": m.tolist(), "assignment": a}
+                for e, m, a in zip(
+                    self.limiting_edges,
+                    self.limiting_midpoints,
+                    self.limiting_assignments,
+                    strict=True,
+                )
+            ],
+            "creases_before_p_max": self.creases_before_p_max,
+        }
+
+
+def crease_limits(design: Design, params: FabricationParams, samples: int = 101) -> CreaseLimits:
+    """Where the rigid folding of ``design`` brings creases to ``theta_max`` (eq. 6).
+
+    Every crease's fold angle grows with the fold ratio ``p`` at its own rate:
+    the legs of a Miura fold faster than its main creases. Finds the fold ratio
+    at which each crease reaches ``theta_max``, the structure's kinematic
+    ``p_max`` (the first such ratio) and the creases that limit it. ``NOT_CHECKED``
+    for a pattern without a transition graph, ``NOT_FOLDABLE`` when the
+    kinematics cannot fold it.
+
+    This does not model collisions between several thick panels around one
+    vertex (the paper's multi-layer caveat): creases that reach ``theta_max``
+    first are where such collisions start.
+
+    Parameters
+    ----------
+    design : Design
+        The pattern and its transition graph.
+    params : FabricationParams
+        Gives ``theta_max`` (eq. 6).
+    samples : int
+        Fold ratios sampled from 0 to 1 (limits are interpolated between them).
+    """
+    from origami_cad.kinematics.folding import fold_sequence
+
+    if design.tg is None:
+        return CreaseLimits(LimitStatus.NOT_CHECKED, "the pattern has no transition graph")
+    ratios = np.linspace(0.0, 1.0, samples)
+    try:
+        states = fold_sequence(design, ratios)
+    except (PatternError, ImportError) as exc:
+        return CreaseLimits(LimitStatus.NOT_FOLDABLE, str(exc))
+    cp = design.pattern
+    creases = np.flatnonzero(cp.edge_mask("M", "V"))
+    angles = np.abs(np.array([s.fold_angles[creases] for s in states]))  # (samples, creases)
+    p_first = _first_ratio(ratios, angles, math.degrees(params.theta_max))
+    if np.all(np.isnan(p_first)):
+        return CreaseLimits(LimitStatus.FOLDABLE, p_max_kinematic=1.0)
+    p_kin = float(np.nanmin(p_first))
+    limiting = creases[np.isclose(p_first, p_kin, atol=1e-3)][:50]
+    mids = (cp.vertices[cp.edges[limiting, 0]] + cp.vertices[cp.edges[limiting, 1]]) / 2
+    return CreaseLimits(
+        LimitStatus.FOLDABLE,
+        p_max_kinematic=p_kin,
+        limiting_edges=limiting,
+        limiting_midpoints=mids.round(3),
+        limiting_assignments=tuple(str(a) for a in cp.assignments[limiting]),
+        creases_before_p_max=int(np.count_nonzero(p_first < params.p_max - 1e-3)),
+    )
+
+
+def _first_ratio(ratios: np.ndarray, angles: np.ndarray, limit: float) -> np.ndarray:
+    """Per crease (column of ``angles``, degrees): the first ratio reaching ``limit``, or NaN.
+
+    Interpolated linearly between the samples that bracket it.
+    """
+    reached = angles >= limit
+    first = np.where(reached.any(axis=0), np.argmax(reached, axis=0), -1)
+    p_first = np.where(first >= 0, ratios[np.maximum(first, 0)], np.nan)
+    for k in np.flatnonzero(first > 0):
+        i = first[k]
+        a0, a1 = angles[i - 1, k], angles[i, k]
+        p_first[k] = ratios[i - 1] + (limit - a0) / (a1 - a0) * (ratios[i] - ratios[i - 1])
+    return p_first
+
+
+@dataclass(frozen=True)
+class PanelPlan:
+    """The panels of a structure to print, as plain data (no solids).
+
+    Attributes
+    ----------
+    pattern : CreasePattern
+        The crease pattern (its own holes, if any, unchanged).
+    params : FabricationParams
+        The fabrication parameters.
+    outlines : tuple of PanelOutline
+        Footprints of every panel, in face order.
+    holes : tuple of Hole
+        The string holes placed following ``params.holes``, mm.
+    hole_panels : ndarray of int, shape (len(holes),)
+        Index of the panel (face) of each hole.
+    limits : CreaseLimits
+        Where the rigid folding brings creases to ``theta_max``.
+    warnings : tuple of str
+        What may print or fold badly.
+    timings : dict of str to float
+        Seconds spent on each step of the plan.
+    """
+
+    pattern: CreasePattern
+    params: FabricationParams
+    outlines: tuple[PanelOutline, ...]
+    holes: tuple[Hole, ...]
+    hole_panels: np.ndarray
+    limits: CreaseLimits
+    warnings: tuple[str, ...] = ()
+    timings: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def pattern_with_holes(self) -> CreasePattern:
+        """The crease pattern carrying the placed holes (for FOLD files and routing)."""
+        return self.pattern.with_holes(self.holes)
+
+    def outline(self, label: str) -> PanelOutline:
+        """The outline of the panel with this label; :class:`PatternError` if none."""
+        return self.outlines[self.pattern.face_index(label)]
+
+    def holes_of(self, panel: int) -> tuple[Hole, ...]:
+        """The holes through panel (face) index ``panel``."""
+        return tuple(h for h, i in zip(self.holes, self.hole_panels, strict=True) if i == panel)
+
+    def holes_by_label(self) -> dict[str, tuple[Hole, ...]]:
+        """The holes of every panel that has some, by panel label."""
+        labels = self.pattern.face_labels
+        return {labels[i]: self.holes_of(i) for i in dict.fromkeys(self.hole_panels.tolist())}
+
+
+def plan_panels(
+    source: CreasePattern | Design, params: FabricationParams | None = None
+) -> PanelPlan:
+    """Plan the printable panels of a crease pattern (or design): footprints, holes, limits.
+
+    Parameters
+    ----------
+    source : CreasePattern or Design
+        The pattern; a design with a transition graph also gets its crease limits.
+    params : FabricationParams, optional
+        Default ``FabricationParams()``.
+
+    Raises
+    ------
+    PatternError
+        Naming the panel or hole that does not fit, or the pattern's defect.
+    """
+    params = params or FabricationParams()
+    design = source if isinstance(source, Design) else Design(source, None, "file")
+    cp = design.pattern
+    t0 = time.perf_counter()
+    outlines = tuple(panel_outlines(cp, params))
+    holes, hole_panels = plan_holes(cp, list(outlines), params)
+    timings = {"panels_and_holes": time.perf_counter() - t0}
+    t0 = time.perf_counter()
+    limits = crease_limits(design, params)
+    if design.tg is not None:
+        timings["crease_limits"] = time.perf_counter() - t0
+    return PanelPlan(
+        cp, params, outlines, holes, hole_panels, limits, _warnings(params, limits), timings
+    )
+
+
+def _warnings(params: FabricationParams, limits: CreaseLimits) -> tuple[str, ...]:
+    out = []
+    infill = params.half_height - params.shell
+    if infill < 0.2:
+        out.append(
+            f"the infill is only {infill:.2g} mm thick between the shell skin and the crease "
+            f"layer (half height {(params.half_height):.2g} mm, shell {params.shell:g} mm): "
+            "consider a thinner shell or a taller panel"
+        )
+    if limits.creases_before_p_max:
+        out.append(
+            f"{limits.creases_before_p_max} creases reach theta_max before the main crease "
+            f"(structure p_max {limits.p_max_kinematic:.3f} < eq. 6 p_max "
+            f"{params.p_max:.3f})"
+        )
+    return tuple(out)

@@ -1,0 +1,850 @@
+"""One function per command: each computes and writes everything its command produces.
+
+``origami-cad COMMAND`` only parses its arguments into the matching ``run_*``
+function, and ``origami-cad demo`` (:mod:`origami_cad.demo`) only chains these
+functions and writes the report, so a command and its step of the demo always
+write the same files. Each job calls the same public functions a user calls.
+
+Every job follows the output rules of ``docs/outputs.md``: outputs are checked
+against the inputs before any work (:func:`~origami_cad._fileio.check_outputs`),
+a folder receives only the job's own files, all at once at the end
+(:func:`~origami_cad._fileio.atomic_directory`), and a single file is replaced
+atomically. A job returns an :class:`Outputs` record of what it wrote and found.
+
+>>> import tempfile, pathlib
+>>> folder = pathlib.Path(tempfile.mkdtemp())
+>>> out = run_pattern("examples/miura_6x4.toml", [folder / "cp.fold"])
+>>> [p.name for p in out.files], dict(out.numbers)["panels"]
+(['cp.fold'], '24')
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from origami_cad._fileio import atomic_directory, atomic_write, check_outputs
+from origami_cad.errors import DesignError
+
+__all__ = [
+    "Outputs",
+    "fabrication_params",
+    "parameter_default",
+    "run_check",
+    "run_convert",
+    "run_design_arm",
+    "run_drive",
+    "run_emulate",
+    "run_fabricate",
+    "run_fold",
+    "run_part",
+    "run_pattern",
+    "run_route",
+    "run_simulate",
+    "run_tg",
+]
+
+PathLike = str | os.PathLike[str]
+PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
+FOLD_SUFFIXES = (".fold", ".png", ".gif")
+MAX_FRAMES = 10_000  # folded states in one file or animation
+GIF_FRAMES = 30  # frames of a simulation's animation
+
+
+@dataclass
+class Outputs:
+    """What a job wrote and what it found.
+
+    Attributes
+    ----------
+    files : list of Path
+        Every file written, in order.
+    images : list of (Path, str)
+        The pictures among them, with a caption.
+    numbers : list of (str, str)
+        Key results, name and value with its unit.
+    messages : list of str
+        Lines for the user: summary and warnings.
+    result : object
+        The library result the files were made from (a ``DCQCResult``,
+        ``Fabrication``, list of ``ArmDesign``...), or ``None``.
+    status : int
+        0, or 1 when the job ran but its answer is negative (a pattern with
+        errors, a routing that never folds).
+    """
+
+    files: list[Path] = field(default_factory=list)
+    images: list[tuple[Path, str]] = field(default_factory=list)
+    numbers: list[tuple[str, str]] = field(default_factory=list)
+    messages: list[str] = field(default_factory=list)
+    result: Any = None
+    status: int = 0
+
+    def extend(self, other: Outputs) -> Outputs:
+        """Add another job's outputs to these (for chained jobs); returns ``self``."""
+        self.files += other.files
+        self.images += other.images
+        self.numbers += other.numbers
+        self.messages += other.messages
+        return self
+
+
+# the parameter classes whose fields a job also takes as keywords
+_KEYWORD_PARAMS = {
+    "run_fabricate": ("origami_cad.fabrication.params", "FabricationParams"),
+    "run_simulate": ("origami_cad.simulation.model", "SimulationParams"),
+}
+
+
+def parameter_default(job: Callable, name: str) -> Any:
+    """The default of a job's parameter ``name``, from its signature or its parameter class.
+
+    ``None`` when the parameter has no default (or is not the job's).
+
+    >>> parameter_default(run_fold, "ratio"), parameter_default(run_fabricate, "height")
+    (0.5, 2.2)
+    """
+    import dataclasses
+    import importlib
+    import inspect
+
+    param = inspect.signature(job).parameters.get(name)
+    if param is not None and param.default not in (None, param.empty):
+        return param.default
+    if job.__name__ not in _KEYWORD_PARAMS:
+        return None
+    module, cls = _KEYWORD_PARAMS[job.__name__]
+    fields = dataclasses.fields(getattr(importlib.import_module(module), cls))
+    found = {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
+    return found.get(name)
+
+
+def _is_stream(path: PathLike) -> bool:
+    """A device or pipe (``/dev/stdout``, a FIFO): written into, whatever its name."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
+
+
+def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
+    if len(allowed) == 1 and _is_stream(path):
+        return  # one possible format: a device or pipe needs no extension
+    if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
+        raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
+
+def _sources(*items) -> list:
+    """Input paths, and the file a design was read from, that no output may replace."""
+    return [s for s in (getattr(i, "source", i) for i in items) if s is not None]
+
+
+def _moved(files: Sequence[Path], stage: Path, folder: PathLike) -> list[Path]:
+    """Where the files written into ``stage`` are once in ``folder``."""
+    return [Path(folder) / Path(f).relative_to(stage) for f in files]
+
+
+def _pattern_numbers(cp) -> list[tuple[str, str]]:
+    n_m, n_v = int((cp.assignments == "M").sum()), int((cp.assignments == "V").sum())
+    return [
+        ("panels", str(len(cp.faces))),
+        ("creases (M / V)", f"{n_m} / {n_v}"),
+        (
+            "pattern size",
+            f"{cp.bounds[2] - cp.bounds[0]:.1f} x {cp.bounds[3] - cp.bounds[1]:.1f} mm",
+        ),
+    ]
+
+
+def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
+    from origami_cad.pattern import write_pattern
+    from origami_cad.viz import save_pattern_png
+
+    if out.suffix.lower() == ".png":
+        save_pattern_png(cp, out, labels=labels)
+    else:
+        write_pattern(cp, out)
+
+
+# --------------------------------------------------------------------------- patterns
+
+
+def run_convert(source: PathLike, output: PathLike, *, labels: bool = False) -> Outputs:
+    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture."""
+    from origami_cad.pattern import read_pattern
+
+    _check_suffix(output, PATTERN_SUFFIXES, "a pattern")
+    check_outputs([source], files=[output])
+    cp = read_pattern(source)
+    _write_pattern_file(cp, Path(output), labels)
+    msg = f"wrote {output} ({cp.n_vertices} vertices, {cp.n_edges} edges, {len(cp.faces)} panels)"
+    return Outputs(files=[Path(output)], messages=[msg], result=cp)
+
+
+def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool = False) -> Outputs:
+    """Validate a pattern; ``status`` is 1 when it has errors. Writes nothing.
+
+    ``angle_tolerance`` is the tolerance of Kawasaki's theorem, radians.
+    """
+    from origami_cad.pattern import Severity, read_pattern
+
+    cp = read_pattern(source)
+    problems = cp.check(angle_tolerance=angle_tolerance)
+    lines = [f"{source}: {cp!r}"]
+    lines += [f"  {p}" for p in problems if p.severity != Severity.INFO or verbose]
+    errors = sum(p.severity == Severity.ERROR for p in problems)
+    warnings = sum(p.severity == Severity.WARNING for p in problems)
+    lines.append(f"{errors} errors, {warnings} warnings")
+    numbers = [("check", f"{errors} errors, {warnings} warnings"), *_pattern_numbers(cp)]
+    return Outputs(messages=lines, numbers=numbers, result=problems, status=1 if errors else 0)
+
+
+def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
+    """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
+    from origami_cad.pattern.design import load_pattern_source
+
+    for out in outputs:
+        _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
+    check_outputs([design], files=outputs)
+    loaded = load_pattern_source(design)
+    cp = loaded.pattern
+    result = Outputs(result=loaded, numbers=_pattern_numbers(cp))
+    for out in map(Path, outputs):
+        _write_pattern_file(cp, out, labels)
+        result.files.append(out)
+        result.messages.append(f"wrote {out}")
+        if out.suffix.lower() == ".png":
+            result.images.append((out, "Crease pattern (mountain red, valley blue dashed)"))
+    result.messages += [f"note: {n}" for n in (loaded.tg.notes if loaded.tg else ())]
+    result.messages.append(repr(cp))
+    if loaded.tg is not None:
+        betas = ", ".join(f"{b:.2f} deg" for b in loaded.tg.shape_angles)
+        n = len(loaded.tg.shape_angles)
+        result.numbers.insert(0, (f"shape angles beta_1..beta_{n} (eq. 1)", betas))
+    return result
+
+
+def run_fold(
+    design: PathLike,
+    output: PathLike,
+    *,
+    ratio: float = 0.5,
+    frames: int = 1,
+    view: Sequence[float] | str = "iso",
+) -> Outputs:
+    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end or a .gif.
+
+    ``frames`` states are written (1: only ``ratio``; a .gif of 1 frame gets 30).
+    ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
+    """
+    import numpy as np
+
+    from origami_cad.kinematics.folding import fold_sequence
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+
+    if not 0.0 <= ratio <= 1.0:
+        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+    if not 1 <= frames <= MAX_FRAMES:
+        raise DesignError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
+    out = Path(output)
+    suffix = out.suffix.lower()
+    _check_suffix(out, FOLD_SUFFIXES, "the folded state")
+    check_outputs([design], files=[out])
+    loaded = load_pattern_source(design)
+    frames = frames if frames > 1 or suffix != ".gif" else 30
+    states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
+    cp = loaded.pattern
+    if suffix == ".fold":
+        labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
+        write_fold(cp, out, frames=labelled)
+    elif suffix == ".png":
+        render_folded(cp, states[-1].coords, out, title=f"p = {ratio:g}", view=view)
+    else:
+        render_folding_gif(cp, [s.coords for s in states], out, view=view)
+    caption = f"Folded at p = {ratio:g}" if suffix == ".png" else f"Folding from p = 0 to {ratio:g}"
+    plural = "s" if len(states) > 1 else ""
+    return Outputs(
+        files=[out],
+        images=[(out, caption)] if suffix != ".fold" else [],
+        messages=[f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})"],
+        result=states,
+    )
+
+
+def run_tg(design: PathLike, output: PathLike) -> Outputs:
+    """Plot a design's TG chain at p = 0, 0.25, 0.5, 0.75, 1 and the path of T_e (.png)."""
+    from origami_cad.pattern.design import load_design
+    from origami_cad.viz.tg_plot import save_tg_png
+
+    _check_suffix(output, (".png",), "the TG plot")
+    check_outputs([design], files=[output])
+    loaded = load_design(design)
+    if loaded.tg is None:
+        raise DesignError(f"{design}: kind {loaded.kind!r} has no transition graph")
+    save_tg_png(loaded.tg, output)
+    caption = "TG chain at several p and the path of T_e"
+    return Outputs(
+        files=[Path(output)], images=[(Path(output), caption)], messages=[f"wrote {output}"]
+    )
+
+
+# --------------------------------------------------------------------------- arm design
+
+
+def _best_design_toml(design, task, copies: int = 3) -> str:
+    """The winner as a design file (``kind = "transition-graph"``) that every command reads."""
+    terms = design.terms
+    lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
+    angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
+    return (
+        f"# Best arm design of run {design.run}: fitness {design.fitness:.4f} (eq. 5)\n"
+        f"# T_e(0) is {terms.d_start:.3f} mm from P_start, T_e(pi) "
+        f"{terms.d_end:.3f} mm from P_end, {terms.improper_states} improper states\n"
+        "[pattern]\n"
+        'kind = "transition-graph"\n'
+        f"unit_width = {task.unit_width or 36.0}   # mm\n"
+        f"copies = {copies}\n"
+        f"entry_flag = {design.entry_flag}\n"
+        f"start = [{task.start[0]}, {task.start[1]}]\n"
+        f"lengths = [{lengths}]   # mm\n"
+        f"shape_angles = [{angles}]   # deg\n"
+        f"hypar_base = {'true' if task.hypar_base else 'false'}\n"
+    )
+
+
+def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> list[Path]:
+    from origami_cad import __version__
+    from origami_cad.design import task_to_dict
+    from origami_cad.pattern.design import load_design
+    from origami_cad.viz import save_pattern_png
+    from origami_cad.viz.design_plots import save_convergence_png, save_trajectories_png
+
+    files = [stage / n for n in ("results.json", "best.toml", "trajectories.png")]
+    files += [stage / "convergence.png", stage / "best_pattern.png"]
+    data = {
+        "origami_cad_version": __version__,
+        "task": task_to_dict(task, settings),
+        "seconds": seconds,
+        "designs": [r.to_dict() for r in results],
+    }
+    with atomic_write(files[0], "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    with atomic_write(files[1], "w", encoding="utf-8") as fh:
+        fh.write(_best_design_toml(results[0], task))
+    save_trajectories_png(results, task, files[2])
+    save_convergence_png(results, files[3])
+    save_pattern_png(load_design(files[1]).pattern, files[4], labels=True)
+    return files
+
+
+def run_design_arm(
+    task: PathLike,
+    folder: PathLike,
+    *,
+    runs: int | None = None,
+    seed: int | None = None,
+    max_generations: int | None = None,
+    progress: Callable[[int, int, float], None] | None = None,
+) -> Outputs:
+    """CMA-ES arm design (eq. 5): results.json, best.toml and plots into ``folder``.
+
+    ``runs``, ``seed`` and ``max_generations`` override the task's ``[search]`` table.
+    """
+    import dataclasses
+
+    from origami_cad.design import design_arm, load_task
+
+    check_outputs([task], folders=[folder])
+    arm_task, settings = load_task(task)
+    changes = {"runs": runs, "seed": seed, "max_generations": max_generations}
+    for name, value in changes.items():
+        if value is not None and value < (0 if name == "seed" else 1):
+            raise DesignError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
+    settings = dataclasses.replace(settings, **{k: v for k, v in changes.items() if v is not None})
+    t0 = time.perf_counter()
+    results = design_arm(arm_task, settings, progress=progress)
+    seconds = time.perf_counter() - t0
+    if not results:
+        raise DesignError(
+            f"{task}: no feasible design: every run's chain touched a prohibited area; relax "
+            "the obstacles or the length range"
+        )
+    with atomic_directory(folder, inputs=[task]) as stage:
+        files = _moved(_write_arm_files(results, arm_task, settings, seconds, stage), stage, folder)
+    best = results[0]
+    t = best.terms
+    numbers = [
+        ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
+        ("search time", f"{seconds:.1f} s"),
+        ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
+        ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
+        ("|T_e(pi) - P_end|", f"{t.d_end:.3g} mm"),
+        ("improper states N", str(t.improper_states)),
+        ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
+        ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
+    ]
+    summary = (
+        f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
+        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(pi) - P_end| = "
+        f"{t.d_end:.3g} mm, N = {t.improper_states} ({seconds:.1f} s)"
+    )
+    captions = ["Top designs: chains and the path of T_e"]
+    captions += ["Best fitness per generation, one line per run", "The winner's crease pattern"]
+    return Outputs(
+        files=files,
+        images=list(zip(files[2:], captions, strict=True)),
+        numbers=numbers,
+        messages=[summary, *(f"wrote {p}" for p in files)],
+        result=results,
+    )
+
+
+# --------------------------------------------------------------------------- fabrication
+
+
+def fabrication_params(
+    *, bias: float | None = None, theta_max: float | None = None, p_max: float | None = None, **kw
+):
+    """``FabricationParams`` from at most one of bias (mm), theta_max (deg) or p_max (eq. 6).
+
+    Other keywords are ``FabricationParams`` fields; ``None`` values keep their defaults.
+    """
+    from origami_cad.fabrication import FabricationParams, bias_for_theta_max
+
+    given = [v is not None for v in (bias, theta_max, p_max)]
+    if sum(given) > 1:
+        raise DesignError("give only one of the bias, theta_max and p_max")
+    kw = {k: v for k, v in kw.items() if v is not None}
+    height = kw.get("height", FabricationParams.height)
+    thickness = kw.get("thickness", FabricationParams.thickness)
+    if theta_max is not None:
+        bias = bias_for_theta_max(math.radians(theta_max), height, thickness)
+    elif p_max is not None:
+        bias = bias_for_theta_max(p_max * math.pi, height, thickness)
+    if bias is not None:
+        kw["bias"] = bias
+    return FabricationParams(**kw)
+
+
+def _section_args(cp, fab) -> dict[str, Any]:
+    """A section perpendicular to the first main crease, through its middle (Fig. 4e)."""
+    main = [e for e in range(cp.n_edges) if cp.assignments[e] in "MV"]
+    a, b = cp.vertices[cp.edges[main[0]]]
+    mid = (a + b) / 2
+    direction = (b - a) / max(float(((b - a) ** 2).sum()) ** 0.5, 1e-12)
+    return {
+        "mode": "section",
+        "section_origin": (float(mid[0]), float(mid[1]), fab.params.height / 2),
+        "section_normal": (float(direction[0]), float(direction[1]), 0.0),
+    }
+
+
+def _render_fabrication(cp, fab, stage: Path, name: str) -> list[tuple[Path, str]]:
+    from origami_cad.viz.parts_render import render_parts
+
+    stls = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+    shots = [
+        (stage / "assembled.png", {}, f"{name}: assembled"),
+        (stage / "exploded.png", {"mode": "exploded"}, f"{name}: the four STLs"),
+        (
+            stage / "section.png",
+            _section_args(cp, fab),
+            f"{name}: section across a crease (Fig. 4e)",
+        ),
+    ]
+    for path, kwargs, title in shots:
+        render_parts(stls, path, title=title, **kwargs)
+    return [(p, t) for p, _, t in shots]
+
+
+def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
+    report = fab.report()
+    vols = ", ".join(f"{n} {v['volume_mm3'] / 1000:.2f} cm3" for n, v in report["parts"].items())
+    limits = f"{report['theta_max_deg']:.1f} deg, {100 * report['p_max']:.1f} %"
+    numbers = [
+        (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
+        (f"{name}: theta_max, p_max (eq. 6)", limits),
+        (f"{name}: volumes", vols),
+        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),
+    ]
+    if fab.limits.p_max_kinematic is not None:
+        kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
+        numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
+    numbers.append((f"{name}: build + export time", f"{sum(fab.timings.values()):.1f} s"))
+    return numbers
+
+
+def run_fabricate(
+    design: PathLike,
+    folder: PathLike,
+    params=None,
+    *,
+    renders: bool = False,
+    name: str = "",
+    hole: Sequence[Sequence[float]] | None = None,
+    **overrides: Any,
+) -> Outputs:
+    """Dual-material printable structure: four STLs, STEP, 3MF, fabrication.json, panels.png.
+
+    ``params`` is a ``FabricationParams`` (default: the paper's b = 3, h = 2.2,
+    t = 0.4 mm); instead, keywords of :func:`fabrication_params` (``bias``,
+    ``theta_max``, ``height``...) may be given. ``hole`` lists hole centres
+    (x, y in mm) that replace the automatic ones. ``renders`` adds assembled,
+    exploded and section pictures; ``name`` prefixes the key numbers (for
+    reports holding several structures).
+    """
+    from origami_cad.fabrication import fabricate, write_fabrication
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    check_outputs([design], folders=[folder])
+    if hole:
+        overrides["holes"] = [tuple(map(float, h)) for h in hole]
+    if params is None:
+        params = fabrication_params(**overrides)
+    elif any(v is not None for v in overrides.values()):
+        raise DesignError("give either fabrication parameters or their keywords, not both")
+    loaded = load_pattern_source(design)
+    fab = fabricate(loaded, params)
+    label = name or Path(design).stem
+    with atomic_directory(folder, inputs=_sources(design, loaded)) as stage:
+        write_fabrication(fab, stage)
+        save_panels_png(fab, stage / "panels.png")
+        images = [(stage / "panels.png", f"{label}: panels, operation regions and holes")]
+        if renders:
+            images += _render_fabrication(loaded.pattern, fab, stage, label)
+        staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))
+    report = fab.report()
+    summary = (
+        f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
+        f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
+        f"mass {report['total_mass_g']:.1f} g"
+    )
+    files = _moved(staged, stage, folder)
+    return Outputs(
+        files=files,
+        images=[(Path(folder) / p.name, c) for p, c in images],
+        numbers=_fabrication_numbers(fab, label),
+        messages=[
+            summary,
+            *(f"warning: {w}" for w in fab.warnings),
+            f"wrote {folder}/: " + " ".join(p.name for p in files),
+        ],
+        result=fab,
+    )
+
+
+def run_part(
+    name: str,
+    folder: PathLike,
+    params: dict[str, Any] | None = None,
+    *,
+    pattern: PathLike | None = None,
+    panel: str | None = None,
+    crease: int | None = None,
+) -> Outputs:
+    """Build a parametric part (``origami_cad.parts``) and write NAME.step and NAME.stl.
+
+    ``params`` are the part's own parameters (mm, degrees), as values or as the
+    text of ``--name value`` options. With ``pattern``, a ``tsa-module`` is fitted
+    to ``panel`` and a ``blocker`` to ``crease``.
+    """
+    from origami_cad.fabrication.export import export_part
+    from origami_cad.parts import build_part
+
+    inputs = [pattern] if pattern else []
+    check_outputs(inputs, folders=[folder])
+    part = build_part(name, params, pattern=pattern, panel=panel, crease=crease)
+    with atomic_directory(folder, inputs=inputs) as stage:
+        files = _moved(export_part(part, stage, name), stage, folder)
+    volume = f"{part.volume / 1000:.2f} cm3"
+    return Outputs(
+        files=files,
+        numbers=[(f"{name}: volume", volume)],
+        messages=[f"{name}: volume {volume}; wrote " + ", ".join(map(str, files))],
+    )
+
+
+# --------------------------------------------------------------------------- strings
+
+
+def run_route(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
+    """DCQC folding by a TSA: dcqc.json, dcqc.png, route.png, route_folded.png into ``folder``.
+
+    ``status`` is 1 when the routing never folds the structure.
+    """
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route, simulate_dcqc
+    from origami_cad.viz.render3d import render_folded
+    from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
+
+    check_outputs([design, route], folders=[folder])
+    loaded = load_pattern_source(design)
+    cp = loaded.pattern
+    spec = load_route(route, cp)
+    result = simulate_dcqc(loaded, spec)
+    names = ("dcqc.json", "route.png", "dcqc.png", "route_folded.png")
+    with atomic_directory(folder, inputs=_sources(design, route, loaded)) as stage:
+        with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
+            json.dump(result.to_dict(), fh, indent=1)
+        save_route_png(cp, spec, stage / names[1])
+        save_dcqc_png(result, stage / names[2])
+        final = result.final
+        render_folded(
+            cp,
+            result.final_coords,
+            stage / names[3],
+            strings=result.final_strings,
+            title=f"final p = {final['p']:.3f}",
+        )
+    files = [Path(folder) / n for n in names]
+    captions = ["Routing (solid above, dashed below the sheet)", "Fold ratio against TSA turns"]
+    captions.append("Final state with the strings")
+    state = "final" if result.valid else "INVALID routing"
+    return Outputs(
+        files=files,
+        images=list(zip(files[1:], captions, strict=True)),
+        numbers=[
+            ("strings / quasi-static steps", f"{len(spec.strings)} / {len(result.steps) - 1}"),
+            ("final fold ratio p", f"{final['p']:.3f} after {final['turns']:.2f} turns"),
+            ("why it stops", result.reason),
+            ("DCQC side-rule violations", str(len(result.violations))),
+            ("segments cutting through panels", str(len(result.cutting))),
+        ],
+        messages=[
+            *(f"warning: {v}" for v in result.violations + result.cutting),
+            f"{state}: p = {final['p']:.4f} after {final['turns']:.2f} turns; {result.reason}",
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+        status=0 if result.valid else 1,
+    )
+
+
+# --------------------------------------------------------------------------- simulation
+
+
+def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
+    limits = {}
+    for edge, degrees in dict(blockers or {}).items():
+        if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
+            raise DesignError(f"blocker on edge {edge}: not a crease of {source}")
+        if not (math.isfinite(degrees) and 0 < degrees <= 180):
+            raise DesignError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
+        limits[int(edge)] = float(degrees)
+    return limits
+
+
+def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+    from origami_cad.viz.strings_plots import save_route_png
+
+    frames = [
+        folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
+        for x, s in zip(result.states, result.steps, strict=True)
+    ]
+    write_fold(cp, stage / names[0], frames=frames)
+    with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+        json.dump(result.to_dict(), fh, indent=1)
+    every = max(1, len(result.states) // max(gif_frames, 1))
+    shown = [*result.states[::every], result.states[-1]]
+    view = (1, -1.5, 1)
+    render_folding_gif(cp, shown, stage / names[2], view=view)
+    title = f"after {result.steps[-1]['turns']:.1f} TSA turns"
+    render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
+    save_route_png(cp, spec, stage / names[4])
+
+
+def run_simulate(
+    pattern: PathLike,
+    route: PathLike,
+    folder: PathLike,
+    params=None,
+    *,
+    steps: int | None = None,
+    blockers: dict[int, float] | Sequence[tuple[int, float]] | None = None,
+    free: bool = False,
+    gravity: float | None = None,
+    ground: float | None = None,
+    friction: float | None = None,
+    gif_frames: int = GIF_FRAMES,
+    progress: Callable[[int, int], None] | None = None,
+) -> Outputs:
+    """Bar-and-hinge folding by strings and TSA: states.fold, simulation.json, fold.gif, folded.png.
+
+    ``params`` is a ``SimulationParams``, or give ``gravity`` (mm/s^2, along -z),
+    ``ground`` (height of a ground plane, mm) and ``friction`` (Coulomb
+    coefficient). ``blockers`` maps crease index to its limit in degrees;
+    ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
+    the number of frames of the animation.
+    """
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.strings import load_route
+
+    if steps is not None and not 1 <= steps <= 100_000:
+        raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
+    check_outputs([pattern, route], folders=[folder])
+    if friction is not None and friction < 0:
+        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+    given = {"gravity": gravity, "ground": ground, "friction": friction}
+    if params is None:
+        params = SimulationParams(**{k: v for k, v in given.items() if v is not None})
+    loaded = load_pattern_source(pattern)
+    cp = loaded.pattern
+    spec = load_route(route, cp)
+    limits = _blocker_limits(cp, blockers, pattern)
+    kwargs = {"steps": steps, "fold_limits": limits or None, "progress": progress, "free": free}
+    result = simulate(cp, spec, params, **kwargs)
+    last = result.steps[-1]
+    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
+        _write_simulation(stage, names, cp, spec, result, gif_frames)
+    files = [Path(folder) / n for n in names]
+    tensions = ", ".join(f"{t:.3g}" for t in last["tensions_N"])
+    return Outputs(
+        files=files,
+        images=[
+            (files[4], "Strings from the TSA through the panel holes"),
+            (files[3], "Folded by the TSA (bar-and-hinge simulation)"),
+            (files[2], "The folding as the TSA turns"),
+        ],
+        numbers=[
+            ("simulated steps", str(len(result.steps))),
+            ("final TSA turns", f"{last['turns']:.1f}"),
+            ("string tensions at the end", ", ".join(f"{t:.2f} N" for t in last["tensions_N"])),
+            ("why it stops", result.reason),
+        ],
+        messages=[
+            f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
+            f"{result.reason}",
+            f"string tensions {tensions} N, TSA torque {last['tsa_torque_Nmm']:.3g} N mm",
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+    )
+
+
+# --------------------------------------------------------------------------- hardware
+
+
+def run_emulate(
+    ids: Sequence[int] = (1,),
+    *,
+    protocol: str = "dynamixel",
+    seconds: float = 0.0,
+    echo: Callable[[str], None] = print,
+) -> Outputs:
+    """Emulate servos on a pseudo-terminal until Ctrl-C, or for ``seconds`` (0: forever)."""
+    from origami_cad.drive import DynamixelEmulator, SerialEmulator
+
+    if len(set(ids)) != len(ids) or not ids or any(not 0 <= i <= 252 for i in ids):
+        raise DesignError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
+    if not (math.isfinite(seconds) and seconds >= 0):
+        raise DesignError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
+    emu = DynamixelEmulator(list(ids)) if protocol == "dynamixel" else SerialEmulator(list(ids))
+    with emu:
+        echo(f"{protocol} emulator with servos {list(ids)} on {emu.port}")
+        echo(f"connect with --port {emu.port}; Ctrl-C to stop")
+        deadline = time.monotonic() + seconds if seconds else None
+        while deadline is None or time.monotonic() < deadline:
+            time.sleep(0.1)
+    return Outputs()
+
+
+def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, speed: float | None):
+    """The servo bus of a sequence: on ``port``, or on a new emulator when ``speed`` is given."""
+    from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
+
+    if speed is not None:
+        emu = (
+            DynamixelEmulator(seq.ids, time_scale=speed)
+            if protocol == "dynamixel"
+            else SerialEmulator(seq.ids)
+        )
+        port = stack.enter_context(emu).port
+    limits = {t.dxl_id: t.max_turns for t in seq.tsas}
+    if protocol == "dynamixel":
+        bus = DynamixelBus(
+            port,
+            baudrate,
+            seq.ids,
+            max_turns=limits,
+            current_limit_ma=seq.current_limit,
+            profile_velocity=0,
+        )
+    else:
+        bus = SerialBus(
+            port, baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
+        )
+    return stack.enter_context(bus)
+
+
+def run_drive(
+    sequence: PathLike,
+    log: PathLike = "drive_log.csv",
+    *,
+    port: str | None = None,
+    dry_run: bool = False,
+    speed: float = 8.0,
+    protocol: str = "dynamixel",
+    baudrate: int = 57600,
+    plot: PathLike | None = None,
+    progress: Callable | None = None,
+) -> Outputs:
+    """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
+
+    ``speed`` is the time acceleration of a dry run; ``plot`` adds a PNG of the
+    commanded and measured turns. Torque goes off on exit, error and Ctrl-C.
+    """
+    import contextlib
+
+    from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    if plot is not None:
+        _check_suffix(plot, (".png",), "the drive plot")
+    check_outputs([sequence], files=[p for p in (log, plot) if p])
+    if dry_run:
+        speed = check_time_scale(speed, "speed")
+    seq = load_sequence(sequence)
+    if not dry_run and not port:
+        raise DesignError("give the servos' port, or use a dry run on the emulator")
+    scale = speed if dry_run else 1.0
+    with contextlib.ExitStack() as stack:
+        bus = _open_bus(stack, seq, port, protocol, baudrate, scale if dry_run else None)
+        rows = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
+    names = {t.dxl_id: t.name for t in seq.tsas}
+    files = [Path(log)]
+    if plot:
+        save_drive_png(rows, plot, names)
+        files.append(Path(plot))
+    lag = max(abs(r["target_turns"] - r["measured_turns"]) for r in rows)
+    caption = "Commanded (dashed) and measured (solid) turns and current per TSA"
+    return Outputs(
+        files=files,
+        images=[(Path(plot), caption)] if plot else [],
+        numbers=[
+            ("cycle / readings", f"{seq.cycle:g} s / {len(rows)}"),
+            ("largest lag of a servo behind its command", f"{lag:.3f} turns"),
+            ("maximum commanded twist", f"{max(r['target_turns'] for r in rows):.2f} turns"),
+        ],
+        messages=[
+            f"ran {seq.repeat} x {seq.cycle:g} s on servos {seq.ids}"
+            f"{' (dry run)' if dry_run else ''}: {len(rows)} readings, largest lag {lag:.3f} turns",
+            *(f"wrote {p}" for p in files),
+        ],
+        result=rows,
+    )

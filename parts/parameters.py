@@ -1,0 +1,174 @@
+"""Typed part parameters: dataclass fields with units, and their coercion from text or values.
+
+Every part's parameters are a frozen dataclass whose fields carry :func:`spec`
+metadata (unit, one-line doc, optional lower bound).
+:func:`resolve_params` builds one from keyword values given as Python values or
+as command-line text, converting each to its field's declared type:
+
+>>> from dataclasses import dataclass, field
+>>> @dataclass(frozen=True)
+... class Demo:
+...     width: float = field(default=10.0, metadata=spec("mm", "plate width", low=0.0))
+...     offset: float | None = field(default=None, metadata=spec("mm", "default: width / 2"))
+...     angles: tuple[float, ...] = field(default=(0.0, 90.0), metadata=spec("deg", "holes"))
+>>> resolve_params(Demo, None, {"offset": "12", "angles": "0, 45, 90"})
+Demo(width=10.0, offset=12.0, angles=(0.0, 45.0, 90.0))
+>>> resolve_params(Demo, None, {"width": "-1"})
+Traceback (most recent call last):
+...
+origami_cad.errors.DesignError: parameter width: must be > 0 mm, got -1.0
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import types
+import typing
+from collections.abc import Mapping
+from typing import Any, TypeVar
+
+from origami_cad.errors import DesignError
+
+__all__ = ["ParamInfo", "param_info", "resolve_params", "spec"]
+
+P = TypeVar("P")
+
+
+def spec(unit: str, doc: str, *, low: float | None = None) -> dict[str, Any]:
+    """Metadata of a part parameter: ``field(default=..., metadata=spec(unit, doc))``.
+
+    Parameters
+    ----------
+    unit : str
+        ``"mm"``, ``"deg"``, ``""`` (a count or a name)...
+    doc : str
+        One line saying what the parameter is.
+    low : float, optional
+        Values must be greater than this (numbers and each number of a tuple).
+    """
+    return {"unit": unit, "doc": doc, "low": low}
+
+
+@dataclasses.dataclass(frozen=True)
+class ParamInfo:
+    """What a part parameter is: its name, type, default, unit and meaning."""
+
+    name: str
+    type: Any
+    default: Any
+    unit: str
+    doc: str
+    low: float | None
+
+    @property
+    def type_name(self) -> str:
+        """The type as written in the listing: ``FLOAT``, ``FLOAT or none``, ``FLOAT,...``."""
+        base, optional = _unwrap_optional(self.type)
+        if typing.get_origin(base) is tuple:
+            args = typing.get_args(base)
+            one = args[0].__name__.upper()
+            name = f"{one},..." if args[-1] is Ellipsis else ",".join([one] * len(args))
+        else:
+            name = getattr(base, "__name__", str(base)).upper()
+        return f"{name} or none" if optional else name
+
+    @property
+    def text(self) -> bool:
+        """Whether it can be given as text (on the command line)."""
+        base, _ = _unwrap_optional(self.type)
+        return base in (float, int, str) or typing.get_origin(base) is tuple
+
+
+def param_info(cls: type) -> list[ParamInfo]:
+    """The parameters of a parameter dataclass, in declaration order."""
+    hints = typing.get_type_hints(cls)
+    return [
+        ParamInfo(
+            f.name,
+            hints[f.name],
+            f.default,
+            f.metadata.get("unit", ""),
+            f.metadata.get("doc", ""),
+            f.metadata.get("low"),
+        )
+        for f in dataclasses.fields(cls)
+    ]
+
+
+def resolve_params(cls: type[P], params: P | None, values: Mapping[str, Any]) -> P:
+    """``params`` (default ``cls()``) with ``values`` replaced, each converted to its type.
+
+    Values may be Python values or text (``"12"``, ``"0,45,90"``, ``"none"``).
+    Raises :class:`DesignError` naming the parameter when a name is unknown or a
+    value has the wrong type or is out of range.
+    """
+    base = params if params is not None else cls()
+    if not isinstance(base, cls):
+        raise DesignError(f"expected {cls.__name__} parameters, got {type(base).__name__}")
+    infos = {i.name: i for i in param_info(cls)}
+    changes = {}
+    for name, value in values.items():
+        if name not in infos:
+            raise DesignError(f"unknown parameter {name!r} (known: {', '.join(infos)})")
+        changes[name] = _coerce(infos[name], value)
+    return dataclasses.replace(base, **changes)
+
+
+def _unwrap_optional(tp: Any) -> tuple[Any, bool]:
+    if typing.get_origin(tp) in (typing.Union, types.UnionType):
+        args = [a for a in typing.get_args(tp) if a is not type(None)]
+        if len(args) == 1:
+            return args[0], True
+    return tp, False
+
+
+def _coerce(info: ParamInfo, value: Any) -> Any:
+    base, optional = _unwrap_optional(info.type)
+    if value is None or (optional and isinstance(value, str) and value.lower() == "none"):
+        if optional:
+            return None
+        raise DesignError(f"parameter {info.name}: a value is required")
+    if typing.get_origin(base) is tuple:
+        return _coerce_tuple(info, base, value)
+    if base in (float, int, str):
+        return _scalar(info, base, value)
+    if isinstance(value, base):
+        return value
+    raise DesignError(
+        f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, got {value!r}"
+    )
+
+
+def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
+    args = typing.get_args(tp)
+    items = value.split(",") if isinstance(value, str) else list(value)
+    if args[-1] is not Ellipsis and len(items) != len(args):
+        raise DesignError(
+            f"parameter {info.name}: expected {len(args)} comma-separated numbers, got {value!r}"
+        )
+    if not items:
+        raise DesignError(f"parameter {info.name}: expected at least one value")
+    return tuple(_scalar(info, args[0], v) for v in items)
+
+
+def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
+    if tp is str:
+        if not isinstance(value, str):
+            raise DesignError(f"parameter {info.name}: expected text, got {value!r}")
+        return value
+    expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
+    if isinstance(value, bool) or not isinstance(value, str | int | float):
+        raise DesignError(f"{expected}, got {value!r}")
+    try:
+        number = tp(value.strip()) if isinstance(value, str) else tp(value)
+    except ValueError:
+        raise DesignError(f"{expected}, got {value!r}") from None
+    if number != value and not isinstance(value, str):
+        raise DesignError(f"{expected}, got {value!r}")
+    if not math.isfinite(number):
+        raise DesignError(f"parameter {info.name}: expected a finite number, got {value!r}")
+    if info.low is not None and not number > info.low:
+        unit = f" {info.unit}" if info.unit else ""
+        raise DesignError(f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}")
+    return number
