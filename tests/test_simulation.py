@@ -132,7 +132,7 @@ def test_miura_follows_the_rigid_folding_and_the_dcqc(tmp_path):
         'holes = ["c1r0s0", "c1r0s1", "c1r0s2", "c1r0s3", "c1r0s4", "c1r0s5"]\n'
     )
     route = load_route(path, cp)
-    result = simulate(cp, route)
+    result = simulate(cp, route, design=design)
     main_creases = np.flatnonzero(
         np.isin(cp.vertices[cp.edges[:, 0], 1], (30.0, 90.0))
         & (cp.vertices[cp.edges[:, 0], 1] == cp.vertices[cp.edges[:, 1], 1])

@@ -40,7 +40,7 @@ from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
-from origami_cad.simulation.solver import Ground, _Assembly, solve_equilibrium, total_energy
+from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
 from origami_cad.strings.dcqc import Jam, StopReason, segment_names, tsa_step
 from origami_cad.strings.route import (
     RouteSpec,
@@ -359,7 +359,7 @@ def simulate(
     if ground is not None:
         ground.start(st.x0)
     x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
-    assembly = _Assembly(st, strings)
+    assembly = HessianAssembly(st, strings)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
