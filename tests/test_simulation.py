@@ -21,7 +21,7 @@ from origami_cad.simulation import SimulationParams, fold_angles, hinge_gradient
 from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
 from origami_cad.strings import TOP, TSAParams, load_route, simulate_dcqc
 from origami_cad.strings.dcqc import StopReason
-from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
+from origami_cad.strings.route import RouteSpec, StringRoute, auto_holes
 from origami_cad.strings.tsa import onboard_contraction, onboard_transmission
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -123,7 +123,7 @@ def test_single_crease_matches_the_closed_form_moment_balance():
 def test_miura_follows_the_rigid_folding_and_the_dcqc(tmp_path):
     design = load_design(EXAMPLES / "miura_6x4.toml")
     cp = design.pattern
-    hx, hy = _auto_holes(cp, 2.0)["c1r0s0"]
+    hx, hy = auto_holes(cp, 2.0)["c1r0s0"]
     path = tmp_path / "row.toml"
     path.write_text(
         '[tsa]\nmodel = "onboard"\nlength = 120.0\nradius = 0.6\nmax_helix_angle = 75.0\n'

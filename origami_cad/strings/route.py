@@ -60,6 +60,7 @@ __all__ = [
     "RouteSpec",
     "StringRoute",
     "anchor_points",
+    "auto_holes",
     "cutting_segments",
     "frame_orientation",
     "hole_exits",
@@ -137,14 +138,16 @@ def side_rule(cp: CreasePattern, face_a: int, face_b: int) -> int | None:
     return None
 
 
-def _auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float, float]]:
-    """The automatic hole of every panel (as the fabrication step places them), by label."""
-    from origami_cad.fabrication.panels import panel_outlines, place_holes
-    from origami_cad.fabrication.params import FabricationParams
+def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float, float]]:
+    """The automatic hole of every panel, as fabrication places them, by panel label.
 
-    params = FabricationParams(hole_diameter=hole_diameter)
-    outlines = panel_outlines(cp, params)
-    return {cp.face_labels[fi]: (x, y) for fi, x, y, _ in place_holes(cp, outlines, params)}
+    ``hole_diameter`` in mm; the centres ``(x, y)`` in mm, from
+    :func:`origami_cad.fabrication.plan_panels` (no solids are built).
+    """
+    from origami_cad.fabrication import FabricationParams, plan_panels
+
+    plan = plan_panels(cp, FabricationParams(hole_diameter=hole_diameter))
+    return {label: (hs[0].x, hs[0].y) for label, hs in plan.holes_by_label().items()}
 
 
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
@@ -235,7 +238,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 if h not in cp.face_labels:
                     raise t.error("holes", f"item {hi}: no panel labelled {h!r}")
                 if auto is None:
-                    auto = _auto_holes(cp, hole_d)
+                    auto = auto_holes(cp, hole_d)
                 x, y = auto[h]
                 names.append(h)
             elif (

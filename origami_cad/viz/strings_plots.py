@@ -5,10 +5,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-
 import numpy as np
 from matplotlib.patches import Circle
 
@@ -16,7 +12,7 @@ from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.dcqc import DCQCResult
 from origami_cad.strings.route import TOP, RouteSpec
-from origami_cad.viz._figure import png_subplots
+from origami_cad.viz.figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
 
 __all__ = ["save_dcqc_png", "save_fig5_png", "save_route_png"]
