@@ -145,9 +145,21 @@ def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover -
     weighted by where the wing tips project on the axis (``tk``, ``tl``).
     ``w`` is scratch space from :func:`_hinge_work`.
     """
-    (e, a, b, n1, n2, gk, gl), (f1, f2, f1a, f1e, f2b, f2e, dgk, dgl, outer), dn, dq = w
-    dn1, dn2 = dn[0], dn[1]  # (4, 3, 3): rows q = i, j, k, l
-    dlen, dtk, dtl = dq[0], dq[1], dq[2]  # (4, 3)
+    elen, e2, n1_2, n2_2, tk, tl = _hinge_gradient(x, ni, nj, nk, nl, g, w)
+    if second:
+        _hinge_hessian(hess, w, elen, e2, n1_2, n2_2, tk, tl)
+
+
+@njit(cache=True, inline="always")
+def _hinge_gradient(x, ni, nj, nk, nl, g, w):  # pragma: no cover - compiled
+    """The gradient of hinge ``(i, j, k, l)``'s fold angle into ``g`` (12,), 1/mm.
+
+    Fills the scratch vectors of ``w`` (``e``, ``a``, ``b``, ``n1``, ``n2``, ``gk``,
+    ``gl``, see :func:`_hinge_element`) and returns what the second derivatives
+    need: ``|e|`` (mm), ``|e|^2``, ``|n1|^2``, ``|n2|^2`` and the projections
+    ``tk``, ``tl`` of the wing tips on the axis (fractions of ``e``).
+    """
+    e, a, b, n1, n2, gk, gl = w[0]
     for r in range(3):
         e[r] = x[nj, r] - x[ni, r]
         a[r] = x[nk, r] - x[ni, r]
@@ -171,8 +183,19 @@ def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover -
         g[3 + r] = -tk * gk[r] - tl * gl[r]
         g[6 + r] = gk[r]
         g[9 + r] = gl[r]
-    if not second:
-        return
+    return elen, e2, n1_2, n2_2, tk, tl
+
+
+@njit(cache=True, inline="always")
+def _hinge_hessian(hess, w, elen, e2, n1_2, n2_2, tk, tl):  # pragma: no cover - compiled
+    """Second derivatives of a hinge's fold angle into ``hess`` (12, 12), 1/mm^2.
+
+    From the scratch ``w`` that :func:`_hinge_gradient` filled and the scalars it
+    returned (``|e|`` mm, ``|e|^2``, ``|n1|^2``, ``|n2|^2``, ``tk``, ``tl``).
+    """
+    (e, a, b, n1, n2, gk, gl), (f1, f2, f1a, f1e, f2b, f2e, dgk, dgl, outer), dn, dq = w
+    dn1, dn2 = dn[0], dn[1]  # (4, 3, 3): rows q = i, j, k, l
+    dlen, dtk, dtl = dq[0], dq[1], dq[2]  # (4, 3)
     # d(n/|n|^2)/dn = (I - 2 n n^T/|n|^2) / |n|^2, times |e|; M [v]x has rows m_r x v
     for r in range(3):
         for c in range(3):
