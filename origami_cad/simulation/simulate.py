@@ -41,7 +41,14 @@ from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
-from origami_cad.strings.dcqc import Jam, StopReason, segment_names, tsa_step
+from origami_cad.strings.dcqc import (
+    Jam,
+    StopReason,
+    segment_names,
+    torque_limit_reason,
+    tsa_step,
+    turn_limit_stop,
+)
 from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,
@@ -50,7 +57,7 @@ from origami_cad.strings.route import (
     rigid_fit,
 )
 
-__all__ = ["SimulationResult", "fold_ratio_fit", "simulate"]
+__all__ = ["SimulationResult", "StopRules", "fold_ratio_fit", "simulate"]
 
 POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
@@ -256,6 +263,36 @@ class _Placement:
         return x @ self.rot.T + self.shift
 
 
+@dataclass(frozen=True)
+class StopRules:
+    """When :func:`simulate` stops, besides the TSA's turn and helix limits.
+
+    Parameters
+    ----------
+    tension_cap : float
+        Stop when a string's tension exceeds it, N.
+    jam_ratio, jam_steps : float, int
+        A jam (or, with a fold limit active, the fold limit): over ``jam_steps``
+        steps a taut string stretched by more than ``jam_ratio`` of the string the
+        TSA took up.
+    max_string_strain, max_bar_strain : float
+        A jam also when a string's strain or a panel bar's strain passes these.
+    max_dp : float
+        The take-up per step shrinks (to 1/20 at least) so that the fold ratio changes
+        by about this much at most between states.
+    max_states : int
+        Safety cap on the number of states.
+    """
+
+    tension_cap: float
+    jam_ratio: float = 0.8
+    jam_steps: int = 3
+    max_string_strain: float = 0.02
+    max_bar_strain: float = 0.01
+    max_dp: float = 0.01
+    max_states: int = 5000
+
+
 def simulate(
     cp: CreasePattern,
     route: RouteSpec,
@@ -305,25 +342,34 @@ def simulate(
         as a printed sheet pre-folded by hand does, so that the strings fold it along
         its assigned branch. The strings are tight on the flat sheet (eq. 7) and
         slack by what the pre-fold saves, deg.
-    tension_limit : float, optional
-        Stop when a string's tension exceeds it, N (default: the route's ``max_tension``).
-    jam_ratio, jam_steps : float, int
-        A jam (or, with a fold limit active, the fold limit): over ``jam_steps``
-        steps a taut string stretched by more than ``jam_ratio`` of the string the
-        TSA took up.
-    max_string_strain, max_bar_strain : float
-        A jam also when a string's strain or a panel bar's strain passes these.
-    max_dp : float
-        The take-up per step shrinks (to 1/20 at least) so that the fold ratio changes
-        by about this much at most between states.
-    max_states : int
-        Safety cap on the number of states.
+    tension_limit, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states
+        The stops and step control of :class:`StopRules` (``tension_limit`` N, its
+        ``tension_cap``; default: the route's ``max_tension``).
     progress : callable, optional
         Called as ``progress(state, estimated states)`` after each equilibrium.
     free : bool
         Hold no panel: the structure lies on the ground plane, held there by gravity
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
+    """
+    params = _default_params(route, params, free)
+    cap = route.max_tension if tension_limit is None else tension_limit
+    rules = StopRules(
+        cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states
+    )
+    held = fixed_panel or route.fixed_panel
+    run = _start(cp, route, params, held, fold_limits, prefold, free, design)
+    rows, stop = _fold(run, route, rules, steps, progress)
+    run.notes.append(stop.reason)
+    return _result(rows, stop, run.notes)
+
+
+def _default_params(
+    route: RouteSpec, params: SimulationParams | None, free: bool
+) -> SimulationParams:
+    """``params``, else the route's ``[fabrication]`` sheet, else the default printed sheet.
+
+    Raises :class:`SimulationError` when ``free`` but nothing holds the sheet down.
     """
     if params is None:
         params = (
@@ -335,7 +381,49 @@ def simulate(
         raise SimulationError(
             "a free structure (no panel held) needs gravity > 0 and a ground plane to rest on"
         )
-    held = fixed_panel or route.fixed_panel
+    return params
+
+
+@dataclass
+class _Run:
+    """What the continuation loop works on: the structure, its strings and the state ``x``."""
+
+    cp: CreasePattern
+    st: Structure
+    strings: StringSet
+    ground: Ground | None
+    assembly: HessianAssembly
+    place: _Placement
+    table: tuple[np.ndarray, np.ndarray] | None
+    notes: list[str]
+    x: np.ndarray
+
+    @property
+    def folds(self) -> np.ndarray:
+        """The hinges on creases (not panel diagonals), indices into ``st.hinges``."""
+        return self.st.folds
+
+    @property
+    def limit_edges(self) -> np.ndarray:
+        """The pattern edge of each crease hinge."""
+        return self.st.hinge_edge[self.st.folds]
+
+
+@dataclass
+class _Stop:
+    """Why the folding stopped: the kind, the sentence, the jam and the creases at a limit."""
+
+    kind: StopReason
+    reason: str
+    jam: Jam | None = None
+    limited: tuple[int, ...] = ()
+
+
+def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
+    """The structure pre-folded by ``prefold`` degrees and settled, strings slack on it.
+
+    ``held`` is the panel held (None: the mean pose, unless ``free`` or a ground).
+    """
     mean_pose = not free and held is None and params.ground is None and params.gravity == 0
     st: Structure = build_structure(cp, params, held, fold_limits, free=free)
     notes = list(st.notes)
@@ -352,9 +440,8 @@ def simulate(
     strings = _strings(cp, route, flat, params)
     # pre-fold toward the assignments so that the strings have a way to go
     sign = np.zeros(len(st.hinges))
-    folds = st.folds
-    letters = cp.assignments[st.hinge_edge[folds]]
-    sign[folds] = np.where(letters == "M", -1.0, np.where(letters == "V", 1.0, 0.0))
+    letters = cp.assignments[st.hinge_edge[st.folds]]
+    sign[st.folds] = np.where(letters == "M", -1.0, np.where(letters == "V", 1.0, 0.0))
     st.hinge_rest = sign * math.radians(prefold)
     if ground is not None:
         ground.start(st.x0)
@@ -364,174 +451,193 @@ def simulate(
     if ground is not None:
         ground.start(x)
     table = None if design is None else _rigid_table(design)
-    creases = cp.edge_mask("M", "V")
-    limit_edges = st.hinge_edge[folds]
-    limits = st.hinge_limit[folds]
-    tension_cap = route.max_tension if tension_limit is None else tension_limit
+    return _Run(cp, st, strings, ground, assembly, place, table, notes, x)
+
+
+def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
+    """The continuation loop: states as the TSA turns, until a stop; (rows, :class:`_Stop`)."""
     theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
     uniform = None if steps is None else route.max_turns * 2 * math.pi / max(steps, 1)
     rows: dict[str, list] = {}
     previous = None
     theta = 0.0
-    stop, reason, jam, limited = None, "", None, ()
     window: list[tuple[np.ndarray, np.ndarray]] = []
     held_at_limit = 0
-    while stop is None:
-        strings.theta = theta
-        start = x
-        if previous is not None:  # secant predictor, kept when it starts lower
-            guess = 2.0 * x - previous
-            if total_energy(guess, st, strings, ground) < total_energy(x, st, strings, ground):
-                start = guess
-        x_new, info = _solve(start, st, strings, ground, assembly, place)
-        previous = x
-        world = place.to_world(x_new)
+    while True:
+        x_new, info = _step_equilibrium(run, theta, previous)
+        previous = run.x
+        world = run.place.to_world(x_new)
         moved = float(np.max(np.linalg.norm(world - rows["states"][-1], axis=1))) if rows else 0.0
-        x = x_new
-        if ground is not None:
-            ground.start(x)
-        lengths = np.array([string_length(x, s, strings) for s in strings.strings]).reshape(-1, 2)
-        derivs = [
-            route.tsa.consumed_derivatives(theta, xd)
-            for xd in (lengths[:, 1] if len(lengths) else [])
-        ]
-        rate = np.array([float(d[1]) for d in derivs])
-        taken = (
-            np.array(
-                [
-                    float(route.tsa.consumed(theta, xd) - route.tsa.consumed(0.0, xd))
-                    for xd in lengths[:, 1]
-                ]
-            )
-            if len(lengths)
-            else np.zeros(0)
-        )
-        tensions = np.asarray(info.tensions, dtype=float)
-        stretch = (
-            np.array(
-                [ln - s.free_length for ln, s in zip(lengths[:, 0], strings.strings, strict=True)]
-            )
-            if len(lengths)
-            else np.zeros(0)
-        )
-        rho = fold_angles(x, st.hinges)
-        angles = np.zeros(cp.n_edges)
-        angles[limit_edges] = rho[folds]
-        p = fold_ratio_fit(angles, table, creases) if table is not None else math.nan
-        record = {
-            "states": world,
-            "theta": theta,
-            "p": p,
-            "tensions": tensions,
-            "taut": tensions > 0,
-            "torque": float(np.sum(tensions * rate)),
-            "fold_angles": np.degrees(angles),
-            "take_up": taken,
-            "stretch": np.maximum(stretch, 0.0),
-            "energy": total_energy(x, st, strings, ground),
-            "iterations": info.iterations,
-            "converged": info.converged,
-            "moved": moved,
-            "energies": info.energies,
-        }
+        run.x = x_new
+        if run.ground is not None:
+            run.ground.start(run.x)
+        record, lengths, rho = _record(run, route, theta, info, world, moved)
         for key, value in record.items():
             rows.setdefault(key, []).append(value)
         n = len(rows["theta"])
         if progress is not None:
             progress(n, (steps + 1) if steps is not None else n + 1)
-        # ------------------------------------------------ why it might stop here
-        active = np.abs(rho[folds]) >= limits - math.radians(0.25)
+        active = np.abs(rho[run.folds]) >= run.st.hinge_limit[run.folds] - math.radians(0.25)
         held_at_limit = held_at_limit + 1 if active.any() else 0
-        if len(tensions) and tensions.max() > tension_cap:
-            i = int(np.argmax(tensions))
-            stop = StopReason.TENSION_LIMIT
-            reason = (
-                f"string {i + 1}'s tension {tensions[i]:.3g} N exceeds the route's limit of "
-                f"{tension_cap:g} N"
-            )
-            break
-        if record["torque"] > route.max_torque:
-            stop = StopReason.TORQUE_LIMIT
-            reason = (
-                f"the TSA torque {record['torque']:.3g} N mm exceeds the route's max_torque of "
-                f"{route.max_torque:g} N mm"
-            )
-            break
-        window.append((taken, record["stretch"]))
-        window = window[-(jam_steps + 1) :]
-        free_lengths = np.array([s.free_length for s in strings.strings])
-        culprit = _stalled(window, jam_ratio, jam_steps, 1e-3 * free_lengths)
-        strain = record["stretch"] / free_lengths
-        if culprit is None and len(strain) and strain.max() > max_string_strain:
-            culprit = int(np.argmax(strain))
-        length, _ = bar_lengths(x, st.bars)
-        bar_strain = float(np.max(np.abs(length - st.bar_rest) / st.bar_rest))
-        if culprit is None and bar_strain > max_bar_strain and len(tensions):
-            culprit = int(np.argmax(tensions))
-        if culprit is None and held_at_limit > jam_steps:
-            culprit = int(np.argmax(tensions)) if len(tensions) else 0
-        if culprit is not None:
-            if active.any():
-                limited = tuple(int(e) for e in np.unique(limit_edges[active]))
-                stop = StopReason.FOLD_LIMIT
-                reason = (
-                    f"fold limit reached on crease{'s' if len(limited) > 1 else ''} "
-                    f"{', '.join(map(str, limited[:8]))}: the strings stretch instead of "
-                    "folding further"
-                )
-            else:
-                segment = _lengthening_segment(cp, route, rows["states"], culprit)
-                jam = Jam(culprit, segment, p, float(record["stretch"][culprit]))
-                stop = StopReason.JAM
-                reason = (
-                    f"jam: string {culprit + 1} stretches ({record['stretch'][culprit]:.3g} mm, "
-                    f"strain {100 * strain[culprit]:.2g} %) instead of folding the sheet"
-                    f"{'' if math.isnan(p) else f' at p = {p:.3f}'}; {jam.hint()}"
-                )
-            break
-        if theta >= theta_end - 1e-12:
-            helix = route.tsa.max_theta() < route.max_turns * 2 * math.pi
-            stop = StopReason.HELIX_LIMIT if helix else StopReason.TURN_LIMIT
-            reason = (
-                "the TSA's strands reached their maximum helix angle"
-                if helix
-                else f"the TSA reached its turn limit ({route.max_turns:g} turns)"
-            )
-            break
-        if n >= max_states:
-            raise SimulationError(f"no stop after {max_states} states; raise take_up or step")
-        if uniform is not None:
-            dtheta = uniform
-        else:
-            ds = route.take_up
-            if n > 1 and np.isfinite(p) and np.isfinite(rows["p"][-2]):
-                gained = float(np.max(taken - rows["take_up"][-2], initial=0.0))
-                speed = abs(p - rows["p"][-2]) / gained if gained > 0 else 0.0
-                if speed * ds > max_dp:  # fold at most max_dp per step
-                    ds = max(max_dp / speed, route.take_up / 20.0)
-            dtheta = tsa_step(
-                route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta)
-            )
+        window = [*window, (record["take_up"], record["stretch"])][-(rules.jam_steps + 1) :]
+        stop = _limit_stop(route, rules, record) or _jam_stop(
+            run, route, rules, rows, window, active, held_at_limit
+        )
+        if stop is None and theta >= theta_end - 1e-12:
+            stop = _Stop(*turn_limit_stop(route))
+        if stop is not None:
+            return rows, stop
+        if n >= rules.max_states:
+            raise SimulationError(f"no stop after {rules.max_states} states; raise take_up or step")
+        dtheta = uniform
+        if dtheta is None:
+            dtheta = _take_up_step(route, rules, rows, theta, theta_end, lengths)
         theta = min(theta + dtheta, theta_end)
-    notes.append(reason)
+
+
+def _step_equilibrium(run: _Run, theta: float, previous: np.ndarray | None):
+    """The equilibrium at TSA angle ``theta`` (rad), from ``run.x`` or a secant predictor."""
+    st, strings, ground = run.st, run.strings, run.ground
+    strings.theta = theta
+    start = run.x
+    if previous is not None:  # secant predictor, kept when it starts lower
+        guess = 2.0 * run.x - previous
+        if total_energy(guess, st, strings, ground) < total_energy(run.x, st, strings, ground):
+            start = guess
+    return _solve(start, st, strings, ground, run.assembly, run.place)
+
+
+def _record(run: _Run, route: RouteSpec, theta: float, info, world, moved: float):
+    """The state ``run.x``'s row of the result, its strings' lengths (k, 2) mm, fold angles rad.
+
+    ``world`` is the state in the world frame (n, 3) mm, ``moved`` its largest node
+    displacement since the last state, mm.
+    """
+    x, st, strings, tsa = run.x, run.st, run.strings, route.tsa
+    lengths = np.array([string_length(x, s, strings) for s in strings.strings]).reshape(-1, 2)
+    rate = np.array([float(tsa.consumed_derivatives(theta, xd)[1]) for xd in lengths[:, 1]])
+    taken = np.array(
+        [float(tsa.consumed(theta, xd) - tsa.consumed(0.0, xd)) for xd in lengths[:, 1]]
+    )
+    tensions = np.asarray(info.tensions, dtype=float)
+    free_lengths = np.array([s.free_length for s in strings.strings])
+    stretch = lengths[:, 0] - free_lengths if len(lengths) else np.zeros(0)
+    rho = fold_angles(x, st.hinges)
+    angles = np.zeros(run.cp.n_edges)
+    angles[run.limit_edges] = rho[run.folds]
+    creases = run.cp.edge_mask("M", "V") if run.table is not None else None
+    p = fold_ratio_fit(angles, run.table, creases) if run.table is not None else math.nan
+    record = {
+        "states": world,
+        "theta": theta,
+        "p": p,
+        "tensions": tensions,
+        "taut": tensions > 0,
+        "torque": float(np.sum(tensions * rate)),
+        "fold_angles": np.degrees(angles),
+        "take_up": taken,
+        "stretch": np.maximum(stretch, 0.0),
+        "energy": total_energy(x, st, strings, run.ground),
+        "iterations": info.iterations,
+        "converged": info.converged,
+        "moved": moved,
+        "energies": info.energies,
+    }
+    return record, lengths, rho
+
+
+def _limit_stop(route: RouteSpec, rules: StopRules, record: dict) -> _Stop | None:
+    """A string's tension over ``rules.tension_cap`` or the TSA's torque over the route's."""
+    tensions = record["tensions"]
+    if len(tensions) and tensions.max() > rules.tension_cap:
+        i = int(np.argmax(tensions))
+        return _Stop(
+            StopReason.TENSION_LIMIT,
+            f"string {i + 1}'s tension {tensions[i]:.3g} N exceeds the route's limit of "
+            f"{rules.tension_cap:g} N",
+        )
+    reason = torque_limit_reason(route, record["torque"])
+    return None if reason is None else _Stop(StopReason.TORQUE_LIMIT, reason)
+
+
+def _jam_stop(run, route, rules, rows, window, active, held_at_limit) -> _Stop | None:
+    """A jam, or the fold limit when creases are at theirs: strings stretch, not fold.
+
+    ``window`` holds the last (take-up, stretch) pairs (mm), ``active`` which crease
+    hinges are at their limit, ``held_at_limit`` for how many states some have been.
+    """
+    tensions, stretch = rows["tensions"][-1], rows["stretch"][-1]
+    free_lengths = np.array([s.free_length for s in run.strings.strings])
+    culprit = _stalled(window, rules.jam_ratio, rules.jam_steps, 1e-3 * free_lengths)
+    strain = stretch / free_lengths
+    if culprit is None and len(strain) and strain.max() > rules.max_string_strain:
+        culprit = int(np.argmax(strain))
+    length, _ = bar_lengths(run.x, run.st.bars)
+    bar_strain = float(np.max(np.abs(length - run.st.bar_rest) / run.st.bar_rest))
+    if culprit is None and bar_strain > rules.max_bar_strain and len(tensions):
+        culprit = int(np.argmax(tensions))
+    if culprit is None and held_at_limit > rules.jam_steps:
+        culprit = int(np.argmax(tensions)) if len(tensions) else 0
+    if culprit is None:
+        return None
+    if active.any():
+        limited = tuple(int(e) for e in np.unique(run.limit_edges[active]))
+        return _Stop(
+            StopReason.FOLD_LIMIT,
+            f"fold limit reached on crease{'s' if len(limited) > 1 else ''} "
+            f"{', '.join(map(str, limited[:8]))}: the strings stretch instead of "
+            "folding further",
+            limited=limited,
+        )
+    p = rows["p"][-1]
+    segment = _lengthening_segment(run.cp, route, rows["states"], culprit)
+    jam = Jam(culprit, segment, p, float(stretch[culprit]))
+    return _Stop(
+        StopReason.JAM,
+        f"jam: string {culprit + 1} stretches ({stretch[culprit]:.3g} mm, "
+        f"strain {100 * strain[culprit]:.2g} %) instead of folding the sheet"
+        f"{'' if math.isnan(p) else f' at p = {p:.3f}'}; {jam.hint()}",
+        jam=jam,
+    )
+
+
+def _take_up_step(route, rules: StopRules, rows, theta, theta_end, lengths) -> float:
+    """The next TSA step, rad: ``route.take_up`` mm of string, less where ``p`` moves fast.
+
+    The take-up shrinks (to 1/20 at least) so that the fold ratio changes by about
+    ``rules.max_dp`` at most; at most ``route.step`` and never past ``theta_end``.
+    """
+    ds = route.take_up
+    p = rows["p"][-1]
+    if len(rows["p"]) > 1 and np.isfinite(p) and np.isfinite(rows["p"][-2]):
+        gained = float(np.max(rows["take_up"][-1] - rows["take_up"][-2], initial=0.0))
+        speed = abs(p - rows["p"][-2]) / gained if gained > 0 else 0.0
+        if speed * ds > rules.max_dp:  # fold at most max_dp per step
+            ds = max(rules.max_dp / speed, route.take_up / 20.0)
+    return tsa_step(route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta))
+
+
+def _result(rows: dict[str, list], stop: _Stop, notes: list[str]) -> SimulationResult:
+    """The rows of every state as NumPy columns, with the stop."""
+    s = len(rows["theta"])
     return SimulationResult(
         states=np.array(rows["states"]),
         theta=np.array(rows["theta"]),
         p=np.array(rows["p"]),
-        tensions=np.array(rows["tensions"]).reshape(len(rows["theta"]), -1),
-        taut=np.array(rows["taut"], dtype=bool).reshape(len(rows["theta"]), -1),
+        tensions=np.array(rows["tensions"]).reshape(s, -1),
+        taut=np.array(rows["taut"], dtype=bool).reshape(s, -1),
         torque=np.array(rows["torque"]),
         fold_angles=np.array(rows["fold_angles"]),
-        take_up=np.array(rows["take_up"]).reshape(len(rows["theta"]), -1),
-        stretch=np.array(rows["stretch"]).reshape(len(rows["theta"]), -1),
+        take_up=np.array(rows["take_up"]).reshape(s, -1),
+        stretch=np.array(rows["stretch"]).reshape(s, -1),
         energy=np.array(rows["energy"]),
         iterations=np.array(rows["iterations"]),
         converged=np.array(rows["converged"], dtype=bool),
         moved=np.array(rows["moved"]),
-        stop=stop,
-        reason=reason,
-        jam=jam,
-        limited_edges=limited,
+        stop=stop.kind,
+        reason=stop.reason,
+        jam=stop.jam,
+        limited_edges=stop.limited,
         notes=notes,
         energies=rows["energies"],
     )

@@ -59,7 +59,9 @@ __all__ = [
     "segment_lengths",
     "segment_names",
     "simulate_dcqc",
+    "torque_limit_reason",
     "tsa_step",
+    "turn_limit_stop",
 ]
 
 
@@ -308,6 +310,28 @@ def _place(route: RouteSpec, cp, coords: np.ndarray) -> tuple[np.ndarray, str]:
     return out, f"panel {route.fixed_panel} is held"
 
 
+def turn_limit_stop(route: RouteSpec) -> tuple[StopReason, str]:
+    """Why the TSA stops at its last angle: its turn limit or, onboard, its strands'
+    maximum helix angle (whichever of ``route.max_turns`` and ``tsa.max_theta()`` is
+    smaller); the stop and its sentence.
+    """
+    if route.tsa.max_theta() < route.max_turns * 2 * math.pi:
+        return StopReason.HELIX_LIMIT, "the TSA's strands reached their maximum helix angle"
+    return StopReason.TURN_LIMIT, f"the TSA reached its turn limit ({route.max_turns:g} turns)"
+
+
+def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:
+    """The sentence of a stop when the TSA's ``torque`` (N mm) passes the route's
+    ``max_torque``, else None.
+    """
+    if torque > route.max_torque:
+        return (
+            f"the TSA torque {torque:.3g} N mm exceeds the route's max_torque of "
+            f"{route.max_torque:g} N mm"
+        )
+    return None
+
+
 def simulate_dcqc(
     design: Design,
     route: RouteSpec,
@@ -334,6 +358,54 @@ def simulate_dcqc(
         Largest change of the fold ratio between two states; a TSA step that
         folds more is halved.
     """
+    t = _tables(design, route, grid, crease_stiffness)
+    rows: dict[str, list] = {k: [] for k in _ROWS}
+    _record(t, route, rows, 0.0, route.p0, False)
+    theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
+    theta, p = 0.0, float(route.p0)
+    stop, reason, jam = None, "", None
+    while stop is None:
+        if theta >= theta_end - 1e-12:
+            stop, reason = turn_limit_stop(route)
+            break
+        theta, p, stop, reason, jam = _dcqc_step(design, route, t, rows, theta, p, max_dp)
+        if t.energy_rate is not None and stop is None:
+            stop, reason = _load_stop(route, rows)
+    return _dcqc_result(design, route, t, rows, p, stop, reason, jam)
+
+
+_ROWS = ("theta", "p", "taut", "tension", "torque", "rs", "ta")  # the columns of a DCQC state
+
+
+@dataclass
+class _Tables:
+    """What :func:`simulate_dcqc` evaluates once, on a grid of fold ratios.
+
+    ``ratios`` (G,); ``x_dis`` (strings, G) and ``rest`` (strings, G): each string's
+    length between the TSA's ends and the rest of its route, mm; ``l0`` (strings,)
+    the string lengths, mm; ``angles`` (A, m) rad at ``angle_ratios`` (A,);
+    ``energy_rate`` the creases' energy per fold ratio at ``angle_ratios`` (N mm,
+    None without a crease stiffness); ``tol`` the slack taken as taut, mm.
+    """
+
+    limit: FoldLimit
+    ratios: np.ndarray
+    x_dis: np.ndarray
+    rest: np.ndarray
+    l0: np.ndarray
+    angles: np.ndarray
+    angle_ratios: np.ndarray
+    energy_rate: np.ndarray | None
+    placement: str
+    tol: float
+
+    def at(self, p: float, table: np.ndarray) -> np.ndarray:
+        """Each row of ``table`` (k, G) interpolated at fold ratio ``p``, (k,)."""
+        return np.array([np.interp(p, self.ratios, row) for row in table])
+
+
+def _tables(design: Design, route: RouteSpec, grid: int | None, crease_stiffness) -> _Tables:
+    """The geometry of the route on ``grid`` fold ratios from ``p0`` to the fold limit."""
     cp = design.pattern
     limit = fold_limit(design, route)
     if grid is None:
@@ -360,8 +432,7 @@ def simulate_dcqc(
     )
     x_dis = np.stack([s[:, 0] for s in segs])  # (strings, G)
     rest = np.stack([s[:, 1:].sum(axis=1) for s in segs]) + through[:, None]
-    tsa = route.tsa
-    l0 = tsa.consumed(0.0, x_dis[:, 0]) + rest[:, 0]
+    l0 = route.tsa.consumed(0.0, x_dis[:, 0]) + rest[:, 0]
     energy_rate = None
     if crease_stiffness is not None:
         lengths = np.linalg.norm(np.diff(cp.vertices[cp.edges], axis=1)[:, 0], axis=1)
@@ -369,103 +440,102 @@ def simulate_dcqc(
         energy = 0.5 * (angles**2 * k).sum(axis=1)
         energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
     tol = 1e-7 * max(cp.size, 1.0)
+    return _Tables(
+        limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol
+    )
 
-    def at(p: float, table: np.ndarray) -> np.ndarray:
-        return np.array([np.interp(p, ratios, row) for row in table])
 
-    rows: dict[str, list] = {k: [] for k in ("theta", "p", "taut", "tension", "torque", "rs", "ta")}
+def _record(t: _Tables, route: RouteSpec, rows: dict[str, list], theta, p, moving) -> None:
+    """Append the state at TSA angle ``theta`` (rad) and fold ratio ``p`` to ``rows``.
 
-    def record(theta: float, p: float, moving: bool) -> None:
-        xd, rs = at(p, x_dis), at(p, rest)
-        length, rate, _, _ = tsa.consumed_derivatives(theta, xd)
-        g = length + rs - l0
-        taut = (g >= -tol) & moving
-        tension = np.full(len(l0), np.nan)
-        torque = math.nan
-        if energy_rate is not None:
-            tension[:] = 0.0
-            if taut.any():
-                dp = 1e-4 * (limit.p - route.p0)
-                lo, hi = max(p - dp, route.p0), min(p + dp, limit.p)
-                dg = (
-                    tsa.consumed(theta, at(hi, x_dis))
-                    + at(hi, rest)
-                    - tsa.consumed(theta, at(lo, x_dis))
-                    - at(lo, rest)
-                ) / (hi - lo)
-                saved = -float(np.sum(dg[taut]))
-                work = float(np.interp(p, angle_ratios, energy_rate))
-                if saved > 0:
-                    tension[taut] = max(work, 0.0) / saved
-            torque = float(np.sum(tension * rate))
-        for key, value in zip(
-            rows, (theta, p, taut, tension, torque, rs, np.asarray(length)), strict=True
-        ):
-            rows[key].append(value)
+    ``moving``: the sheet folds at this state (its taut strings pull); the tensions
+    (N) balance the creases' energy rate against the string the fold saves.
+    """
+    tsa = route.tsa
+    xd, rs = t.at(p, t.x_dis), t.at(p, t.rest)
+    length, rate, _, _ = tsa.consumed_derivatives(theta, xd)
+    g = length + rs - t.l0
+    taut = (g >= -t.tol) & moving
+    tension = np.full(len(t.l0), np.nan)
+    torque = math.nan
+    if t.energy_rate is not None:
+        tension[:] = 0.0
+        if taut.any():
+            dp = 1e-4 * (t.limit.p - route.p0)
+            lo, hi = max(p - dp, route.p0), min(p + dp, t.limit.p)
+            dg = (
+                tsa.consumed(theta, t.at(hi, t.x_dis))
+                + t.at(hi, t.rest)
+                - tsa.consumed(theta, t.at(lo, t.x_dis))
+                - t.at(lo, t.rest)
+            ) / (hi - lo)
+            saved = -float(np.sum(dg[taut]))
+            work = float(np.interp(p, t.angle_ratios, t.energy_rate))
+            if saved > 0:
+                tension[taut] = max(work, 0.0) / saved
+        torque = float(np.sum(tension * rate))
+    for key, value in zip(
+        rows, (theta, p, taut, tension, torque, rs, np.asarray(length)), strict=True
+    ):
+        rows[key].append(value)
 
-    record(0.0, route.p0, False)
+
+def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: float):
+    """One TSA step from ``(theta, p)``, halved while it folds by more than ``max_dp``.
+
+    Records the new state; returns ``(theta, p, stop, reason, jam)``, ``stop`` None
+    when the folding goes on.
+    """
+    tsa = route.tsa
     theta_end = min(route.max_turns * 2 * math.pi, tsa.max_theta())
-    theta, p = 0.0, float(route.p0)
-    stop, reason, jam = None, "", None
-    while stop is None:
-        if theta >= theta_end - 1e-12:
-            stop = (
-                StopReason.TURN_LIMIT
-                if tsa.model == "ring"
-                or math.isinf(tsa.max_theta())
-                or route.max_turns * 2 * math.pi <= tsa.max_theta()
-                else StopReason.HELIX_LIMIT
-            )
-            reason = (
-                f"the TSA reached its turn limit ({route.max_turns:g} turns)"
-                if stop is StopReason.TURN_LIMIT
-                else "the TSA's strands reached their maximum helix angle"
-            )
+    dtheta = tsa_step(
+        tsa, theta, t.at(p, t.x_dis), route.take_up, min(route.step, theta_end - theta)
+    )
+    for _ in range(30):
+        new = theta + dtheta
+        outcome = _advance(tsa, new, p, t.ratios, t.x_dis, t.rest, t.l0)
+        if outcome[0] != "fold" or outcome[1] - p <= max_dp or dtheta < 1e-9:
             break
-        dtheta = tsa_step(
-            tsa, theta, at(p, x_dis), route.take_up, min(route.step, theta_end - theta)
+        dtheta *= 0.5
+    kind, value = outcome[0], outcome[1]
+    if kind == "fit":
+        _record(t, route, rows, new, p, False)
+        return new, p, None, "", None
+    if kind == "fold":
+        _record(t, route, rows, new, value, True)
+        return new, value, None, "", None
+    if kind == "limit":
+        # the TSA angle at which the strings fit exactly at the fold limit
+        lo, hi = theta, new
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            g = tsa.consumed(mid, t.x_dis[:, -1]) + t.rest[:, -1] - t.l0
+            lo, hi = (mid, hi) if np.max(g) <= 0 else (lo, mid)
+        if t.limit.p > p:
+            theta, p = lo, float(t.limit.p)
+            _record(t, route, rows, theta, p, True)
+        return theta, p, StopReason.FOLD_LIMIT, f"fold limit reached: {t.limit.describe()}", None
+    string, stretch = value  # jam
+    jam = Jam(string, _lengthening_segment(design, route, string, p, t.limit.p), p, stretch)
+    return theta, p, StopReason.JAM, jam.describe(), jam
+
+
+def _load_stop(route: RouteSpec, rows: dict[str, list]) -> tuple[StopReason | None, str]:
+    """A string's tension over the route's ``max_tension`` or the torque over its
+    ``max_torque`` at the last state: the stop and its sentence, else ``(None, "")``.
+    """
+    if np.nanmax(rows["tension"][-1], initial=0.0) > route.max_tension:
+        return StopReason.TENSION_LIMIT, (
+            f"a string's tension {np.nanmax(rows['tension'][-1]):.3g} N exceeds the "
+            f"route's max_tension of {route.max_tension:g} N"
         )
-        for _ in range(30):
-            new = theta + dtheta
-            outcome = _advance(tsa, new, p, ratios, x_dis, rest, l0)
-            if outcome[0] != "fold" or outcome[1] - p <= max_dp or dtheta < 1e-9:
-                break
-            dtheta *= 0.5
-        kind, value = outcome[0], outcome[1]
-        if kind == "fit":
-            theta = new
-            record(theta, p, False)
-        elif kind == "fold":
-            theta, p = new, value
-            record(theta, p, True)
-        elif kind == "limit":
-            # the TSA angle at which the strings fit exactly at the fold limit
-            lo, hi = theta, new
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                g = tsa.consumed(mid, x_dis[:, -1]) + rest[:, -1] - l0
-                lo, hi = (mid, hi) if np.max(g) <= 0 else (lo, mid)
-            if limit.p > p:
-                theta, p = lo, float(limit.p)
-                record(theta, p, True)
-            stop, reason = StopReason.FOLD_LIMIT, f"fold limit reached: {limit.describe()}"
-        else:  # jam
-            string, stretch = value
-            jam = Jam(string, _lengthening_segment(design, route, string, p, limit.p), p, stretch)
-            stop, reason = StopReason.JAM, jam.describe()
-        if energy_rate is not None and stop is None:
-            if np.nanmax(rows["tension"][-1], initial=0.0) > route.max_tension:
-                stop = StopReason.TENSION_LIMIT
-                reason = (
-                    f"a string's tension {np.nanmax(rows['tension'][-1]):.3g} N exceeds the "
-                    f"route's max_tension of {route.max_tension:g} N"
-                )
-            elif rows["torque"][-1] > route.max_torque:
-                stop = StopReason.TORQUE_LIMIT
-                reason = (
-                    f"the TSA torque {rows['torque'][-1]:.3g} N mm exceeds the route's "
-                    f"max_torque of {route.max_torque:g} N mm"
-                )
+    reason = torque_limit_reason(route, rows["torque"][-1])
+    return (None, "") if reason is None else (StopReason.TORQUE_LIMIT, reason)
+
+
+def _dcqc_result(design, route, t: _Tables, rows, p, stop, reason, jam) -> DCQCResult:
+    """The states as NumPy columns, the final shape and strings, and the cutting checks."""
+    cp = design.pattern
     p_states = np.array(rows["p"])
     result = DCQCResult(
         theta=np.array(rows["theta"]),
@@ -476,16 +546,16 @@ def simulate_dcqc(
         routed_length=np.array(rows["rs"]),
         tsa_length=np.array(rows["ta"]),
         fold_angles=np.degrees(
-            np.column_stack([np.interp(p_states, angle_ratios, col) for col in angles.T])
+            np.column_stack([np.interp(p_states, t.angle_ratios, col) for col in t.angles.T])
         ).reshape(len(p_states), -1),
         stop=stop,
         reason=reason,
-        limit=limit,
+        limit=t.limit,
         jam=jam,
         valid=not (stop is StopReason.JAM and p <= route.p0),
-        initial_length_mm=l0.tolist(),
+        initial_length_mm=t.l0.tolist(),
         violations=route.violations,
-        placement=placement,
+        placement=t.placement,
     )
     if not result.valid:
         result.reason = "the routing never folds the structure: " + result.reason
