@@ -44,6 +44,7 @@ break it are reported per segment.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from dataclasses import dataclass, field
@@ -158,16 +159,37 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     fab_t = top.table("fabrication") if top.has("fabrication") else None
     route = top.table("route")
     top.finish()
-    fabrication = None
-    if fab_t is not None:
-        defaults = FabricationParams()
-        fabrication = FabricationParams(
-            bias=fab_t.number("bias", defaults.bias, low=0, low_open=True),
-            height=fab_t.number("height", defaults.height, low=0, low_open=True),
-            thickness=fab_t.number("thickness", defaults.thickness, low=0, low_open=True),
-            midlayer_bias=fab_t.number("midlayer_bias", defaults.midlayer_bias, low=0),
-        )
-        fab_t.finish()
+    fabrication = None if fab_t is None else _read_fabrication(fab_t)
+    tsa = _read_tsa(tsa_t)
+    settings = _read_settings(route, cp, fabrication)
+    raw = route.data.get("strings")
+    route.used.add("strings")
+    if not isinstance(raw, list) or not raw:
+        raise route.error("strings", "expected at least one [[route.strings]] table")
+    route.finish()
+    auto = functools.cache(functools.partial(auto_holes, cp, settings.pop("hole_diameter")))
+    strings = tuple(
+        _read_string(Table(item, f"{p} [[route.strings]] #{si + 1}"), si, cp, auto)
+        for si, item in enumerate(raw)
+    )
+    return RouteSpec(tsa, strings, **settings, fabrication=fabrication)
+
+
+def _read_fabrication(fab_t: Table) -> FabricationParams:
+    """The route's ``[fabrication]`` table: the printed sheet (mm), defaults for what is missing."""
+    defaults = FabricationParams()
+    fabrication = FabricationParams(
+        bias=fab_t.number("bias", defaults.bias, low=0, low_open=True),
+        height=fab_t.number("height", defaults.height, low=0, low_open=True),
+        thickness=fab_t.number("thickness", defaults.thickness, low=0, low_open=True),
+        midlayer_bias=fab_t.number("midlayer_bias", defaults.midlayer_bias, low=0),
+    )
+    fab_t.finish()
+    return fabrication
+
+
+def _read_tsa(tsa_t: Table) -> TSAParams:
+    """The route's ``[tsa]`` table (mm, degrees), defaults for what is missing."""
     model = tsa_t.string("model", "ring", choices=("ring", "onboard"))
     tsa = TSAParams(
         model=model,
@@ -184,6 +206,13 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     if not tsa_t.has("x_dis"):
         tsa_t.used.add("x_dis")
     tsa_t.finish()
+    return tsa
+
+
+def _read_settings(route: Table, cp: CreasePattern, fabrication) -> dict:
+    """The scalar settings of ``[route]`` as :class:`RouteSpec` keywords (``step`` in
+    radians), plus ``hole_diameter`` (mm) for the automatic holes.
+    """
     thickness = route.number(
         "thickness", fabrication.height if fabrication is not None else 2.2, low=0
     )
@@ -204,113 +233,124 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
         raise route.error("fixed_panel", f"no panel labelled {fixed_panel!r}")
     if p_max is not None and p_max <= p0:
         raise route.error("p_max", f"must exceed p0 = {p0:g}")
-    raw = route.data.get("strings")
-    route.used.add("strings")
-    if not isinstance(raw, list) or not raw:
-        raise route.error("strings", "expected at least one [[route.strings]] table")
-    route.finish()
-    auto: dict[str, tuple[float, float]] | None = None
-    strings = []
-    for si, item in enumerate(raw):
-        t = Table(item, f"{p} [[route.strings]] #{si + 1}")
-        anchor = t.point("anchor", dims=3)
-        anchor_face = -1
-        if t.has("anchor_panel"):
-            label = t.string("anchor_panel")
-            if label not in cp.face_labels:
-                raise t.error("anchor_panel", f"no panel labelled {label!r}")
-            anchor_face = cp.face_index(label)
-            if cp.face_of_point(anchor[0], anchor[1]) != anchor_face:
-                raise t.error(
-                    "anchor",
-                    f"({anchor[0]:g}, {anchor[1]:g}) mm is not on panel {label!r} "
-                    "(anchor_panel): give the mount's [x, y] on that panel and its height",
-                )
-            if anchor[2] < 0:
-                raise t.error("anchor", "the height above the mounting panel must be >= 0 mm")
-        holes = t.data.get("holes")
-        t.used.add("holes")
-        if not isinstance(holes, list) or not holes:
-            raise t.error("holes", "expected a list of panel labels or [x, y] points")
-        faces, points, names = [], [], []
-        for hi, h in enumerate(holes):
-            if isinstance(h, str):
-                if h not in cp.face_labels:
-                    raise t.error("holes", f"item {hi}: no panel labelled {h!r}")
-                if auto is None:
-                    auto = auto_holes(cp, hole_d)
-                x, y = auto[h]
-                names.append(h)
-            elif (
-                isinstance(h, list)
-                and len(h) == 2
-                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in h)
-            ):
-                x, y = float(h[0]), float(h[1])
-                names.append(f"({x:g}, {y:g})")
-            else:
-                raise t.error("holes", f"item {hi}: expected a panel label or [x, y], got {h!r}")
-            fi = cp.face_of_point(x, y)
-            if fi < 0:
-                raise t.error("holes", f"item {hi}: ({x:g}, {y:g}) mm is not on any panel")
-            faces.append(fi)
-            points.append((x, y))
-        raw_sides = t.data.get("sides", "auto")
-        t.used.add("sides")
-        t.finish()
-        rule: list[int | None] = [TOP if anchor[2] >= 0 else BOTTOM]
-        rule += [side_rule(cp, faces[k - 1], faces[k]) for k in range(1, len(faces))]
-        if raw_sides == "auto":
-            sides = []
-            for k, r in enumerate(rule):
-                sides.append(r if r is not None else (sides[k - 1] if k else TOP))
-            violations = []
-            bad = []
-        else:
-            if (
-                not isinstance(raw_sides, list)
-                or len(raw_sides) != len(faces)
-                or any(s not in _SIDE_NAMES for s in raw_sides)
-            ):
-                raise t.error("sides", f'expected "auto" or {len(faces)} of "top"/"bottom"')
-            sides = [_SIDE_NAMES[s] for s in raw_sides]
-            violations = []
-            bad = []
-            for k in range(1, len(faces)):
-                if rule[k] is not None and sides[k] != rule[k]:
-                    bad.append(k)
-                    crease = "valley" if rule[k] == TOP else "mountain"
-                    violations.append(
-                        f"string {si + 1}: segment {names[k - 1]} -> {names[k]} runs "
-                        f"{'above' if sides[k] == TOP else 'below'} a {crease} crease; DCQC "
-                        f"needs it {'above' if rule[k] == TOP else 'below'}"
-                    )
-        strings.append(
-            StringRoute(
-                tuple(anchor),
-                tuple(faces),
-                tuple(points),
-                tuple(sides),
-                tuple(names),
-                tuple(violations),
-                anchor_face,
-                tuple(bad),
-            )
-        )
-    return RouteSpec(
-        tsa,
-        tuple(strings),
-        thickness,
-        math.radians(step),
-        max_turns,
-        p0,
-        p_max,
-        fixed_panel=fixed_panel,
-        take_up=take_up,
-        max_tension=max_tension,
-        max_torque=max_torque,
-        fabrication=fabrication,
+    return {
+        "thickness": thickness,
+        "step": math.radians(step),
+        "max_turns": max_turns,
+        "p0": p0,
+        "p_max": p_max,
+        "fixed_panel": fixed_panel,
+        "take_up": take_up,
+        "max_tension": max_tension,
+        "max_torque": max_torque,
+        "hole_diameter": hole_d,
+    }
+
+
+def _read_string(t: Table, si: int, cp: CreasePattern, auto) -> StringRoute:
+    """String ``si`` (from 0) of ``[[route.strings]]``; ``auto()`` gives the automatic
+    holes ``{panel label: (x, y) mm}``, computed once when a hole names a panel.
+    """
+    anchor, anchor_face = _read_anchor(t, cp)
+    faces, points, names = _read_holes(t, cp, auto)
+    raw_sides = t.data.get("sides", "auto")
+    t.used.add("sides")
+    t.finish()
+    rule: list[int | None] = [TOP if anchor[2] >= 0 else BOTTOM]
+    rule += [side_rule(cp, faces[k - 1], faces[k]) for k in range(1, len(faces))]
+    sides, violations, bad = _read_sides(t, raw_sides, rule, si, names)
+    return StringRoute(
+        tuple(anchor),
+        tuple(faces),
+        tuple(points),
+        tuple(sides),
+        tuple(names),
+        tuple(violations),
+        anchor_face,
+        tuple(bad),
     )
+
+
+def _read_anchor(t: Table, cp: CreasePattern) -> tuple[list[float], int]:
+    """A string's ``anchor`` (mm, 3D) and the panel it rides on (``anchor_panel``; -1: none)."""
+    anchor = t.point("anchor", dims=3)
+    anchor_face = -1
+    if t.has("anchor_panel"):
+        label = t.string("anchor_panel")
+        if label not in cp.face_labels:
+            raise t.error("anchor_panel", f"no panel labelled {label!r}")
+        anchor_face = cp.face_index(label)
+        if cp.face_of_point(anchor[0], anchor[1]) != anchor_face:
+            raise t.error(
+                "anchor",
+                f"({anchor[0]:g}, {anchor[1]:g}) mm is not on panel {label!r} "
+                "(anchor_panel): give the mount's [x, y] on that panel and its height",
+            )
+        if anchor[2] < 0:
+            raise t.error("anchor", "the height above the mounting panel must be >= 0 mm")
+    return anchor, anchor_face
+
+
+def _read_holes(t: Table, cp: CreasePattern, auto) -> tuple[list, list, list]:
+    """A string's ``holes``, panel labels or ``[x, y]`` mm: (faces, points, names)."""
+    holes = t.data.get("holes")
+    t.used.add("holes")
+    if not isinstance(holes, list) or not holes:
+        raise t.error("holes", "expected a list of panel labels or [x, y] points")
+    faces, points, names = [], [], []
+    for hi, h in enumerate(holes):
+        if isinstance(h, str):
+            if h not in cp.face_labels:
+                raise t.error("holes", f"item {hi}: no panel labelled {h!r}")
+            x, y = auto()[h]
+            names.append(h)
+        elif (
+            isinstance(h, list)
+            and len(h) == 2
+            and all(isinstance(v, int | float) and not isinstance(v, bool) for v in h)
+        ):
+            x, y = float(h[0]), float(h[1])
+            names.append(f"({x:g}, {y:g})")
+        else:
+            raise t.error("holes", f"item {hi}: expected a panel label or [x, y], got {h!r}")
+        fi = cp.face_of_point(x, y)
+        if fi < 0:
+            raise t.error("holes", f"item {hi}: ({x:g}, {y:g}) mm is not on any panel")
+        faces.append(fi)
+        points.append((x, y))
+    return faces, points, names
+
+
+def _read_sides(t: Table, raw_sides, rule: list, si: int, names: list[str]):
+    """The side (TOP/BOTTOM) of each segment: from ``rule`` (the DCQC side of each, None
+    where free) when ``"auto"``, else as given, with the segments that break the rule:
+    (sides, violation sentences, bad segment indices).
+    """
+    if raw_sides == "auto":
+        sides = []
+        for k, r in enumerate(rule):
+            sides.append(r if r is not None else (sides[k - 1] if k else TOP))
+        return sides, [], []
+    n = len(rule)
+    if (
+        not isinstance(raw_sides, list)
+        or len(raw_sides) != n
+        or any(s not in _SIDE_NAMES for s in raw_sides)
+    ):
+        raise t.error("sides", f'expected "auto" or {n} of "top"/"bottom"')
+    sides = [_SIDE_NAMES[s] for s in raw_sides]
+    violations = []
+    bad = []
+    for k in range(1, n):
+        if rule[k] is not None and sides[k] != rule[k]:
+            bad.append(k)
+            crease = "valley" if rule[k] == TOP else "mountain"
+            violations.append(
+                f"string {si + 1}: segment {names[k - 1]} -> {names[k]} runs "
+                f"{'above' if sides[k] == TOP else 'below'} a {crease} crease; DCQC "
+                f"needs it {'above' if rule[k] == TOP else 'below'}"
+            )
+    return sides, violations, bad
 
 
 def rigid_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
