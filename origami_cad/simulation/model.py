@@ -191,28 +191,66 @@ def build_structure(
     params = params or SimulationParams()
     if not cp.faces:
         raise PatternError("the pattern has no panels to simulate")
-    tris = []
-    face_of_tri = []
-    for fi, ring in enumerate(cp.faces):
-        for t in _triangulate(cp, ring, cp.face_labels[fi]):
-            tris.append(t)
-            face_of_tri.append(fi)
-    tris = np.array(tris, dtype=np.int64)
+    tris = _panel_triangles(cp)
     x0 = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-    # bars: unique triangle edges
+    tri_area = 0.5 * np.abs(
+        np.cross(x0[tris[:, 1]] - x0[tris[:, 0]], x0[tris[:, 2]] - x0[tris[:, 0]])[:, 2]
+    )
+    bars, bar_rest, bar_k = _bars(x0, tris, tri_area, params)
+    hinges, k_fold, hedge, hlimit = _hinges(cp, x0, tris, params, fold_limits)
+    # weights: a third of each triangle's mass on its nodes
+    weight = np.zeros(cp.n_vertices)
+    mass = tri_area * params.panel_thickness * params.density * 1e-3 / 1000.0  # kg
+    np.add.at(weight, tris.ravel(), np.repeat(mass / 3.0, 3) * params.gravity / 1000.0)  # N
+    fixed, note = _held_panel(cp, fixed_panel, free)
+    return Structure(
+        x0=x0,
+        triangles=tris,
+        bars=bars,
+        bar_rest=bar_rest,
+        bar_k=bar_k,
+        hinges=hinges,
+        hinge_k=k_fold,
+        hinge_rest=np.zeros(len(hinges)),
+        hinge_limit=hlimit,
+        hinge_edge=hedge,
+        weight=weight,
+        fixed=fixed,
+        # a blocker or a closed chamfer is rigid: the barrier out-stiffens the panels
+        limit_k=1e3 * float(max(np.max(k_fold), 1.0)),
+        limit_margin=math.radians(params.limit_margin),
+        notes=[note],
+    )
+
+
+def _panel_triangles(cp: CreasePattern) -> np.ndarray:
+    """Every panel triangulated: node triples (t, 3), panel by panel."""
+    tris = []
+    for fi, ring in enumerate(cp.faces):
+        tris.extend(_triangulate(cp, ring, cp.face_labels[fi]))
+    return np.array(tris, dtype=np.int64)
+
+
+def _bars(x0: np.ndarray, tris: np.ndarray, tri_area: np.ndarray, params: SimulationParams):
+    """The unique triangle edges (b, 2), their rest lengths (b,) mm and axial stiffness
+    (b,) N/mm, ``E h A / L^2`` from the area each carries (a third of each triangle's).
+    """
     e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     key = np.sort(e, axis=1)
     bars, inverse = np.unique(key, axis=0, return_inverse=True)
     bar_rest = np.linalg.norm(x0[bars[:, 1]] - x0[bars[:, 0]], axis=1)
-    # axial stiffness from the area each bar carries: E h A / L^2
-    tri_area = 0.5 * np.abs(
-        np.cross(x0[tris[:, 1]] - x0[tris[:, 0]], x0[tris[:, 2]] - x0[tris[:, 0]])[:, 2]
-    )
     carried = np.zeros(len(bars))
     np.add.at(carried, inverse, np.tile(tri_area / 3.0, 3))
     bar_k = params.panel_modulus * params.panel_thickness * carried / bar_rest**2
-    # hinges: directed edges i -> j with their triangle on the left
-    directed = {}
+    return bars, bar_rest, bar_k
+
+
+def _hinges(cp, x0, tris, params: SimulationParams, fold_limits):
+    """Hinges ``(i, j, k, l)`` (h, 4) on every interior triangle edge, their stiffness
+    (h,) N mm/rad, pattern edge (h,) (-1: a diagonal inside a panel, a stiff facet
+    hinge) and fold limit (h,) rad (``fold_limits`` ``{edge: degrees}`` first).
+    """
+    directed = {}  # directed edges i -> j with their triangle on the left
     for t_idx, (a, b, c) in enumerate(tris):
         for i, j, k in ((a, b, c), (b, c, a), (c, a, b)):
             directed[(int(i), int(j))] = (int(k), t_idx)
@@ -226,53 +264,38 @@ def build_structure(
         l = directed[(j, i)][0]
         length = float(np.linalg.norm(x0[j] - x0[i]))
         pe = edge_index.get((min(i, j), max(i, j)), -1)
+        hinges.append((i, j, k, l))
         if pe >= 0 and cp.assignments[pe] in ("M", "V", "U", "F", "J"):
-            hinges.append((i, j, k, l))
             hk.append(params.crease_stiffness * length)
             hedge.append(pe)
             hlimit.append(limits.get(pe, default_limit))
         else:  # a diagonal inside a panel: stiff facet hinge
             h1 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[k] - x0[i])[2]) / length
             h2 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[l] - x0[i])[2]) / length
-            hinges.append((i, j, k, l))
             hk.append(params.panel_bending * length / max(0.5 * (h1 + h2), 1e-6))
             hedge.append(-1)
             hlimit.append(math.inf)
-    hinges = np.array(hinges, dtype=np.int64).reshape(-1, 4)
-    # weights: a third of each triangle's mass on its nodes
-    weight = np.zeros(cp.n_vertices)
-    mass = tri_area * params.panel_thickness * params.density * 1e-3 / 1000.0  # kg
-    np.add.at(weight, tris.ravel(), np.repeat(mass / 3.0, 3) * params.gravity / 1000.0)  # N
-    # the held panel
+    return (
+        np.array(hinges, dtype=np.int64).reshape(-1, 4),
+        np.array(hk),
+        np.array(hedge, dtype=np.int64),
+        np.array(hlimit),
+    )
+
+
+def _held_panel(cp: CreasePattern, fixed_panel: str | None, free: bool):
+    """The held nodes (n,) bool and the note saying which panel is held.
+
+    ``fixed_panel`` by label, by default the panel nearest the centroid; none if ``free``.
+    """
     fixed = np.zeros(cp.n_vertices, dtype=bool)
     if free:
-        fixed_face = -1
-        note = "no panel is held: the structure rests on the ground"
-    elif fixed_panel is None:
+        return fixed, "no panel is held: the structure rests on the ground"
+    if fixed_panel is None:
         centre = cp.vertices.mean(axis=0)
         dist = np.linalg.norm(cp.face_centroids() - centre, axis=1)
         fixed_face = int(np.argmin(dist))
     else:
         fixed_face = cp.face_index(fixed_panel)
-    if fixed_face >= 0:
-        fixed[cp.faces[fixed_face]] = True
-        note = f"panel {cp.face_labels[fixed_face]} is held in place"
-    k_fold = np.array(hk)
-    return Structure(
-        x0=x0,
-        triangles=tris,
-        bars=bars,
-        bar_rest=bar_rest,
-        bar_k=bar_k,
-        hinges=hinges,
-        hinge_k=k_fold,
-        hinge_rest=np.zeros(len(hinges)),
-        hinge_limit=np.array(hlimit),
-        hinge_edge=np.array(hedge, dtype=np.int64),
-        weight=weight,
-        fixed=fixed,
-        # a blocker or a closed chamfer is rigid: the barrier out-stiffens the panels
-        limit_k=1e3 * float(max(np.max(k_fold), 1.0)),
-        limit_margin=math.radians(params.limit_margin),
-        notes=[note],
-    )
+    fixed[cp.faces[fixed_face]] = True
+    return fixed, f"panel {cp.face_labels[fixed_face]} is held in place"
