@@ -120,6 +120,20 @@ class Ground:
         return grad, hess
 
 
+def _hinge_terms(st: Structure) -> tuple:
+    """The hinge arrays the compiled kernels take, in their order: hinges, stiffness
+    (N mm/rad), rest angles and fold limits (rad), the limits' stiffness and margin.
+    """
+    return (
+        st.hinges,
+        st.hinge_k,
+        st.hinge_rest,
+        st.hinge_limit,
+        float(st.limit_k),
+        float(st.limit_margin),
+    )
+
+
 def total_energy(
     x: np.ndarray,
     st: Structure,
@@ -132,12 +146,7 @@ def total_energy(
         st.bars,
         st.bar_k,
         st.bar_rest,
-        st.hinges,
-        st.hinge_k,
-        st.hinge_rest,
-        st.hinge_limit,
-        float(st.limit_k),
-        float(st.limit_margin),
+        *_hinge_terms(st),
     )
     energy += float(np.dot(st.weight, x[:, 2]))
     if ground is not None:
@@ -288,18 +297,7 @@ class HessianAssembly:
         grad = np.zeros((n, 3))
         data = np.zeros(self.nnz + 1)
         assemble_bars(x, st.bars, st.bar_k, st.bar_rest, self.bar_positions, grad, data)
-        assemble_hinges(
-            x,
-            st.hinges,
-            st.hinge_k,
-            st.hinge_rest,
-            st.hinge_limit,
-            float(st.limit_k),
-            float(st.limit_margin),
-            self.hinge_positions,
-            grad,
-            data,
-        )
+        assemble_hinges(x, *_hinge_terms(st), self.hinge_positions, grad, data)
         grad[:, 2] += st.weight
         if ground is not None:
             g_ground, h_nodes = ground.derivatives(x)
@@ -515,7 +513,7 @@ def solve_equilibrium(
     """
     x = np.array(x, dtype=float)
     asm = assembly or HessianAssembly(st, strings)
-    free = asm.free
+    problem = (asm.free, st, strings, ground)
     info = SolveInfo()
     energy = total_energy(x, st, strings, ground)
     info.energies.append(energy)
@@ -523,7 +521,7 @@ def solve_equilibrium(
     damping = 0.0
     for it in range(max_iter):
         grad, values, tensions = asm.assemble(x, st, strings, ground)
-        g = grad.ravel()[free]
+        g = grad.ravel()[asm.free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
         if not np.all(np.isfinite(g)):
@@ -531,39 +529,14 @@ def solve_equilibrium(
         if info.gradient_norm < tol:
             info.converged = True
             break
-        accepted = False
-        # first try: conjugate gradients preconditioned by the latest factorisation
-        if asm.reuse_factorisations and asm.preconditioner is not None and not asm.stale:
-            a = asm.matrix(values, damping * scale)
-            step, cg_iterations = _pcg(a, -g, asm.preconditioner, _CG_RTOL, _CG_MAX_ITER)
-            info.cg_iterations += cg_iterations
-            asm.count_iterations(cg_iterations)
-            if step is not None:
-                accepted, t, trial, e_trial = _line_search(
-                    x, step, g, energy, free, st, strings, ground
-                )
-            if not accepted:
-                asm.stale = True
-        if not accepted:
-            for _ in range(16):
-                factor = asm.factorise(values, damping * scale)
-                info.factorisations += 1
-                if factor is None:
-                    damping = max(damping * 10.0, 1e-10)
-                    continue
-                asm.keep(factor)
-                a = asm.matrix(values, damping * scale)
-                step = -factor.solve(g)
-                step -= factor.solve(g + a @ step)  # one round of iterative refinement
-                accepted, t, trial, e_trial = _line_search(
-                    x, step, g, energy, free, st, strings, ground
-                )
-                if accepted:
-                    break
-                damping = max(damping * 10.0, 1e-10)
-        if not accepted:
+        found = _preconditioned_step(x, g, values, energy, damping * scale, asm, info, problem)
+        if found is None:
+            damping, found = _factorised_step(
+                x, g, values, energy, damping, scale, asm, info, problem
+            )
+        if found is None:
             break  # no descent possible: as converged as the model allows
-        x = trial
+        t, step, x, e_trial = found
         moved = abs(energy - e_trial)
         energy = e_trial
         info.energies.append(energy)
@@ -573,8 +546,59 @@ def solve_equilibrium(
             info.converged = True
             break
     if strings is not None:
-        info.tensions = [
-            max(0.0, s.stiffness * (string_length(x, s, strings)[0] - s.free_length))
-            for s in strings.strings
-        ]
+        info.tensions = _string_tensions(x, strings)
     return x, info
+
+
+def _string_tensions(x: np.ndarray, strings: StringSet) -> list[float]:
+    """Each string's tension at ``x`` (n, 3) mm, N: its stiffness times its stretch, or 0."""
+    return [
+        max(0.0, s.stiffness * (string_length(x, s, strings)[0] - s.free_length))
+        for s in strings.strings
+    ]
+
+
+def _preconditioned_step(x, g, values, energy, shift, asm, info, problem):
+    """A Newton step by conjugate gradients preconditioned by the latest factorisation.
+
+    ``shift`` is the Levenberg damping (N/mm) added to the Hessian's diagonal and
+    ``problem`` ``(free dofs, structure, strings, ground)``. Returns ``(t, step,
+    trial x, trial energy)`` when the line search accepts it, else None (and the
+    preconditioner is marked stale when it was tried).
+    """
+    if not (asm.reuse_factorisations and asm.preconditioner is not None and not asm.stale):
+        return None
+    a = asm.matrix(values, shift)
+    step, cg_iterations = _pcg(a, -g, asm.preconditioner, _CG_RTOL, _CG_MAX_ITER)
+    info.cg_iterations += cg_iterations
+    asm.count_iterations(cg_iterations)
+    if step is not None:
+        accepted, t, trial, e_trial = _line_search(x, step, g, energy, *problem)
+        if accepted:
+            return t, step, trial, e_trial
+    asm.stale = True
+    return None
+
+
+def _factorised_step(x, g, values, energy, damping, scale, asm, info, problem):
+    """A Newton step by a fresh factorisation, the damping raised until it descends.
+
+    The factorisation's pivots check that the damped Hessian (``damping * scale``
+    on its diagonal) is positive definite. Returns ``(damping, (t, step, trial x,
+    trial energy))``, the step None when 16 tries found no descent.
+    """
+    for _ in range(16):
+        factor = asm.factorise(values, damping * scale)
+        info.factorisations += 1
+        if factor is None:
+            damping = max(damping * 10.0, 1e-10)
+            continue
+        asm.keep(factor)
+        a = asm.matrix(values, damping * scale)
+        step = -factor.solve(g)
+        step -= factor.solve(g + a @ step)  # one round of iterative refinement
+        accepted, t, trial, e_trial = _line_search(x, step, g, energy, *problem)
+        if accepted:
+            return damping, (t, step, trial, e_trial)
+        damping = max(damping * 10.0, 1e-10)
+    return damping, None
