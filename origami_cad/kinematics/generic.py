@@ -157,6 +157,22 @@ def fold_degree4(
     if not len(creases):
         raise PatternError("the pattern has no mountain or valley crease to fold")
     interior = interior_vertices(cp)
+    _check_flat_foldable(cp, interior)
+    tables = _vertex_tables(cp, interior)
+    if driving_edge is None:
+        mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
+        driving_edge = int(creases[np.argmin(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))])
+    if cp.assignments[driving_edge] not in _FOLD:
+        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
+    sign = np.where(cp.assignments == "V", 1.0, -1.0)
+    magnitude = _propagate(cp, tables, sign, driving_edge, p * math.pi, tol)
+    rho = np.where(np.isnan(magnitude), 0.0, magnitude) * sign
+    rho[~cp.edge_mask(*_FOLD)] = 0.0
+    return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+
+
+def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
+    """Raise :class:`PatternError` naming the first interior vertex that breaks Kawasaki."""
     res = kawasaki_residuals(cp, interior)
     for v, r in zip(interior, res, strict=True):
         if not (abs(r) <= 1e-6):
@@ -165,16 +181,16 @@ def fold_degree4(
                 f"vertex {v} at {loc} mm is not flat-foldable (Kawasaki defect "
                 f"{math.degrees(abs(r)) / 2 if np.isfinite(r) else float('nan'):.3g} deg)"
             )
-    tables = _vertex_tables(cp, interior)
-    if driving_edge is None:
-        mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
-        driving_edge = int(creases[np.argmin(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))])
-    if cp.assignments[driving_edge] not in _FOLD:
-        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
-    sign = np.where(cp.assignments == "V", 1.0, -1.0)
+
+
+def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) -> np.ndarray:
+    """Fold magnitudes (m,) rad of every crease reached from ``driving_edge`` folded by
+    ``angle`` rad, vertex by vertex (NaN where none reaches); ``sign`` (m,) is +1 for
+    valleys. Raises :class:`PatternError` where a loop disagrees by more than ``tol``.
+    """
     magnitude = np.full(cp.n_edges, np.nan)
-    magnitude[driving_edge] = p * math.pi
-    ratios: dict[int, float] = {}
+    magnitude[driving_edge] = angle
+    ratios: dict[int, tuple[int, float]] = {}
     by_edge: dict[int, list[int]] = {}
     for v, (edges, _) in tables.items():
         for e in edges:
@@ -199,26 +215,28 @@ def fold_degree4(
             edges, sectors = tables[v]
             k = edges.index(e)
             order = [edges[(k + j) % 4] for j in range(4)]
-            sec = np.roll(sectors, -k)
-            s = sign[order]
             if v not in ratios or ratios[v][0] != order[0]:
-                try:
-                    ratios[v] = (order[0], degree4_ratio(sec, s))
-                except ValueError:
-                    loc = tuple(round(float(c), 4) for c in cp.vertices[v])
-                    raise PatternError(
-                        f"vertex {v} at {loc} mm: the assignments of creases {order} "
-                        f"({''.join(cp.assignments[order])}) cannot fold rigidly"
-                    ) from None
-            c = ratios[v][1]
+                ratios[v] = (order[0], _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign))
             a = magnitude[e]
-            b = 2 * math.atan(c * math.tan(a / 2))
+            b = 2 * math.atan(ratios[v][1] * math.tan(a / 2))
             settle(order[2], a, v)
             settle(order[1], b, v)
             settle(order[3], b, v)
-    rho = np.where(np.isnan(magnitude), 0.0, magnitude) * sign
-    rho[~cp.edge_mask(*_FOLD)] = 0.0
-    return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+    return magnitude
+
+
+def _vertex_ratio(cp, v: int, order: list[int], sectors: np.ndarray, sign: np.ndarray) -> float:
+    """The degree-4 ratio of vertex ``v`` with its creases in ``order`` (the driving one
+    first) and ``sectors`` (rad) in the same order; a clear error when it cannot fold.
+    """
+    try:
+        return degree4_ratio(sectors, sign[order])
+    except ValueError:
+        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        raise PatternError(
+            f"vertex {v} at {loc} mm: the assignments of creases {order} "
+            f"({''.join(cp.assignments[order])}) cannot fold rigidly"
+        ) from None
 
 
 def _rotation(axis_point: np.ndarray, axis_dir: np.ndarray, angle: float) -> np.ndarray:
