@@ -254,6 +254,32 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         raise DesignError(f"{p}: {len(raw_tsas)} [[tsa]] tables; a bus holds at most 253 servos")
     if len(raw_frames) > 100_000:
         raise DesignError(f"{p}: {len(raw_frames)} [[keyframe]] tables; at most 100000")
+    tsas = _read_tsas(raw_tsas, p)
+    frames = _read_keyframes(raw_frames, p, len(tsas))
+    sequence = Sequence(
+        tuple(tsas),
+        tuple(frames),
+        repeat=seq.integer("repeat", 1, low=1, high=1_000_000),
+        rate=seq.number("rate", 20.0, low=0, high=MAX_RATE, low_open=True),
+        current_limit=seq.number("current_limit", None, low=0, high=100_000, low_open=True)
+        if seq.has("current_limit")
+        else None,
+        source=p,
+    )
+    seq.used.add("current_limit")
+    seq.finish()
+    steps = sequence.cycle * sequence.repeat * sequence.rate
+    if steps > MAX_STEPS:
+        raise DesignError(
+            f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
+            f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
+        )
+    _check_reachable(p, tsas, frames)
+    return sequence
+
+
+def _read_tsas(raw_tsas: list, p: Path) -> list[SequenceTSA]:
+    """The ``[[tsa]]`` tables of sequence file ``p``: distinct servo ids, lengths in mm."""
     tsas: list[SequenceTSA] = []
     first_table: dict[int, int] = {}
     for k, item in enumerate(raw_tsas):
@@ -283,6 +309,13 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         )
         t.finish()
         tsas.append(tsa)
+    return tsas
+
+
+def _read_keyframes(raw_frames: list, p: Path, n_tsas: int) -> list[Keyframe]:
+    """The ``[[keyframe]]`` tables of sequence file ``p``: one value per TSA, times (s)
+    from 0 and increasing.
+    """
     frames = []
     for k, item in enumerate(raw_frames):
         t = Table(item, f"{p} [[keyframe]] #{k + 1}")
@@ -290,7 +323,7 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         kinds = [name for name in ("p", "contraction", "turns") if t.has(name)]
         if len(kinds) != 1:
             raise DesignError(f"{t.where}: give exactly one of 'p', 'contraction', 'turns'")
-        values = t.numbers(kinds[0], length=len(tsas))
+        values = t.numbers(kinds[0], length=n_tsas)
         t.finish()
         frames.append(Keyframe(when, kinds[0], tuple(values)))
     if frames[0].t != 0:
@@ -301,25 +334,14 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
                 f"{p} [[keyframe]] #{k + 2}: key 't': {b.t:g} s does not come after the "
                 f"previous keyframe's {a.t:g} s (times must increase)"
             )
-    sequence = Sequence(
-        tuple(tsas),
-        tuple(frames),
-        repeat=seq.integer("repeat", 1, low=1, high=1_000_000),
-        rate=seq.number("rate", 20.0, low=0, high=MAX_RATE, low_open=True),
-        current_limit=seq.number("current_limit", None, low=0, high=100_000, low_open=True)
-        if seq.has("current_limit")
-        else None,
-        source=p,
-    )
-    seq.used.add("current_limit")
-    seq.finish()
-    steps = sequence.cycle * sequence.repeat * sequence.rate
-    if steps > MAX_STEPS:
-        raise DesignError(
-            f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
-            f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
-        )
-    for k, frame in enumerate(frames):  # every keyframe must be reachable safely
+    return frames
+
+
+def _check_reachable(p: Path, tsas: list[SequenceTSA], frames: list[Keyframe]) -> None:
+    """Raise :class:`DesignError` for a keyframe that asks a servo for more turns than
+    its TSA can make (or none it can reach), naming the keyframe, key and servo.
+    """
+    for k, frame in enumerate(frames):
         where = f"{p} [[keyframe]] #{k + 1}: key '{frame.kind}'"
         for j, tsa in enumerate(tsas):
             try:
@@ -331,7 +353,6 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
                     f"{where} (t = {frame.t:g} s) asks servo {tsa.dxl_id} ({tsa.name}) "
                     f"for {turns:.4g} turns, beyond its TSA's {tsa.max_turns:.4g}"
                 )
-    return sequence
 
 
 LOG_FIELDS = ("t_s", "id", "target_turns", "measured_turns", "current_mA")
