@@ -44,6 +44,7 @@ from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilib
 from origami_cad.strings.dcqc import (
     Jam,
     StopReason,
+    TurnStates,
     segment_names,
     torque_limit_reason,
     tsa_step,
@@ -63,7 +64,7 @@ POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
 
 @dataclass
-class SimulationResult:
+class SimulationResult(TurnStates):
     """Equilibrium states as the TSA turns (NumPy columns, one row per state) and the stop.
 
     ``states`` (S, n, 3) mm; ``theta`` (S,) rad; ``p`` (S,) fold ratio fitted to the
@@ -94,13 +95,6 @@ class SimulationResult:
     limited_edges: tuple[int, ...] = ()
     notes: list[str] = field(default_factory=list)
     energies: list[list[float]] = field(default_factory=list)
-
-    @property
-    def turns(self) -> np.ndarray:
-        return self.theta / (2 * math.pi)
-
-    def __len__(self) -> int:
-        return len(self.theta)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (``simulation.json``)."""

@@ -55,6 +55,7 @@ __all__ = [
     "FoldLimit",
     "Jam",
     "StopReason",
+    "TurnStates",
     "fold_limit",
     "segment_lengths",
     "segment_names",
@@ -138,8 +139,27 @@ class FoldLimit:
         return f"the folder's largest fold ratio p = {self.p:g}"
 
 
+class TurnStates:
+    """What the results of both folding models share: one state per TSA angle.
+
+    A base of :class:`DCQCResult` and
+    :class:`~origami_cad.simulation.SimulationResult`, whose ``theta`` (S,) holds the
+    TSA rotation of each state, rad.
+    """
+
+    theta: np.ndarray
+
+    @property
+    def turns(self) -> np.ndarray:
+        """The TSA's turns at each state (S,)."""
+        return self.theta / (2 * math.pi)
+
+    def __len__(self) -> int:
+        return len(self.theta)
+
+
 @dataclass
-class DCQCResult:
+class DCQCResult(TurnStates):
     """The quasi-static states (one row per state, NumPy columns) and why they end.
 
     Columns: ``theta`` (S,) TSA rotation, rad; ``turns`` (S,); ``p`` (S,) fold
@@ -167,13 +187,6 @@ class DCQCResult:
     final_coords: np.ndarray | None = None
     final_strings: list[np.ndarray] = field(default_factory=list)
     placement: str = ""
-
-    @property
-    def turns(self) -> np.ndarray:
-        return self.theta / (2 * math.pi)
-
-    def __len__(self) -> int:
-        return len(self.theta)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON form (``dcqc.json``)."""
