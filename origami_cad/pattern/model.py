@@ -36,6 +36,8 @@ from origami_cad.errors import PatternError
 
 __all__ = [
     "DEFAULT_RELATIVE_TOLERANCE",
+    "MAX_COORDINATE",
+    "MAX_CROSSINGS",
     "Assignment",
     "CreasePattern",
     "Hole",
@@ -45,6 +47,18 @@ __all__ = [
 
 #: Vertices closer than this fraction of the pattern's size are merged.
 DEFAULT_RELATIVE_TOLERANCE = 1e-6
+#: Largest coordinate magnitude accepted, mm (1000 km). Anything larger is a
+#: mistake (or a hostile file) and would overflow the geometry in squares and areas.
+MAX_COORDINATE = 1e9
+#: Normalisation budget: most crossing points added where edges cross. A drawing
+#: needing more is refused instead of being normalised for minutes into gigabytes.
+MAX_CROSSINGS = 100_000
+#: Normalisation budget: most pairs of edges whose bounding boxes overlap.
+MAX_CANDIDATE_PAIRS = 25_000_000
+#: Normalisation budget: most pairs of vertices closer than the tolerance.
+MAX_CLOSE_PAIRS = 5_000_000
+#: Candidate edge pairs examined at once (bounds the memory of normalisation).
+_PAIR_CHUNK = 2_000_000
 
 
 class Assignment(StrEnum):
@@ -218,7 +232,7 @@ class CreasePattern:
         tolerance: float | None = None,
     ) -> None:
         verts = _as_vertices(vertices)
-        edge_arr = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        edge_arr = _as_edges(edges)
         if edge_arr.size and (edge_arr.min() < 0 or edge_arr.max() >= len(verts)):
             bad = int(np.flatnonzero((edge_arr < 0).any(1) | (edge_arr >= len(verts)).any(1))[0])
             raise PatternError(
@@ -231,6 +245,11 @@ class CreasePattern:
             given = np.asarray(fold_angles, dtype=float).reshape(-1)
             if given.shape != (len(edge_arr),):
                 raise PatternError(f"{given.size} fold angles given for {len(edge_arr)} edges")
+            bad = np.flatnonzero(np.isinf(given) | (np.abs(np.nan_to_num(given)) > 180 + 1e-9))
+            if bad.size:
+                raise PatternError(
+                    f"edge {bad[0]}: fold angle {given[bad[0]]} deg is outside [-180, 180]"
+                )
             known = np.isfinite(given)
             angles[known] = given[known]
         if len(edge_arr) == 0:
@@ -426,8 +445,41 @@ class CreasePattern:
 # helpers
 
 
+def _as_edges(edges: Any) -> np.ndarray:
+    """Edges as an (m, 2) int64 array; fractional or boolean indices are refused."""
+    try:
+        raw = np.asarray(edges)
+    except (TypeError, ValueError):
+        raise PatternError("edges must be an array of [v1, v2] vertex indices") from None
+    if raw.size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    if raw.dtype.kind == "f":
+        whole = np.isfinite(raw) & (raw == np.round(raw)) & (np.abs(raw) < 2**62)
+        if not whole.all():
+            bad = np.argwhere(~whole)[0]
+            raise PatternError(
+                f"edge {bad[0]}: vertex index {raw[tuple(bad)]!r} is not a whole number"
+            )
+    elif raw.dtype.kind not in "iu":
+        raise PatternError(
+            f"edges must hold whole vertex indices, not {raw.dtype.kind!r}-kind values "
+            "(booleans, text or objects)"
+        )
+    if raw.ndim != 2 or raw.shape[1] != 2:
+        raise PatternError(f"edges must have shape (m, 2), got {raw.shape}")
+    return raw.astype(np.int64)
+
+
 def _as_vertices(vertices: Any) -> np.ndarray:
-    verts = np.asarray(vertices, dtype=float)
+    try:
+        raw = np.asarray(vertices)
+        if raw.dtype.kind not in "iuf":
+            raise TypeError
+        verts = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise PatternError(
+            "vertices must be an (n, 2) array of numbers (not booleans, text or ragged lists)"
+        ) from None
     if verts.ndim != 2 or verts.shape[1] not in (2, 3):
         raise PatternError(f"vertices must have shape (n, 2) or (n, 3), got {verts.shape}")
     if verts.shape[1] == 3:
@@ -440,17 +492,35 @@ def _as_vertices(vertices: Any) -> np.ndarray:
     if not np.all(np.isfinite(verts)):
         bad = int(np.flatnonzero(~np.isfinite(verts).all(axis=1))[0])
         raise PatternError(f"vertex {bad} has a non-finite coordinate {verts[bad].tolist()}")
+    if verts.size and np.abs(verts).max() > MAX_COORDINATE:
+        bad = int(np.flatnonzero((np.abs(verts) > MAX_COORDINATE).any(axis=1))[0])
+        raise PatternError(
+            f"vertex {bad} at {verts[bad].tolist()} mm is farther than {MAX_COORDINATE:g} mm "
+            "(1000 km) from the origin; coordinates are limited to that magnitude"
+        )
     return np.ascontiguousarray(verts)
 
 
 def _merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     """Map each vertex to a representative; vertices within ``tol`` share one."""
     n = len(verts)
-    pairs = cKDTree(verts).query_pairs(tol, output_type="ndarray")
-    if len(pairs) == 0:
+    # exact duplicates first (cheap), so that many copies of a point cost nothing
+    uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    u = len(uniq)
+    tree = cKDTree(uniq)
+    close = int(tree.query_ball_point(uniq, tol, return_length=True).sum()) - u
+    if close // 2 > MAX_CLOSE_PAIRS:
+        raise PatternError(
+            f"more than {MAX_CLOSE_PAIRS:,} pairs of vertices lie closer than the tolerance "
+            f"({tol:.3g} mm); the pattern is too degenerate to normalise"
+        )
+    pairs = tree.query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0 and u == n:
         return np.arange(n)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(u, u))
     _, labels = connected_components(graph, directed=False)
+    labels = labels[inverse]
     # representative: the lowest index of each cluster, so coordinates stay exact
     rep = np.full(labels.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, labels, np.arange(n))
@@ -465,6 +535,10 @@ def _split_points(
     Returns ``(edge, t, vertex, new_vertices)``: edge ``edge[k]`` is split at
     parameter ``t[k]`` by vertex ``vertex[k]`` (indices >= len(verts) refer to
     ``new_vertices``, the crossing points).
+
+    The candidate pairs (edges whose boxes overlap) are examined in chunks, so the
+    memory stays bounded; more than :data:`MAX_CANDIDATE_PAIRS` candidates or
+    :data:`MAX_CROSSINGS` crossings is a :class:`PatternError`.
     """
     p0 = verts[edges[:, 0]]
     p1 = verts[edges[:, 1]]
@@ -472,17 +546,14 @@ def _split_points(
     hi = np.maximum(p0, p1) + tol
     boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
     tree = shapely.STRtree(boxes)
-    i, j = tree.query(boxes)
-    keep = i < j
-    i, j = i[keep], j[keep]
-    # drop pairs sharing a vertex only when they cannot overlap (handled below)
     d = p1 - p0
     length = np.hypot(d[:, 0], d[:, 1])
-    split_e: list[np.ndarray] = []
-    split_t: list[np.ndarray] = []
-    split_v: list[np.ndarray] = []
+    # five kinds of split, each in the order of the candidate pairs
+    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], [], [], [], []]
+    crossings: list[np.ndarray] = []
+    n_pairs = n_cross = 0
 
-    def endpoint_on(a: np.ndarray, b: np.ndarray) -> None:
+    def endpoint_on(a: np.ndarray, b: np.ndarray, kind: int) -> None:
         # endpoints of edges b lying inside edges a
         for col in (0, 1):
             q_idx = edges[b, col]
@@ -494,45 +565,78 @@ def _split_points(
             dist = np.hypot(*(foot - q).T)
             inside = (dist <= tol) & (t * la > tol) & ((1.0 - t) * la > tol)
             inside &= (q_idx != edges[a, 0]) & (q_idx != edges[a, 1])
-            split_e.append(a[inside])
-            split_t.append(t[inside])
-            split_v.append(q_idx[inside])
+            parts[kind + col].append((a[inside], t[inside], q_idx[inside]))
 
-    endpoint_on(i, j)
-    endpoint_on(j, i)
-    # proper crossings
-    shares = (
-        (edges[i, 0] == edges[j, 0])
-        | (edges[i, 0] == edges[j, 1])
-        | (edges[i, 1] == edges[j, 0])
-        | (edges[i, 1] == edges[j, 1])
-    )
-    ci, cj = i[~shares], j[~shares]
-    di, dj = d[ci], d[cj]
-    denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
-    w = p0[cj] - p0[ci]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
-        u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
-    li, lj = length[ci], length[cj]
-    sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
-    cross = (
-        (sin_angle > 1e-12)
-        & (t * li > tol)
-        & ((1 - t) * li > tol)
-        & (u * lj > tol)
-        & ((1 - u) * lj > tol)
-    )
-    ci, cj, t, u = ci[cross], cj[cross], t[cross], u[cross]
-    new = p0[ci] + t[:, None] * d[ci]
+    step = max(1, _PAIR_CHUNK // max(len(edges), 1))
+    for first in range(0, len(edges), step):
+        i, j = tree.query(boxes[first : first + step])
+        i = i + first
+        keep = i < j
+        i, j = i[keep], j[keep]
+        n_pairs += len(i)
+        if n_pairs > MAX_CANDIDATE_PAIRS:
+            raise PatternError(
+                f"more than {MAX_CANDIDATE_PAIRS:,} pairs of edges overlap (by bounding box); "
+                "the pattern is too dense to normalise"
+            )
+        endpoint_on(i, j, 0)
+        endpoint_on(j, i, 2)
+        # proper crossings
+        shares = (
+            (edges[i, 0] == edges[j, 0])
+            | (edges[i, 0] == edges[j, 1])
+            | (edges[i, 1] == edges[j, 0])
+            | (edges[i, 1] == edges[j, 1])
+        )
+        ci, cj = i[~shares], j[~shares]
+        di, dj = d[ci], d[cj]
+        denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
+        w = p0[cj] - p0[ci]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
+            u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
+        li, lj = length[ci], length[cj]
+        sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
+        cross = (
+            (sin_angle > 1e-12)
+            & (t * li > tol)
+            & ((1 - t) * li > tol)
+            & (u * lj > tol)
+            & ((1 - u) * lj > tol)
+        )
+        n_cross += int(cross.sum())
+        if n_cross > MAX_CROSSINGS:
+            raise PatternError(
+                f"more than {MAX_CROSSINGS:,} points where edges cross; the pattern is too "
+                "tangled to normalise (are these really creases?)"
+            )
+        ci, cj, t, u = ci[cross], cj[cross], t[cross], u[cross]
+        crossings.append(p0[ci] + t[:, None] * d[ci])
+        parts[4].append((ci, t, cj))
+        parts[4].append((cj, u, ci))
+    new = np.concatenate(crossings) if crossings else np.zeros((0, 2))
     new_idx = len(verts) + np.arange(len(new))
-    split_e += [ci, cj]
-    split_t += [t, u]
-    split_v += [new_idx, new_idx]
+    # crossings: all the "ci" splits first, then the "cj" splits, as one batch each
+    cross_ci = [pc for k, pc in enumerate(parts[4]) if k % 2 == 0]
+    cross_cj = [pc for k, pc in enumerate(parts[4]) if k % 2 == 1]
+    split_e: list[np.ndarray] = []
+    split_t: list[np.ndarray] = []
+    split_v: list[np.ndarray] = []
+    for kind in range(4):
+        for e, t, v in parts[kind]:
+            split_e.append(e)
+            split_t.append(t)
+            split_v.append(v)
+    for batch in (cross_ci, cross_cj):
+        for e, t, _ in batch:
+            split_e.append(e)
+            split_t.append(t)
+        split_v.append(new_idx)
+    empty_i, empty_f = np.zeros(0, np.int64), np.zeros(0)
     return (
-        np.concatenate(split_e),
-        np.concatenate(split_t),
-        np.concatenate(split_v),
+        np.concatenate([*split_e, empty_i]).astype(np.int64),
+        np.concatenate([*split_t, empty_f]),
+        np.concatenate([*split_v, empty_i]).astype(np.int64),
         new,
     )
 
