@@ -29,7 +29,7 @@ from pathlib import Path
 from origami_cad._toml import Table, load_toml
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.io import READ_FORMATS, read_pattern
-from origami_cad.pattern.miura import miura_pattern
+from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
 
@@ -104,8 +104,14 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             table.finish()
             return Design(tg_pattern(design, title=p.stem), design, kind, p)
         if kind == "miura":
-            rows = table.integer("rows", low=1)
-            columns = table.integer("columns", low=1)
+            rows = table.integer("rows", low=1, high=MAX_PANELS)
+            columns = table.integer("columns", low=1, high=MAX_PANELS)
+            if rows * columns > MAX_PANELS:
+                raise table.error(
+                    "columns",
+                    f"rows x columns = {rows * columns:,} panels, more than the limit of "
+                    f"{MAX_PANELS:,}",
+                )
             length = table.number("panel_length", low=0, low_open=True)
             width = table.number("panel_width", low=0, low_open=True)
             angle = table.number("sector_angle", low=0, high=90, low_open=True, high_open=True)
@@ -127,7 +133,7 @@ def load_design(path: str | os.PathLike[str]) -> Design:
 
 def _tg_design(table: Table) -> TGDesign:
     unit_width = table.number("unit_width", low=0, low_open=True)
-    copies = table.integer("copies", low=1)
+    copies = table.integer("copies", low=1, high=MAX_PANELS // 2)
     flag = table.integer("entry_flag", low=0, high=1)
     start = table.point("start", [0.0, 0.0])
     hypar = table.boolean("hypar_base", False)
@@ -137,6 +143,14 @@ def _tg_design(table: Table) -> TGDesign:
         raise DesignError(
             f"{table.where}: give either 'vectors' (with 'fold_ratio') or 'lengths' and "
             "'shape_angles', not both or neither"
+        )
+    listed = table.data.get("vectors" if has_vectors else "lengths")
+    n_vectors = len(listed) if isinstance(listed, list) else 0
+    if 2 * copies * n_vectors > MAX_PANELS:
+        raise table.error(
+            "copies",
+            f"{copies} copies x 2 rows x {n_vectors} vectors = {2 * copies * n_vectors:,} "
+            f"panels, more than the limit of {MAX_PANELS:,}",
         )
     if has_vectors:
         p = table.number("fold_ratio", low=0, high=1, low_open=True)

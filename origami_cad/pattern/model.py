@@ -58,7 +58,7 @@ MAX_CANDIDATE_PAIRS = 25_000_000
 #: Normalisation budget: most pairs of vertices closer than the tolerance.
 MAX_CLOSE_PAIRS = 5_000_000
 #: Candidate edge pairs examined at once (bounds the memory of normalisation).
-_PAIR_CHUNK = 2_000_000
+_PAIR_CHUNK = 500_000
 
 
 class Assignment(StrEnum):
@@ -136,6 +136,20 @@ class Hole:
             raise PatternError(f"hole centre ({self.x}, {self.y}) is not a finite point")
         if not self.diameter > 0:
             raise PatternError(f"hole at ({self.x}, {self.y}): diameter must be > 0 mm")
+
+
+def printable(text: str, limit: int = 80) -> str:
+    r"""``text`` safe to put in a one-line message: control characters escaped, long text cut.
+
+    >>> printable("a\nb")
+    'a\\nb'
+    """
+    text = str(text)
+    if len(text) > limit:
+        text = text[:limit] + "..."
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def _as_assignments(assignments: str | Iterable[str], n: int) -> np.ndarray:
