@@ -138,6 +138,17 @@ MAX_SEGMENTS = 1_000_000
 
 
 # --------------------------------------------------------------------- writing
+def _dxf_text(text: str, limit: int = 255) -> str:
+    """``text`` safe as one DXF string value: a line break would start a new group
+    (injecting entities), so control characters become spaces; lone surrogates,
+    which no encoding holds, become U+FFFD; at most ``limit`` characters."""
+    out = []
+    for c in str(text)[:limit]:
+        code = ord(c)
+        out.append(" " if code < 32 or code == 127 else "\ufffd" if 0xD800 <= code < 0xE000 else c)
+    return "".join(out)
+
+
 def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
     """Write a crease pattern as a DXF file (R2010, millimetres), atomically.
 
@@ -164,7 +175,7 @@ def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
     doc.header["$INSUNITS"] = 4
     doc.header["$MEASUREMENT"] = 1
     if cp.title:
-        doc.header["$PROJECTNAME"] = cp.title
+        doc.header["$PROJECTNAME"] = _dxf_text(cp.title)
     for name, color, linetype in dict.fromkeys(_LAYERS.values()):
         doc.layers.add(name, color=color, linetype=linetype)
     doc.layers.add(_HOLE_LAYER[0], color=_HOLE_LAYER[1])

@@ -655,45 +655,16 @@ def _split_points(
     )
 
 
-def _normalise(
+def _drop_duplicates(
     verts: np.ndarray,
     edges: np.ndarray,
     assign: np.ndarray,
     angles: np.ndarray,
-    tol: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[Problem], bool]:
-    notes: list[Problem] = []
-    n_in_vertices, n_in_edges = len(verts), len(edges)
-    # 1. snap near-coincident vertices
-    rep = _merge_close(verts, tol)
-    merged = int(np.sum(rep != np.arange(len(rep))))
-    edges = rep[edges]
-    # 2. zero-length edges
-    zero = edges[:, 0] == edges[:, 1]
-    n_zero = int(zero.sum())
-    edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # 3. split at T-junctions and crossings
-    se, st, sv, new = _split_points(verts, edges, tol)
-    n_split = len(np.unique(se))
-    n_cross = len(new)
-    if len(se):
-        verts = np.vstack([verts, new])
-        m = len(edges)
-        all_e = np.concatenate([np.arange(m), np.arange(m), se])
-        all_t = np.concatenate([np.zeros(m), np.ones(m), st])
-        all_v = np.concatenate([edges[:, 0], edges[:, 1], sv])
-        order = np.lexsort((all_t, all_e))
-        all_e, all_v = all_e[order], all_v[order]
-        same = all_e[:-1] == all_e[1:]
-        src = all_e[:-1][same]
-        edges = np.stack([all_v[:-1][same], all_v[1:][same]], axis=1)
-        assign, angles = assign[src], angles[src]
-        # crossing points may coincide with each other or with vertices
-        rep = _merge_close(verts, tol)
-        edges = rep[edges]
-        zero = edges[:, 0] == edges[:, 1]
-        edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # 4. duplicates in either direction: keep the highest-priority assignment
+    notes: list[Problem],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Drop edges joining the same two vertices (either direction), keeping the one
+    whose assignment comes first in ``BCMVJUF`` (then the first given); conflicts
+    between creases are added to ``notes``."""
     key_lo = np.minimum(edges[:, 0], edges[:, 1])
     key_hi = np.maximum(edges[:, 0], edges[:, 1])
     prio = np.vectorize(_PRIORITY.__getitem__, otypes=[int])(assign) if len(assign) else assign
@@ -719,6 +690,52 @@ def _normalise(
     n_dup = int((~first).sum())
     keep = np.sort(order[first])
     edges, assign, angles = edges[keep], assign[keep], angles[keep]
+    return edges, assign, angles, n_dup
+
+
+def _normalise(
+    verts: np.ndarray,
+    edges: np.ndarray,
+    assign: np.ndarray,
+    angles: np.ndarray,
+    tol: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[Problem], bool]:
+    notes: list[Problem] = []
+    n_in_vertices, n_in_edges = len(verts), len(edges)
+    # 1. snap near-coincident vertices
+    rep = _merge_close(verts, tol)
+    merged = int(np.sum(rep != np.arange(len(rep))))
+    edges = rep[edges]
+    # 2. zero-length edges
+    zero = edges[:, 0] == edges[:, 1]
+    n_zero = int(zero.sum())
+    edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    # exact duplicates go before the split, so that they cost nothing there
+    edges, assign, angles, n_dup = _drop_duplicates(verts, edges, assign, angles, notes)
+    # 3. split at T-junctions and crossings
+    se, st, sv, new = _split_points(verts, edges, tol)
+    n_split = len(np.unique(se))
+    n_cross = len(new)
+    if len(se):
+        verts = np.vstack([verts, new])
+        m = len(edges)
+        all_e = np.concatenate([np.arange(m), np.arange(m), se])
+        all_t = np.concatenate([np.zeros(m), np.ones(m), st])
+        all_v = np.concatenate([edges[:, 0], edges[:, 1], sv])
+        order = np.lexsort((all_t, all_e))
+        all_e, all_v = all_e[order], all_v[order]
+        same = all_e[:-1] == all_e[1:]
+        src = all_e[:-1][same]
+        edges = np.stack([all_v[:-1][same], all_v[1:][same]], axis=1)
+        assign, angles = assign[src], angles[src]
+        # crossing points may coincide with each other or with vertices
+        rep = _merge_close(verts, tol)
+        edges = rep[edges]
+        zero = edges[:, 0] == edges[:, 1]
+        edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    # 4. duplicates in either direction: keep the highest-priority assignment
+    edges, assign, angles, more = _drop_duplicates(verts, edges, assign, angles, notes)
+    n_dup += more
     # 5. drop unused vertices, keeping order
     used = np.unique(edges)
     remap = np.full(len(verts), -1, dtype=np.int64)
