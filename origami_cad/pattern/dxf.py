@@ -377,14 +377,15 @@ def _expanded_count(
             raise _nested_too_deep(entity)
         if name not in memo:
             memo[name] = _expanded_count(layout, memo, (*inside, name))
-        total += max(entity.mcount, 1) * memo[name]
+        # every reference (each cell of a MINSERT grid) costs work, even of an empty block
+        made = max(entity.mcount, 1) * (1 + memo[name])
+        total += made
         if total > MAX_ENTITIES:
             grid = f" (a {entity.mcount:,}-cell MINSERT)" if entity.mcount > 1 else ""
             raise PatternError(
                 f"the drawing expands to more than {MAX_ENTITIES:,} entities through its "
                 f"block references; at handle {printable(entity.dxf.get('handle', '?'))}, "
-                f"block {printable(name)!r}{grid} makes "
-                f"{max(entity.mcount, 1) * memo[name]:,}"
+                f"block {printable(name)!r}{grid} makes {made:,}"
             )
     return total
 
@@ -458,11 +459,17 @@ def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
         flatten /= max(stretch, 1e-300)
     try:
         chains = list(_flat_pieces(item.entity, flatten))
-    except (TypeError, ValueError, ZeroDivisionError, ArithmeticError) as exc:
-        raise PatternError(f"{item.describe()}: cannot read its geometry ({exc})") from None
+    except Exception as exc:  # ezdxf's geometry code raises anything on degenerate input
+        raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
     if m is not None:
         chains = [list(m.transform_vertices(chain)) for chain in chains]
     return [[(float(v.x), float(v.y)) for v in chain] for chain in chains]
+
+
+def _why(exc: BaseException) -> str:
+    if isinstance(exc, RecursionError):
+        return "a degenerate curve"
+    return printable(str(exc) or type(exc).__name__, 120)
 
 
 def _box(item: _Item) -> np.ndarray:
@@ -471,8 +478,8 @@ def _box(item: _Item) -> np.ndarray:
 
     try:
         ext = bbox.extents([item.entity], fast=True)
-    except (TypeError, ValueError, ZeroDivisionError, ArithmeticError) as exc:
-        raise PatternError(f"{item.describe()}: cannot read its geometry ({exc})") from None
+    except Exception as exc:  # ezdxf's geometry code raises anything on degenerate input
+        raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
     if not ext.has_data:
         return np.zeros((1, 2))
     (x0, y0, z0), (x1, y1, z1) = ext.extmin, ext.extmax
@@ -581,7 +588,7 @@ def _read(p: Path) -> CreasePattern:
     try:
         doc = ezdxf.readfile(str(p))
     except Exception as exc:  # ezdxf raises OSError, DXFStructureError, StopIteration, ...
-        problem = str(exc) or type(exc).__name__
+        problem = printable(str(exc) or type(exc).__name__, 200)
         if isinstance(exc, OSError) and str(p) in problem:
             problem = "not a DXF file"
         raise PatternError(f"not a readable DXF file ({problem})") from None

@@ -278,6 +278,10 @@ class CreasePattern:
         self.metadata.setdefault("unit", "mm")
         result = _normalise(verts, edge_arr, assign, angles, self.tolerance)
         self.vertices, self.edges, self.assignments, self.fold_angles, notes, changed = result
+        if len(self.edges) == 0:
+            raise PatternError(
+                "every edge has zero length (its two vertices coincide): no crease is left"
+            )
         for arr in (self.vertices, self.edges, self.assignments, self.fold_angles):
             arr.flags.writeable = False
         face_notes: list[Problem] = []
