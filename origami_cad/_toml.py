@@ -17,7 +17,7 @@ from typing import Any
 
 from origami_cad.errors import DesignError
 
-__all__ = ["MAX_INTEGER", "MAX_MAGNITUDE", "Table", "load_toml"]
+__all__ = ["MAX_INTEGER", "MAX_MAGNITUDE", "Table", "input_file", "load_toml", "printable"]
 
 _MISSING = object()
 #: Largest magnitude of any number in an input file (mm, degrees, seconds, ...): no
@@ -27,22 +27,55 @@ MAX_MAGNITUDE = 1e9
 MAX_INTEGER = 2**53
 
 
+def printable(text: str, limit: int = 80) -> str:
+    r"""``text`` safe to put in a one-line message: control characters escaped, long text cut.
+
+    >>> printable("a\nb")
+    'a\\nb'
+    """
+    text = str(text)
+    if len(text) > limit:
+        text = text[:limit] + "..."
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def input_file(
+    path: str | os.PathLike[str], error: type[Exception] = DesignError
+) -> tuple[Path, str]:
+    """An input file that exists and is a regular file: ``(path, name for messages)``.
+
+    A missing file, a folder, a device or FIFO (which could block or never end), or
+    a name the file system refuses (too long, a NUL byte) is ``error`` naming it.
+    """
+    p = Path(path)
+    name = printable(str(p), 300)
+    try:
+        if p.is_file():
+            return p, name
+        exists = p.exists()
+    except (OSError, ValueError) as exc:
+        raise error(f"{name}: cannot be read ({getattr(exc, 'strerror', None) or exc})") from None
+    raise error(f"{name}: {'not a regular file' if exists else 'no such file'}")
+
+
 def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
-    p = Path(path)
-    if not p.is_file():
-        raise DesignError(f"{p}: no such file")
+    p, name = input_file(path)
     try:
         with open(p, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{p}: not valid TOML ({exc})") from None
+        raise DesignError(f"{name}: not valid TOML ({exc})") from None
     except UnicodeDecodeError:
-        raise DesignError(f"{p}: not a text file") from None
+        raise DesignError(f"{name}: not a text file") from None
     except RecursionError:
-        raise DesignError(f"{p}: not valid TOML (arrays or tables nested too deeply)") from None
+        raise DesignError(f"{name}: not valid TOML (arrays or tables nested too deeply)") from None
     except ValueError as exc:  # e.g. an integer with more digits than Python converts
-        raise DesignError(f"{p}: not valid TOML ({exc})") from None
+        raise DesignError(f"{name}: not valid TOML ({exc})") from None
+    except OSError as exc:
+        raise DesignError(f"{name}: cannot be read ({exc.strerror or exc})") from None
 
 
 def _finite_number(v: Any) -> bool:

@@ -8,8 +8,6 @@ are bounded.
 
 from __future__ import annotations
 
-import time
-
 import ezdxf
 import numpy as np
 import pytest
@@ -25,16 +23,13 @@ def new_doc(units=4):
     return doc, doc.modelspace()
 
 
-def refused(path, *fragments, seconds=10.0):
-    t = time.perf_counter()
+def refused(path, *fragments):
     with pytest.raises(PatternError) as info:
         read_dxf(path)
-    took = time.perf_counter() - t
     msg = str(info.value)
     assert msg.startswith(str(path)) and msg.isprintable(), msg
     for f in fragments:
         assert f in msg, (f, msg)
-    assert took < seconds, took  # generous; refused in about 0.01 s here
     return msg
 
 
@@ -71,9 +66,7 @@ def test_a_minsert_with_zero_spacing_and_huge_counts_is_one_insert(tmp_path):
     ref.dxf.row_count, ref.dxf.column_count = 30_000, 30_000
     ref.dxf.row_spacing, ref.dxf.column_spacing = 0.0, 0.0
     doc.saveas(tmp_path / "zero.dxf")
-    t = time.perf_counter()
-    cp = read_dxf(tmp_path / "zero.dxf")
-    assert time.perf_counter() - t < 10
+    cp = read_dxf(tmp_path / "zero.dxf")  # 900 million duplicate cells: one insert
     assert int((cp.assignments == "V").sum()) == 1 and len(cp.faces) == 2
 
 
@@ -101,9 +94,7 @@ def test_curves_flatten_into_a_bounded_number_of_chords(tmp_path, radius_m):
     msp.add_circle((0, 0), radius_m, dxfattribs={"layer": "Border"})
     msp.add_line((-radius_m, 0), (radius_m, 0), dxfattribs={"layer": "Valley"})
     doc.saveas(tmp_path / "disc.dxf")
-    t = time.perf_counter()
     cp = read_dxf(tmp_path / "disc.dxf")
-    assert time.perf_counter() - t < 10
     r = radius_m * 1000
     tol = max(0.01, 1e-6 * 2 * r * np.sqrt(2))  # the chord tolerance, mm
     on_circle = np.hypot(*cp.vertices.T)

@@ -232,3 +232,21 @@ def test_a_deep_zero_scale_does_not_divide_by_zero(tmp_path):
     cp = read_svg(p)
     assert cp.n_edges == 4 and not math.isnan(cp.size)
     assert isinstance(cp, CreasePattern)
+
+
+@pytest.mark.parametrize(
+    "attr, value",
+    [
+        ("points", "1" * 200_000 + "x"),
+        ("points", "1." * 100_000 + "x"),
+        ("d", "M 0 0 " + "L 1 1 " * 50_000 + "#"),
+        ("transform", "scale(" + "1 " * 100_000 + ")"),
+        ("stroke", "rgb(1, " + " " * 100_000 + "x"),
+    ],
+)
+def test_long_malformed_attributes_are_refused_in_linear_time(tmp_path, attr, value):
+    # a backtracking pattern would take hours on these (the old number pattern did)
+    body = f'<polyline points="0 0 100 100" stroke="blue" {attr}="{value}"/>'
+    if attr == "d":
+        body = f'<path stroke="blue" d="{value}"/>'
+    refused(svg(tmp_path, body))

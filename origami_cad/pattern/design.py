@@ -26,7 +26,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import Table, input_file, load_toml, printable
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.io import READ_FORMATS, read_pattern
 from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
@@ -121,11 +121,17 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             return Design(d.pattern.with_metadata(title=p.stem), d.tg, kind, p)
         rel = table.string("path")
         table.finish()
-        target = (p.parent / rel).resolve()
+        shown = printable(rel, 300)
+        try:
+            target = (p.parent / rel).resolve()
+        except (OSError, ValueError, RuntimeError) as exc:
+            raise table.error("path", f"{shown!r} cannot be used ({exc})") from None
         if target.suffix.lower() not in READ_FORMATS:
-            raise table.error("path", f"{rel!r} is not a {', '.join(READ_FORMATS)} file")
-        if not target.is_file():
-            raise table.error("path", f"{target}: no such file")
+            raise table.error("path", f"{shown!r} is not a {', '.join(READ_FORMATS)} file")
+        try:
+            input_file(target, PatternError)
+        except PatternError as exc:
+            raise table.error("path", str(exc)) from None
         return Design(read_pattern(target), None, kind, p)
     except PatternError as exc:
         raise DesignError(f"{p}: {exc}") from None

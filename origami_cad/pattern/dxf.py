@@ -74,6 +74,7 @@ import numpy as np
 import shapely
 
 from origami_cad._fileio import atomic_path
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
@@ -573,13 +574,11 @@ def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
         or if there are no crease lines; the message starts with the path and
         names the entities concerned.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         return _read(p)
     except PatternError as exc:
-        raise PatternError(f"{p}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
 
 
 def _read(p: Path) -> CreasePattern:

@@ -26,8 +26,9 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole
+from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
 __all__ = [
     "FoldFrame",
@@ -143,23 +144,25 @@ def write_fold(
 
 
 def _load(path: str | os.PathLike[str]) -> dict[str, Any]:
-    p = Path(path)
-    if not p.exists():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except json.JSONDecodeError as exc:
         raise PatternError(
-            f"{p}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})"
+            f"{name}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})"
         ) from None
     except UnicodeDecodeError:
-        raise PatternError(f"{p}: not a text file (FOLD is JSON)") from None
+        raise PatternError(f"{name}: not a text file (FOLD is JSON)") from None
     except RecursionError:
-        raise PatternError(f"{p}: JSON nested too deeply to read") from None
+        raise PatternError(f"{name}: JSON nested too deeply to read") from None
     except ValueError as exc:  # e.g. an integer with more digits than Python converts
-        raise PatternError(f"{p}: not valid JSON ({exc})") from None
+        raise PatternError(f"{name}: not valid JSON ({exc})") from None
+    except OSError as exc:
+        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
     if not isinstance(data, dict):
-        raise PatternError(f"{p}: a FOLD file must hold a JSON object, not {type(data).__name__}")
+        raise PatternError(
+            f"{name}: a FOLD file must hold a JSON object, not {type(data).__name__}"
+        )
     return data
 
 
@@ -434,40 +437,42 @@ def read_fold(path: str | os.PathLike[str]) -> CreasePattern:
     a wrong one is a :class:`PatternError` naming the file, frame and key.
     """
     data = _load(path)
+    name = printable(str(path), 300)
     try:
         frames = _frames(data)
     except PatternError as exc:
-        raise PatternError(f"{path}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
     title = data.get("file_title", "")
     if title is None:
         title = ""
     if not isinstance(title, str):
-        raise PatternError(f"{path}: file_title must be a string, not {_json_type(title)}")
+        raise PatternError(f"{name}: file_title must be a string, not {_json_type(title)}")
     for i, frame in enumerate(frames):
         if "vertices_coords" not in frame and i == 0 and len(frames) > 1:
             continue
-        where = f"{path}" if i == 0 else f"{path} (file_frames[{i - 1}])"
+        where = f"{name}" if i == 0 else f"{name} (file_frames[{i - 1}])"
         if i == 0 and "edges_vertices" not in frame and "edges_foldAngles" not in frame:
-            raise PatternError(f"{path}: missing key 'edges_vertices' (the file has no edges)")
+            raise PatternError(f"{name}: missing key 'edges_vertices' (the file has no edges)")
         _key(frame, "vertices_coords", where)
         verts = _coords(frame, where, _unit_scale(frame, where))
         if _is_flat(verts):
             return _frame_to_pattern(frame, where, title, verts)
     raise PatternError(
-        f"{path}: no frame is flat: the file holds a folded form only, not a crease pattern"
+        f"{name}: no frame is flat: the file holds a folded form only, not a crease pattern"
     )
 
 
 def read_fold_frames(path: str | os.PathLike[str]) -> list[np.ndarray]:
     """Vertex coordinates (mm, shape (n, 3)) of every frame of a FOLD file, key frame first."""
     data = _load(path)
+    name = printable(str(path), 300)
     out = []
     try:
         frames = _frames(data)
     except PatternError as exc:
-        raise PatternError(f"{path}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
     for i, frame in enumerate(frames):
-        where = f"{path}" if i == 0 else f"{path} (file_frames[{i - 1}])"
+        where = f"{name}" if i == 0 else f"{name} (file_frames[{i - 1}])"
         scale = _unit_scale(frame, where)
         if "vertices_coords" not in frame:
             out.append(np.asarray([], dtype=float) * scale)

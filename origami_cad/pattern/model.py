@@ -32,6 +32,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from origami_cad._toml import printable
 from origami_cad.errors import PatternError
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "Hole",
     "Problem",
     "Severity",
+    "printable",
 ]
 
 #: Vertices closer than this fraction of the pattern's size are merged.
@@ -136,20 +138,6 @@ class Hole:
             raise PatternError(f"hole centre ({self.x}, {self.y}) is not a finite point")
         if not self.diameter > 0:
             raise PatternError(f"hole at ({self.x}, {self.y}): diameter must be > 0 mm")
-
-
-def printable(text: str, limit: int = 80) -> str:
-    r"""``text`` safe to put in a one-line message: control characters escaped, long text cut.
-
-    >>> printable("a\nb")
-    'a\\nb'
-    """
-    text = str(text)
-    if len(text) > limit:
-        text = text[:limit] + "..."
-    if text.isprintable():
-        return text
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def _as_assignments(assignments: str | Iterable[str], n: int) -> np.ndarray:

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
@@ -71,7 +72,7 @@ _UNIT_MM = {
     "px": 25.4 / 96,
     "": None,
 }
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_NUMBER = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 
 
 #: characters XML 1.0 cannot hold, even escaped (control characters, lone surrogates)
@@ -176,10 +177,10 @@ def _color(value: str, where: str = "") -> str | None:
         return "#" + "".join(c * 2 for c in v[1:])
     if re.fullmatch(r"#[0-9a-f]{6}", v):
         return v
-    m = re.fullmatch(r"rgb\(\s*([^,]*),\s*([^,]*),\s*([^)]*)\)", v)
-    if m:
+    parts = v[4:-1].split(",") if v.startswith("rgb(") and v.endswith(")") else []
+    if len(parts) == 3:
         chans = []
-        for c in m.groups():
+        for c in parts:
             c = c.strip()
             pct = c.endswith("%")
             x = _num(c[:-1] if pct else c, where, f"colour {printable(value)!r}")
@@ -335,8 +336,8 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
     return subpaths
 
 
-def _scale(root: ET.Element, p: Path) -> tuple[float, float]:
-    where = f"{p}: <svg>"
+def _scale(root: ET.Element, name: str) -> tuple[float, float]:
+    where = f"{name}: <svg>"
     box = _numbers(root.attrib.get("viewBox", ""), where, "viewBox")
     if box and (len(box) != 4 or box[2] < 0 or box[3] < 0):
         raise PatternError(f"{where}: viewBox must be 4 numbers: min-x min-y width height >= 0")
@@ -393,16 +394,18 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
         Naming the file and the element with an unknown colour, a curve or a
         malformed value.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         root = ET.parse(p).getroot()
     except ET.ParseError as exc:
-        raise PatternError(f"{p}: not valid XML ({exc})") from None
+        raise PatternError(f"{name}: not valid XML ({exc})") from None
+    except OSError as exc:
+        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
     if _local(root.tag) != "svg":
-        raise PatternError(f"{p}: the root element is <{printable(_local(root.tag))}>, not <svg>")
-    sx, sy = _scale(root, p)
+        raise PatternError(
+            f"{name}: the root element is <{printable(_local(root.tag))}>, not <svg>"
+        )
+    sx, sy = _scale(root, name)
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     holes: list[Hole] = []
     title = ""
@@ -424,7 +427,7 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
         counter += 1
         ident = el.attrib.get("id")
         where = (
-            f"{p}: <{printable(tag)}{' id=' + printable(ident) if ident else ''}> "
+            f"{name}: <{printable(tag)}{' id=' + printable(ident) if ident else ''}> "
             f"(element {counter})"
         )
         if "opacity" in own:
@@ -474,7 +477,7 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
                             segments.append((a[:2], b[:2], letter, angle))
         stack.extend((child, m, style, opacity) for child in reversed(el))
     if not segments:
-        raise PatternError(f"{p}: no crease lines found (no stroked line, polyline or path)")
+        raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
     coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
     coords[:, 0] *= sx
     coords[:, 1] *= -sy
@@ -488,5 +491,5 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
             metadata={"title": title or p.stem},
         )
     except PatternError as exc:
-        raise PatternError(f"{p}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
     return cp.with_holes(holes) if holes else cp
