@@ -22,7 +22,9 @@ edge, closed flags honoured, z ignored), in model space and inside block
 references (INSERT and MINSERT, nested, with the block transforms; entities on
 layer ``0`` inside a block take the layer of the reference, BYBLOCK colours and
 linetypes its colour and linetype). ARC, CIRCLE, ELLIPSE, SPLINE and bulged
-polyline segments are flattened (0.01 mm chords) for border and cut lines only:
+polyline segments are flattened (chords within 0.01 mm of the curve, or within
+1e-6 of the drawing's size if that is larger, so no curve becomes more than a few
+thousand chords) for border and cut lines only:
 a curved crease cannot fold rigidly, so a curved mountain, valley, flat or
 unassigned line is an error naming its handle. A CIRCLE on a layer whose name
 contains ``hole`` (``Holes``, ``Hole``) is a :class:`~origami_cad.pattern.Hole`.
@@ -48,6 +50,12 @@ outline as cut lines, so cut edges on the outer boundary of the sheet (the
 exterior of the union of the faces) become border; cut lines inside stay cuts.
 ``$INSUNITS`` is honoured (inches, feet, cm, m, ... are converted to mm;
 unitless files are taken as mm). The title is the file name's stem.
+
+Limits, each a :class:`~origami_cad.errors.PatternError` naming the entity: the
+drawing may expand to at most :data:`MAX_ENTITIES` entities through its block
+references and MINSERT grids (counted from the block definitions before any is
+expanded), give at most :data:`MAX_SEGMENTS` line segments, and lie within
+:data:`~origami_cad.pattern.model.MAX_COORDINATE` mm of the origin.
 
 Examples
 --------

@@ -7,6 +7,13 @@ near-coincident vertices, splits edges at T-junctions and crossings, drops
 zero-length and duplicate edges) in O(n log n), and records what it changed in
 :attr:`CreasePattern.notes` so nothing is repaired behind the user's back.
 
+Inputs are checked, not coerced: vertex indices must be whole numbers,
+coordinates finite numbers within :data:`MAX_COORDINATE` mm, fold angles within
+[-180, 180] degrees. Normalisation works within budgets (:data:`MAX_CROSSINGS`
+crossing points, :data:`MAX_CANDIDATE_PAIRS` overlapping edge pairs,
+:data:`MAX_CLOSE_PAIRS` near-coincident vertex pairs) and refuses a pattern that
+would exceed one, instead of running for minutes into gigabytes.
+
 Examples
 --------
 >>> import numpy as np

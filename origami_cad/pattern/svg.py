@@ -10,7 +10,11 @@ Reading takes ``line``, ``polyline``, ``polygon``, ``rect`` and ``path`` element
 element and its groups applied and colours and opacities inherited from groups
 (``style`` wins over attributes). A curved path command or a stroke colour that is
 not one of the six is an error naming the element. Circles with a fill and no
-stroke are holes.
+stroke are holes. Every number, transform, colour and opacity is checked: junk in
+path data, a transform with the wrong number of arguments, an opacity outside
+[0, 1] (it would scale a fold past 180 degrees) or a non-finite or huge
+coordinate is an error naming the element (its ``id`` with control characters
+escaped). The writer escapes the title (``&``, ``<``, control characters).
 
 Units: with a ``viewBox`` and ``width``/``height`` in absolute units (mm, cm, in,
 pt, px at 96 per inch) user units are converted to mm; otherwise one user unit is
