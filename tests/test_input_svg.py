@@ -250,3 +250,17 @@ def test_long_malformed_attributes_are_refused_in_linear_time(tmp_path, attr, va
     if attr == "d":
         body = f'<path stroke="blue" d="{value}"/>'
     refused(svg(tmp_path, body))
+
+
+@pytest.mark.parametrize(
+    "element",
+    [
+        '<circle cx="50" cy="50" r="20" stroke="red" fill="none"/>',
+        '<ellipse cx="50" cy="50" rx="20" ry="10" stroke="black"/>',
+    ],
+)
+def test_stroked_circles_and_ellipses_are_not_silently_dropped(tmp_path, element):
+    refused(svg(tmp_path, element), "crease lines must be straight")
+    # a filled circle without a stroke is still a hole
+    hole = read_svg(svg(tmp_path, '<circle cx="50" cy="50" r="2" fill="black"/>', "hole.svg"))
+    assert [(h.x, h.y, h.diameter) for h in hole.holes] == [(50.0, -50.0, 4.0)]

@@ -450,6 +450,11 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
                 except PatternError as exc:
                     raise PatternError(f"{where}: {exc}") from None
                 continue
+        if tag in ("circle", "ellipse") and _color(style.get("stroke", "none"), where):
+            raise PatternError(
+                f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
+                "circle with a fill and no stroke)"
+            )
         polylines = _polylines(el, tag, where)
         if polylines:
             stroke = _color(style.get("stroke", "none"), where)
