@@ -9,7 +9,7 @@ line (what the CLI prints with exit code 2), within a time and memory bound;
 a pattern that is read has finite, bounded coordinates and valid indices, and
 can be written as FOLD, SVG and DXF and read back.
 
-The suite runs a bounded, deterministic budget (``derandomize``; about 20 s
+The suite runs a bounded, deterministic budget (``derandomize``; 20-30 s
 here). A bigger random campaign, by hand::
 
     ORIGAMI_FUZZ_EXAMPLES=3000 .venv/bin/python -m pytest -q tests/test_fuzz_readers.py
@@ -108,7 +108,11 @@ def sound(cp: CreasePattern, formats=(".fold", ".svg")) -> None:
     assert np.all(np.abs(cp.fold_angles) <= 180 + 1e-9)
     for ext in formats:
         out = _DIR / f"back{ext}"
-        write_pattern(cp, out)
+        try:
+            write_pattern(cp, out)
+        except OrigamiCadError as exc:  # e.g. a hole off every panel cannot go in a FOLD
+            assert str(exc).isprintable()
+            continue
         back = outcome(read_pattern, out)
         if ext == ".fold" and back is not None:
             assert back.title == cp.title
