@@ -19,7 +19,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape
 
 import numpy as np
-from build123d import Color, Compound, export_step, export_stl
+from build123d import Color, Compound, Solid, export_step, export_stl
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_path
@@ -69,12 +69,26 @@ def _color(material: str) -> Color:
 
 
 def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
-    """Write one STEP with four named, coloured parts (compounds of solids)."""
+    """Write one STEP with four named parts, each solid a separately coloured child.
+
+    The assembly ``origami_structure`` holds the four parts (``infills``,
+    ``midlayers``, ``shells``, ``creases``); each part holds its solids
+    (``shells 0``, ``shells 1``...), every one carrying its part's colour. FreeCAD
+    resolves a colour from a solid's own label, then its parent's: colours set on a
+    compound alone come in grey.
+    """
     children = []
     for name in PART_NAMES:
-        comp = parts.compound(name)
+        color = _color(PART_MATERIALS[name])
+        solids = []
+        for k, solid in enumerate(parts.solids[name]):
+            child = Solid(solid.wrapped)
+            child.label = f"{name} {k}"
+            child.color = color
+            solids.append(child)
+        comp = Compound(children=solids)
         comp.label = name
-        comp.color = _color(PART_MATERIALS[name])
+        comp.color = color
         children.append(comp)
     assembly = Compound(children=children)
     assembly.label = "origami_structure"
