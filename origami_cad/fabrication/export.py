@@ -19,7 +19,7 @@ from pathlib import Path
 from xml.sax.saxutils import escape
 
 import numpy as np
-from build123d import Color, Compound, Solid, export_step, export_stl
+from build123d import Color, Compound, Location, Solid, export_step, export_stl
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_path
@@ -34,6 +34,7 @@ __all__ = [
     "export_part",
     "export_step_assembly",
     "export_stls",
+    "lay_on_bed",
     "layer_height",
     "part_meshes",
     "read_binary_stl",
@@ -374,8 +375,35 @@ def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str]
     return prusa, bambu
 
 
+def lay_on_bed(shape):
+    """A copy of a part or assembly moved along z so that its lowest point is at z = 0.
+
+    x and y are kept; an assembly keeps its tree of named, coloured children (each
+    child moved by the same amount), so slicers place it on the bed as built.
+    """
+    dz = -shape.bounding_box().min.Z
+    return _moved_tree(shape, Location((0.0, 0.0, dz)))
+
+
+def _moved_tree(shape, loc: Location):
+    children = list(getattr(shape, "children", ()) or ())
+    if not children:
+        out = shape.moved(loc)
+    else:
+        out = Compound(children=[_moved_tree(c, loc) for c in children])
+    out.label = shape.label
+    if getattr(shape, "color", None) is not None:
+        out.color = shape.color
+    return out
+
+
 def export_part(part, folder: str | os.PathLike[str], name: str) -> list[Path]:
-    """Write ``name.step`` and ``name.stl`` (binary) of a part or assembly (atomic)."""
+    """Write ``name.step`` and ``name.stl`` (binary) of a part or assembly (atomic).
+
+    Both files hold the part laid on the print bed (:func:`lay_on_bed`: its lowest
+    point at z = 0, x and y as built), so a slicer places it where it prints.
+    """
+    part = lay_on_bed(part)
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     step, stl = out / f"{name}.step", out / f"{name}.stl"
