@@ -33,6 +33,7 @@ from origami_cad.fabrication.plan import (
     LimitStatus,
     PanelPlan,
     crease_limits,
+    largest_bias,
     plan_panels,
 )
 
@@ -48,6 +49,7 @@ __all__ = [
     "build_fabrication",
     "crease_limits",
     "fabricate",
+    "largest_bias",
     "offset_ring",
     "panel_outlines",
     "place_holes",
