@@ -1,13 +1,16 @@
 """Exports of the printed parts: four STL files, a STEP assembly and a slicer-ready 3MF.
 
 The 3MF holds one object made of four parts, PLA parts on extruder 1 and TPU
-parts on extruder 2, described both for PrusaSlicer
+parts on extruder 2; each solid is its own closed, oriented shell and each part
+a range of triangles, described both for PrusaSlicer
 (``Metadata/Slic3r_PE_model.config``: volumes as triangle ranges with an
 ``extruder`` key) and for Bambu Studio / OrcaSlicer
-(``Metadata/model_settings.config``: parts with an ``extruder`` key), with
-display colours through ``<basematerials>``. build123d's own 3MF writer gives
-each shape its own object and no extruder, so the package is written here
-from build123d's tessellation.
+(``Metadata/model_settings.config``: parts with ``firstid``/``lastid`` and an
+``extruder`` key), with display colours through ``<basematerials>`` and the
+print settings of :func:`slicer_settings` (``Metadata/Slic3r_PE.config``,
+``Metadata/project_settings.config``). build123d's own 3MF writer gives each
+shape its own object and no extruder, so the package is written here from
+build123d's tessellation.
 """
 
 from __future__ import annotations
