@@ -4,8 +4,9 @@ Every solid of a panel is bounded by planes parallel to its edges, so each
 footprint is the panel polygon with every edge moved inward by its own offset:
 crease edges by the chamfer's run at that height, border and cut edges by the
 border margin. :func:`offset_ring` computes such polygons exactly (each corner
-is the intersection of its two offset lines) and refuses a panel too small for
-its inset instead of returning a broken polygon.
+is the intersection of its two offset lines); on a convex panel a short side
+that the inset makes vanish stays as a corner of zero length, and a panel too
+small for its inset is refused instead of returning a broken polygon.
 """
 
 from __future__ import annotations
