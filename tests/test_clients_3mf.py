@@ -189,3 +189,25 @@ def test_prusaslicer_reads_and_slices_the_3mf_with_its_settings(three_mf, fab, t
     heights = [float(z) for z in re.findall(r"^;Z:(\d*\.?\d+)", text, flags=re.M)]
     assert max(heights) == pytest.approx(fab.params.height, abs=1e-6)
     assert np.allclose(np.round(np.array(heights) / 0.1) * 0.1, heights, atol=1e-6)
+
+
+@pytest.mark.skipif(PRUSA is None, reason="PrusaSlicer's CLI is not installed (apt prusa-slicer)")
+def test_prusaslicer_finds_every_part_on_the_bed_and_manifold(tmp_path):
+    """``origami-cad part`` files: PrusaSlicer reads each closed, with its lowest point at z = 0."""
+    from origami_cad.parts import PARTS, build_part
+
+    from origami_cad.fabrication.export import export_part
+
+    stls = []
+    for name in PARTS:
+        shape = build_part(name)
+        _, stl = export_part(shape, tmp_path / name, name)
+        stls.append((name, stl, shape.volume, len(shape.solids())))
+    info = _prusa("--info", *(str(s) for _, s, _, _ in stls), cwd=tmp_path)
+    blocks = dict(re.findall(r"^\[(.+?)\.stl\]\n((?:.+\n?)+?)(?=^\[|\Z)", info, flags=re.M))
+    for name, _, volume, solids in stls:
+        values = dict(re.findall(r"^(\w+) = +(.*)$", blocks[name], flags=re.M))
+        assert float(values["min_z"]) == pytest.approx(0.0, abs=1e-6), name
+        assert values["manifold"] == "yes", name
+        assert int(values["number_of_parts"]) == solids, name
+        assert float(values["volume"]) == pytest.approx(volume, rel=5e-3), name
