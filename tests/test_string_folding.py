@@ -102,7 +102,7 @@ def _fold_file_miura(tmp_path: Path):
     cp = read_fold(tmp_path / "miura.fold")
     route = tmp_path / "row.toml"
     route.write_text(
-        '[tsa]\nmodel = "ring"\n[route]\ntake_up = 0.3\nmax_turns = 60\n'
+        '[tsa]\nmodel = "ring"\n[fabrication]\nbias = 3.0\n[route]\ntake_up = 0.3\nmax_turns = 60\n'
         "[[route.strings]]\nanchor = [-20.0, 45.0, 10.0]\n"
         'holes = ["c0r1s0", "c0r1s1", "c0r1s2", "c0r1s3", "c0r1s4", "c0r1s5"]\n'
     )
@@ -112,7 +112,14 @@ def _fold_file_miura(tmp_path: Path):
 def test_a_miura_from_a_fold_file_folds_past_p03_in_both_models(tmp_path):
     design, route = _fold_file_miura(tmp_path)
     assert route.p_max is None and route.fixed_panel is None
-    assert fold_limit(design, route).p == 1.0  # the degree-4 folder takes p = 1
+    # both models take the printed sheet's limit from [fabrication] (eq. 6, legs first)
+    assert fold_limit(design, route).p == pytest.approx(0.54, abs=0.01)
+    # without it, the degree-4 folder's own limit: p = 1, the flat-folded state
+    bare = tmp_path / "bare.toml"
+    bare.write_text((tmp_path / "row.toml").read_text().replace("[fabrication]\nbias = 3.0\n", ""))
+    bare_route = load_route(bare, design.pattern)
+    assert bare_route.fabrication is None and fold_limit(design, bare_route).p == 1.0
+    assert simulate_dcqc(design, bare_route).p[-1] > 0.3
     dcqc = simulate_dcqc(design, route)
     sim = simulate(design.pattern, route, design=design)
     for result in (dcqc, sim):
