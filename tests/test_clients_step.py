@@ -143,13 +143,13 @@ def test_the_reader_sees_the_defect_of_a_colour_on_a_compound(tmp_path, fab):
     """The emulation is strict enough: the old layout (colour on a compound) fails it."""
     from build123d import Compound, export_step
 
-    from origami_cad.fabrication.export import _color
+    from origami_cad.fabrication.export import material_color
 
     children = []
     for name in PART_NAMES:
         comp = fab.parts.compound(name)
         comp.label = name
-        comp.color = _color(PART_MATERIALS[name])
+        comp.color = material_color(PART_MATERIALS[name])
         children.append(comp)
     old = tmp_path / "old.step"
     export_step(Compound(children=children), str(old))

@@ -39,6 +39,7 @@ __all__ = [
     "export_stls",
     "lay_on_bed",
     "layer_height",
+    "material_color",
     "part_meshes",
     "read_binary_stl",
     "slicer_settings",
@@ -73,7 +74,8 @@ def export_stls(parts: Parts, folder: str | os.PathLike[str]) -> dict[str, Path]
     return out
 
 
-def _color(material: str) -> Color:
+def material_color(material: str) -> Color:
+    """The display colour of a material (``"PLA"`` or ``"TPU"``) as a build123d colour."""
     hexa = MATERIAL_COLORS[material].lstrip("#")
     return Color(*(int(hexa[i : i + 2], 16) / 255 for i in (0, 2, 4)))
 
@@ -89,7 +91,7 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
     """
     children = []
     for name in PART_NAMES:
-        color = _color(PART_MATERIALS[name])
+        color = material_color(PART_MATERIALS[name])
         solids = []
         for k, solid in enumerate(parts.solids[name]):
             child = Solid(solid.wrapped)

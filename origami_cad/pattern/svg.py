@@ -171,7 +171,7 @@ def _opacity(text: str, where: str, what: str) -> float:
     return value
 
 
-def _color(value: str, where: str = "") -> str | None:
+def material_color(value: str, where: str = "") -> str | None:
     v = value.strip().lower()
     if v in ("none", "transparent", ""):
         return None
@@ -438,8 +438,8 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
             opacity = opacity * _opacity(own["opacity"], where, "opacity")
         m = matrix @ _transform(el.attrib.get("transform", ""), where)
         if tag == "circle":
-            stroke = _color(style.get("stroke", "none"), where)
-            if stroke is None and _color(style.get("fill", "black"), where) is not None:
+            stroke = material_color(style.get("stroke", "none"), where)
+            if stroke is None and material_color(style.get("fill", "black"), where) is not None:
                 cx = _num(el.attrib.get("cx", "0"), where, "cx")
                 cy = _num(el.attrib.get("cy", "0"), where, "cy")
                 r = _num(el.attrib.get("r", "0"), where, "r")
@@ -450,14 +450,14 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
                 except PatternError as exc:
                     raise PatternError(f"{where}: {exc}") from None
                 continue
-        if tag in ("circle", "ellipse") and _color(style.get("stroke", "none"), where):
+        if tag in ("circle", "ellipse") and material_color(style.get("stroke", "none"), where):
             raise PatternError(
                 f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
                 "circle with a fill and no stroke)"
             )
         polylines = _polylines(el, tag, where)
         if polylines:
-            stroke = _color(style.get("stroke", "none"), where)
+            stroke = material_color(style.get("stroke", "none"), where)
             if stroke is not None:
                 letter = _BY_COLOR.get(stroke)
                 if letter is None:
