@@ -259,14 +259,37 @@ def run_tg(design: PathLike, output: PathLike) -> Outputs:
 
 
 def _best_design_toml(design, task, copies: int = 3) -> str:
-    """The winner as a design file (``kind = "transition-graph"``) that every command reads."""
+    """The winner as a design file (``kind = "transition-graph"``) that every command reads.
+
+    Its comments state the fold range the printed arm reaches and the ``fabricate``
+    command that builds it with the fabrication parameters it was designed for.
+    """
     terms = design.terms
     lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
     angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
+    p_e = design.fold_ratio_end
+    if task.fold_limit is not None:
+        fab = f"# designed for creases that fold up to {task.fold_limit:g} deg (fold_limit)\n"
+        build = "origami-cad fabricate best.toml -o fab" + (
+            f" --theta-max {task.fold_limit:g}" if task.fold_limit < 180 else ""
+        )
+    else:
+        fab = (
+            f"# designed for b = {design.bias:.4g} mm, h = {task.height:g} mm, t = "
+            f"{task.thickness:g} mm: every crease stops at {terms.crease_limit:.1f} deg (eq. 6)"
+            f"{' (b co-designed)' if task.codesign else ''}\n"
+        )
+        build = (
+            f"origami-cad fabricate best.toml -o fab --bias {design.bias:.4g} "
+            f"--height {task.height:g} --thickness {task.thickness:g}"
+        )
     return (
         f"# Best arm design of run {design.run}: fitness {design.fitness:.4f} (eq. 5)\n"
-        f"# T_e(0) is {terms.d_start:.3f} mm from P_start, T_e(pi) "
-        f"{terms.d_end:.3f} mm from P_end, {terms.improper_states} improper states\n"
+        f"# T_e(0) is {terms.d_start:.3f} mm from P_start; at p = {p_e:.4f}, the end of the "
+        f"fold range the printed arm reaches, T_e is {terms.d_end:.3f} mm from P_end; "
+        f"{terms.improper_states} improper states\n"
+        f"{fab}"
+        f"# build it with: {build}\n"
         "[pattern]\n"
         'kind = "transition-graph"\n'
         f"unit_width = {task.unit_width or 36.0}   # mm\n"
@@ -315,7 +338,11 @@ def run_design_arm(
 ) -> Outputs:
     """CMA-ES arm design (eq. 5): results.json, best.toml and plots into ``folder``.
 
-    ``runs``, ``seed`` and ``max_generations`` override the task's ``[search]`` table.
+    The fitness is evaluated over the fold range the printed arm reaches (the
+    task's ``[fabrication]`` b, h, t of eq. 6 or ``fold_limit``); best.toml's
+    comments give that range and the ``fabricate`` command that builds the winner
+    with its fabrication parameters. ``runs``, ``seed`` and ``max_generations``
+    override the task's ``[search]`` table.
     """
     import dataclasses
 
@@ -345,15 +372,18 @@ def run_design_arm(
         ("search time", f"{seconds:.1f} s"),
         ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
         ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
-        ("|T_e(pi) - P_end|", f"{t.d_end:.3g} mm"),
+        ("fold range the printed arm reaches", f"p = 0 .. {best.fold_ratio_end:.4f}"),
+        ("|T_e(p_e) - P_end| at its end", f"{t.d_end:.3g} mm"),
+        ("crease limit (eq. 6)", f"{t.crease_limit:.1f} deg at b = {best.bias:.3g} mm"),
         ("improper states N", str(t.improper_states)),
         ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
     ]
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
-        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(pi) - P_end| = "
-        f"{t.d_end:.3g} mm, N = {t.improper_states} ({seconds:.1f} s)"
+        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(p_e) - P_end| = "
+        f"{t.d_end:.3g} mm at p_e = {best.fold_ratio_end:.4f} (the fold limit), "
+        f"N = {t.improper_states} ({seconds:.1f} s)"
     )
     captions = ["Top designs: chains and the path of T_e"]
     captions += ["Best fitness per generation, one line per run", "The winner's crease pattern"]

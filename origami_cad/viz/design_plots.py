@@ -80,8 +80,8 @@ def plot_trajectories(
             lw=1.5,
             label=f"#{rank + 1} (run {r.run}) f = {r.fitness:.2f}: T_e path",
         )
-        chains = chain_points(
-            np.asarray(ratios) * math.pi,
+        chains = chain_points(  # over the fold range the design reaches
+            np.asarray(ratios) * math.pi * getattr(r, "fold_ratio_end", 1.0),
             r.lengths,
             np.radians(r.shape_angles),
             r.entry_flag,
