@@ -101,8 +101,11 @@ STEPS: list[Step] = [
     Step("fig3", "Fig. 3 - computational design of an origami robotic arm",
          "T_s = (0, 0); the tip must pass P_start = (250, 0) when flat and P_end = (50, 133.3) "
          "when folded, never touch the prohibited area (x >= 150, y >= 40) and stay out of "
-         "the warning area (x >= 140, y >= 30). Fitness: eq. 5 with alpha = 120; the winner "
-         "must also be buildable at a 36 mm unit width.",
+         "the warning area (x >= 140, y >= 30). Fitness: eq. 5 with alpha = 120, evaluated "
+         "over the fold range the printed arm reaches: b = 3, h = 2.2, t = 0.4 mm stop every "
+         "crease at 146.6 deg (eq. 6), and the legs, folding faster than the main crease, get "
+         "there first; T_e must meet P_end at that range's end. The winner must also be "
+         "buildable at a 36 mm unit width.",
          fig3),
     Step("fig4", "Fig. 4 - dual-material printable structures",
          "Each panel is two exact B-rep halves (PLA infill wrapped in a TPU shell) with "
