@@ -37,19 +37,17 @@ def _finite(text: str) -> float:
 
 def _ids(text: str) -> list[int]:
     """argparse type: comma-separated servo IDs."""
-    try:
-        return [int(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated IDs, got {text!r}") from None
+    if not all(v.strip().isdigit() for v in text.split(",")):
+        raise argparse.ArgumentTypeError(f"expected comma-separated IDs, got {text!r}")
+    return [int(v) for v in text.split(",")]
 
 
 def _blocker(text: str) -> tuple[int, float]:
     """argparse type: EDGE:DEGREES (60 degrees when only the edge is given)."""
     edge, _, angle = text.partition(":")
-    try:
-        return int(edge), _finite(angle or "60")
-    except (ValueError, argparse.ArgumentTypeError):
-        raise argparse.ArgumentTypeError(f"expected EDGE:DEGREES, got {text!r}") from None
+    if not edge.strip().isdigit():
+        raise argparse.ArgumentTypeError(f"expected EDGE:DEGREES, got {text!r}")
+    return int(edge), _finite(angle or "60")
 
 
 def _bar(kind: str):
@@ -69,9 +67,7 @@ def _drive_table():
     live = Live(refresh_per_second=8, transient=True)
 
     def update(t: float, targets, state) -> None:
-        tab = Table(title=f"t = {t:6.2f} s")
-        for col in ("servo", "target turns", "measured turns", "current mA"):
-            tab.add_column(col, justify="right")
+        tab = Table("servo", "target turns", "measured turns", "current mA", title=f"t = {t:.2f} s")
         for i, target in targets.items():
             tab.add_row(str(i), f"{target:.3f}", f"{state[i][0]:.3f}", f"{state[i][1]:.0f}")
         live.update(tab)
@@ -110,7 +106,7 @@ def _call(args: argparse.Namespace) -> jobs.Outputs:
         return job(**kwargs)
 
 
-def _demo(folder: str, quick: bool = False) -> jobs.Outputs:
+def _demo(folder: str = "out", quick: bool = False) -> jobs.Outputs:
     """Reproduce the paper's figures end to end into one HTML report (FOLDER/index.html)."""
     from origami_cad.demo import run_demo
 
@@ -118,29 +114,29 @@ def _demo(folder: str, quick: bool = False) -> jobs.Outputs:
 
 
 _FOLDER = "output folder; only this command's files are written into it, all else is kept"
-_PROTOCOL = {"choices": ("dynamixel", "serial"), "default": "dynamixel"}
+_PROTOCOL = {"choices": ("dynamixel", "serial")}
 _FLAG = {"action": "store_true"}
 
 # (commands, option, argparse keywords): every option of every command
 _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("convert pattern", "--labels", {**_FLAG, "help": "panel labels on a .png"}),
-    ("check", "--angle-tolerance", {"type": _finite, "default": 1e-6, "help": "Kawasaki, rad"}),
+    ("check", "--angle-tolerance", {"type": _finite, "help": "Kawasaki's theorem, rad"}),
     ("check", "--verbose", {**_FLAG, "help": "also list what was normalised"}),
-    ("fold", "--ratio", {"type": _finite, "default": 0.5, "help": "fold ratio p in [0, 1]"}),
-    ("fold", "--frames", {"type": int, "default": 1, "help": "states from p = 0 to --ratio"}),
+    ("fold", "--ratio", {"type": _finite, "help": "fold ratio p in [0, 1]"}),
+    ("fold", "--frames", {"type": int, "help": "states from p = 0 to --ratio"}),
     ("design-arm", "--runs", {"type": int, "help": "override the task's [search] runs"}),
     ("design-arm", "--seed", {"type": int, "help": "override the task's [search] seed"}),
     ("design-arm", "--max-generations", {"type": int, "help": "override [search] value"}),
-    ("fabricate", "--bias", {"type": _finite, "help": "inner bias b, mm (default 3)"}),
+    ("fabricate", "--bias", {"type": _finite, "help": "inner bias b, mm"}),
     ("fabricate", "--theta-max", {"type": _finite, "help": "theta_max, deg (gives b, eq. 6)"}),
     ("fabricate", "--p-max", {"type": _finite, "help": "p_max in [0, 1] (gives b, eq. 6)"}),
-    ("fabricate", "--height", {"type": _finite, "help": "panel height h, mm (default 2.2)"}),
-    ("fabricate", "--thickness", {"type": _finite, "help": "crease layer t, mm (default 0.4)"}),
-    ("fabricate", "--shell", {"type": _finite, "help": "shell wall s, mm (default 0.8)"}),
-    ("fabricate", "--midlayer-bias", {"type": _finite, "help": "mid-layer inset m, mm (0.5)"}),
-    ("fabricate", "--border-margin", {"type": _finite, "help": "border inset, mm (default 0)"}),
-    ("fabricate", "--hole-diameter", {"type": _finite, "help": "hole diameter, mm (default 2)"}),
-    ("fabricate", "--holes", {"choices": ("auto", "pattern", "none"), "default": "auto"}),
+    ("fabricate", "--height", {"type": _finite, "help": "panel height h, mm"}),
+    ("fabricate", "--thickness", {"type": _finite, "help": "crease layer t, mm"}),
+    ("fabricate", "--shell", {"type": _finite, "help": "shell wall s, mm"}),
+    ("fabricate", "--midlayer-bias", {"type": _finite, "help": "mid-layer inset m, mm"}),
+    ("fabricate", "--border-margin", {"type": _finite, "help": "border inset, mm"}),
+    ("fabricate", "--hole-diameter", {"type": _finite, "help": "hole diameter, mm"}),
+    ("fabricate", "--holes", {"choices": ("auto", "pattern", "none"), "help": "where holes go"}),
     ("fabricate", "--hole", {"nargs": 2, "type": _finite, "action": "append",
                              "metavar": ("X", "Y"), "help": "a hole at X Y, mm; repeat"}),
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
@@ -150,16 +146,16 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
                                "help": "stop crease EDGE at DEG degrees (repeat)"}),
     ("simulate", "--gravity", {"type": _finite, "help": "gravity along -z, mm/s^2"}),
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
-    ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction (default 0.5)"}),
+    ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
     ("simulate", "--free", {**_FLAG, "help": "hold no panel (needs --gravity, --ground)"}),
     ("emulate drive", "--protocol", _PROTOCOL),
-    ("emulate", "--ids", {"type": _ids, "default": [1], "help": "servo IDs, e.g. 1,2,3,4"}),
-    ("emulate", "--seconds", {"type": _finite, "default": 0.0, "help": "0: until Ctrl-C"}),
+    ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
+    ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),
-    ("drive", "--baudrate", {"type": int, "default": 57600}),
+    ("drive", "--baudrate", {"type": int, "help": "bits per second"}),
     ("drive", "--dry-run", {**_FLAG, "help": "start the emulator and drive it"}),
-    ("drive", "--speed", {"type": _finite, "default": 8.0, "help": "dry-run time acceleration"}),
-    ("drive", "--log", {"default": "drive_log.csv", "help": "CSV log, written as it runs"}),
+    ("drive", "--speed", {"type": _finite, "help": "dry-run time acceleration"}),
+    ("drive", "--log", {"help": "CSV log, written as it runs"}),
     ("drive", "--plot", {"help": "also a PNG of commanded and measured turns"}),
     ("part", "name", {"nargs": "?", "help": "part name"}),
     ("part", "--output", {"dest": "folder", "help": _FOLDER}),
@@ -167,7 +163,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("part", "--pattern", {"help": "design or pattern file the part is made for"}),
     ("part", "--panel", {"help": "panel label (tsa-module)"}),
     ("part", "--crease", {"type": int, "help": "crease edge index (blocker)"}),
-    ("demo", "--output", {"dest": "folder", "default": "out", "help": _FOLDER}),
+    ("demo", "--output", {"dest": "folder", "help": _FOLDER}),
     ("demo", "--quick", {**_FLAG, "help": "reduced budget (for tests)"}),
 ]  # fmt: skip
 _SHORT = {"--output": "-o", "--verbose": "-v"}
@@ -192,6 +188,16 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
 }
 
 
+class _Help(argparse.HelpFormatter):
+    """Help whose defaults are read from the jobs and their parameter classes, not repeated."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        command = getattr(action, "command", None)
+        default = jobs.parameter_default(_COMMANDS[command][0], action.dest) if command else None
+        hidden = default is None or default is False or default is inspect.Parameter.empty
+        return action.help or "" if hidden else f"{action.help or ''} (default {default})"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``origami-cad`` (one subcommand per job)."""
     parser = argparse.ArgumentParser(
@@ -203,7 +209,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (job, positional, output) in _COMMANDS.items():
         doc = inspect.cleandoc(job.__doc__ or "").split("\n\n")
-        p = sub.add_parser(name, help=doc[0].splitlines()[0], description="\n\n".join(doc[:2]))
+        text = {"help": doc[0].splitlines()[0], "description": "\n\n".join(doc[:2])}
+        p = sub.add_parser(name, formatter_class=_Help, **text)
         for arg in positional:
             p.add_argument(arg)
         if output:
@@ -215,6 +222,7 @@ def build_parser() -> argparse.ArgumentParser:
         for name in commands.split():
             flags = [_SHORT[option], option] if option in _SHORT else [option]
             action = sub.choices[name].add_argument(*flags, **kwargs)
+            action.command = name
             sub.choices[name].get_default("option_names").append(action.dest)
     sub.choices["part"].set_defaults(params=[])  # its own --name value pairs, from main()
     return parser
@@ -255,11 +263,9 @@ def _run(args: argparse.Namespace) -> int:
     except BrokenPipeError:  # output piped into a program that stopped reading (| head)
         sys.stderr.close()
         return 0
-    except RecursionError:
-        _error("the input is nested too deeply to read")
-        return 2
-    except MemoryError:
-        _error("out of memory: the input asks for more than this machine has")
+    except (RecursionError, MemoryError) as exc:  # hostile input: too deep or too large
+        deep = isinstance(exc, RecursionError)
+        _error("the input is nested too deeply to read" if deep else "out of memory for this input")
         return 2
     except OSError as exc:  # the file system said no: missing file, full disk, bad name...
         _error(f"{exc.filename}: {exc.strerror}" if exc.filename else str(exc.strerror or exc))

@@ -35,6 +35,7 @@ from origami_cad.errors import DesignError
 __all__ = [
     "Outputs",
     "fabrication_params",
+    "parameter_default",
     "run_check",
     "run_convert",
     "run_design_arm",
@@ -94,8 +95,51 @@ class Outputs:
         return self
 
 
+# the parameter classes whose fields a job also takes as keywords
+_KEYWORD_PARAMS = {
+    "run_fabricate": ("origami_cad.fabrication.params", "FabricationParams"),
+    "run_simulate": ("origami_cad.simulation.model", "SimulationParams"),
+}
+
+
+def parameter_default(job: Callable, name: str) -> Any:
+    """The default of a job's parameter ``name``, from its signature or its parameter class.
+
+    ``None`` when the parameter has no default (or is not the job's).
+
+    >>> parameter_default(run_fold, "ratio"), parameter_default(run_fabricate, "height")
+    (0.5, 2.2)
+    """
+    import dataclasses
+    import importlib
+    import inspect
+
+    param = inspect.signature(job).parameters.get(name)
+    if param is not None and param.default not in (None, param.empty):
+        return param.default
+    if job.__name__ not in _KEYWORD_PARAMS:
+        return None
+    module, cls = _KEYWORD_PARAMS[job.__name__]
+    fields = dataclasses.fields(getattr(importlib.import_module(module), cls))
+    found = {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
+    return found.get(name)
+
+
+def _is_stream(path: PathLike) -> bool:
+    """A device or pipe (``/dev/stdout``, a FIFO): written into, whatever its name."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
+
+
 def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
-    if Path(path).suffix.lower() not in allowed:
+    if len(allowed) == 1 and _is_stream(path):
+        return  # one possible format: a device or pipe needs no extension
+    if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
         raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
 
 
@@ -727,7 +771,7 @@ def run_simulate(
 
 
 def run_emulate(
-    ids: Sequence[int],
+    ids: Sequence[int] = (1,),
     *,
     protocol: str = "dynamixel",
     seconds: float = 0.0,
@@ -780,7 +824,7 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, speed:
 
 def run_drive(
     sequence: PathLike,
-    log: PathLike,
+    log: PathLike = "drive_log.csv",
     *,
     port: str | None = None,
     dry_run: bool = False,

@@ -1,0 +1,46 @@
+"""Values and outputs the CLI refuses before it writes anything (issue 19, items 9 and 12)."""
+
+from __future__ import annotations
+
+import pytest
+
+from origami_cad.cli import main
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["emulate", "--ids", "1,1", "--seconds", "0.1"], "distinct"),
+        (["emulate", "--ids", "1,x"], "comma-separated IDs"),
+        (["emulate", "--ids", "300"], "0..252"),
+        (["tg", "{fig2}", "-o", "{tmp}/x.txt"], "written as .png"),
+        (["pattern", "{fig2}", "-o", "{tmp}/a.fold", "-o", "{tmp}/b.xyz"], "b.xyz"),
+        (["pattern", "{fig2}", "-o", "{tmp}/a.fold", "-o", "{tmp}/a.fold"], "given twice"),
+        (["fold", "{fig2}", "--frames", "1000000000", "-o", "{tmp}/f.fold"], "1..10000"),
+        (["fold", "{fig2}", "--ratio", "nan", "-o", "{tmp}/f.fold"], "finite number"),
+        (["check", "{fig2}", "--angle-tolerance", "inf"], "finite number"),
+        (["design-arm", "{task}", "-o", "{tmp}/arm", "--seed", "-3"], "seed must be >= 0"),
+        (["design-arm", "{task}", "-o", "{tmp}/arm", "--runs", "0"], "runs must be >= 1"),
+        (["drive", "{seq}", "--dry-run", "--speed", "0", "--log", "{tmp}/l.csv"], "speed"),
+        (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--gravity", "nan"], "finite"),
+        (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--blocker", "9999:60"], "9999"),
+        (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--blocker", "x:60"], "EDGE:DEG"),
+        (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--steps", "0"], "steps"),
+        (["fabricate", "{miura}", "-o", "{tmp}/f", "--bias", "2", "--p-max", "0.5"], "only one"),
+    ],
+)
+def test_bad_values_exit_2_and_write_nothing(tmp_path, capsys, examples, argv, message):
+    names = {
+        "fig2": examples / "fig2_tg.toml",
+        "miura": examples / "miura_6x4.toml",
+        "route": examples / "miura_route.toml",
+        "task": examples / "arm_task.toml",
+        "seq": examples / "crawler_gait.toml",
+        "tmp": tmp_path,
+    }
+    code = main([a.format(**names) for a in argv])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert message in err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
