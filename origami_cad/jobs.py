@@ -29,13 +29,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad._fileio import atomic_directory, atomic_write, check_outputs
+from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
 from origami_cad.errors import DesignError
 
 __all__ = [
     "Outputs",
     "fabrication_params",
     "parameter_default",
+    "run_arm_scene",
     "run_check",
     "run_convert",
     "run_design_arm",
@@ -46,6 +47,7 @@ __all__ = [
     "run_part",
     "run_pattern",
     "run_route",
+    "run_sequence",
     "run_simulate",
     "run_tg",
 ]
@@ -346,6 +348,38 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     )
 
 
+def _arm_route_text(design, task) -> str:
+    """The winner's string route: one onboard TSA on its base panel (route.toml)."""
+    from origami_cad.design.arm_route import arm_route_toml
+    from origami_cad.fabrication import bias_for_theta_max
+
+    bias = design.bias
+    if task.fold_limit is not None:
+        limit = math.radians(task.fold_limit)
+        bias = (
+            None
+            if task.fold_limit >= 180
+            else bias_for_theta_max(limit, task.height, task.thickness)
+        )
+    header = (
+        "# The string route of best.toml (origami-cad design-arm): one onboard TSA on the\n"
+        "# base panel twists two strings that run along the arm, parallel to the transition\n"
+        "# vectors, through every panel of one row each; sides by the DCQC rule.\n"
+        "#   origami-cad route best.toml route.toml -o route        (DCQC)\n"
+        "#   origami-cad simulate best.toml route.toml -o sim       (bar-and-hinge)\n"
+        "#   origami-cad arm-scene TASK best.toml route.toml -o fig8 (tip against P_end)\n"
+        f"#   origami-cad sequence best.toml route.toml -o arm_fold.toml --keyframes 0:0 "
+        f"20:{design.fold_ratio_end:.3f} 30:{design.fold_ratio_end:.3f} 40:0\n"
+    )
+    return arm_route_toml(
+        design.tg(task, task.unit_width or 36.0),
+        bias=bias,
+        height=task.height,
+        thickness=task.thickness,
+        header=header,
+    )
+
+
 def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> list[Path]:
     from origami_cad import __version__
     from origami_cad.design import task_to_dict
@@ -365,6 +399,9 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> li
         json.dump(data, fh, indent=1)
     with atomic_write(files[1], "w", encoding="utf-8") as fh:
         fh.write(_best_design_toml(results[0], task))
+    files.append(stage / "route.toml")
+    with atomic_write(files[-1], "w", encoding="utf-8") as fh:
+        fh.write(_arm_route_text(results[0], task))
     save_trajectories_png(results, task, files[2])
     save_convergence_png(results, files[3])
     save_pattern_png(load_design(files[1]).pattern, files[4], labels=True)
@@ -433,7 +470,7 @@ def run_design_arm(
     captions += ["Best fitness per generation, one line per run", "The winner's crease pattern"]
     return Outputs(
         files=files,
-        images=list(zip(files[2:], captions, strict=True)),
+        images=list(zip(files[2:5], captions, strict=True)),
         numbers=numbers,
         messages=[summary, *(f"wrote {p}" for p in files)],
         result=results,
@@ -761,6 +798,238 @@ def run_simulate(
             f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
             f"{result.reason}",
             f"string tensions {tensions} N, TSA torque {last['tsa_torque_Nmm']:.3g} N mm",
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+    )
+
+
+# --------------------------------------------------------------------------- sequences
+
+SEQUENCE_MODELS = ("dcqc", "simulation")
+
+
+def _string_model(loaded, spec, model: str, steps: int | None = None):
+    """Fold ``loaded`` by the route ``spec``: a DCQCResult or a bar-and-hinge SimulationResult."""
+    from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.strings import simulate_dcqc
+
+    fab = spec.fabrication
+    params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
+    if model == "dcqc":
+        return simulate_dcqc(loaded, spec, crease_stiffness=params.crease_stiffness)
+    return simulate(loaded.pattern, spec, params, design=loaded, steps=steps)
+
+
+def run_sequence(
+    design: PathLike,
+    route: PathLike,
+    output: PathLike,
+    *,
+    keyframes: Sequence[str],
+    more_routes: Sequence[PathLike] | None = None,
+    model: str = "dcqc",
+    ids: Sequence[int] | None = None,
+    rate: float = 10.0,
+    repeat: int = 1,
+    points: int = 21,
+) -> Outputs:
+    """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
+
+    Each route (``route``, then ``more_routes``: one onboard TSA each, servo IDs
+    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model =
+    "dcqc"``) or the bar-and-hinge simulation (``"simulation"``); the fold ratio
+    it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
+    contraction of the onboard TSA model, every keyframe's fold ratio included),
+    so ``drive`` commands the turns the model needed. ``keyframes`` are
+    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route).
+    """
+    import numpy as np
+
+    from origami_cad.drive.from_model import (
+        fold_curve,
+        model_mapping,
+        parse_keyframes,
+        sequence_toml,
+        turns_at,
+    )
+    from origami_cad.drive.sequence import load_sequence
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route
+
+    routes = [route, *(more_routes or [])]
+    check_outputs([design, *routes], files=[output])
+    _check_suffix(output, (".toml",), "a sequence")
+    if model not in SEQUENCE_MODELS:
+        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+    if not 2 <= points <= 1000:
+        raise DesignError(f"points must lie in 2..1000, got {points}")
+    ids = list(ids) if ids else list(range(1, len(routes) + 1))
+    if len(ids) != len(routes):
+        raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
+    frames = parse_keyframes(keyframes, len(routes))
+    loaded = load_pattern_source(design)
+    tsas, numbers, results = [], [], []
+    for k, path in enumerate(routes):
+        spec = load_route(path, loaded.pattern)
+        result = _string_model(loaded, spec, model)
+        results.append(result)
+        where = f"{path} ({model})"
+        at = [values[k] for _, values in frames]
+        mapping = model_mapping(result.p, result.turns, spec.tsa, at, points, where)
+        p, turns = fold_curve(result.p, result.turns)
+        torque = np.asarray(result.torque, dtype=float)
+        peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+        tsas.append(
+            {
+                "id": ids[k],
+                "name": Path(path).stem,
+                "tsa": spec.tsa,
+                "mapping": mapping,
+                "comment": (
+                    f"servo {ids[k]}: {Path(path).name}, {model} model: p = {p[0]:.3f} .. "
+                    f"{p[-1]:.3f} in {turns[-1]:.2f} turns ({result.reason})"
+                ),
+            }
+        )
+        need = ", ".join(f"{v:.2f}" for v in turns_at(p, turns, at))
+        numbers += [
+            (f"servo {ids[k]}: fold range of its strings", f"p = {p[0]:.3f} .. {p[-1]:.3f}"),
+            (f"servo {ids[k]}: turns at the keyframes", need),
+            (f"servo {ids[k]}: largest TSA torque", f"{peak:.3g} N mm"),
+        ]
+    argv = " ".join(
+        [
+            "origami-cad sequence",
+            str(design),
+            str(route),
+            "-o",
+            str(output),
+            *(f"--more-routes {r}" for r in routes[1:]),
+            f"--model {model}",
+            "--ids " + ",".join(map(str, ids)),
+            "--keyframes",
+            *map(str, keyframes),
+        ]
+    )
+    header = (
+        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
+        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
+        "# commands the turns the model needed. Regenerate with:\n"
+        f"#   {argv}\n"
+    )
+    text = sequence_toml(tsas, frames, rate=rate, repeat=repeat, header=header)
+    with atomic_path(output) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+        load_sequence(tmp)  # drive reads it: every keyframe reachable within the TSA's twist
+    return Outputs(
+        files=[Path(output)],
+        numbers=numbers,
+        messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {output}"],
+        result=results,
+    )
+
+
+def run_arm_scene(
+    task: PathLike,
+    design: PathLike,
+    route: PathLike,
+    folder: PathLike,
+    *,
+    steps: int | None = None,
+) -> Outputs:
+    """The printed arm folded by its strings in its scene (Fig. 8): fig8.png, arm_scene.json.
+
+    The bar-and-hinge simulation (the route's panel thickness and eq. 6 fold
+    limits) folds ``design`` by ``route``; each state is placed by its base panels
+    and its main crease read as the TG chain, so its tip path is compared with the
+    designed one, ``P_start``, ``P_end`` and the task's areas. ``steps`` turns the
+    TSA in that many equal steps (default: steps of string taken up).
+    """
+    import numpy as np
+
+    from origami_cad.design import load_task, reachable_fold_angle
+    from origami_cad.design.arm_route import arm_chain_path
+    from origami_cad.design.fitness import area_edges
+    from origami_cad.design.predicates import touches_area
+    from origami_cad.kinematics.chain import chain_points
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route
+    from origami_cad.viz.design_plots import save_arm_scene_png
+
+    check_outputs([task, design, route], folders=[folder])
+    arm_task, _ = load_task(task)
+    loaded = load_pattern_source(design)
+    if loaded.tg is None:
+        raise DesignError(f"{design}: an arm is a transition-graph design")
+    spec = load_route(route, loaded.pattern)
+    result = _string_model(loaded, spec, "simulation", steps)
+    ratios = np.asarray(result.p, dtype=float)
+    simulated = arm_chain_path(loaded.tg, result.states, ratios)
+    tg = loaded.tg
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    bias = spec.fabrication.bias if spec.fabrication is not None else arm_task.bias
+    limit = arm_task.crease_limit(bias if arm_task.fold_limit is None else None)
+    p_e = float(reachable_fold_angle(beta, limit)[0] / math.pi)
+    designed = chain_points(
+        np.linspace(0.0, p_e * math.pi, arm_task.samples),
+        tg.lengths,
+        beta,
+        tg.entry_flag,
+        tg.hypar_base,
+        tg.start,
+    )[0]
+    tips = simulated[:, -1]
+    d_end = np.linalg.norm(tips - arm_task.points[-1], axis=1)
+    d_start = float(np.linalg.norm(tips[0] - arm_task.points[0]))
+    z = simulated[..., 0] + 1j * simulated[..., 1]
+    hits = np.zeros(len(z), dtype=bool)
+    for edges in area_edges(arm_task.prohibited):
+        hits |= touches_area(z, edges)
+    torque = np.asarray(result.torque, dtype=float)
+    peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+    turns = float(result.turns[-1])
+    summary = {
+        "designed_fold_ratio_end": p_e,
+        "simulated_fold_ratio_end": float(np.nanmax(ratios)) if np.isfinite(ratios).any() else None,
+        "final_tip_mm": tips[-1].tolist(),
+        "final_distance_from_P_end_mm": float(d_end[-1]),
+        "closest_distance_from_P_end_mm": float(d_end.min()),
+        "start_distance_from_P_start_mm": d_start,
+        "states_touching_prohibited_area": int(hits.sum()),
+        "tsa_turns": turns,
+        "max_tsa_torque_Nmm": peak,
+        "stop": str(result.stop),
+        "reason": result.reason,
+        "simulated_tip_mm": tips.tolist(),
+        "designed_tip_mm": designed[:, -1].tolist(),
+    }
+    names = ("fig8.png", "arm_scene.json")
+    with atomic_directory(folder, inputs=_sources(task, design, route, loaded)) as stage:
+        title = (
+            f"tip {d_end[-1]:.1f} mm from P_end after {turns:.1f} TSA turns, "
+            f"peak torque {peak:.3g} N mm"
+        )
+        save_arm_scene_png(arm_task, designed, simulated, stage / names[0], title)
+        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+            json.dump(summary, fh, indent=1)
+    files = [Path(folder) / n for n in names]
+    return Outputs(
+        files=files,
+        images=[(files[0], "Designed tip path and the printed arm's, folded by its strings")],
+        numbers=[
+            ("designed fold range", f"p = 0 .. {p_e:.3f}"),
+            ("simulated tip: distance from P_end at the end", f"{d_end[-1]:.2f} mm"),
+            ("simulated tip: distance from P_start when flat", f"{d_start:.2f} mm"),
+            ("states touching the prohibited area", str(int(hits.sum()))),
+            ("TSA turns to fold it", f"{turns:.1f}"),
+            ("largest TSA torque", f"{peak:.3g} N mm"),
+            ("why the folding stops", result.reason),
+        ],
+        messages=[
+            f"the printed arm's tip ends {d_end[-1]:.2f} mm from P_end after {turns:.1f} TSA "
+            f"turns (peak torque {peak:.3g} N mm); {result.reason}",
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,
