@@ -842,7 +842,9 @@ def run_sequence(
     it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
     contraction of the onboard TSA model, every keyframe's fold ratio included),
     so ``drive`` commands the turns the model needed. ``keyframes`` are
-    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route).
+    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
+    without a one-parameter folding is measured by its most folded crease
+    (``max |fold angle| / 180``).
     """
     import numpy as np
 
@@ -851,6 +853,7 @@ def run_sequence(
         model_mapping,
         parse_keyframes,
         sequence_toml,
+        state_fold_ratios,
         turns_at,
     )
     from origami_cad.drive.sequence import load_sequence
@@ -876,8 +879,10 @@ def run_sequence(
         results.append(result)
         where = f"{path} ({model})"
         at = [values[k] for _, values in frames]
-        mapping = model_mapping(result.p, result.turns, spec.tsa, at, points, where)
-        p, turns = fold_curve(result.p, result.turns)
+        creases = np.flatnonzero(loaded.pattern.edge_mask("M", "V"))
+        ratios = state_fold_ratios(result.p, result.fold_angles, creases)
+        mapping = model_mapping(ratios, result.turns, spec.tsa, at, points, where)
+        p, turns = fold_curve(ratios, result.turns)
         torque = np.asarray(result.torque, dtype=float)
         peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
         tsas.append(

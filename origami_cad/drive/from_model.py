@@ -33,7 +33,14 @@ from origami_cad.strings.tsa import TSAParams, onboard_contraction
 #: A keyframe's fold ratio may pass the model's range by this much (then it is its end).
 AT_TOLERANCE = 1e-3
 
-__all__ = ["fold_curve", "model_mapping", "parse_keyframes", "sequence_toml", "turns_at"]
+__all__ = [
+    "fold_curve",
+    "model_mapping",
+    "parse_keyframes",
+    "sequence_toml",
+    "state_fold_ratios",
+    "turns_at",
+]
 
 
 def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple[float, ...]]]:
@@ -90,6 +97,30 @@ def fold_curve(p: np.ndarray, turns: np.ndarray) -> tuple[np.ndarray, np.ndarray
     best = np.maximum.accumulate(p)
     keep = np.r_[True, best[1:] > best[:-1] + 1e-9]
     return p[keep], turns[keep]
+
+
+def state_fold_ratios(p: np.ndarray, fold_angles: np.ndarray, creases: np.ndarray) -> np.ndarray:
+    """Each state's fold ratio: the model's ``p``, else the most folded crease's angle / 180.
+
+    A pattern without a one-parameter rigid folding (a robot whose legs hinge on
+    single creases) has no fold ratio in a bar-and-hinge simulation (``p`` NaN);
+    its states are then measured by ``max |fold angle| / 180 deg`` over ``creases``
+    (the creases its strings drive, or all of them).
+
+    Parameters
+    ----------
+    p : ndarray, shape (S,)
+        Fold ratio of each state, NaN where unknown.
+    fold_angles : ndarray, shape (S, m)
+        Fold angle of every edge in each state, degrees.
+    creases : ndarray of int
+        Edges whose angles measure the folding.
+    """
+    p = np.asarray(p, dtype=float)
+    if np.isfinite(p).any():
+        return p
+    angles = np.abs(np.asarray(fold_angles, dtype=float)[:, np.asarray(creases, dtype=int)])
+    return angles.max(axis=1) / 180.0
 
 
 def turns_at(p: np.ndarray, turns: np.ndarray, at: Any) -> np.ndarray:
