@@ -939,7 +939,7 @@ def run_sequence(
         tsas.append(
             {
                 "id": ids[k],
-                "name": Path(path).stem,
+                "name": Path(path).stem.removesuffix("_route").removeprefix("route_"),
                 "tsa": spec.tsa,
                 "mapping": mapping,
                 "comment": (
