@@ -156,6 +156,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("sequence", "--rate", {"type": _finite, "help": "command rate, Hz"}),
     ("sequence", "--repeat", {"type": int, "help": "cycles"}),
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
+    ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
     ("emulate drive", "--protocol", _PROTOCOL),
     ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),

@@ -348,7 +348,33 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     )
 
 
-def _arm_route_text(design, task) -> str:
+#: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
+ARM_TSA_LENGTHS = (150.0, 225.0, 340.0, 500.0, 750.0)
+
+
+def _write_arm_route(design, task, path: Path):
+    """Write the winner's route.toml; the shortest TSA whose strings fold the whole range.
+
+    Returns the DCQC result of the route written (the strings fold the arm until the
+    printed sheet's fold limit, or the longest TSA tried stops first).
+    """
+    from origami_cad.pattern.design import Design
+    from origami_cad.pattern.tg import tg_pattern
+    from origami_cad.strings import load_route, simulate_dcqc
+
+    tg = design.tg(task, task.unit_width or 36.0)
+    loaded = Design(tg_pattern(tg), tg, "transition-graph")
+    result = None
+    for length in ARM_TSA_LENGTHS:
+        with atomic_write(path, "w", encoding="utf-8") as fh:
+            fh.write(_arm_route_text(design, task, length))
+        result = simulate_dcqc(loaded, load_route(path, loaded.pattern))
+        if str(result.stop) not in ("helix_limit", "turn_limit"):
+            break
+    return result
+
+
+def _arm_route_text(design, task, tsa_length: float = 150.0) -> str:
     """The winner's string route: one onboard TSA on its base panel (route.toml)."""
     from origami_cad.design.arm_route import arm_route_toml
     from origami_cad.fabrication import bias_for_theta_max
@@ -376,11 +402,13 @@ def _arm_route_text(design, task) -> str:
         bias=bias,
         height=task.height,
         thickness=task.thickness,
+        tsa_length=tsa_length,
         header=header,
     )
 
 
-def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> list[Path]:
+def _write_arm_files(results, task, settings, seconds: float, stage: Path):
+    """results.json, best.toml, the plots and route.toml; returns (files, the route's DCQC)."""
     from origami_cad import __version__
     from origami_cad.design import task_to_dict
     from origami_cad.pattern.design import load_design
@@ -400,12 +428,11 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> li
     with atomic_write(files[1], "w", encoding="utf-8") as fh:
         fh.write(_best_design_toml(results[0], task))
     files.append(stage / "route.toml")
-    with atomic_write(files[-1], "w", encoding="utf-8") as fh:
-        fh.write(_arm_route_text(results[0], task))
+    strings = _write_arm_route(results[0], task, files[-1])
     save_trajectories_png(results, task, files[2])
     save_convergence_png(results, files[3])
     save_pattern_png(load_design(files[1]).pattern, files[4], labels=True)
-    return files
+    return files, strings
 
 
 def run_design_arm(
@@ -445,7 +472,8 @@ def run_design_arm(
             "the obstacles or the length range"
         )
     with atomic_directory(folder, inputs=[task]) as stage:
-        files = _moved(_write_arm_files(results, arm_task, settings, seconds, stage), stage, folder)
+        staged, strings = _write_arm_files(results, arm_task, settings, seconds, stage)
+        files = _moved(staged, stage, folder)
     best = results[0]
     t = best.terms
     numbers = [
@@ -459,6 +487,10 @@ def run_design_arm(
         ("improper states N", str(t.improper_states)),
         ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
+        (
+            "route.toml: its strings fold the arm (DCQC)",
+            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})",
+        ),
     ]
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
@@ -860,11 +892,17 @@ def run_simulate(
 SEQUENCE_MODELS = ("dcqc", "simulation")
 
 
-def _string_model(loaded, spec, model: str, steps: int | None = None):
+def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_panel=None):
     """Fold ``loaded`` by the route ``spec``: a DCQCResult or a bar-and-hinge SimulationResult."""
+    import dataclasses
+
     from origami_cad.simulation import SimulationParams, simulate
     from origami_cad.strings import simulate_dcqc
 
+    if fixed_panel is not None:
+        if fixed_panel not in loaded.pattern.face_labels:
+            raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
+        spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
     fab = spec.fabrication
     params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
     if model == "dcqc":
@@ -884,6 +922,7 @@ def run_sequence(
     rate: float = 10.0,
     repeat: int = 1,
     points: int = 21,
+    fixed_panel: str | None = None,
 ) -> Outputs:
     """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
 
@@ -895,7 +934,8 @@ def run_sequence(
     so ``drive`` commands the turns the model needed. ``keyframes`` are
     ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
     without a one-parameter folding is measured by its most folded crease
-    (``max |fold angle| / 180``).
+    (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
+    (e.g. a robot's body while one leg folds), instead of each route's own setting.
     """
     import numpy as np
 
@@ -926,7 +966,7 @@ def run_sequence(
     tsas, numbers, results = [], [], []
     for k, path in enumerate(routes):
         spec = load_route(path, loaded.pattern)
-        result = _string_model(loaded, spec, model)
+        result = _string_model(loaded, spec, model, fixed_panel=fixed_panel)
         results.append(result)
         where = f"{path} ({model})"
         at = [values[k] for _, values in frames]
@@ -963,6 +1003,7 @@ def run_sequence(
             str(output),
             *(f"--more-routes {r}" for r in routes[1:]),
             f"--model {model}",
+            *([f"--fixed-panel {fixed_panel}"] if fixed_panel else []),
             "--ids " + ",".join(map(str, ids)),
             "--keyframes",
             *map(str, keyframes),

@@ -42,7 +42,7 @@ def arm_route_toml(
     tsa_radius: float = 0.6,
     max_helix_angle: float = 75.0,
     mount_height: float = 10.0,
-    max_turns: float = 60.0,
+    max_turns: float | None = None,
     take_up: float = 0.1,
     header: str = "",
 ) -> str:
@@ -61,8 +61,9 @@ def arm_route_toml(
         Largest helix angle of the twisted strands, degrees.
     mount_height : float
         Height of the TSA's string exit above the base panel's top face, mm.
-    max_turns : float
-        TSA turns at most.
+    max_turns : float, optional
+        TSA turns at most (default: the strands' largest twist, where their helix
+        angle reaches ``max_helix_angle``, rounded up).
     take_up : float
         String (mm) the TSA takes up per quasi-static step.
     header : str
@@ -89,6 +90,9 @@ def arm_route_toml(
     y = float(top_y - tg.row_height / 4.0)
     if cp.face_of_point(x, y) != cp.face_index(base):
         x, y = (float(v) for v in corners.mean(axis=0))
+    if max_turns is None:
+        twist = tsa_length * np.sin(np.radians(max_helix_angle)) / tsa_radius
+        max_turns = float(np.ceil(twist / (2 * np.pi)))
     lines = [header.rstrip("\n")] if header else []
     lines += [
         "[tsa]",
