@@ -113,9 +113,7 @@ def test_sequence_reproduces_the_dcqc_curve_and_drives_the_emulator(arm, tmp_pat
     assert seq.turns_at(15.0)[1] > 10
     assert "origami-cad sequence" in seq_path.read_text()
     log = tmp_path / "log.csv"
-    code = main(
-        ["drive", str(seq_path), "--dry-run", "--speed", "40", "--log", str(log)]
-    )
+    code = main(["drive", str(seq_path), "--dry-run", "--speed", "40", "--log", str(log)])
     assert code == 0, capsys.readouterr().err
     rows = list(csv.DictReader(log.open()))
     assert max(float(r["target_turns"]) for r in rows) == pytest.approx(
