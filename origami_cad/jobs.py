@@ -356,8 +356,10 @@ def _write_arm_route(design, task, path: Path):
     """Write the winner's route.toml; the shortest TSA whose strings fold the whole range.
 
     Returns the DCQC result of the route written (the strings fold the arm until the
-    printed sheet's fold limit, or the longest TSA tried stops first).
+    printed sheet's fold limit, or the longest TSA tried stops first), or the error that
+    kept the route from being simulated (e.g. a panel too small for its hole).
     """
+    from origami_cad.errors import OrigamiCadError
     from origami_cad.pattern.design import Design
     from origami_cad.pattern.tg import tg_pattern
     from origami_cad.strings import load_route, simulate_dcqc
@@ -368,7 +370,10 @@ def _write_arm_route(design, task, path: Path):
     for length in ARM_TSA_LENGTHS:
         with atomic_write(path, "w", encoding="utf-8") as fh:
             fh.write(_arm_route_text(design, task, length))
-        result = simulate_dcqc(loaded, load_route(path, loaded.pattern))
+        try:
+            result = simulate_dcqc(loaded, load_route(path, loaded.pattern))
+        except OrigamiCadError as exc:
+            return exc
         if str(result.stop) not in ("helix_limit", "turn_limit"):
             break
     return result
@@ -489,7 +494,9 @@ def run_design_arm(
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
         (
             "route.toml: its strings fold the arm (DCQC)",
-            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})",
+            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})"
+            if not isinstance(strings, Exception)
+            else f"not simulated: {strings}",
         ),
     ]
     summary = (
@@ -504,7 +511,15 @@ def run_design_arm(
         files=files,
         images=list(zip(files[2:5], captions, strict=True)),
         numbers=numbers,
-        messages=[summary, *(f"wrote {p}" for p in files)],
+        messages=[
+            summary,
+            *(
+                [f"warning: route.toml could not be simulated: {strings}"]
+                if isinstance(strings, Exception)
+                else []
+            ),
+            *(f"wrote {p}" for p in files),
+        ],
         result=results,
     )
 
@@ -1041,7 +1056,9 @@ def run_arm_scene(
     The bar-and-hinge simulation (the route's panel thickness and eq. 6 fold
     limits) folds ``design`` by ``route``; each state is placed by its base panels
     and its main crease read as the TG chain, so its tip path is compared with the
-    designed one, ``P_start``, ``P_end`` and the task's areas. ``steps`` turns the
+    designed one (at the same fold ratio), ``P_start``, ``P_end`` and the task's
+    areas. The simulation starts from creases pre-folded by 3 deg (see
+    :func:`~origami_cad.simulation.simulate`), not flat. ``steps`` turns the
     TSA in that many equal steps (default: steps of string taken up).
     """
     import numpy as np
@@ -1079,7 +1096,11 @@ def run_arm_scene(
     )[0]
     tips = simulated[:, -1]
     d_end = np.linalg.norm(tips - arm_task.points[-1], axis=1)
-    d_start = float(np.linalg.norm(tips[0] - arm_task.points[0]))
+    known = np.isfinite(ratios)
+    rigid = chain_points(  # the designed tip at each state's fold ratio
+        ratios[known] * math.pi, tg.lengths, beta, tg.entry_flag, tg.hypar_base, tg.start
+    )[0, :, -1]
+    deviation = float(np.linalg.norm(tips[known] - rigid, axis=1).max()) if known.any() else 0.0
     z = simulated[..., 0] + 1j * simulated[..., 1]
     hits = np.zeros(len(z), dtype=bool)
     for edges in area_edges(arm_task.prohibited):
@@ -1093,7 +1114,8 @@ def run_arm_scene(
         "final_tip_mm": tips[-1].tolist(),
         "final_distance_from_P_end_mm": float(d_end[-1]),
         "closest_distance_from_P_end_mm": float(d_end.min()),
-        "start_distance_from_P_start_mm": d_start,
+        "first_state_fold_ratio": float(ratios[0]),
+        "max_distance_from_designed_tip_mm": deviation,
         "states_touching_prohibited_area": int(hits.sum()),
         "tsa_turns": turns,
         "max_tsa_torque_Nmm": peak,
@@ -1118,7 +1140,7 @@ def run_arm_scene(
         numbers=[
             ("designed fold range", f"p = 0 .. {p_e:.3f}"),
             ("simulated tip: distance from P_end at the end", f"{d_end[-1]:.2f} mm"),
-            ("simulated tip: distance from P_start when flat", f"{d_start:.2f} mm"),
+            ("simulated tip: largest distance from the designed tip", f"{deviation:.2f} mm"),
             ("states touching the prohibited area", str(int(hits.sum()))),
             ("TSA turns to fold it", f"{turns:.1f}"),
             ("largest TSA torque", f"{peak:.3g} N mm"),

@@ -89,7 +89,8 @@ def test_arm_scene_strings_bring_the_printed_tip_to_p_end_outside_the_prohibited
     assert np.linalg.norm(tips[-1] - task.points[-1]) == pytest.approx(
         data["final_distance_from_P_end_mm"]
     )
-    assert data["start_distance_from_P_start_mm"] <= 2.0
+    # state by state, the printed arm follows the designed tip path at its fold ratio
+    assert data["max_distance_from_designed_tip_mm"] <= 10.0
     assert data["states_touching_prohibited_area"] == 0
     area = task.prohibited[0]
     assert not shapely.intersects(shapely.LineString(tips), area)
@@ -101,7 +102,7 @@ def test_arm_scene_strings_bring_the_printed_tip_to_p_end_outside_the_prohibited
 def test_sequence_reproduces_the_dcqc_curve_and_drives_the_emulator(arm, tmp_path, capsys):
     _, _, result = arm
     seq_path = tmp_path / "arm_fold.toml"
-    frames = ["0:0", "5:0.1", "10:0.25", "15:0.334", "20:0"]
+    frames = ["0:0", "5:0.1", "10:0.25", "15:0.428", "20:0"]
     argv = ["sequence", str(DESIGN), str(ROUTE), "-o", str(seq_path), "--keyframes", *frames]
     assert main(argv) == 0
     seq = load_sequence(seq_path)
@@ -117,7 +118,7 @@ def test_sequence_reproduces_the_dcqc_curve_and_drives_the_emulator(arm, tmp_pat
     assert code == 0, capsys.readouterr().err
     rows = list(csv.DictReader(log.open()))
     assert max(float(r["target_turns"]) for r in rows) == pytest.approx(
-        float(turns_at(p, turns, 0.334)), rel=0.01
+        float(turns_at(p, turns, 0.428)), rel=0.01
     )
 
 

@@ -265,6 +265,13 @@ def test_cli_writes_results_and_a_buildable_design_file(tmp_path):
     assert set(first["terms"]) >= {"d_start_mm", "d_end_mm", "improper_states"}
     design = load_design(out / "best.toml")
     assert design.tg is not None and design.pattern.check() == []
+    # the winner's string route: one onboard TSA on the base panel, strings along the rows
+    from origami_cad.strings import load_route
+
+    route = load_route(out / "route.toml", design.pattern)
+    assert route.tsa.model == "onboard" and len(route.strings) == 2
+    assert route.fabrication is not None and route.fabrication.bias == 3.0
+    assert "origami-cad sequence" in (out / "route.toml").read_text()
     assert design.tg.lengths == pytest.approx(first["lengths_mm"], abs=1e-5)
     for name in ("trajectories.png", "convergence.png"):
         image = imread(out / name)

@@ -20,8 +20,8 @@ counts the improper sampled states: two non-adjacent transition vectors
 intersect or touch, or ``T_e`` lies in a warning area. A design whose chain
 touches a prohibited area in any sampled state is infeasible, and so is one
 whose crease pattern cannot be built at ``task.unit_width`` (neighbouring legs
-closer than ``task.min_leg_gap``), and, when the bias is co-designed, one whose
-panels cannot hold it. With ``task.fold_limit = 180`` ``theta_e = pi``: the
+closer than ``task.min_leg_gap``, or a panel whose outer face, inset by the
+chamfers of eq. 6's bias, would be narrower than ``task.min_panel_face``). With ``task.fold_limit = 180`` ``theta_e = pi``: the
 paper's eq. 5 over the whole range.
 
 Examples
@@ -91,7 +91,7 @@ class FitnessTerms:
     crease_limit : float
         Fold limit of every crease at that bias, degrees (eq. 6 or ``fold_limit``).
     panel_violations : int
-        Number of panels too small for the co-designed bias.
+        Number of panels too small for the bias (see :class:`FitnessResult`).
     """
 
     fitness: float
@@ -156,7 +156,8 @@ class FitnessResult:
     crease_limit : ndarray
         Fold limit of every crease of each design, radians.
     panel_violations : ndarray of int
-        Number of panels too small for the co-designed bias (0 without co-design).
+        Number of panels too small for the bias (their outer face, inset by the
+        chamfers, narrower than ``task.min_panel_face``; 0 without a unit width).
     """
 
     fitness: np.ndarray
@@ -290,7 +291,7 @@ def arm_fitness(
         gaps = leg_gaps(lengths, beta, task.unit_width / 2.0)
         legs = (gaps < max(task.min_leg_gap, 1e-9)).sum(axis=1)
     panels = np.zeros(n_designs, dtype=np.int64)
-    if given and task.unit_width > 0:
+    if task.unit_width > 0:
         panels = panel_bias_violations(
             lengths, beta, task.unit_width / 2.0, b, task.min_panel_face
         ).astype(np.int64)

@@ -33,7 +33,7 @@
     # fold_limit = 146.6  # deg: the largest fold angle of every crease, instead of b, h, t
     codesign = false      # true: the bias is searched too, in [bias, max_bias] as panels allow
     max_bias = 6.0        # mm, upper bound of the co-designed bias
-    min_panel_face = 5.0  # mm, narrowest outer face a co-designed bias may leave on a panel
+    min_panel_face = 5.0  # mm, narrowest outer face the chamfers may leave on a panel
 
 Without a ``[fabrication]`` table the paper's b = 3, h = 2.2, t = 0.4 mm apply;
 ``fold_limit = 180`` gives the unlimited fold range of the paper (0 <= p <= 1).
@@ -103,11 +103,12 @@ class ArmTask:
         The largest fold angle of every crease in degrees, instead of eq. 6
         (180: no limit, the paper's range 0 <= p <= 1).
     codesign : bool
-        Search the inner bias too (one more variable), in
-        ``[bias, max_bias]`` mm; a design whose panels cannot hold it (an
-        outer face narrower than ``min_panel_face`` mm) is infeasible.
-    max_bias, min_panel_face : float
-        Upper bound of the co-designed bias and narrowest outer face, mm.
+        Search the inner bias too (one more variable), in ``[bias, max_bias]`` mm.
+    max_bias : float
+        Upper bound of the co-designed bias, mm.
+    min_panel_face : float
+        Narrowest outer face a panel may keep between its chamfers, mm: a design
+        whose panels cannot hold the bias is infeasible (with ``unit_width > 0``).
     """
 
     start: tuple[float, float] = (0.0, 0.0)
