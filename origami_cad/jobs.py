@@ -973,6 +973,10 @@ def run_sequence(
         raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
     if not 2 <= points <= 1000:
         raise DesignError(f"points must lie in 2..1000, got {points}")
+    if not (math.isfinite(rate) and 0 < rate <= 1000):
+        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+    if not 1 <= repeat <= 1_000_000:
+        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
     ids = list(ids) if ids else list(range(1, len(routes) + 1))
     if len(ids) != len(routes):
         raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")

@@ -21,8 +21,8 @@ intersect or touch, or ``T_e`` lies in a warning area. A design whose chain
 touches a prohibited area in any sampled state is infeasible, and so is one
 whose crease pattern cannot be built at ``task.unit_width`` (neighbouring legs
 closer than ``task.min_leg_gap``, or a panel whose outer face, inset by the
-chamfers of eq. 6's bias, would be narrower than ``task.min_panel_face``). With ``task.fold_limit = 180`` ``theta_e = pi``: the
-paper's eq. 5 over the whole range.
+chamfers of eq. 6's bias, would be narrower than ``task.min_panel_face``). With
+``task.fold_limit = 180`` ``theta_e = pi``: the paper's eq. 5 over the whole range.
 
 Examples
 --------

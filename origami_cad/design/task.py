@@ -269,12 +269,12 @@ def _fabrication_fields(fab: Table) -> dict[str, Any]:
                 raise fab.error(key, "give either fold_limit or b, h, t (bias, height, thickness)")
         out["fold_limit"] = fab.number("fold_limit", low=0, high=180, low_open=True)
     else:
-        out["bias"] = fab.number("bias", 3.0, low=0, low_open=True)
-        out["height"] = fab.number("height", 2.2, low=0, low_open=True)
-        out["thickness"] = fab.number("thickness", 0.4, low=0, low_open=True)
+        out["bias"] = fab.number("bias", 3.0, low=0, high=100, low_open=True)
+        out["height"] = fab.number("height", 2.2, low=0, high=100, low_open=True)
+        out["thickness"] = fab.number("thickness", 0.4, low=0, high=100, low_open=True)
     out["codesign"] = fab.boolean("codesign", False)
-    out["max_bias"] = fab.number("max_bias", 6.0, low=0, low_open=True)
-    out["min_panel_face"] = fab.number("min_panel_face", 5.0, low=0)
+    out["max_bias"] = fab.number("max_bias", 6.0, low=0, high=100, low_open=True)
+    out["min_panel_face"] = fab.number("min_panel_face", 5.0, low=0, high=1000)
     return out
 
 

@@ -50,6 +50,8 @@ def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple
     fold ratios lie in [0, 1]. Errors name the keyframe.
     """
     out: list[tuple[float, tuple[float, ...]]] = []
+    if len(items) > 100_000:
+        raise DesignError(f"{len(items)} keyframes; at most 100000")
     for k, text in enumerate(items):
         head, sep, tail = str(text).partition(":")
         try:
@@ -67,8 +69,8 @@ def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple
             raise DesignError(
                 f"keyframe {k + 1} {text!r}: {len(values)} fold ratios for {count} TSAs"
             )
-        if not (math.isfinite(t) and t >= 0):
-            raise DesignError(f"keyframe {k + 1} {text!r}: time must be a number >= 0 s")
+        if not (math.isfinite(t) and 0 <= t <= 1e7):
+            raise DesignError(f"keyframe {k + 1} {text!r}: time must be a number in [0, 1e7] s")
         if not all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in values):
             raise DesignError(f"keyframe {k + 1} {text!r}: fold ratios must lie in [0, 1]")
         if out and t <= out[-1][0]:
