@@ -1,16 +1,47 @@
-"""Arm design: eq. 5 fitness throughput and the paper's ten-run design task."""
+"""Arm design: eq. 5 fitness throughput (fold-limited, eq. 6) and the paper's ten-run task.
+
+The fitness is the one the search runs: every design evaluated over the fold range
+its printed creases allow (b = 3, h = 2.2, t = 0.4 mm, legs included). The machine
+may be shared: the throughput is the best of 15 timings, with the median and the
+best by this process's CPU time (what the fitness costs, whatever else runs)
+beside it; the ten-run task is timed three times (best and median).
+"""
 
 from __future__ import annotations
 
+import resource
 import time
 from pathlib import Path
 
 import numpy as np
 
-from origami_cad.design import arm_fitness, decode, design_arm, load_task
+from origami_cad.design import arm_fitness, decode, decode_bias, design_arm, load_task
 from origami_cad.design.task import ArmTask
 
 TASK = Path(__file__).resolve().parents[1] / "examples" / "arm_task.toml"
+
+
+def _throughput(task: ArmTask, count: int = 1000, repeats: int = 15) -> tuple[float, float, float]:
+    """Designs per second: best wall clock, median wall clock, best CPU time of this process."""
+    x = np.random.default_rng(0).uniform(size=(count, task.dimension))
+    lengths, beta = decode(task, x)
+    bias = decode_bias(task, x)
+    flags = np.ones(count, dtype=int)
+    arm_fitness(task, lengths[:10], beta[:10], flags[:10], None if bias is None else bias[:10])
+    times, cpu = [], []
+    for _ in range(repeats):
+        t0, c0 = time.perf_counter(), time.process_time()
+        arm_fitness(task, lengths, beta, flags, bias)
+        times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return count / min(times), count / float(np.median(times)), count / min(cpu)
+
+
+def _cpu_seconds() -> float:
+    """CPU time of this process and its finished children (the search's workers), s."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
 def run() -> list[tuple[str, float, str]]:
@@ -21,35 +52,49 @@ def run() -> list[tuple[str, float, str]]:
         vectors=10,
         warning=paper.warning,
         prohibited=paper.prohibited,
+        bias=paper.bias,
+        height=paper.height,
+        thickness=paper.thickness,
     )
-    x = np.random.default_rng(0).uniform(size=(1000, task.dimension))
-    lengths, beta = decode(task, x)
-    flags = np.ones(1000, dtype=int)
-    arm_fitness(task, lengths[:10], beta[:10], flags[:10])
-    best = np.inf
-    for _ in range(5):
-        t0 = time.perf_counter()
-        arm_fitness(task, lengths, beta, flags)
-        best = min(best, time.perf_counter() - t0)
+    best, median, cpu = _throughput(task)
+    co_best, _, _ = _throughput(ArmTask(**{**task.__dict__, "codesign": True}))
     out = [
         (
             "fitness: designs per second (1,000 designs, 10 vectors, 46 samples)",
-            1000 / best,
+            best,
             "target >= 20,000",
         ),
-        ("fitness: microseconds per design", best * 1e6 / 1000, "target <= 50"),
+        ("  median of 15 timings, designs per second", median, "(shared machine)"),
+        ("  by this process's CPU time, designs per second", cpu, "(load-independent)"),
+        ("fitness: microseconds per design", 1e6 / best, "target <= 50"),
+        ("fitness with co-designed bias: designs per second", co_best, ">= 20,000"),
     ]
-    t0 = time.perf_counter()
-    results = design_arm(paper, settings)
-    wall = time.perf_counter() - t0
+    walls, cpus, results = [], [], None
+    for _ in range(3):
+        t0 = time.perf_counter()
+        c0 = _cpu_seconds()
+        results = design_arm(paper, settings)
+        walls.append(time.perf_counter() - t0)
+        cpus.append(_cpu_seconds() - c0)
     out.append(
         (
-            "paper task (Fig. 3a): 10 runs x 400 generations, wall s",
-            wall,
+            "paper task (Fig. 3a): 10 runs x 400 generations, best wall s",
+            min(walls),
             "target < 10 s on 2 cores",
         )
     )
-    out.append(("  best fitness (max 60)", results[0].fitness, ""))
-    out.append(("  best |T_e(0) - P_start|, mm", results[0].terms.d_start, "<= 2"))
-    out.append(("  best |T_e(pi) - P_end|, mm", results[0].terms.d_end, "<= 5"))
+    out.append(("  median of 3, wall s", float(np.median(walls)), ""))
+    out.append(
+        (
+            "  CPU s of the runs (all processes) / 2 cores, best",
+            min(cpus) / 2,
+            "load-independent estimate",
+        )
+    )
+    top = results[0]
+    out.append(("  best fitness (max 60)", top.fitness, ""))
+    out.append(("  best |T_e(0) - P_start|, mm", top.terms.d_start, "<= 2"))
+    out.append(("  fold range the printed winner reaches, p_e", top.fold_ratio_end, "eq. 6"))
+    out.append(("  best |T_e(p_e) - P_end|, mm", top.terms.d_end, "<= 5"))
+    out.append(("  runs within 5 mm of P_end", sum(r.terms.d_end <= 5 for r in results), "of 10"))
     return out

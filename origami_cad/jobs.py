@@ -29,13 +29,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad._fileio import atomic_directory, atomic_write, check_outputs
+from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
 from origami_cad.errors import DesignError
 
 __all__ = [
     "Outputs",
     "fabrication_params",
     "parameter_default",
+    "run_arm_scene",
     "run_check",
     "run_convert",
     "run_design_arm",
@@ -46,6 +47,7 @@ __all__ = [
     "run_part",
     "run_pattern",
     "run_route",
+    "run_sequence",
     "run_simulate",
     "run_tg",
 ]
@@ -303,14 +305,37 @@ def run_tg(design: PathLike, output: PathLike) -> Outputs:
 
 
 def _best_design_toml(design, task, copies: int = 3) -> str:
-    """The winner as a design file (``kind = "transition-graph"``) that every command reads."""
+    """The winner as a design file (``kind = "transition-graph"``) that every command reads.
+
+    Its comments state the fold range the printed arm reaches and the ``fabricate``
+    command that builds it with the fabrication parameters it was designed for.
+    """
     terms = design.terms
     lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
     angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
+    p_e = design.fold_ratio_end
+    if task.fold_limit is not None:
+        fab = f"# designed for creases that fold up to {task.fold_limit:g} deg (fold_limit)\n"
+        build = "origami-cad fabricate best.toml -o fab" + (
+            f" --theta-max {task.fold_limit:g}" if task.fold_limit < 180 else ""
+        )
+    else:
+        fab = (
+            f"# designed for b = {design.bias:.4g} mm, h = {task.height:g} mm, t = "
+            f"{task.thickness:g} mm: every crease stops at {terms.crease_limit:.1f} deg (eq. 6)"
+            f"{' (b co-designed)' if task.codesign else ''}\n"
+        )
+        build = (
+            f"origami-cad fabricate best.toml -o fab --bias {design.bias:.4g} "
+            f"--height {task.height:g} --thickness {task.thickness:g}"
+        )
     return (
         f"# Best arm design of run {design.run}: fitness {design.fitness:.4f} (eq. 5)\n"
-        f"# T_e(0) is {terms.d_start:.3f} mm from P_start, T_e(pi) "
-        f"{terms.d_end:.3f} mm from P_end, {terms.improper_states} improper states\n"
+        f"# T_e(0) is {terms.d_start:.3f} mm from P_start; at p = {p_e:.4f}, the end of the "
+        f"fold range the printed arm reaches, T_e is {terms.d_end:.3f} mm from P_end; "
+        f"{terms.improper_states} improper states\n"
+        f"{fab}"
+        f"# build it with: {build}\n"
         "[pattern]\n"
         'kind = "transition-graph"\n'
         f"unit_width = {task.unit_width or 36.0}   # mm\n"
@@ -323,7 +348,72 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     )
 
 
-def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> list[Path]:
+#: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
+ARM_TSA_LENGTHS = (150.0, 225.0, 340.0, 500.0, 750.0)
+
+
+def _write_arm_route(design, task, path: Path):
+    """Write the winner's route.toml; the shortest TSA whose strings fold the whole range.
+
+    Returns the DCQC result of the route written (the strings fold the arm until the
+    printed sheet's fold limit, or the longest TSA tried stops first), or the error that
+    kept the route from being simulated (e.g. a panel too small for its hole).
+    """
+    from origami_cad.errors import OrigamiCadError
+    from origami_cad.pattern.design import Design
+    from origami_cad.pattern.tg import tg_pattern
+    from origami_cad.strings import load_route, simulate_dcqc
+
+    tg = design.tg(task, task.unit_width or 36.0)
+    loaded = Design(tg_pattern(tg), tg, "transition-graph")
+    result = None
+    for length in ARM_TSA_LENGTHS:
+        with atomic_write(path, "w", encoding="utf-8") as fh:
+            fh.write(_arm_route_text(design, task, length))
+        try:
+            result = simulate_dcqc(loaded, load_route(path, loaded.pattern))
+        except OrigamiCadError as exc:
+            return exc
+        if str(result.stop) not in ("helix_limit", "turn_limit"):
+            break
+    return result
+
+
+def _arm_route_text(design, task, tsa_length: float = 150.0) -> str:
+    """The winner's string route: one onboard TSA on its base panel (route.toml)."""
+    from origami_cad.design.arm_route import arm_route_toml
+    from origami_cad.fabrication import bias_for_theta_max
+
+    bias = design.bias
+    if task.fold_limit is not None:
+        limit = math.radians(task.fold_limit)
+        bias = (
+            None
+            if task.fold_limit >= 180
+            else bias_for_theta_max(limit, task.height, task.thickness)
+        )
+    header = (
+        "# The string route of best.toml (origami-cad design-arm): one onboard TSA on the\n"
+        "# base panel twists two strings that run along the arm, parallel to the transition\n"
+        "# vectors, through every panel of one row each; sides by the DCQC rule.\n"
+        "#   origami-cad route best.toml route.toml -o route        (DCQC)\n"
+        "#   origami-cad simulate best.toml route.toml -o sim       (bar-and-hinge)\n"
+        "#   origami-cad arm-scene TASK best.toml route.toml -o fig8 (tip against P_end)\n"
+        f"#   origami-cad sequence best.toml route.toml -o arm_fold.toml --keyframes 0:0 "
+        f"20:{design.fold_ratio_end:.3f} 30:{design.fold_ratio_end:.3f} 40:0\n"
+    )
+    return arm_route_toml(
+        design.tg(task, task.unit_width or 36.0),
+        bias=bias,
+        height=task.height,
+        thickness=task.thickness,
+        tsa_length=tsa_length,
+        header=header,
+    )
+
+
+def _write_arm_files(results, task, settings, seconds: float, stage: Path):
+    """results.json, best.toml, the plots and route.toml; returns (files, the route's DCQC)."""
     from origami_cad import __version__
     from origami_cad.design import task_to_dict
     from origami_cad.pattern.design import load_design
@@ -342,10 +432,12 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path) -> li
         json.dump(data, fh, indent=1)
     with atomic_write(files[1], "w", encoding="utf-8") as fh:
         fh.write(_best_design_toml(results[0], task))
+    files.append(stage / "route.toml")
+    strings = _write_arm_route(results[0], task, files[-1])
     save_trajectories_png(results, task, files[2])
     save_convergence_png(results, files[3])
     save_pattern_png(load_design(files[1]).pattern, files[4], labels=True)
-    return files
+    return files, strings
 
 
 def run_design_arm(
@@ -359,7 +451,11 @@ def run_design_arm(
 ) -> Outputs:
     """CMA-ES arm design (eq. 5): results.json, best.toml and plots into ``folder``.
 
-    ``runs``, ``seed`` and ``max_generations`` override the task's ``[search]`` table.
+    The fitness is evaluated over the fold range the printed arm reaches (the
+    task's ``[fabrication]`` b, h, t of eq. 6 or ``fold_limit``); best.toml's
+    comments give that range and the ``fabricate`` command that builds the winner
+    with its fabrication parameters. ``runs``, ``seed`` and ``max_generations``
+    override the task's ``[search]`` table.
     """
     import dataclasses
 
@@ -381,7 +477,8 @@ def run_design_arm(
             "the obstacles or the length range"
         )
     with atomic_directory(folder, inputs=[task]) as stage:
-        files = _moved(_write_arm_files(results, arm_task, settings, seconds, stage), stage, folder)
+        staged, strings = _write_arm_files(results, arm_task, settings, seconds, stage)
+        files = _moved(staged, stage, folder)
     best = results[0]
     t = best.terms
     numbers = [
@@ -389,23 +486,40 @@ def run_design_arm(
         ("search time", f"{seconds:.1f} s"),
         ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
         ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
-        ("|T_e(pi) - P_end|", f"{t.d_end:.3g} mm"),
+        ("fold range the printed arm reaches", f"p = 0 .. {best.fold_ratio_end:.4f}"),
+        ("|T_e(p_e) - P_end| at its end", f"{t.d_end:.3g} mm"),
+        ("crease limit (eq. 6)", f"{t.crease_limit:.1f} deg at b = {best.bias:.3g} mm"),
         ("improper states N", str(t.improper_states)),
         ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
         ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
+        (
+            "route.toml: its strings fold the arm (DCQC)",
+            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})"
+            if not isinstance(strings, Exception)
+            else f"not simulated: {strings}",
+        ),
     ]
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
-        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(pi) - P_end| = "
-        f"{t.d_end:.3g} mm, N = {t.improper_states} ({seconds:.1f} s)"
+        f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(p_e) - P_end| = "
+        f"{t.d_end:.3g} mm at p_e = {best.fold_ratio_end:.4f} (the fold limit), "
+        f"N = {t.improper_states} ({seconds:.1f} s)"
     )
     captions = ["Top designs: chains and the path of T_e"]
     captions += ["Best fitness per generation, one line per run", "The winner's crease pattern"]
     return Outputs(
         files=files,
-        images=list(zip(files[2:], captions, strict=True)),
+        images=list(zip(files[2:5], captions, strict=True)),
         numbers=numbers,
-        messages=[summary, *(f"wrote {p}" for p in files)],
+        messages=[
+            summary,
+            *(
+                [f"warning: route.toml could not be simulated: {strings}"]
+                if isinstance(strings, Exception)
+                else []
+            ),
+            *(f"wrote {p}" for p in files),
+        ],
         result=results,
     )
 
@@ -782,6 +896,263 @@ def run_simulate(
             f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; "
             f"{result.reason}",
             f"string tensions {tensions} N, TSA torque {result.torque[-1]:.3g} N mm",
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+    )
+
+
+# --------------------------------------------------------------------------- sequences
+
+SEQUENCE_MODELS = ("dcqc", "simulation")
+
+
+def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_panel=None):
+    """Fold ``loaded`` by the route ``spec``: a DCQCResult or a bar-and-hinge SimulationResult."""
+    import dataclasses
+
+    from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.strings import simulate_dcqc
+
+    if fixed_panel is not None:
+        if fixed_panel not in loaded.pattern.face_labels:
+            raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
+        spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
+    fab = spec.fabrication
+    params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
+    if model == "dcqc":
+        return simulate_dcqc(loaded, spec, crease_stiffness=params.crease_stiffness)
+    return simulate(loaded.pattern, spec, params, design=loaded, steps=steps)
+
+
+def run_sequence(
+    design: PathLike,
+    route: PathLike,
+    output: PathLike,
+    *,
+    keyframes: Sequence[str],
+    more_routes: Sequence[PathLike] | None = None,
+    model: str = "dcqc",
+    ids: Sequence[int] | None = None,
+    rate: float = 10.0,
+    repeat: int = 1,
+    points: int = 21,
+    fixed_panel: str | None = None,
+) -> Outputs:
+    """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
+
+    Each route (``route``, then ``more_routes``: one onboard TSA each, servo IDs
+    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model =
+    "dcqc"``) or the bar-and-hinge simulation (``"simulation"``); the fold ratio
+    it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
+    contraction of the onboard TSA model, every keyframe's fold ratio included),
+    so ``drive`` commands the turns the model needed. ``keyframes`` are
+    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
+    without a one-parameter folding is measured by its most folded crease
+    (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
+    (e.g. a robot's body while one leg folds), instead of each route's own setting.
+    """
+    import numpy as np
+
+    from origami_cad.drive.from_model import (
+        fold_curve,
+        model_mapping,
+        parse_keyframes,
+        sequence_toml,
+        state_fold_ratios,
+        turns_at,
+    )
+    from origami_cad.drive.sequence import load_sequence
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route
+
+    routes = [route, *(more_routes or [])]
+    check_outputs([design, *routes], files=[output])
+    _check_suffix(output, (".toml",), "a sequence")
+    if model not in SEQUENCE_MODELS:
+        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+    if not 2 <= points <= 1000:
+        raise DesignError(f"points must lie in 2..1000, got {points}")
+    if not (math.isfinite(rate) and 0 < rate <= 1000):
+        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+    if not 1 <= repeat <= 1_000_000:
+        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+    ids = list(ids) if ids else list(range(1, len(routes) + 1))
+    if len(ids) != len(routes):
+        raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
+    frames = parse_keyframes(keyframes, len(routes))
+    loaded = load_pattern_source(design)
+    tsas, numbers, results = [], [], []
+    for k, path in enumerate(routes):
+        spec = load_route(path, loaded.pattern)
+        result = _string_model(loaded, spec, model, fixed_panel=fixed_panel)
+        results.append(result)
+        where = f"{path} ({model})"
+        at = [values[k] for _, values in frames]
+        creases = np.flatnonzero(loaded.pattern.edge_mask("M", "V"))
+        ratios = state_fold_ratios(result.p, result.fold_angles, creases)
+        mapping = model_mapping(ratios, result.turns, spec.tsa, at, points, where)
+        p, turns = fold_curve(ratios, result.turns)
+        torque = np.asarray(result.torque, dtype=float)
+        peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+        tsas.append(
+            {
+                "id": ids[k],
+                "name": Path(path).stem.removesuffix("_route").removeprefix("route_"),
+                "tsa": spec.tsa,
+                "mapping": mapping,
+                "comment": (
+                    f"servo {ids[k]}: {Path(path).name}, {model} model: p = {p[0]:.3f} .. "
+                    f"{p[-1]:.3f} in {turns[-1]:.2f} turns ({result.reason})"
+                ),
+            }
+        )
+        need = ", ".join(f"{v:.2f}" for v in turns_at(p, turns, at))
+        numbers += [
+            (f"servo {ids[k]}: fold range of its strings", f"p = {p[0]:.3f} .. {p[-1]:.3f}"),
+            (f"servo {ids[k]}: turns at the keyframes", need),
+            (f"servo {ids[k]}: largest TSA torque", f"{peak:.3g} N mm"),
+        ]
+    argv = " ".join(
+        [
+            "origami-cad sequence",
+            str(design),
+            str(route),
+            "-o",
+            str(output),
+            *(f"--more-routes {r}" for r in routes[1:]),
+            f"--model {model}",
+            *([f"--fixed-panel {fixed_panel}"] if fixed_panel else []),
+            "--ids " + ",".join(map(str, ids)),
+            "--keyframes",
+            *map(str, keyframes),
+        ]
+    )
+    header = (
+        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
+        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
+        "# commands the turns the model needed. Regenerate with:\n"
+        f"#   {argv}\n"
+    )
+    text = sequence_toml(tsas, frames, rate=rate, repeat=repeat, header=header)
+    with atomic_path(output) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+        load_sequence(tmp)  # drive reads it: every keyframe reachable within the TSA's twist
+    return Outputs(
+        files=[Path(output)],
+        numbers=numbers,
+        messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {output}"],
+        result=results,
+    )
+
+
+def run_arm_scene(
+    task: PathLike,
+    design: PathLike,
+    route: PathLike,
+    folder: PathLike,
+    *,
+    steps: int | None = None,
+) -> Outputs:
+    """The printed arm folded by its strings in its scene (Fig. 8): fig8.png, arm_scene.json.
+
+    The bar-and-hinge simulation (the route's panel thickness and eq. 6 fold
+    limits) folds ``design`` by ``route``; each state is placed by its base panels
+    and its main crease read as the TG chain, so its tip path is compared with the
+    designed one (at the same fold ratio), ``P_start``, ``P_end`` and the task's
+    areas. The simulation starts from creases pre-folded by 3 deg (see
+    :func:`~origami_cad.simulation.simulate`), not flat. ``steps`` turns the
+    TSA in that many equal steps (default: steps of string taken up).
+    """
+    import numpy as np
+
+    from origami_cad.design import load_task, reachable_fold_angle
+    from origami_cad.design.arm_route import arm_chain_path
+    from origami_cad.design.fitness import area_edges
+    from origami_cad.design.predicates import touches_area
+    from origami_cad.kinematics.chain import chain_points
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings import load_route
+    from origami_cad.viz.design_plots import save_arm_scene_png
+
+    check_outputs([task, design, route], folders=[folder])
+    arm_task, _ = load_task(task)
+    loaded = load_pattern_source(design)
+    if loaded.tg is None:
+        raise DesignError(f"{design}: an arm is a transition-graph design")
+    spec = load_route(route, loaded.pattern)
+    result = _string_model(loaded, spec, "simulation", steps)
+    ratios = np.asarray(result.p, dtype=float)
+    simulated = arm_chain_path(loaded.tg, result.states, ratios)
+    tg = loaded.tg
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    bias = spec.fabrication.bias if spec.fabrication is not None else arm_task.bias
+    limit = arm_task.crease_limit(bias if arm_task.fold_limit is None else None)
+    p_e = float(reachable_fold_angle(beta, limit)[0] / math.pi)
+    designed = chain_points(
+        np.linspace(0.0, p_e * math.pi, arm_task.samples),
+        tg.lengths,
+        beta,
+        tg.entry_flag,
+        tg.hypar_base,
+        tg.start,
+    )[0]
+    tips = simulated[:, -1]
+    d_end = np.linalg.norm(tips - arm_task.points[-1], axis=1)
+    known = np.isfinite(ratios)
+    rigid = chain_points(  # the designed tip at each state's fold ratio
+        ratios[known] * math.pi, tg.lengths, beta, tg.entry_flag, tg.hypar_base, tg.start
+    )[0, :, -1]
+    deviation = float(np.linalg.norm(tips[known] - rigid, axis=1).max()) if known.any() else 0.0
+    z = simulated[..., 0] + 1j * simulated[..., 1]
+    hits = np.zeros(len(z), dtype=bool)
+    for edges in area_edges(arm_task.prohibited):
+        hits |= touches_area(z, edges)
+    torque = np.asarray(result.torque, dtype=float)
+    peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+    turns = float(result.turns[-1])
+    summary = {
+        "designed_fold_ratio_end": p_e,
+        "simulated_fold_ratio_end": float(np.nanmax(ratios)) if np.isfinite(ratios).any() else None,
+        "final_tip_mm": tips[-1].tolist(),
+        "final_distance_from_P_end_mm": float(d_end[-1]),
+        "closest_distance_from_P_end_mm": float(d_end.min()),
+        "first_state_fold_ratio": float(ratios[0]),
+        "max_distance_from_designed_tip_mm": deviation,
+        "states_touching_prohibited_area": int(hits.sum()),
+        "tsa_turns": turns,
+        "max_tsa_torque_Nmm": peak,
+        "stop": str(result.stop),
+        "reason": result.reason,
+        "simulated_tip_mm": tips.tolist(),
+        "designed_tip_mm": designed[:, -1].tolist(),
+    }
+    names = ("fig8.png", "arm_scene.json")
+    with atomic_directory(folder, inputs=_sources(task, design, route, loaded)) as stage:
+        title = (
+            f"tip {d_end[-1]:.1f} mm from P_end after {turns:.1f} TSA turns, "
+            f"peak torque {peak:.3g} N mm"
+        )
+        save_arm_scene_png(arm_task, designed, simulated, stage / names[0], title)
+        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+            json.dump(summary, fh, indent=1)
+    files = [Path(folder) / n for n in names]
+    return Outputs(
+        files=files,
+        images=[(files[0], "Designed tip path and the printed arm's, folded by its strings")],
+        numbers=[
+            ("designed fold range", f"p = 0 .. {p_e:.3f}"),
+            ("simulated tip: distance from P_end at the end", f"{d_end[-1]:.2f} mm"),
+            ("simulated tip: largest distance from the designed tip", f"{deviation:.2f} mm"),
+            ("states touching the prohibited area", str(int(hits.sum()))),
+            ("TSA turns to fold it", f"{turns:.1f}"),
+            ("largest TSA torque", f"{peak:.3g} N mm"),
+            ("why the folding stops", result.reason),
+        ],
+        messages=[
+            f"the printed arm's tip ends {d_end[-1]:.2f} mm from P_end after {turns:.1f} TSA "
+            f"turns (peak torque {peak:.3g} N mm); {result.reason}",
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,

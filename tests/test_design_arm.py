@@ -17,14 +17,19 @@ from origami_cad.design import (
     ArmTask,
     SearchSettings,
     arm_fitness,
+    crease_fold_limit,
     decode,
     design_arm,
+    leg_fold_angles,
     load_task,
+    reachable_fold_angle,
     run_one,
 )
 from origami_cad.errors import DesignError
-from origami_cad.kinematics import chain_points
-from origami_cad.pattern.design import load_design
+from origami_cad.kinematics import chain_points, tessellation_vertices
+from origami_cad.kinematics.folding import fold_design
+from origami_cad.pattern.design import Design, load_design
+from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.viz.design_plots import plot_trajectories
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -45,7 +50,12 @@ class InlineExecutor(cf.Executor):
 
 def test_eq5_by_hand_for_a_straight_and_a_folding_arm():
     task = ArmTask(
-        points=[[250.0, 0.0], [0.0, 100.0]], alpha=120.0, vectors=3, hypar_base=True, unit_width=0
+        points=[[250.0, 0.0], [0.0, 100.0]],
+        alpha=120.0,
+        vectors=3,
+        hypar_base=True,
+        unit_width=0,
+        fold_limit=180.0,  # the paper's range: T_e(pi)
     )
     lengths = np.array([[100.0, 80.0, 70.0]])
     beta = np.radians([[40.0, 140.0]])
@@ -67,7 +77,9 @@ def _random_designs(task, count, seed):
 
 
 def test_self_intersections_agree_with_shapely_on_random_designs():
-    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=6, samples=12, unit_width=0)
+    task = ArmTask(
+        points=[[250.0, 0.0], [50.0, 133.3]], vectors=6, samples=12, unit_width=0, fold_limit=180
+    )
     lengths, beta = _random_designs(task, 150, seed=3)
     flags = np.arange(150) % 2
     res = arm_fitness(task, lengths, beta, flags)
@@ -106,7 +118,12 @@ def test_prohibited_area_agrees_with_shapely_and_is_worse_than_any_feasible():
         [(150, 40), (400, 40), (400, 400), (150, 400)], [[(200, 100), (300, 100), (300, 200)]]
     )
     task = ArmTask(
-        points=[[250.0, 0.0], [50.0, 133.3]], vectors=5, samples=10, unit_width=0, prohibited=(box,)
+        points=[[250.0, 0.0], [50.0, 133.3]],
+        vectors=5,
+        samples=10,
+        unit_width=0,
+        prohibited=(box,),
+        fold_limit=180.0,
     )
     lengths, beta = _random_designs(task, 120, seed=5)
     res = arm_fitness(task, lengths, beta, np.ones(120, int))
@@ -179,26 +196,49 @@ def test_runs_are_reproducible_and_executor_is_pluggable():
     assert len(seen) == 50 and all(g >= 1 for _, g, _ in seen)
 
 
-def test_paper_task_quality_bar_on_a_small_budget():
+def test_paper_task_winner_stays_within_eq6_and_reaches_p_end_in_the_rigid_fold():
+    """Fig. 3 with b = 3, h = 2.2, t = 0.4 mm, checked on the folded 3D tessellation."""
     task, _ = load_task(PAPER_TASK)
+    assert (task.bias, task.height, task.thickness) == (3.0, 2.2, 0.4)
+    limit = 2 * math.degrees(math.atan(2 * 3.0 / (2.2 - 0.4)))  # eq. 6, 146.6 deg
     settings = SearchSettings(runs=10, seed=1, max_generations=300)
     results = design_arm(task, settings)
     best = results[0]
     assert best.terms.d_start <= 2.0
-    assert best.terms.d_end <= 5.0
-    assert best.terms.improper_states == 0
-    assert best.terms.prohibited_states == 0
-    # independently: the chain never touches the prohibited area
+    assert best.terms.improper_states == 0 and best.terms.prohibited_states == 0
+    assert [r.fitness for r in results] == sorted((r.fitness for r in results), reverse=True)
+    p_end = best.fold_ratio_end
+    assert 0.2 < p_end < 0.82
+    # the rigid folding of the winner's real crease pattern, not the formula
+    design = winner_design(best, task)
+    ratios = np.linspace(0.0, p_end, 101)
+    peak = max(np.abs(fold_design(design, float(p)).fold_angles).max() for p in ratios)
+    assert peak <= limit + 1e-6
+    # the range is the largest: a little further, a crease passes eq. 6's limit
+    beyond = np.abs(fold_design(design, min(p_end + 0.01, 1.0)).fold_angles).max()
+    assert beyond > limit
+    # the tip of the folded 3D main crease (TG point (a, b) sits at (a, y, -b))
+    grid = tessellation_vertices(design.tg, p_end)
+    tip = np.array([grid[1, -1, 0], -grid[1, -1, 2]])
+    assert np.linalg.norm(tip - task.points[-1]) <= 5.0
+    flat = tessellation_vertices(design.tg, 0.0)
+    assert np.linalg.norm(flat[1, -1, :2] - task.points[0]) <= 2.0
+    # independently: the chain never touches the prohibited area over the range
     prohibited = task.prohibited[0]
     pts = chain_points(
-        np.linspace(0, math.pi, 46),
+        np.linspace(0, math.pi * p_end, 46),
         best.lengths,
         np.radians(best.shape_angles),
         best.entry_flag,
         True,
     )[0]
     assert not any(shapely.LineString(p).intersects(prohibited) for p in pts)
-    assert [r.fitness for r in results] == sorted((r.fitness for r in results), reverse=True)
+
+
+def winner_design(best, task):
+    """The winner's tessellation as a Design (what best.toml holds)."""
+    tg = best.tg(task)
+    return Design(tg_pattern(tg), tg, "transition-graph")
 
 
 def test_cli_writes_results_and_a_buildable_design_file(tmp_path):
@@ -225,6 +265,13 @@ def test_cli_writes_results_and_a_buildable_design_file(tmp_path):
     assert set(first["terms"]) >= {"d_start_mm", "d_end_mm", "improper_states"}
     design = load_design(out / "best.toml")
     assert design.tg is not None and design.pattern.check() == []
+    # the winner's string route: one onboard TSA on the base panel, strings along the rows
+    from origami_cad.strings import load_route
+
+    route = load_route(out / "route.toml", design.pattern)
+    assert route.tsa.model == "onboard" and len(route.strings) == 2
+    assert route.fabrication is not None and route.fabrication.bias == 3.0
+    assert "origami-cad sequence" in (out / "route.toml").read_text()
     assert design.tg.lengths == pytest.approx(first["lengths_mm"], abs=1e-5)
     for name in ("trajectories.png", "convergence.png"):
         image = imread(out / name)
@@ -320,3 +367,145 @@ def test_terms_are_a_dataclass_and_json_keeps_its_keys():
     data = json.loads(json.dumps(terms.to_dict()))
     assert data["d_start_mm"] == terms.d_start and data["improper_states"] == terms.improper_states
     assert data["d_intermediate_mm"] == list(terms.d_intermediate)
+
+
+# ------------------------------------------------------------------ fold limits (eq. 6)
+
+
+def _fold_to_limit(design, limit_deg):
+    """The fold ratio at which the rigid folding first brings a crease to ``limit_deg``."""
+    lo, hi = 0.0, 1.0
+    for _ in range(40):
+        mid = (lo + hi) / 2
+        if np.abs(fold_design(design, mid).fold_angles).max() >= limit_deg:
+            hi = mid
+        else:
+            lo = mid
+    return lo
+
+
+@pytest.mark.parametrize("beta, expected", [(70.0, 0.54), (80.0, 0.33), (110.0, 0.54)])
+def test_legs_reach_eq6_first_in_the_rigid_folding(beta, expected):
+    tg = TGDesign([60.0, 50.0, 40.0, 50.0], [beta] * 3, 1, 36.0, 3)
+    design = Design(tg_pattern(tg), tg, "transition-graph")
+    limit = crease_fold_limit(3.0, 2.2, 0.4)
+    p_rigid = _fold_to_limit(design, math.degrees(limit))
+    p_formula = reachable_fold_angle(np.radians([[beta] * 3]), limit)[0] / math.pi
+    assert p_rigid == pytest.approx(expected, abs=0.006)
+    assert p_formula == pytest.approx(p_rigid, abs=1e-6)
+    # and the legs' angle along the way, against the folded tessellation
+    for p in (0.1, 0.25, p_rigid):
+        angles = np.abs(fold_design(design, p).fold_angles)
+        leg = math.degrees(float(leg_fold_angles(p * math.pi, math.radians(beta))))
+        assert np.isclose(angles, leg, atol=1e-6).sum() >= 6  # both legs of each joint
+        assert angles.max() == pytest.approx(leg, abs=1e-6)
+
+
+def test_mixed_legs_the_nearest_to_90_deg_stops_the_arm():
+    tg = TGDesign([60.0, 50.0, 40.0, 50.0], [30.0, 115.0, 60.0], 0, 36.0, 2)
+    design = Design(tg_pattern(tg), tg, "transition-graph")
+    limit = math.radians(150.0)
+    p_rigid = _fold_to_limit(design, 150.0)
+    p_formula = reachable_fold_angle(np.radians([[30.0, 115.0, 60.0]]), limit)[0] / math.pi
+    assert p_formula == pytest.approx(p_rigid, abs=1e-6)
+    assert p_formula < reachable_fold_angle(np.radians([[30.0, 60.0]]), limit)[0] / math.pi
+
+
+def test_fitness_is_evaluated_over_the_reachable_range_only():
+    lengths, beta = np.array([[100.0, 80.0, 70.0]]), np.radians([[40.0, 140.0]])
+    task = ArmTask(points=[[250.0, 0.0], [0.0, 100.0]], vectors=3, unit_width=0)
+    res = arm_fitness(task, lengths, beta, [1])
+    theta_e = 2 * math.atan(math.cos(math.radians(40)) * 2 * 3.0 / 1.8)  # legs, eq. 6
+    assert res.fold_ratio_end[0] == pytest.approx(theta_e / math.pi)
+    tip = chain_points(np.array([theta_e]), lengths, beta, 1, True)[0, 0, -1]
+    assert res.d_end[0] == pytest.approx(np.linalg.norm(tip - [0.0, 100.0]))
+    np.testing.assert_allclose(
+        res.tips[0],
+        chain_points(np.linspace(0, theta_e, 46), lengths, beta, 1, True)[0, :, -1],
+        atol=1e-9,
+    )
+    # fold_limit instead of b, h, t; 180 deg is the paper's whole range
+    same = ArmTask(points=task.points, vectors=3, unit_width=0, fold_limit=math.degrees(2.0))
+    assert arm_fitness(same, lengths, beta, [1]).fold_ratio_end[0] == pytest.approx(
+        2 * math.atan(math.cos(math.radians(40)) * math.tan(1.0)) / math.pi
+    )
+    free = ArmTask(points=task.points, vectors=3, unit_width=0, fold_limit=180.0)
+    assert arm_fitness(free, lengths, beta, [1]).fold_ratio_end[0] == pytest.approx(1.0)
+
+
+def test_a_prohibited_area_beyond_the_reachable_range_is_not_hit():
+    lengths, beta = np.array([[100.0, 80.0, 70.0]]), np.radians([[75.0, 105.0]])
+    full = ArmTask(points=[[250.0, 0.0], [0.0, 100.0]], vectors=3, unit_width=0, fold_limit=180)
+    tip_p1 = arm_fitness(full, lengths, beta, [1]).tips[0, -1]
+    printed = ArmTask(points=full.points, vectors=3, unit_width=0)
+    res = arm_fitness(printed, lengths, beta, [1])
+    theta_e = res.fold_ratio_end[0] * math.pi
+    # a disc around T_e(pi), 20 mm from every chain the printed arm reaches
+    disc = shapely.Point(*tip_p1).buffer(20.0)
+    chains = chain_points(np.linspace(0, theta_e, 46), lengths, beta, 1, True)[0]
+    assert min(shapely.distance(shapely.LineString(c), disc) for c in chains) > 20.0
+    for task in (full, printed):
+        hit = ArmTask(
+            points=task.points,
+            vectors=3,
+            unit_width=0,
+            fold_limit=task.fold_limit,
+            prohibited=(disc,),
+        )
+        assert arm_fitness(hit, lengths, beta, [1]).feasible[0] == (task is printed)
+
+
+def test_fabrication_table_is_read_and_checked(tmp_path):
+    task, _ = load_task(PAPER_TASK)
+    assert task.crease_limit() == pytest.approx(math.radians(146.6015), abs=1e-5)
+    text = PAPER_TASK.read_text()
+    path = tmp_path / "task.toml"
+    path.write_text(text.replace("bias = 3.0", "fold_limit = 150.0"))
+    with pytest.raises(DesignError, match="fold_limit or b, h, t"):
+        load_task(path)
+    path.write_text(
+        text.replace("bias = 3.0", "")
+        .replace("height = 2.2", "")
+        .replace("thickness = 0.4", "fold_limit = 150.0")
+    )
+    limited, _ = load_task(path)
+    assert limited.crease_limit() == pytest.approx(math.radians(150.0))
+    for bad, message in [
+        (("thickness = 0.4", "thickness = 2.5"), "must exceed the crease thickness"),
+        (("bias = 3.0", "bias = -1.0"), "key 'bias'"),
+        (("bias = 3.0", "bias = 3.0\nbais = 1.0"), "unknown key 'bais'"),
+    ]:
+        path.write_text(text.replace(*bad))
+        with pytest.raises(DesignError, match=message) as info:
+            load_task(path)
+        assert "task.toml" in str(info.value)
+
+
+def test_codesign_reaches_what_the_fixed_structure_cannot_and_the_panels_hold_it():
+    from origami_cad.fabrication import FabricationParams, plan_panels
+
+    # the target: a two-vector arm folded back at 78 deg legs, printed with b = 5.5 mm
+    make = ArmTask(points=[[220.0, 0.0], [0.0, 0.0]], vectors=2)
+    probe = arm_fitness(make, [[110.0, 110.0]], np.radians([[78.0]]), [1], np.array([5.5]))
+    assert probe.panel_violations[0] == 0
+    target = probe.tips[0, -1]
+    settings = SearchSettings(runs=4, seed=1, max_generations=150)
+    found = {}
+    for codesign in (False, True):
+        task = ArmTask(points=[[220.0, 0.0], target], vectors=2, codesign=codesign)
+        assert task.dimension == 3 + codesign
+        found[codesign] = design_arm(task, settings)[0]
+    fixed, co = found[False], found[True]
+    assert fixed.bias == 3.0 and 3.0 < co.bias <= 6.0
+    # b = 3 mm everywhere: the legs stop the arm before it can fold back that far
+    assert fixed.terms.d_start + fixed.terms.d_end > 20.0
+    assert co.terms.d_start < 1.0 and co.terms.d_end < 1.0
+    # the fabrication stage builds the panels at that bias and finds the same fold range
+    design = winner_design(co, task)
+    plan = plan_panels(design, FabricationParams(bias=co.bias))
+    assert len(plan.outlines) == len(design.pattern.faces)
+    assert math.degrees(plan.params.theta_max) == pytest.approx(co.terms.crease_limit)
+    assert plan.limits.p_max_kinematic == pytest.approx(co.fold_ratio_end, abs=0.011)
+    # a bias the panels cannot hold is infeasible
+    thin = arm_fitness(task, [[110.0, 110.0]], np.radians([[78.0]]), [1], np.array([6.6]))
+    assert thin.panel_violations[0] > 0 and not thin.feasible[0]

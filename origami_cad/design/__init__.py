@@ -13,7 +13,13 @@ from origami_cad.design.fitness import (
     arm_fitness,
     sample_angles,
 )
-from origami_cad.design.search import ArmDesign, decode, design_arm, run_one
+from origami_cad.design.limits import (
+    crease_fold_limit,
+    leg_fold_angles,
+    panel_bias_violations,
+    reachable_fold_angle,
+)
+from origami_cad.design.search import ArmDesign, decode, decode_bias, design_arm, run_one
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
 
 __all__ = [
@@ -24,9 +30,14 @@ __all__ = [
     "FitnessTerms",
     "SearchSettings",
     "arm_fitness",
+    "crease_fold_limit",
     "decode",
+    "decode_bias",
     "design_arm",
+    "leg_fold_angles",
     "load_task",
+    "panel_bias_violations",
+    "reachable_fold_angle",
     "run_one",
     "sample_angles",
     "task_to_dict",

@@ -1,12 +1,16 @@
 """The fitness of eq. 5, vectorised over whole populations of arm designs.
 
-For each design, ``theta`` is sampled from 0 to pi (``task.samples`` states,
-both ends included) and the TG chain is evaluated with eqs. 2-4. Then
+The printed arm folds only as far as its creases allow (eq. 6): for each design,
+the end of its fold range ``theta_e`` is the largest main-crease angle at which
+no crease, legs included, passes its limit
+(:func:`~origami_cad.design.limits.reachable_fold_angle`). ``theta`` is sampled
+from 0 to ``theta_e`` (``task.samples`` states, both ends included) and the TG
+chain is evaluated with eqs. 2-4. Then
 
 .. math::
 
     f = \\frac{\\alpha}{10 + \\|T_e(0) - P_{start}\\|}
-      + \\frac{600 - \\alpha}{10 + \\|T_e(\\pi) - P_{end}\\|}
+      + \\frac{600 - \\alpha}{10 + \\|T_e(\\theta_e) - P_{end}\\|}
       + \\sum_j \\frac{w_j}{10 + d_j} - 4N   \\qquad (5)
 
 with distances in mm. ``d_j`` is the smallest distance from intermediate point
@@ -16,16 +20,20 @@ counts the improper sampled states: two non-adjacent transition vectors
 intersect or touch, or ``T_e`` lies in a warning area. A design whose chain
 touches a prohibited area in any sampled state is infeasible, and so is one
 whose crease pattern cannot be built at ``task.unit_width`` (neighbouring legs
-closer than ``task.min_leg_gap``).
+closer than ``task.min_leg_gap``, or a panel whose outer face, inset by the
+chamfers of eq. 6's bias, would be narrower than ``task.min_panel_face``). With
+``task.fold_limit = 180`` ``theta_e = pi``: the paper's eq. 5 over the whole range.
 
 Examples
 --------
 >>> import numpy as np
 >>> from origami_cad.design import ArmTask, arm_fitness
->>> task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3)
+>>> task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3)  # b, h, t = 3, 2.2, 0.4
 >>> res = arm_fitness(task, np.array([[100.0, 80.0, 70.0]]), np.radians([[40.0, 140.0]]), [1])
 >>> round(float(res.d_start[0]), 6)  # flat: the chain is straight along +x, 250 mm long
 0.0
+>>> round(float(res.fold_ratio_end[0]), 3)  # the legs at 40 deg stop the arm at p = 0.76
+0.762
 """
 
 from __future__ import annotations
@@ -37,6 +45,7 @@ from typing import Any
 import numpy as np
 import shapely
 
+from origami_cad.design.limits import panel_bias_violations, reachable_fold_angle
 from origami_cad.design.predicates import points_inside, self_intersections, touches_area
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import chain_joints
@@ -64,7 +73,7 @@ class FitnessTerms:
     fitness : float
         ``f`` of eq. 5 (``-inf`` for an infeasible design).
     d_start, d_end : float
-        ``|T_e(0) - P_start|`` and ``|T_e(pi) - P_end|``, mm.
+        ``|T_e(0) - P_start|`` and ``|T_e(theta_e) - P_end|``, mm.
     d_intermediate : tuple of float
         Distance of each intermediate point to its matched ``T_e`` sample, mm.
     intermediate_sample : tuple of int
@@ -75,6 +84,14 @@ class FitnessTerms:
         Number of sampled states in which the chain touches a prohibited area.
     leg_gap_violations : int
         Number of segments whose neighbouring legs are closer than ``min_leg_gap``.
+    fold_ratio_end : float
+        ``p_e = theta_e / pi``: the end of the fold range the printed arm reaches.
+    bias : float
+        Inner bias of every crease, mm (the task's, or the co-designed one).
+    crease_limit : float
+        Fold limit of every crease at that bias, degrees (eq. 6 or ``fold_limit``).
+    panel_violations : int
+        Number of panels too small for the bias (see :class:`FitnessResult`).
     """
 
     fitness: float
@@ -85,6 +102,10 @@ class FitnessTerms:
     improper_states: int
     prohibited_states: int
     leg_gap_violations: int
+    fold_ratio_end: float = 1.0
+    bias: float = 3.0
+    crease_limit: float = 180.0
+    panel_violations: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         """The terms for a JSON file, with units in the keys."""
@@ -97,6 +118,10 @@ class FitnessTerms:
             "improper_states": self.improper_states,
             "prohibited_states": self.prohibited_states,
             "leg_gap_violations": self.leg_gap_violations,
+            "fold_ratio_end": self.fold_ratio_end,
+            "bias_mm": self.bias,
+            "crease_limit_deg": self.crease_limit,
+            "panel_violations": self.panel_violations,
         }
 
 
@@ -109,7 +134,7 @@ class FitnessResult:
     fitness : ndarray
         ``f`` of eq. 5 (``-inf`` for infeasible designs).
     d_start, d_end : ndarray
-        ``|T_e(0) - P_start|`` and ``|T_e(pi) - P_end|``, mm.
+        ``|T_e(0) - P_start|`` and ``|T_e(theta_e) - P_end|``, mm.
     d_mid : ndarray, shape (D, n_p - 2)
         Distance of each intermediate point to its matched ``T_e`` sample, mm.
     mid_index : ndarray of int, shape (D, n_p - 2)
@@ -123,6 +148,16 @@ class FitnessResult:
         at ``unit_width`` (the crease pattern cannot be built).
     tips : ndarray, shape (D, S, 2)
         ``T_e`` at every sample, mm.
+    fold_ratio_end : ndarray
+        ``p_e = theta_e / pi``: the samples are ``theta = p theta_e`` for ``p`` in
+        ``linspace(0, 1, S)``.
+    bias : ndarray
+        Inner bias of every crease of each design, mm.
+    crease_limit : ndarray
+        Fold limit of every crease of each design, radians.
+    panel_violations : ndarray of int
+        Number of panels too small for the bias (their outer face, inset by the
+        chamfers, narrower than ``task.min_panel_face``; 0 without a unit width).
     """
 
     fitness: np.ndarray
@@ -134,14 +169,22 @@ class FitnessResult:
     prohibited_hits: np.ndarray
     leg_violations: np.ndarray
     tips: np.ndarray
+    fold_ratio_end: np.ndarray
+    bias: np.ndarray
+    crease_limit: np.ndarray
+    panel_violations: np.ndarray
 
     @property
     def feasible(self) -> np.ndarray:
-        return (self.prohibited_hits == 0) & (self.leg_violations == 0)
+        return (
+            (self.prohibited_hits == 0) & (self.leg_violations == 0) & (self.panel_violations == 0)
+        )
 
     def cost(self) -> np.ndarray:
         """What CMA-ES minimises: ``-f``, or ``INFEASIBLE_COST + violations`` when infeasible."""
-        violations = (self.prohibited_hits + self.leg_violations).astype(float)
+        violations = (self.prohibited_hits + self.leg_violations + self.panel_violations).astype(
+            float
+        )
         return np.where(self.feasible, -self.fitness, INFEASIBLE_COST + violations)
 
     def terms(self, k: int) -> FitnessTerms:
@@ -155,6 +198,10 @@ class FitnessResult:
             improper_states=int(self.improper[k]),
             prohibited_states=int(self.prohibited_hits[k]),
             leg_gap_violations=int(self.leg_violations[k]),
+            fold_ratio_end=float(self.fold_ratio_end[k]),
+            bias=float(self.bias[k]),
+            crease_limit=float(np.degrees(self.crease_limit[k])),
+            panel_violations=int(self.panel_violations[k]),
         )
 
 
@@ -181,8 +228,9 @@ def arm_fitness(
     lengths: np.ndarray,
     shape_angles: np.ndarray,
     entry_flags: np.ndarray,
+    bias: np.ndarray | None = None,
 ) -> FitnessResult:
-    """Eq. 5 for a population of arm designs.
+    """Eq. 5 for a population of arm designs, over the fold range each can reach.
 
     Parameters
     ----------
@@ -194,19 +242,28 @@ def arm_fitness(
         ``beta_1 .. beta_n``, radians.
     entry_flags : array_like of int, shape (D,)
         ``EF_0`` of each design.
+    bias : ndarray, shape (D,), optional
+        Inner bias of every crease of each design, mm (co-design); default the
+        task's ``b`` (or its ``fold_limit``).
 
     Returns
     -------
     FitnessResult
     """
     lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    theta = sample_angles(task.samples)
-    z = chain_joints(theta, lengths, shape_angles, entry_flags, task.hypar_base, task.start)
+    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    n_designs = max(lengths.shape[0], beta.shape[0])
+    given = bias is not None
+    b = np.broadcast_to(np.asarray(task.bias if bias is None else bias, float), (n_designs,))
+    limit = np.broadcast_to(task.crease_limit(b if given else None), (n_designs,))
+    theta_end = reachable_fold_angle(beta, limit)
+    theta = theta_end[:, None] * np.linspace(0.0, 1.0, task.samples)[None, :]
+    z = chain_joints(theta, lengths, beta, entry_flags, task.hypar_base, task.start)
     tips = np.stack([z[:, :, -1].real, z[:, :, -1].imag], axis=-1)
     d_start = np.linalg.norm(tips[:, 0] - task.points[0], axis=-1)
     d_end = np.linalg.norm(tips[:, -1] - task.points[-1], axis=-1)
     f = task.alpha / (10.0 + d_start) + (600.0 - task.alpha) / (10.0 + d_end)
-    n_designs, n_samples = tips.shape[:2]
+    n_samples = tips.shape[1]
     mids = task.points[1:-1]
     d_mid = np.zeros((n_designs, len(mids)))
     mid_index = np.zeros((n_designs, len(mids)), dtype=np.int64)
@@ -231,7 +288,26 @@ def arm_fitness(
     n_hits = hits.sum(axis=1)
     legs = np.zeros(n_designs, dtype=np.int64)
     if task.unit_width > 0:
-        gaps = leg_gaps(lengths, shape_angles, task.unit_width / 2.0)
+        gaps = leg_gaps(lengths, beta, task.unit_width / 2.0)
         legs = (gaps < max(task.min_leg_gap, 1e-9)).sum(axis=1)
-    f = np.where((n_hits > 0) | (legs > 0), -np.inf, f)
-    return FitnessResult(f, d_start, d_end, d_mid, mid_index, n_improper, n_hits, legs, tips)
+    panels = np.zeros(n_designs, dtype=np.int64)
+    if task.unit_width > 0:
+        panels = panel_bias_violations(
+            lengths, beta, task.unit_width / 2.0, b, task.min_panel_face
+        ).astype(np.int64)
+    f = np.where((n_hits > 0) | (legs > 0) | (panels > 0), -np.inf, f)
+    return FitnessResult(
+        f,
+        d_start,
+        d_end,
+        d_mid,
+        mid_index,
+        n_improper,
+        n_hits,
+        legs,
+        tips,
+        theta_end / math.pi,
+        np.array(b, dtype=float),
+        np.array(limit, dtype=float),
+        panels,
+    )

@@ -11,6 +11,9 @@ turn angle of eq. 2 grows monotonically with ``u``: the only jump is across the
 forbidden band of small turns (``|beta|`` below ``lo``), where both sides give
 small turns, so there is no discontinuity trap.
 
+With ``task.codesign`` one more variable, last, is the inner bias of every
+crease, linear in ``[task.bias, task.max_bias]`` mm (:func:`decode_bias`).
+
 Entry flag
 ----------
 ``EF_0`` enters eq. 2 only through ``(-1)^EF``; flipping it while replacing
@@ -39,7 +42,7 @@ from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
 from origami_cad.design.task import ArmTask, SearchSettings
 from origami_cad.pattern.tg import TGDesign
 
-__all__ = ["ArmDesign", "RunResult", "decode", "design_arm", "run_one"]
+__all__ = ["ArmDesign", "RunResult", "decode", "decode_bias", "design_arm", "run_one"]
 
 
 def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -49,11 +52,19 @@ def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     lo, hi = task.length_range
     lengths = lo + x[:, :n1] * (hi - lo)
     blo, bhi = task.shape_angle_range
-    u = x[:, n1:]
+    u = x[:, n1 : 2 * n1 - 1]
     back = (180.0 - bhi) + (u / 0.5) * (bhi - blo)
     front = blo + ((u - 0.5) / 0.5) * (bhi - blo)
     beta = np.where(u < 0.5, back, front)
     return lengths, np.radians(beta)
+
+
+def decode_bias(task: ArmTask, x: np.ndarray) -> np.ndarray | None:
+    """The co-designed inner bias of each genome, mm (``None`` without ``task.codesign``)."""
+    if not task.codesign:
+        return None
+    x = np.clip(np.atleast_2d(np.asarray(x, dtype=float)), 0.0, 1.0)
+    return task.bias + x[:, 2 * task.vectors - 1] * (task.max_bias - task.bias)
 
 
 @dataclass(frozen=True)
@@ -78,6 +89,11 @@ class ArmDesign:
         Index of the CMA-ES run and the number of generations it ran.
     history : tuple of float
         Best fitness after each generation.
+    fold_ratio_end : float
+        ``p_e``: the end of the fold range the printed arm reaches (eq. 6 and
+        the legs' kinematics), where ``T_e`` should meet ``P_end``.
+    bias : float
+        Inner bias of every crease, mm (co-designed, or the task's).
     """
 
     lengths: tuple[float, ...]
@@ -89,6 +105,8 @@ class ArmDesign:
     run: int
     generations: int
     history: tuple[float, ...]
+    fold_ratio_end: float = 1.0
+    bias: float = 3.0
 
     def tg(self, task: ArmTask, unit_width: float = 36.0, copies: int = 3) -> TGDesign:
         """The design as a :class:`TGDesign` (mm, degrees), ready to fabricate."""
@@ -112,6 +130,8 @@ class ArmDesign:
             "entry_flag": self.entry_flag,
             "terms": self.terms.to_dict(),
             "generations": self.generations,
+            "fold_ratio_end": self.fold_ratio_end,
+            "bias_mm": self.bias,
             "tip_mm": self.tips.tolist(),
             "best_fitness_per_generation": list(self.history),
         }
@@ -144,6 +164,9 @@ def run_one(
         "maxiter": settings.max_generations,
         "tolfun": 1e-9,
         "tolflatfitness": 50,
+        # eq. 5 cannot exceed 60 + sum(w) / 10 (every distance 0): stop once within
+        # 1e-4 of it (the distances are then below 1e-3 mm)
+        "ftarget": -(60.0 + float(task.weights.sum()) / 10.0) + 1e-4,
     }
     if settings.popsize:
         opts["popsize"] = settings.popsize
@@ -156,7 +179,7 @@ def run_one(
         if flags is None or len(flags) != len(pop):
             flags = np.full(len(pop), flag)
         lengths, beta = decode(task, pop)
-        cost = arm_fitness(task, lengths, beta, flags).cost()
+        cost = arm_fitness(task, lengths, beta, flags, decode_bias(task, pop)).cost()
         es.tell(list(pop), cost.tolist())
         k = int(np.argmin(cost))
         if cost[k] < best_cost:
@@ -165,7 +188,7 @@ def run_one(
         if progress is not None:
             progress.put((run, len(history), history[-1]))
     lengths, beta = decode(task, best_x)
-    res: FitnessResult = arm_fitness(task, lengths, beta, [flag])
+    res: FitnessResult = arm_fitness(task, lengths, beta, [flag], decode_bias(task, best_x))
     return ArmDesign(
         lengths=tuple(float(v) for v in lengths[0]),
         shape_angles=tuple(float(v) for v in np.degrees(beta[0])),
@@ -176,6 +199,8 @@ def run_one(
         run=run,
         generations=len(history),
         history=tuple(history),
+        fold_ratio_end=float(res.fold_ratio_end[0]),
+        bias=float(res.bias[0]),
     )
 
 

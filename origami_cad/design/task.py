@@ -26,6 +26,17 @@
     popsize = 0           # 0: the CMA-ES default, 4 + 3 ln(dimension)
     max_generations = 400
     sigma0 = 0.25         # initial step, in units of each variable's range
+    [fabrication]         # the printed arm folds only as far as its creases allow (eq. 6)
+    bias = 3.0            # b, mm: inner bias of every crease
+    height = 2.2          # h, mm
+    thickness = 0.4       # t, mm
+    # fold_limit = 146.6  # deg: the largest fold angle of every crease, instead of b, h, t
+    codesign = false      # true: the bias is searched too, in [bias, max_bias] as panels allow
+    max_bias = 6.0        # mm, upper bound of the co-designed bias
+    min_panel_face = 5.0  # mm, narrowest outer face the chamfers may leave on a panel
+
+Without a ``[fabrication]`` table the paper's b = 3, h = 2.2, t = 0.4 mm apply;
+``fold_limit = 180`` gives the unlimited fold range of the paper (0 <= p <= 1).
 """
 
 from __future__ import annotations
@@ -39,6 +50,7 @@ import numpy as np
 import shapely
 
 from origami_cad._toml import Table, load_toml
+from origami_cad.design.limits import crease_fold_limit
 from origami_cad.errors import DesignError
 
 __all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
@@ -90,6 +102,20 @@ class ArmTask:
     warning, prohibited : tuple of shapely Polygon
         Warning areas (``T_e`` inside is an improper state) and prohibited
         areas (the chain touching one makes the design infeasible).
+    bias, height, thickness : float
+        ``b``, ``h``, ``t`` of eq. 6 of the printed arm, mm: every crease
+        stops at ``theta_max`` and the fitness is evaluated over the fold
+        range this leaves (:mod:`origami_cad.design.limits`).
+    fold_limit : float or None
+        The largest fold angle of every crease in degrees, instead of eq. 6
+        (180: no limit, the paper's range 0 <= p <= 1).
+    codesign : bool
+        Search the inner bias too (one more variable), in ``[bias, max_bias]`` mm.
+    max_bias : float
+        Upper bound of the co-designed bias, mm.
+    min_panel_face : float
+        Narrowest outer face a panel may keep between its chamfers, mm: a design
+        whose panels cannot hold the bias is infeasible (with ``unit_width > 0``).
     """
 
     start: tuple[float, float] = (0.0, 0.0)
@@ -106,6 +132,13 @@ class ArmTask:
     min_leg_gap: float = 2.0
     warning: tuple[Any, ...] = ()
     prohibited: tuple[Any, ...] = ()
+    bias: float = 3.0
+    height: float = 2.2
+    thickness: float = 0.4
+    fold_limit: float | None = None
+    codesign: bool = False
+    max_bias: float = 6.0
+    min_panel_face: float = 5.0
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
@@ -141,11 +174,39 @@ class ArmTask:
             raise DesignError(f"samples must be >= 2, got {self.samples}")
         if self.unit_width < 0 or self.min_leg_gap < 0:
             raise DesignError("unit_width and min_leg_gap must be >= 0 mm")
+        for name in ("bias", "height", "thickness"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise DesignError(f"fabrication {name} must be > 0 mm, got {value}")
+        if self.height <= self.thickness:
+            raise DesignError(
+                f"fabrication height h = {self.height:g} mm must exceed the crease "
+                f"thickness t = {self.thickness:g} mm"
+            )
+        if self.fold_limit is not None and not 0 < self.fold_limit <= 180:
+            raise DesignError(f"fold_limit must lie in (0, 180] deg, got {self.fold_limit}")
+        if self.codesign and self.fold_limit is not None:
+            raise DesignError("codesign searches the bias of eq. 6: give b, h, t, not fold_limit")
+        if self.codesign and not self.max_bias > self.bias:
+            raise DesignError(
+                f"max_bias ({self.max_bias:g} mm) must exceed bias ({self.bias:g} mm) to codesign"
+            )
+        if self.min_panel_face < 0:
+            raise DesignError(f"min_panel_face must be >= 0 mm, got {self.min_panel_face}")
 
     @property
     def dimension(self) -> int:
-        """Number of continuous search variables: n + 1 lengths and n shape angles."""
-        return 2 * self.vectors - 1
+        """Search variables: n + 1 lengths, n shape angles (and the bias when co-designing)."""
+        return 2 * self.vectors - 1 + int(self.codesign)
+
+    def crease_limit(self, bias: Any = None) -> Any:
+        """The fold limit of every crease, radians: ``fold_limit``, else eq. 6 at ``bias`` (mm).
+
+        ``bias`` defaults to the task's ``b``; an array gives one limit per design.
+        """
+        if self.fold_limit is not None:
+            return np.radians(self.fold_limit)
+        return crease_fold_limit(self.bias if bias is None else bias, self.height, self.thickness)
 
 
 @dataclass(frozen=True)
@@ -200,12 +261,30 @@ def _area(item: Table, kind: str) -> Any:
     return poly
 
 
+def _fabrication_fields(fab: Table) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    if fab.has("fold_limit"):
+        for key in ("bias", "height", "thickness"):
+            if fab.has(key):
+                raise fab.error(key, "give either fold_limit or b, h, t (bias, height, thickness)")
+        out["fold_limit"] = fab.number("fold_limit", low=0, high=180, low_open=True)
+    else:
+        out["bias"] = fab.number("bias", 3.0, low=0, high=100, low_open=True)
+        out["height"] = fab.number("height", 2.2, low=0, high=100, low_open=True)
+        out["thickness"] = fab.number("thickness", 0.4, low=0, high=100, low_open=True)
+    out["codesign"] = fab.boolean("codesign", False)
+    out["max_bias"] = fab.number("max_bias", 6.0, low=0, high=100, low_open=True)
+    out["min_panel_face"] = fab.number("min_panel_face", 5.0, low=0, high=1000)
+    return out
+
+
 def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
     """Read an arm task file (TOML); errors name the file, table and key."""
     p = Path(path)
     top = Table(load_toml(p), str(p))
     arm = top.table("arm")
     search = top.table("search", {})
+    fab = top.table("fabrication", {})
     top.finish()
     points = arm.pairs("points", min_length=2)
     n_mid = len(points) - 2
@@ -249,8 +328,10 @@ def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
             min_leg_gap=arm.number("min_leg_gap", 2.0, low=0),
             warning=areas["warning"],
             prohibited=areas["prohibited"],
+            **_fabrication_fields(fab),
         )
         arm.finish()
+        fab.finish()
         runs = search.integer("runs", 10, low=1, high=MAX_RUNS)
         settings = SearchSettings(
             runs=runs,
@@ -284,6 +365,16 @@ def task_to_dict(task: ArmTask, settings: SearchSettings | None = None) -> dict[
         "min_leg_gap": task.min_leg_gap,
         "warning": [shapely.get_coordinates(a.exterior).tolist() for a in task.warning],
         "prohibited": [shapely.get_coordinates(a.exterior).tolist() for a in task.prohibited],
+        "fabrication": {
+            "bias_mm": task.bias,
+            "height_mm": task.height,
+            "thickness_mm": task.thickness,
+            "fold_limit_deg": task.fold_limit,
+            "crease_limit_deg": float(np.degrees(task.crease_limit())),
+            "codesign": task.codesign,
+            "max_bias_mm": task.max_bias,
+            "min_panel_face_mm": task.min_panel_face,
+        },
     }
     if settings is not None:
         out["search"] = {

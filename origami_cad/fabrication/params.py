@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from origami_cad.design.limits import crease_fold_limit
 from origami_cad.errors import DesignError
 
 __all__ = [
@@ -36,9 +37,10 @@ def theta_max(bias: float, height: float, thickness: float) -> float:
     """Eq. 6: the largest fold angle before neighbouring chamfers meet, radians.
 
     ``theta_max = 2 atan(2 b / (h - t))`` with inner bias ``b``, shell height ``h``
-    and crease thickness ``t`` (all mm).
+    and crease thickness ``t`` (all mm). The one implementation, element-wise, is
+    :func:`origami_cad.design.limits.crease_fold_limit` (the arm's design uses it).
     """
-    return 2.0 * math.atan(2.0 * bias / (height - thickness))
+    return float(crease_fold_limit(bias, height, thickness))
 
 
 def bias_for_theta_max(theta: float, height: float, thickness: float) -> float:

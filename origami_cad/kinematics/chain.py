@@ -53,8 +53,14 @@ def half_turn_tangents(
     n = beta.shape[1]
     flags_before = (ef0[:, None] + np.arange(n)[None, :]) % 2  # EF_0 .. EF_{n-1}
     sign = 1.0 - 2.0 * flags_before  # (-1)^EF
-    s = np.sin(np.asarray(theta, dtype=float).reshape(-1) / 2.0)
-    return s[None, :, None] * (np.tan(beta) * sign)[:, None, :]
+    s = np.sin(_theta_2d(theta) / 2.0)  # (1, S) or (D, S)
+    return s[:, :, None] * (np.tan(beta) * sign)[:, None, :]
+
+
+def _theta_2d(theta: np.ndarray) -> np.ndarray:
+    """Fold angles as a ``(1, S)`` row shared by all designs, or ``(D, S)`` per design."""
+    th = np.asarray(theta, dtype=float)
+    return th.reshape(1, -1) if th.ndim < 2 else th
 
 
 def turning_angles(
@@ -64,8 +70,9 @@ def turning_angles(
 
     Parameters
     ----------
-    theta : ndarray, shape (S,)
-        Fold angles of the main crease, radians in [0, pi].
+    theta : ndarray, shape (S,) or (D, S)
+        Fold angles of the main crease, radians in [0, pi]; one row shared by
+        every design, or one row per design.
     shape_angles : ndarray, shape (D, n) or (n,)
         ``beta_1 .. beta_n``, radians.
     entry_flag : ndarray of int, shape (D,) or scalar
@@ -93,9 +100,8 @@ def chain_angles(
     """
     da = turning_angles(theta, shape_angles, entry_flag)
     d, s, _ = da.shape
-    theta = np.asarray(theta, dtype=float).reshape(-1)
     hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
-    a0 = np.where(hyp[:, None], hypar_alpha0(theta)[None, :], alpha0)  # (D, S)
+    a0 = np.where(hyp[:, None], hypar_alpha0(_theta_2d(theta)), alpha0)  # (D, S)
     out = np.empty((d, s, da.shape[2] + 1))
     out[..., 0] = a0
     np.cumsum(da, axis=2, out=out[..., 1:])
@@ -120,22 +126,23 @@ def chain_joints(
     is the running product of the turns.
     """
     lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    theta = np.asarray(theta, dtype=float).reshape(-1)
+    theta = _theta_2d(theta)
     t = half_turn_tangents(theta, shape_angles, entry_flag)  # eq. 2
-    d, _, n = t.shape
+    d, n_samples, n = t.shape
     d = max(d, lengths.shape[0])
-    t2 = t * t
-    turn = (1.0 - t2 + 2j * t) / (1.0 + t2)
     hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
-    a0 = np.where(hyp[:, None], hypar_alpha0(theta)[None, :], 0.0)  # eq. 3, (D, S)
-    heading = np.empty((d, len(theta), n + 1), dtype=complex)
+    a0 = np.where(hyp[:, None], hypar_alpha0(theta), 0.0)  # eq. 3, (D, S)
+    heading = np.empty((d, n_samples, n + 1), dtype=complex)
     heading[..., 0] = np.exp(1j * a0)
-    np.cumprod(turn, axis=2, out=heading[..., 1:])
-    heading[..., 1:] *= heading[..., :1]
-    out = np.empty((d, len(theta), n + 2), dtype=complex)
+    inv = 1.0 / (1.0 + t * t)  # the turns, real and imaginary parts (no complex division)
+    heading.real[..., 1:] = 2.0 * inv - 1.0  # (1 - t^2) / (1 + t^2)
+    heading.imag[..., 1:] = 2.0 * t * inv
+    np.cumprod(heading, axis=2, out=heading)
+    out = np.empty((d, n_samples, n + 2), dtype=complex)
     st = np.asarray(start, dtype=float).reshape(-1, 2)
     out[:, :, 0] = (st[:, 0] + 1j * st[:, 1])[:, None]
-    np.cumsum(lengths[:, None, :] * heading, axis=2, out=out[:, :, 1:])
+    heading *= lengths[:, None, :]
+    np.cumsum(heading, axis=2, out=out[:, :, 1:])
     out[:, :, 1:] += out[:, :, :1]
     return out
 
@@ -152,8 +159,8 @@ def chain_points(
 
     Parameters
     ----------
-    theta : ndarray, shape (S,)
-        Fold angles, radians.
+    theta : ndarray, shape (S,) or (D, S)
+        Fold angles, radians (a row per design, or one for all).
     lengths : ndarray, shape (D, n + 1) or (n + 1,)
         ``l_0 .. l_n``, mm.
     shape_angles : ndarray, shape (D, n) or (n,)

@@ -1,0 +1,183 @@
+"""The string route of a designed arm: one onboard TSA on the base panel (the paper's Fig. 8).
+
+The paper folds its arm with one TSA whose strings run along the arm, parallel
+to the transition vectors. :func:`arm_route_toml` writes that route for a TG
+design as a route file (``docs/strings.md``) that ``route``, ``simulate`` and
+``sequence`` read: the TSA rides on the base panel ``c{c}r0s0`` of the middle
+copy ``c``, at the main crease's side of that panel, and one string per panel
+row of that copy threads the panels ``s1 .. sn`` of its row, in order, through
+their automatic holes (placed as ``fabricate`` places them). Every hole-to-hole
+segment crosses one leg; its side is left to the DCQC rule (``sides = "auto"``:
+above valleys, below mountains), so shortening the strings closes the legs and,
+through the one-degree-of-freedom rigid folding, folds the whole arm.
+
+The route states the printed sheet (``[fabrication]`` b, h, t), so both string
+models stop where the first crease reaches eq. 6's limit: the end of the fold
+range the arm was designed for.
+
+>>> from origami_cad.pattern.tg import TGDesign
+>>> tg = TGDesign([60.0, 50.0, 40.0], [70.0, 110.0], 1, 36.0, 3)
+>>> text = arm_route_toml(tg)
+>>> 'anchor_panel = "c1r0s0"' in text and 'holes = ["c1r0s1", "c1r0s2"]' in text
+True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from origami_cad.errors import DesignError
+from origami_cad.pattern.tg import TGDesign, tg_pattern
+
+__all__ = ["arm_chain_path", "arm_route_toml"]
+
+
+def arm_route_toml(
+    tg: TGDesign,
+    *,
+    bias: float | None = 3.0,
+    height: float = 2.2,
+    thickness: float = 0.4,
+    tsa_length: float = 150.0,
+    tsa_radius: float = 0.6,
+    max_helix_angle: float = 75.0,
+    mount_height: float = 10.0,
+    max_turns: float | None = None,
+    take_up: float = 0.1,
+    header: str = "",
+) -> str:
+    """The route file (TOML text) of an arm folded by one onboard TSA on its base panel.
+
+    Parameters
+    ----------
+    tg : TGDesign
+        The arm's tessellation (e.g. ``ArmDesign.tg(task)``); at least two vectors.
+    bias, height, thickness : float
+        ``b``, ``h``, ``t`` of the printed sheet (eq. 6), mm; ``bias = None``: no
+        ``[fabrication]`` table (the strings fold as far as the rigid folding goes).
+    tsa_length, tsa_radius : float
+        Strand length and radius of the onboard TSA, mm.
+    max_helix_angle : float
+        Largest helix angle of the twisted strands, degrees.
+    mount_height : float
+        Height of the TSA's string exit above the base panel's top face, mm.
+    max_turns : float, optional
+        TSA turns at most (default: the strands' largest twist, where their helix
+        angle reaches ``max_helix_angle``, rounded up).
+    take_up : float
+        String (mm) the TSA takes up per quasi-static step.
+    header : str
+        Comment lines put first (each starting with ``#``).
+
+    Returns
+    -------
+    str
+        A route file; the strings' holes are panel labels (automatic holes).
+    """
+    n = len(tg.lengths) - 1
+    if n < 1:
+        raise DesignError("an arm route needs at least two transition vectors")
+    cp = tg_pattern(tg)
+    copy = int(tg.copies) // 2
+    base = f"c{copy}r0s0"
+    face = cp.faces[cp.face_index(base)]
+    # the TSA sits in the middle of the base panel's main-crease edge, a quarter of the
+    # row height inside the panel (both strings leave it towards their rows)
+    corners = cp.vertices[face]
+    top_y = corners[:, 1].max()
+    on_crease = corners[np.isclose(corners[:, 1], top_y)]
+    x = float(on_crease[:, 0].mean())
+    y = float(top_y - tg.row_height / 4.0)
+    if cp.face_of_point(x, y) != cp.face_index(base):
+        x, y = (float(v) for v in corners.mean(axis=0))
+    if max_turns is None:
+        twist = tsa_length * np.sin(np.radians(max_helix_angle)) / tsa_radius
+        max_turns = float(np.ceil(twist / (2 * np.pi)))
+    lines = [header.rstrip("\n")] if header else []
+    lines += [
+        "[tsa]",
+        'model = "onboard"',
+        f"length = {tsa_length:g}          # mm, twisted strands",
+        f"radius = {tsa_radius:g}           # mm",
+        f"max_helix_angle = {max_helix_angle:g}   # deg",
+        "",
+    ]
+    if bias is not None:
+        lines += [
+            "[fabrication]                # the printed arm: eq. 6 stops its creases",
+            f"bias = {bias:.6g}",
+            f"height = {height:g}",
+            f"thickness = {thickness:g}",
+            "",
+        ]
+    lines += [
+        "[route]",
+        f"thickness = {height:g}              # mm: hole exits sit half of it off the sheet",
+        f"take_up = {take_up:g}",
+        f"max_turns = {max_turns:g}",
+        "",
+    ]
+    for row in (0, 1):
+        holes = ", ".join(f'"c{copy}r{row}s{k}"' for k in range(1, n + 1))
+        lines += [
+            f"[[route.strings]]            # along panel row r{row} of copy {copy}",
+            f'anchor_panel = "{base}"     # the onboard TSA on the base panel',
+            f"anchor = [{x:.4f}, {y:.4f}, {mount_height:g}]",
+            f"holes = [{holes}]",
+            'sides = "auto"               # DCQC: above valleys, below mountains',
+            "",
+        ]
+    return "\n".join(lines)
+
+
+def _rigid_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rotation ``R`` and shift ``s`` with ``src @ R.T + s`` closest to ``dst`` (Kabsch)."""
+    cs, cd = src.mean(axis=0), dst.mean(axis=0)
+    u, _, vt = np.linalg.svd((src - cs).T @ (dst - cd))
+    flip = np.sign(np.linalg.det(vt.T @ u.T)) or 1.0
+    rot = vt.T @ np.diag([1.0, 1.0, flip]) @ u.T
+    return rot, cd - cs @ rot.T
+
+
+def arm_chain_path(tg: TGDesign, states: np.ndarray, ratios: np.ndarray) -> np.ndarray:
+    """The TG chain of folded states of an arm's sheet, in the design's 2D frame, mm.
+
+    Each state (vertex coordinates in the pattern's vertex order, e.g. a
+    bar-and-hinge simulation's ``states``) is placed by its base panels, segment 0
+    of every row, fitted rigidly onto the rigid folding at that state's fold ratio;
+    the joints of the middle copy's main crease then give the TG points ``(a, b)``
+    from their 3D position ``(a, y, -b)`` (the frame of
+    :func:`~origami_cad.kinematics.fold3d.tessellation_vertices`), ``T_s`` first and
+    ``T_e`` last.
+
+    Parameters
+    ----------
+    tg : TGDesign
+        The arm's tessellation.
+    states : ndarray, shape (S, n_vertices, 3)
+        Folded states, mm.
+    ratios : ndarray, shape (S,)
+        Fold ratio of each state (where to place its base).
+
+    Returns
+    -------
+    ndarray, shape (S, n + 2, 2)
+        Joints of the chain, mm.
+    """
+    from origami_cad.kinematics.fold3d import tessellation_vertices
+
+    states = np.asarray(states, dtype=float)
+    ratios = np.clip(np.nan_to_num(np.asarray(ratios, dtype=float)), 0.0, 1.0)
+    grid = tessellation_vertices(tg, ratios)  # (S, rows + 1, n + 2, 3)
+    cols = grid.shape[2]
+    rows = np.arange(grid.shape[1])
+    base = (rows[:, None] * cols + np.array([0, 1])[None, :]).reshape(-1)
+    main_row = 2 * (int(tg.copies) // 2) + 1
+    out = np.empty((len(states), cols, 2))
+    for k, coords in enumerate(states):
+        rigid = grid[k].reshape(-1, 3)
+        rot, shift = _rigid_fit(coords[base], rigid[base])
+        joints = coords[main_row * cols : (main_row + 1) * cols] @ rot.T + shift
+        out[k, :, 0] = joints[:, 0]
+        out[k, :, 1] = -joints[:, 2]
+    return out

@@ -1,0 +1,225 @@
+"""Sequences from string models: fold-ratio keyframes turned into TSA turns by a simulation.
+
+A sequence file's mapping (``[[tsa]] mapping = [[p, contraction_mm], ...]``) says
+how far each onboard TSA must contract its strands for the structure to reach a
+fold ratio. Typed by hand, nothing checks it. Here it comes from a model: a DCQC
+result or a bar-and-hinge simulation of the structure and its route gives the
+fold ratio ``p`` reached at each TSA rotation; :func:`model_mapping` samples that
+curve (and every keyframe's fold ratio exactly) as contractions of the onboard
+TSA model (``onboard_contraction``), so that ``drive``, which turns a
+contraction back into motor turns with the same model's inverse, commands the
+turns the model needed. :func:`sequence_toml` writes the file.
+
+>>> import numpy as np
+>>> from origami_cad.strings import TSAParams
+>>> tsa = TSAParams(model="onboard", length=150.0, radius=0.6, max_helix_angle=75.0)
+>>> p, turns = np.linspace(0, 0.5, 11), np.linspace(0, 20, 11) ** 0.5 * 4
+>>> m = model_mapping(p, turns, tsa, at=[0.33])
+>>> bool(np.any(np.isclose(m[:, 0], 0.33)))
+True
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from origami_cad.errors import DesignError
+from origami_cad.strings.tsa import TSAParams, onboard_contraction
+
+#: A keyframe's fold ratio may pass the model's range by this much (then it is its end).
+AT_TOLERANCE = 1e-3
+
+__all__ = [
+    "fold_curve",
+    "model_mapping",
+    "parse_keyframes",
+    "sequence_toml",
+    "state_fold_ratios",
+    "turns_at",
+]
+
+
+def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple[float, ...]]]:
+    """Keyframes ``"T:P"`` or ``"T:P1,P2,..."`` (s, fold ratios) for ``count`` TSAs.
+
+    A single fold ratio applies to every TSA. Times must start at 0 and increase;
+    fold ratios lie in [0, 1]. Errors name the keyframe.
+    """
+    out: list[tuple[float, tuple[float, ...]]] = []
+    if len(items) > 100_000:
+        raise DesignError(f"{len(items)} keyframes; at most 100000")
+    for k, text in enumerate(items):
+        head, sep, tail = str(text).partition(":")
+        try:
+            if not sep:
+                raise ValueError
+            t = float(head)
+            values = tuple(float(v) for v in tail.split(","))
+        except ValueError:
+            raise DesignError(
+                f"keyframe {k + 1} {text!r}: expected TIME:P or TIME:P1,P2,... (s, fold ratios)"
+            ) from None
+        if len(values) == 1:
+            values = values * count
+        if len(values) != count:
+            raise DesignError(
+                f"keyframe {k + 1} {text!r}: {len(values)} fold ratios for {count} TSAs"
+            )
+        if not (math.isfinite(t) and 0 <= t <= 1e7):
+            raise DesignError(f"keyframe {k + 1} {text!r}: time must be a number in [0, 1e7] s")
+        if not all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in values):
+            raise DesignError(f"keyframe {k + 1} {text!r}: fold ratios must lie in [0, 1]")
+        if out and t <= out[-1][0]:
+            raise DesignError(f"keyframe {k + 1} {text!r}: times must increase")
+        out.append((t, values))
+    if len(out) < 2:
+        raise DesignError("give at least two keyframes (TIME:P ...)")
+    if out[0][0] != 0:
+        raise DesignError(f"keyframe 1 {items[0]!r}: the first keyframe must be at t = 0")
+    return out
+
+
+def fold_curve(p: np.ndarray, turns: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The fold ratio against TSA turns as a strictly increasing curve.
+
+    States without a fold ratio (NaN) are dropped, and a state that does not fold
+    further than every earlier one (a pause, or a jam's last states) is skipped:
+    the first turns at which each fold ratio is reached are kept.
+    """
+    p = np.asarray(p, dtype=float)
+    turns = np.asarray(turns, dtype=float)
+    ok = np.isfinite(p) & np.isfinite(turns)
+    p, turns = p[ok], turns[ok]
+    if not len(p):
+        raise DesignError("the model has no state with a fold ratio")
+    best = np.maximum.accumulate(p)
+    keep = np.r_[True, best[1:] > best[:-1] + 1e-9]
+    return p[keep], turns[keep]
+
+
+def state_fold_ratios(p: np.ndarray, fold_angles: np.ndarray, creases: np.ndarray) -> np.ndarray:
+    """Each state's fold ratio: the model's ``p``, else the most folded crease's angle / 180.
+
+    A pattern without a one-parameter rigid folding (a robot whose legs hinge on
+    single creases) has no fold ratio in a bar-and-hinge simulation (``p`` NaN);
+    its states are then measured by ``max |fold angle| / 180 deg`` over ``creases``
+    (the creases its strings drive, or all of them).
+
+    Parameters
+    ----------
+    p : ndarray, shape (S,)
+        Fold ratio of each state, NaN where unknown.
+    fold_angles : ndarray, shape (S, m)
+        Fold angle of every edge in each state, degrees.
+    creases : ndarray of int
+        Edges whose angles measure the folding.
+    """
+    p = np.asarray(p, dtype=float)
+    if np.isfinite(p).any():
+        return p
+    angles = np.abs(np.asarray(fold_angles, dtype=float)[:, np.asarray(creases, dtype=int)])
+    return angles.max(axis=1) / 180.0
+
+
+def turns_at(p: np.ndarray, turns: np.ndarray, at: Any) -> np.ndarray:
+    """TSA turns at fold ratios ``at`` on a curve from :func:`fold_curve` (linear)."""
+    return np.interp(np.asarray(at, dtype=float), p, turns)
+
+
+def model_mapping(
+    p: np.ndarray,
+    turns: np.ndarray,
+    tsa: TSAParams,
+    at: Sequence[float] = (),
+    points: int = 21,
+    where: str = "the model",
+) -> np.ndarray:
+    """A sequence mapping ``[[p, contraction_mm], ...]`` from a model's fold curve.
+
+    Parameters
+    ----------
+    p, turns : ndarray
+        Fold ratio and TSA turns of the model's states (:func:`fold_curve` is applied).
+    tsa : TSAParams
+        The onboard TSA (``model = "onboard"``) whose contraction ``drive`` inverts.
+    at : sequence of float
+        Fold ratios that must be mapping points (the keyframes), so that ``drive``
+        reproduces the model's turns there exactly; one within ``AT_TOLERANCE`` of
+        the curve's range is taken at its end.
+    points : int
+        Evenly spaced fold ratios over the curve, besides ``at``.
+    where : str
+        Names the model in errors.
+
+    Returns
+    -------
+    ndarray, shape (k, 2)
+        Increasing fold ratios and non-decreasing contractions, mm.
+    """
+    if tsa.model != "onboard":
+        raise DesignError(
+            f"{where}: its TSA is a {tsa.model!r} TSA; a sequence drives onboard TSAs "
+            '(model = "onboard" in the route\'s [tsa])'
+        )
+    p, turns = fold_curve(p, turns)
+    lo, hi = float(p[0]), float(p[-1])
+    at = np.asarray(list(at), dtype=float)
+    far = at[(at < lo - AT_TOLERANCE) | (at > hi + AT_TOLERANCE)]
+    if len(far):
+        raise DesignError(
+            f"{where}: fold ratio {far[0]:g} is outside what its strings reach, "
+            f"p = {lo:.4g} .. {hi:.4g}"
+        )
+    grid = np.unique(np.r_[np.linspace(lo, hi, max(points, 2)), np.clip(at, lo, hi)])
+    grid = grid[np.r_[True, np.diff(grid) > 1e-9]]
+    theta = 2 * math.pi * turns_at(p, turns, grid)
+    contraction = onboard_contraction(
+        theta, tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
+    )
+    return np.column_stack([grid, np.maximum.accumulate(contraction)])
+
+
+def sequence_toml(
+    tsas: Sequence[dict[str, Any]],
+    keyframes: Sequence[tuple[float, Sequence[float]]],
+    *,
+    rate: float = 10.0,
+    repeat: int = 1,
+    header: str = "",
+) -> str:
+    """A sequence file (``drive``'s input) as TOML text.
+
+    ``tsas``: one dict per TSA with ``id`` (servo), ``name``, ``tsa``
+    (:class:`TSAParams`, onboard), ``mapping`` (from :func:`model_mapping`) and
+    optional ``comment``; ``keyframes``: ``(t s, fold ratio per TSA)``, each fold
+    ratio kept within its TSA's mapping.
+    """
+    lines = [header.rstrip("\n")] if header else []
+    lines += ["[sequence]", f"repeat = {int(repeat)}", f"rate = {rate:g}              # Hz", ""]
+    for item in tsas:
+        tsa: TSAParams = item["tsa"]
+        pairs = ", ".join(f"[{a:.6f}, {b:.6f}]" for a, b in item["mapping"])
+        name = str(item["name"]).replace("\\", "/").replace('"', "'")
+        if item.get("comment"):
+            lines.append(f"# {item['comment']}")
+        lines += [
+            "[[tsa]]",
+            f"id = {int(item['id'])}",
+            f'name = "{name}"',
+            f"length = {tsa.length:g}           # mm, twisted strands",
+            f"radius = {tsa.radius:g}            # mm",
+            f"max_helix_angle = {tsa.max_helix_angle:g}    # deg",
+            f"mapping = [{pairs}]   # [p, contraction mm], from the model",
+            "",
+        ]
+    for t, values in keyframes:  # within each mapping (AT_TOLERANCE at its ends)
+        vals = ", ".join(
+            f"{min(max(v, item['mapping'][0, 0]), item['mapping'][-1, 0]):.6g}"
+            for v, item in zip(values, tsas, strict=True)
+        )
+        lines += ["[[keyframe]]", f"t = {t:g}", f"p = [{vals}]"]
+    return "\n".join(lines) + "\n"
