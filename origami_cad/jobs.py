@@ -925,6 +925,34 @@ def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_pane
     return simulate(loaded.pattern, spec, params, design=loaded, steps=steps)
 
 
+def _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes) -> str:
+    """The comment lines of a generated sequence file: where it comes from, how to remake it."""
+    route = routes[0]
+    argv = " ".join(
+        [
+            "origami-cad sequence",
+            str(design),
+            str(route),
+            "-o",
+            str(output),
+            *(f"--more-routes {r}" for r in routes[1:]),
+            f"--model {model}",
+            *([f"--fixed-panel {fixed_panel}"] if fixed_panel else []),
+            "--ids " + ",".join(map(str, ids)),
+            "--keyframes",
+            *map(str, keyframes),
+        ]
+    )
+    header = (
+        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
+        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
+        "# commands the turns the model needed. Regenerate with:\n"
+        f"#   {argv}\n"
+    )
+    return header
+
+
 def run_sequence(
     design: PathLike,
     route: PathLike,
@@ -1013,28 +1041,7 @@ def run_sequence(
             (f"servo {ids[k]}: turns at the keyframes", need),
             (f"servo {ids[k]}: largest TSA torque", f"{peak:.3g} N mm"),
         ]
-    argv = " ".join(
-        [
-            "origami-cad sequence",
-            str(design),
-            str(route),
-            "-o",
-            str(output),
-            *(f"--more-routes {r}" for r in routes[1:]),
-            f"--model {model}",
-            *([f"--fixed-panel {fixed_panel}"] if fixed_panel else []),
-            "--ids " + ",".join(map(str, ids)),
-            "--keyframes",
-            *map(str, keyframes),
-        ]
-    )
-    header = (
-        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
-        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
-        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
-        "# commands the turns the model needed. Regenerate with:\n"
-        f"#   {argv}\n"
-    )
+    header = _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
     text = sequence_toml(tsas, frames, rate=rate, repeat=repeat, header=header)
     with atomic_path(output) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")
