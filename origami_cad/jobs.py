@@ -440,6 +440,29 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path):
     return files, strings
 
 
+def _arm_numbers(best, settings, seconds: float, strings) -> list[tuple[str, str]]:
+    """The key numbers of an arm design: the winner, its fold range and its strings."""
+    t = best.terms
+    return [
+        ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
+        ("search time", f"{seconds:.1f} s"),
+        ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
+        ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
+        ("fold range the printed arm reaches", f"p = 0 .. {best.fold_ratio_end:.4f}"),
+        ("|T_e(p_e) - P_end| at its end", f"{t.d_end:.3g} mm"),
+        ("crease limit (eq. 6)", f"{t.crease_limit:.1f} deg at b = {best.bias:.3g} mm"),
+        ("improper states N", str(t.improper_states)),
+        ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
+        ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
+        (
+            "route.toml: its strings fold the arm (DCQC)",
+            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})"
+            if not isinstance(strings, Exception)
+            else f"not simulated: {strings}",
+        ),
+    ]
+
+
 def run_design_arm(
     task: PathLike,
     folder: PathLike,
@@ -479,26 +502,8 @@ def run_design_arm(
     with atomic_directory(folder, inputs=[task]) as stage:
         staged, strings = _write_arm_files(results, arm_task, settings, seconds, stage)
         files = _moved(staged, stage, folder)
-    best = results[0]
-    t = best.terms
-    numbers = [
-        ("runs x generations", f"{settings.runs} x {settings.max_generations}"),
-        ("search time", f"{seconds:.1f} s"),
-        ("best fitness (max 60)", f"{best.fitness:.3f} (run {best.run}, EF_0 = {best.entry_flag})"),
-        ("|T_e(0) - P_start|", f"{t.d_start:.3g} mm"),
-        ("fold range the printed arm reaches", f"p = 0 .. {best.fold_ratio_end:.4f}"),
-        ("|T_e(p_e) - P_end| at its end", f"{t.d_end:.3g} mm"),
-        ("crease limit (eq. 6)", f"{t.crease_limit:.1f} deg at b = {best.bias:.3g} mm"),
-        ("improper states N", str(t.improper_states)),
-        ("lengths l_0..l_n", ", ".join(f"{v:.1f}" for v in best.lengths) + " mm"),
-        ("shape angles", ", ".join(f"{v:.1f}" for v in best.shape_angles) + " deg"),
-        (
-            "route.toml: its strings fold the arm (DCQC)",
-            f"to p = {strings.p[-1]:.4f} in {strings.turns[-1]:.1f} TSA turns ({strings.stop})"
-            if not isinstance(strings, Exception)
-            else f"not simulated: {strings}",
-        ),
-    ]
+    best, t = results[0], results[0].terms
+    numbers = _arm_numbers(best, settings, seconds, strings)
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
         f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(p_e) - P_end| = "

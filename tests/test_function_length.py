@@ -21,6 +21,10 @@ ALLOWED = {
     "origami_cad.pattern.model:_split_points",  # issue 20: still to split
     "origami_cad.pattern.svg:read_svg",  # issue 20: still to split
     "origami_cad.pattern.tg:design_from_vectors",  # issue 20: still to split
+    "origami_cad.design.arm_route:arm_route_toml",  # issue 20: still to split (new, issue 16)
+    "origami_cad.design.fitness:arm_fitness",  # issue 20: still to split (new, issue 16)
+    "origami_cad.jobs:run_arm_scene",  # issue 20: still to split (new, issue 16)
+    "origami_cad.jobs:run_sequence",  # issue 20: still to split (new, issue 16)
 }
 
 
