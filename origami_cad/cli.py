@@ -78,6 +78,7 @@ def _drive_table():
 _PROGRESS = {
     "design-arm": lambda: _bar("CMA-ES generations"),
     "simulate": lambda: _bar("simulating"),
+    "crawl": lambda: _bar("walking"),
     "drive": _drive_table,
 }
 
@@ -148,6 +149,10 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
     ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
     ("simulate", "--free", {**_FLAG, "help": "hold no panel (needs --gravity, --ground)"}),
+    ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
+    ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
+    ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
+    ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
     ("emulate drive", "--protocol", _PROTOCOL),
     ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
@@ -181,6 +186,7 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "fabricate": (jobs.run_fabricate, ("design",), "folder"),
     "route": (jobs.run_route, ("design", "route"), "folder"),
     "simulate": (jobs.run_simulate, ("pattern", "route"), "folder"),
+    "crawl": (jobs.run_crawl, ("robot",), "folder"),
     "emulate": (jobs.run_emulate, (), None),
     "drive": (jobs.run_drive, ("sequence",), None),
     "part": (jobs.run_part, (), None),

@@ -38,6 +38,7 @@ __all__ = [
     "parameter_default",
     "run_check",
     "run_convert",
+    "run_crawl",
     "run_design_arm",
     "run_drive",
     "run_emulate",
@@ -718,6 +719,112 @@ def run_simulate(
             f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
             f"{result.reason}",
             f"string tensions {tensions} N, TSA torque {last['tsa_torque_Nmm']:.3g} N mm",
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+    )
+
+
+# --------------------------------------------------------------------------- robots
+
+PAPER_CRAWL_MM = 63.0  # the paper's crawler: mm forward per 32 s gait cycle on a PVC mat
+PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
+
+
+def run_crawl(
+    robot: PathLike,
+    folder: PathLike,
+    *,
+    cycles: int = 2,
+    steps: int = 6,
+    reverse: bool = False,
+    friction: float | None = None,
+    gif_frames: int = GIF_FRAMES,
+    progress: Callable[[int, int], None] | None = None,
+) -> Outputs:
+    """Walk a legged robot through its gait in simulation: crawl.json, .png plots, crawl.gif.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, one onboard
+    TSA route per leg, blockers, masses and the gait as fold ratios; each keyframe is
+    turned into TSA turns through the model and the robot lies free on the ground
+    (gravity, Coulomb ``friction``, default the robot file's). ``cycles`` gait cycles
+    of ``steps`` quasi-static steps between keyframes; ``reverse`` plays the gait
+    backwards. Writes the body's path and per-TSA torque and tensions
+    (``crawl.json``), the body's position against time (``crawl.png``), torques and
+    tensions (``loads.png``) and the crawl seen from the side (``crawl.gif``).
+    """
+    from origami_cad.simulation.crawler import load_robot, simulate_gait
+    from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
+    from origami_cad.viz.render3d import render_folding_gif
+
+    if not 1 <= cycles <= 100:
+        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+    if not 1 <= steps <= 1000:
+        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+    if friction is not None and not friction >= 0:
+        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+    check_outputs([robot], folders=[folder])
+    spec = load_robot(robot)
+    start = time.perf_counter()
+    result = simulate_gait(
+        spec, cycles=cycles, steps=steps, reverse=reverse, friction=friction, progress=progress
+    )
+    seconds = time.perf_counter() - start
+    per = result.displacement_per_cycle()
+    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif")
+    legs = [leg.name for leg in spec.legs]
+    inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
+    with atomic_directory(folder, inputs=inputs) as stage:
+        data = result.to_dict()
+        data.update(
+            {
+                "robot": str(robot),
+                "cycles": cycles,
+                "reverse": reverse,
+                "cycle_s": spec.cycle,
+                "legs": legs,
+                "paper_mm_per_cycle": PAPER_CRAWL_MM,
+                "simulation_s": seconds,
+            }
+        )
+        with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=1)
+        save_crawl_position_png(
+            result.t,
+            result.body,
+            result.cycle_starts,
+            stage / names[1],
+            reference=-PAPER_CRAWL_MM if reverse else PAPER_CRAWL_MM,
+            cycle=spec.cycle,
+        )
+        save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
+        every = max(1, len(result.states) // max(gif_frames, 1))
+        shown = [*result.states[::every], result.states[-1]]
+        render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
+    files = [Path(folder) / n for n in names]
+    mean = float(per.mean())
+    return Outputs(
+        files=files,
+        images=[
+            (files[1], "Body position against time (paper: 63 mm per 32 s cycle)"),
+            (files[2], "TSA torque and string tension per leg"),
+            (files[3], "The crawl seen from the side"),
+        ],
+        numbers=[
+            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per)),
+            ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
+            ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
+            ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
+            ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
+            ("largest string tension", f"{result.tensions.max():.1f} N"),
+            ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
+            ("simulated mass", f"{result.mass_g:.0f} g"),
+            ("simulation time", f"{seconds:.1f} s"),
+        ],
+        messages=[
+            f"{cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
+            f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
+            *(f"note: {n}" for n in result.notes),
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,

@@ -15,6 +15,7 @@ ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 from collections.abc import Callable
@@ -39,7 +40,6 @@ from origami_cad.strings.route import (
     panel_frame,
 )
 from origami_cad.strings.tsa import (
-    TSAParams,
     onboard_angle,
     onboard_contraction,
     onboard_transmission,
@@ -250,10 +250,6 @@ def _sim_strings(cp: CreasePattern, route: RouteSpec) -> list[SimString]:
     return out
 
 
-def _rest_tsa(tsa: TSAParams) -> TSAParams:
-    return tsa
-
-
 def _folded_leg(cp: CreasePattern, leg: Leg, angle: float) -> np.ndarray:
     """Vertices (n, 3) with the leg turned rigidly about its crease by ``angle`` (rad).
 
@@ -364,7 +360,9 @@ class GaitResult:
     def displacement_per_cycle(self, axis: int = 0) -> np.ndarray:
         """Body displacement over each cycle along ``axis`` (0: x, the heading), mm."""
         idx = self.cycle_starts
-        return np.array([self.body[b, axis] - self.body[a, axis] for a, b in zip(idx, idx[1:])])
+        return np.array(
+            [self.body[b, axis] - self.body[a, axis] for a, b in itertools.pairwise(idx)]
+        )
 
     def to_dict(self) -> dict:
         per = self.displacement_per_cycle()
