@@ -78,7 +78,6 @@ def _drive_table():
 _PROGRESS = {
     "design-arm": lambda: _bar("CMA-ES generations"),
     "simulate": lambda: _bar("simulating"),
-    "crawl": lambda: _bar("walking"),
     "drive": _drive_table,
 }
 
@@ -149,6 +148,8 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
     ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
     ("simulate", "--free", {**_FLAG, "help": "hold no panel (needs --gravity, --ground)"}),
+    ("robot", "--no-renders", {"action": "store_false", "dest": "renders",
+                                "help": "skip the render"}),
     ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
@@ -186,6 +187,7 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "fabricate": (jobs.run_fabricate, ("design",), "folder"),
     "route": (jobs.run_route, ("design", "route"), "folder"),
     "simulate": (jobs.run_simulate, ("pattern", "route"), "folder"),
+    "robot": (jobs.run_robot, ("robot",), "folder"),
     "crawl": (jobs.run_crawl, ("robot",), "folder"),
     "emulate": (jobs.run_emulate, (), None),
     "drive": (jobs.run_drive, ("sequence",), None),

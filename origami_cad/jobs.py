@@ -46,6 +46,7 @@ __all__ = [
     "run_fold",
     "run_part",
     "run_pattern",
+    "run_robot",
     "run_route",
     "run_simulate",
     "run_tg",
@@ -828,6 +829,101 @@ def run_crawl(
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,
+    )
+
+
+def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Outputs:
+    """The printable robot: the sheet's STLs, STEP, 3MF and its parts, robot.step, mass budget.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, the holes its
+    strings need, a TSA module per leg, blockers on the leg creases and the driver
+    adapter. Writes what ``fabricate`` writes for the sheet (with the robot's holes),
+    one STL per added part in place (``tsa_module_*.stl``, ``blocker_*.stl``,
+    ``driver_adapter.stl``), ``robot.step`` (every solid named and coloured in place),
+    ``robot.json`` (each solid's volume, mass and bounding box, the mass budget with the
+    robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
+    ``robot.png``.
+    """
+    from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
+    from origami_cad.parts.robot import (
+        robot_assembly,
+        robot_overlaps,
+        robot_report,
+        write_robot_step,
+        write_robot_stls,
+    )
+    from origami_cad.simulation.crawler import load_robot, robot_placements
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    check_outputs([robot], folders=[folder])
+    spec = load_robot(robot)
+    fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
+    assembly = robot_assembly(fab, **robot_placements(spec))
+    report = robot_report(assembly)
+    overlaps = robot_overlaps(assembly)
+    sheet = fab.report()["total_mass_g"]
+    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
+    bought = sum(m.grams for m in spec.masses)
+    total = sheet + printed + bought
+    budget = {
+        "sheet_g": sheet,
+        "printed_parts_g": printed,
+        "bought_parts_g": {m.name: m.grams for m in spec.masses},
+        "total_g": total,
+        "paper_g": PAPER_CRAWLER_G,
+        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
+    }
+    inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
+    with atomic_directory(folder, inputs=inputs) as stage:
+        write_fabrication(fab, stage)
+        save_panels_png(fab, stage / "panels.png")
+        stls = write_robot_stls(assembly, stage)
+        write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
+        data = {
+            "robot": str(robot),
+            "mass_budget": budget,
+            "solids": report,
+            "interpenetrating_mm3": {f"{a} / {b}": v for (a, b), v in overlaps.items()},
+        }
+        with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=1)
+        images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
+        if renders:
+            from origami_cad.viz.parts_render import render_parts
+
+            every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+            every.update(stls)
+            render_parts(every, stage / "robot.png", title=f"{Path(robot).stem}: printed robot")
+            images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
+        staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))
+    files = _moved(staged, stage, folder)
+    kinds = [v["kind"] for v in report.values()]
+    return Outputs(
+        files=files,
+        images=[(Path(folder) / p.name, c) for p, c in images],
+        numbers=[
+            ("sheet mass", f"{sheet:.1f} g"),
+            ("printed parts", f"{printed:.1f} g"),
+            ("bought parts (servos, driver module)", f"{bought:.1f} g"),
+            (
+                "mass estimate (paper: 361.45 g)",
+                f"{total:.0f} g ({budget['difference_percent']:+.0f} %)",
+            ),
+            (
+                "parts",
+                f"{kinds.count('tsa-module')} TSA modules, {kinds.count('blocker')} blockers, "
+                f"{kinds.count('driver-adapter')} driver adapter",
+            ),
+            ("interpenetrating pairs", str(len(overlaps))),
+        ],
+        messages=[
+            f"mass estimate {total:.0f} g against the paper's {PAPER_CRAWLER_G:g} g "
+            f"(sheet {sheet:.0f} g, printed parts {printed:.0f} g, bought {bought:.0f} g)",
+            *(f"warning: {a} and {b} share {v:.1f} mm^3" for (a, b), v in overlaps.items()),
+            *(f"warning: {w}" for w in fab.warnings),
+            f"wrote {folder}/: " + " ".join(p.name for p in files),
+        ],
+        result=assembly,
     )
 
 

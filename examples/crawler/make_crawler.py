@@ -4,11 +4,11 @@ Run: python examples/crawler/make_crawler.py   (rewrites crawler.fold and route_
 
 The robot (see docs/crawler.md) heads along +x. It is one printed sheet:
 
-* a body panel, 180 x 240 mm, with a 6 mm notch in the middle of its front and rear edges so
+* a body panel, 180 x 200 mm, with a 6 mm notch in the middle of its front and rear edges so
   that no three vertices of its outline are collinear (the simulator triangulates panels as
   fans and the notch keeps every triangle proper);
 * four legs, trapezoids 90 mm long hinged to the body's front and rear edges by MOUNTAIN
-  creases (a leg folds down under the body and lifts it), 105 mm wide at the hinge and
+  creases (a leg folds down under the body and lifts it), 85 mm wide at the hinge and
   flaring to 140 mm at the foot, so that the flat sheet is 360 x 320 mm and the robot
   standing on its legs at 25-55 deg is 283-344 mm long (the paper: 340 x 320 x 122 mm).
 
@@ -33,15 +33,15 @@ from origami_cad.pattern import CreasePattern  # noqa: E402
 from origami_cad.pattern.fold import write_fold  # noqa: E402
 
 #: Half the body's length (x) and width (y), mm.
-BODY_X, BODY_Y = 90.0, 120.0
+BODY_X, BODY_Y = 90.0, 100.0
 #: Notch depth at the middle of the front and rear edges, mm, and the legs' inner edge (|y|).
 NOTCH, LEG_IN = 6.0, 15.0
 #: Leg length (hinge to foot), mm; the foot's half-width reach (|y| of its outer corner).
 LEG_LENGTH, FOOT_OUT, FOOT_IN = 90.0, 160.0, 20.0
 #: Holes: distance of the leg's holes and of the body's holes from the hinge, mm.
 LEG_HOLE, BODY_HOLE = 12.0, 30.0
-#: The four strings' |y| across a leg, mm (evenly over the hinge's 105 mm).
-STRING_Y = (30.0, 55.0, 80.0, 105.0)
+#: The four strings' |y| across a leg, mm (evenly over the hinge's 85 mm).
+STRING_Y = (25.0, 45.0, 65.0, 85.0)
 #: TSA: twisted strands from hub to exit guide (the module's guide_distance), mm.
 TSA_LENGTH, TSA_RADIUS, TSA_HELIX = 24.0, 0.6, 75.0
 #: String exit above the leg's top face: the module's mount (1 mm) plus half the servo's

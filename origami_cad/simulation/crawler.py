@@ -46,13 +46,16 @@ from origami_cad.strings.tsa import (
 )
 
 __all__ = [
+    "SERVO",
     "GaitResult",
     "Leg",
     "PointMass",
     "Robot",
     "gait_turns",
     "leg_contraction",
+    "leg_heading",
     "load_robot",
+    "robot_placements",
     "simulate_gait",
 ]
 
@@ -145,7 +148,7 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
     blocker = robot.number("blocker_angle", 60.0, low=0, high=180, low_open=True, high_open=True)
     friction = robot.number("friction", 0.6, low=0)
     robot.finish()
-    holes = tuple(tuple(h) for h in fab.pairs("holes", [], min_length=0))
+    given = fab.pairs("holes", None, min_length=1) if fab.has("holes") else None
     fab.finish()
     if not isinstance(legs_raw, list) or not legs_raw:
         raise DesignError(f"{p}: expected at least one [[leg]] table")
@@ -167,6 +170,11 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         name = t.string("name", panel)
         t.finish()
         legs.append(Leg(panel, face, crease, route, servo, name, route_path))
+    if given is None:  # the holes the strings run through, in route order
+        routed = [p for leg in legs for s in leg.route.strings for p in s.points]
+        holes = tuple(dict.fromkeys(routed))
+    else:
+        holes = tuple((float(x), float(y)) for x, y in given)
     ids = [leg.servo for leg in legs]
     if len(set(ids)) != len(ids):
         raise DesignError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
@@ -223,6 +231,67 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         p,
         pattern_path,
     )
+
+
+#: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).
+SERVO = "XL330"
+#: Thickness of a leg module's mount plate, mm (thin: the leg panel carries the load).
+MOUNT_THICKNESS = 1.0
+
+
+def leg_heading(robot: Robot, leg: Leg) -> float:
+    """Direction (deg from +x) across the leg's crease toward the body: a module's twist axis."""
+    cp = robot.pattern
+    a, b = cp.vertices[cp.edges[leg.crease]]
+    d = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-d[1], d[0]])
+    centre = cp.vertices[cp.faces[leg.face]].mean(axis=0)
+    if np.dot(centre - a, normal) > 0:
+        normal = -normal
+    return math.degrees(math.atan2(normal[1], normal[0])) % 360.0
+
+
+def robot_placements(robot: Robot) -> dict[str, list]:
+    """The robot's parts as placements for :func:`origami_cad.parts.robot.robot_assembly`.
+
+    A TSA module (``SERVO``, strands = the route's TSA length as its guide distance, twist
+    axis toward the body) on every leg, a blocker on every leg crease and the driver
+    adapter (one connector per leg) at ``[adapter] at``. Names have no spaces (STEP
+    labels).
+    """
+    from origami_cad.parts.robot import BlockerPlacement, FreePlacement, ModulePlacement
+
+    def key(leg: Leg) -> str:
+        return leg.name.replace(" ", "_")
+
+    modules = [
+        ModulePlacement(
+            f"tsa_module_{key(leg)}",
+            leg.panel,
+            {
+                "servo": SERVO,
+                "guide_distance": leg.route.tsa.length,
+                "mount_thickness": MOUNT_THICKNESS,
+                "heading": leg_heading(robot, leg),
+                "tsa": leg.route.tsa,
+            },
+        )
+        for leg in robot.legs
+    ]
+    blockers = [
+        BlockerPlacement(f"blocker_{key(leg)}", leg.crease, robot.blocker_angle)
+        for leg in robot.legs
+    ]
+    free = [
+        FreePlacement(
+            "driver_adapter",
+            "driver-adapter",
+            robot.adapter_at,
+            robot.adapter_heading,
+            {"connectors": len(robot.legs)},
+        )
+    ]
+    return {"modules": modules, "blockers": blockers, "free": free}
 
 
 # ----------------------------------------------------------------------------- strings
