@@ -11,7 +11,8 @@ from origami_cad.strings import TOP, TSAParams
 from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
 
 
-def _run(n: int, steps: int = 100) -> tuple[float, int, int]:
+def _run(n: int, steps: int = 100) -> tuple[float, float, int, int]:
+    """Fold an ``n/2 x n/2``-cell Miura: (wall s, CPU s, nodes, states)."""
     design = miura_design(n, n, 15.0, 15.0, 60.0)
     cp = design.pattern
     row = f"c{n // 4}r0s"
@@ -27,24 +28,32 @@ def _run(n: int, steps: int = 100) -> tuple[float, int, int]:
     )
     tsa = TSAParams(model="onboard", length=150.0, radius=0.6, max_helix_angle=75.0)
     route = RouteSpec(tsa, (string,), 2.2, math.radians(60), 20.0, fixed_panel=labels[0])
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     result = simulate(cp, route, steps=steps)
-    return time.perf_counter() - t0, cp.n_vertices, len(result.steps)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return wall, cpu, cp.n_vertices, len(result.steps)
 
 
 def run() -> list[tuple[str, float, str]]:
+    # the machine is shared: CPU time (process_time) beside wall time, the better of two runs
+    _run(6, 3)  # load the compiled kernels
     out = []
     times = {}
     for n in (10, 20, 40):
-        seconds, nodes, steps = _run(n)
-        times[n] = (seconds, nodes)
-        # the issue's "20 x 20 Miura (about 1,700 nodes)": 20 x 20 unit cells, 40 x 40 panels
-        target = "target < 30 s" if n == 40 else ""
-        what = f"{n // 2} x {n // 2} Miura cells ({nodes} nodes), {steps} steps, s"
-        out.append((what, seconds, target))
-        out.append(("  node-steps per second", nodes * steps / seconds, ""))
-    (t1, n1), (t2, n2) = times[20], times[40]
-    out.append(
-        ("cost ~ nodes^k between 441 and 1,681 nodes: k", math.log(t2 / t1) / math.log(n2 / n1), "")
-    )
+        runs = [_run(n) for _ in range(2)]
+        wall = min(r[0] for r in runs)
+        cpu = min(r[1] for r in runs)
+        _, _, nodes, steps = runs[0]
+        times[n] = (wall, cpu, nodes)
+        # the issue's "20 x 20 Miura (1,681 nodes)": 20 x 20 unit cells, 40 x 40 panels
+        target = "target < 15 s" if n == 40 else ""
+        what = f"{n // 2} x {n // 2} Miura cells ({nodes} nodes), {steps} states: wall s"
+        out.append((what, wall, target))
+        out.append(("  CPU s (process_time)", cpu, ""))
+        out.append(("  node-steps per second (wall)", nodes * steps / wall, ""))
+        out.append(("  node-steps per CPU second", nodes * steps / cpu, ""))
+    (w1, c1, n1), (w2, c2, n2) = times[20], times[40]
+    k = math.log(n2 / n1)
+    out.append(("cost ~ nodes^k between 441 and 1,681 nodes (wall): k", math.log(w2 / w1) / k, ""))
+    out.append(("cost ~ nodes^k between 441 and 1,681 nodes (CPU): k", math.log(c2 / c1) / k, ""))
     return out

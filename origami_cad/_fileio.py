@@ -166,16 +166,17 @@ def _temp_file(folder: Path, suffix: str) -> Path:
 
 def _target(path: PathLike) -> tuple[Path, os.stat_result | None]:
     """The file to write for ``path`` (links followed) and its status if it exists."""
-    real = _real(path)
     try:
-        st = os.stat(real)
+        st = os.stat(path)  # follows links
     except FileNotFoundError:
-        return real, None
+        return _real(path), None
     except OSError as exc:
         raise OutputError(f"{path}: {exc.strerror}") from None
     if stat.S_ISDIR(st.st_mode):
         raise OutputError(f"{path}: is a folder; give a file name")
-    return real, st
+    if not stat.S_ISREG(st.st_mode):  # a device or pipe, maybe behind /proc/self/fd links
+        return Path(path), st
+    return _real(path), st
 
 
 def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:

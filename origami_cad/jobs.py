@@ -127,8 +127,21 @@ def parameter_default(job: Callable, name: str) -> Any:
     return found.get(name)
 
 
+def _is_stream(path: PathLike) -> bool:
+    """A device or pipe (``/dev/stdout``, a FIFO): written into, whatever its name."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
+
+
 def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
-    if Path(path).suffix.lower() not in allowed:
+    if len(allowed) == 1 and _is_stream(path):
+        return  # one possible format: a device or pipe needs no extension
+    if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
         raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
 
 

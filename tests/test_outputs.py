@@ -263,3 +263,20 @@ def test_sigterm_while_rendering_a_gif_leaves_nothing(tmp_path):
     assert proc.returncode == 128 + signal.SIGTERM, err
     assert "terminated" in err and "Traceback" not in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("into", ["pipe", "file"])
+def test_dev_stdout_is_written_into_and_stays_a_link(tmp_path, into):
+    """As root, replacing /dev/stdout would break the whole system."""
+    d = tmp_path / "d.toml"
+    d.write_text((Path(__file__).resolve().parents[1] / "examples" / "fig2_tg.toml").read_text())
+    cmd = [sys.executable, "-m", "origami_cad.cli", "tg", str(d), "-o", "/dev/stdout"]
+    if into == "pipe":
+        data = subprocess.run(cmd, capture_output=True, check=True, timeout=120).stdout
+    else:
+        with open(tmp_path / "tg.png", "wb") as fh:
+            subprocess.run(cmd, stdout=fh, check=True, timeout=120)
+        data = (tmp_path / "tg.png").read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    assert os.path.islink("/dev/stdout")
+    _no_leftovers(tmp_path)

@@ -16,11 +16,20 @@ and Newton's method keeps its pace through stick-slip transitions.
 
 Each solve minimises E over the free nodes by Newton's method on the exact
 Hessian (bars' and strings' geometric stiffness, the hinges' second
-derivatives, the exit points' curvature) with Levenberg damping where that
-Hessian is not positive definite (checked by the inertia of its LDL^T
-factorisation), sparse SuperLU with a symmetric minimum-degree ordering, and an
-Armijo backtracking line search, so the energy decreases at every accepted
-iteration (recorded, and asserted by the tests).
+derivatives, the exit points' curvature) and an Armijo backtracking line
+search, so the energy decreases at every accepted iteration (recorded, and
+asserted by the tests).
+
+Linear algebra (:class:`HessianAssembly`): the Hessian's sparsity pattern, the
+place of every element entry in its CSC data and a symmetric minimum-degree
+ordering are computed once per structure; bars and hinges are evaluated and
+added in place by compiled kernels. A Newton step is solved by conjugate
+gradients preconditioned with the latest factorisation, kept across iterations
+and actuation steps, while that converges in a few iterations; otherwise the
+Hessian is factorised afresh (SuperLU, symmetric mode, diagonal pivots), and
+the pivots give its inertia: Levenberg damping is added where it is not
+positive definite. Conjugate gradients also stop at a direction of
+non-positive curvature, which sends the step to a fresh factorisation.
 """
 
 from __future__ import annotations
@@ -34,17 +43,13 @@ from scipy.sparse.linalg import splu
 
 from origami_cad.errors import SimulationError
 from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
-from origami_cad.simulation.mechanics import (
-    bar_hessians,
-    bar_lengths,
-    fold_angles,
-    hinge_gradients,
-    hinge_hessians,
-)
+from origami_cad.simulation.mechanics import assemble_bars, assemble_hinges, bar_hinge_energy
 from origami_cad.simulation.model import Structure
 
 __all__ = [
+    "Factor",
     "Ground",
+    "HessianAssembly",
     "SimString",
     "SolveInfo",
     "StringSet",
@@ -122,12 +127,18 @@ def total_energy(
     ground: Ground | None = None,
 ) -> float:
     """The total energy of configuration ``x`` (n, 3), N mm."""
-    length, _ = bar_lengths(x, st.bars)
-    energy = 0.5 * float(np.sum(st.bar_k * (length - st.bar_rest) ** 2))
-    rho = fold_angles(x, st.hinges)
-    energy += 0.5 * float(np.sum(st.hinge_k * (rho - st.hinge_rest) ** 2))
-    over = np.abs(rho) - (st.hinge_limit - st.limit_margin)
-    energy += 0.5 * st.limit_k * float(np.sum(np.where(over > 0, over, 0.0) ** 2))
+    energy = bar_hinge_energy(
+        np.ascontiguousarray(x, dtype=float),
+        st.bars,
+        st.bar_k,
+        st.bar_rest,
+        st.hinges,
+        st.hinge_k,
+        st.hinge_rest,
+        st.hinge_limit,
+        float(st.limit_k),
+        float(st.limit_margin),
+    )
     energy += float(np.dot(st.weight, x[:, 2]))
     if ground is not None:
         energy += ground.energy(x)
@@ -144,15 +155,66 @@ def _dofs(nodes: np.ndarray) -> np.ndarray:
     return (3 * nodes[..., :, None] + np.arange(3)).reshape(*nodes.shape[:-1], -1)
 
 
-class _Assembly:
-    """The free-free Hessian's sparsity pattern, computed once per structure.
+class Factor:
+    """A sparse LDL^T-like factorisation of ``A`` in a fixed fill-reducing ordering.
 
-    Each element block (bars 6 x 6, hinges 12 x 12, a string's nodes, a node's
-    3 x 3 for contact and damping) maps its entries to positions in the CSC data
-    array, so that each iteration only sums values (``np.bincount``).
+    Wraps SuperLU (symmetric mode, diagonal pivots) of the permuted matrix
+    ``A[q][:, q]``; :meth:`solve` takes and returns vectors in ``A``'s own order.
     """
 
-    def __init__(self, st: Structure, strings: StringSet | None) -> None:
+    def __init__(self, lu, order: np.ndarray) -> None:
+        self.lu = lu
+        self.order = order
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """``A^-1 rhs`` for ``rhs`` (size,)."""
+        out = np.empty_like(rhs)
+        out[self.order] = self.lu.solve(rhs[self.order])
+        return out
+
+
+class HessianAssembly:
+    """The free-free Hessian's sparsity pattern and its assembly, computed once per structure.
+
+    Every element block (bars 6 x 6, hinges 12 x 12, a node's 3 x 3 for contact,
+    a string's nodes) has each of its entries mapped once to a position in the
+    CSC data array (entries on held nodes go to one spare slot past the end).
+    Each Newton iteration then only evaluates the elements and adds their
+    values at those positions (:meth:`assemble`, compiled for bars and hinges),
+    and factorises in a fill-reducing ordering (symmetric minimum degree on
+    ``A^T + A``) that is also computed once (:meth:`factorise`).
+
+    Parameters
+    ----------
+    st : Structure
+        The bar-and-hinge model (its held nodes are left out of the matrix).
+    strings : StringSet, optional
+        The strings (their nodes couple through the string Hessians).
+
+    Attributes
+    ----------
+    free : ndarray
+        (3n,) bool: which degrees of freedom ``3 node + axis`` are free.
+    size, nnz : int
+        The matrix's order (free degrees of freedom) and its stored entries.
+    indices, indptr : ndarray
+        The CSC pattern (int32).
+    diagonal : ndarray
+        Positions of the diagonal entries in the data array.
+    preconditioner : Factor or None
+        The latest positive-definite factorisation: kept between Newton
+        iterations and between solves as the conjugate-gradient preconditioner.
+    stale : bool
+        Whether the next Newton step should factorise afresh instead.
+    reuse_factorisations : bool
+        Class-wide switch (default True): False factorises at every Newton step
+        (the plain Newton method, for comparisons).
+    ordering : ndarray
+        (size,) the fill-reducing order: row and column ``ordering[k]`` of the
+        Hessian is the factorised matrix's ``k``-th.
+    """
+
+    def __init__(self, st: Structure, strings: StringSet | None = None) -> None:
         n = len(st.x0)
         free = np.repeat(~st.fixed, 3)
         self.free = free
@@ -175,97 +237,241 @@ class _Assembly:
         unique, inverse = np.unique(allkeys[valid], return_inverse=True)
         position = np.full(allkeys.size, unique.size)  # out-of-pattern entries land past the end
         position[valid] = inverse
-        self.positions = np.split(position, np.cumsum(spans)[:-1])
+        positions = np.split(position, np.cumsum(spans)[:-1])
         self.nnz = unique.size
+        self.bar_positions = positions[0].reshape(len(st.bars), 36)
+        self.hinge_positions = positions[1].reshape(len(st.hinges), 144)
+        self.node_positions = positions[2].reshape(n, 9)
+        self.string_positions = positions[3:]
         self.indices = (unique % self.size).astype(np.int32)
         cols = unique // self.size
         self.indptr = np.searchsorted(cols, np.arange(self.size + 1)).astype(np.int32)
         diag = unique[(unique % self.size) == (unique // self.size)]
         self.diagonal = np.searchsorted(unique, diag)
+        self.preconditioner: Factor | None = None
+        self.stale = False
+        self._ordering: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
-    def matrix(self, values: list[np.ndarray], shift: float = 0.0) -> sp.csc_matrix:
+    def keep(self, factor: Factor) -> None:
+        """Keep ``factor`` as the preconditioner of the next solves."""
+        self.preconditioner = factor
+        self.stale = False
+
+    def count_iterations(self, iterations: int) -> None:
+        """Record a preconditioned solve: past a few iterations, factorise afresh next time."""
+        self.stale = iterations > _CG_REFRESH
+
+    @property
+    def positions(self) -> list[np.ndarray]:
+        """Each group's entry positions, flat, in the order bars, hinges, nodes, strings."""
+        return [
+            self.bar_positions.ravel(),
+            self.hinge_positions.ravel(),
+            self.node_positions.ravel(),
+            *self.string_positions,
+        ]
+
+    def assemble(
+        self, x: np.ndarray, st: Structure, strings: StringSet | None, ground: Ground | None
+    ) -> tuple[np.ndarray, np.ndarray, list[float]]:
+        """The energy's gradient and Hessian at ``x`` (n, 3), mm.
+
+        Returns
+        -------
+        (grad, data, tensions)
+            The gradient (n, 3), N, on every node; the Hessian's values in the
+            CSC pattern (nnz + 1,), N/mm, the last being the spare slot (see
+            :meth:`matrix`); each string's tension, N.
+        """
+        n = len(x)
+        x = np.ascontiguousarray(x, dtype=float)
+        grad = np.zeros((n, 3))
         data = np.zeros(self.nnz + 1)
-        for pos, val in zip(self.positions, values, strict=False):
-            if val is not None:
-                data += np.bincount(pos, weights=val.ravel(), minlength=self.nnz + 1)
-        data = data[:-1]
-        data[self.diagonal] += shift
-        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.size, self.size))
+        assemble_bars(x, st.bars, st.bar_k, st.bar_rest, self.bar_positions, grad, data)
+        assemble_hinges(
+            x,
+            st.hinges,
+            st.hinge_k,
+            st.hinge_rest,
+            st.hinge_limit,
+            float(st.limit_k),
+            float(st.limit_margin),
+            self.hinge_positions,
+            grad,
+            data,
+        )
+        grad[:, 2] += st.weight
+        if ground is not None:
+            g_ground, h_nodes = ground.derivatives(x)
+            grad += g_ground
+            data[self.node_positions] += h_nodes.reshape(n, 9)  # one node: distinct entries
+        tensions = []
+        if strings is not None:
+            for s, pos in zip(strings.strings, self.string_positions, strict=True):
+                total, _ = string_length(x, s, strings)
+                stretch = total - s.free_length
+                tension = s.stiffness * stretch if stretch > 0 else 0.0
+                tensions.append(tension)
+                if tension > 0:
+                    nodes, g, h = string_derivatives(x, s, strings)
+                    grad[nodes] += tension * g
+                    gf = g.ravel()
+                    data[pos] += (s.stiffness * np.outer(gf, gf) + tension * h).ravel()
+        return grad, data, tensions
+
+    def matrix(self, data: np.ndarray, shift: float = 0.0) -> sp.csc_matrix:
+        """The free-free Hessian (size, size) from :meth:`assemble`'s values, plus ``shift`` I."""
+        values = data[: self.nnz].copy()
+        values[self.diagonal] += shift
+        return sp.csc_matrix((values, self.indices, self.indptr), shape=(self.size, self.size))
+
+    reuse_factorisations = True
+
+    @property
+    def ordering(self) -> np.ndarray:
+        """(size,) the fill-reducing order (computed at the first use, then kept)."""
+        return self._order()[0]
+
+    def _order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The fill-reducing ordering ``q`` and the permuted pattern (data map, indices, indptr)."""
+        if self._ordering is None:
+            # minimum degree depends on the pattern only: take it from a diagonally dominant
+            # matrix of the same pattern, and keep it
+            template = sp.csc_matrix(
+                (np.arange(self.nnz, dtype=float), self.indices, self.indptr),
+                shape=(self.size, self.size),
+            )
+            probe = template.copy()
+            probe.data[:] = -1.0
+            probe.data[self.diagonal] = np.diff(self.indptr) + 1.0
+            lu = splu(
+                probe,
+                permc_spec="MMD_AT_PLUS_A",
+                diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True},
+            )
+            order = np.argsort(lu.perm_c)  # order[new] = old
+            permuted = template[order][:, order].tocsc()
+            permuted.sort_indices()
+            self._ordering = (
+                order,
+                permuted.data.astype(np.int64),
+                permuted.indices.astype(np.int32),
+                permuted.indptr.astype(np.int32),
+            )
+        return self._ordering
+
+    def factorise(self, data: np.ndarray, shift: float = 0.0) -> Factor | None:
+        """LDL^T-like factorisation of the Hessian plus ``shift`` I, in the fill-reducing order.
+
+        Diagonal pivots only, so the pivots give the inertia: returns None unless
+        the matrix is positive definite (or when it is exactly singular).
+        """
+        order, data_map, indices, indptr = self._order()
+        values = data[: self.nnz].copy()
+        values[self.diagonal] += shift
+        a = sp.csc_matrix((values[data_map], indices, indptr), shape=(self.size, self.size))
+        try:
+            lu = splu(
+                a,
+                permc_spec="NATURAL",
+                diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True},
+            )
+        except RuntimeError:  # exactly singular
+            return None
+        if not np.array_equal(lu.perm_r, lu.perm_c):
+            return None
+        if not np.all(lu.U.diagonal() > 0):
+            return None  # Sylvester: a non-positive pivot means the matrix is not positive definite
+        return Factor(lu, order)
 
 
-def _gradient_hessian(x, st: Structure, strings: StringSet | None, ground: Ground | None):
-    """Gradient (n, 3) and the element Hessian blocks in the assembly's order."""
-    n = len(x)
-    grad = np.zeros((n, 3))
-    length, unit = bar_lengths(x, st.bars)
-    force = st.bar_k * (length - st.bar_rest)
-    np.add.at(grad, st.bars[:, 1], force[:, None] * unit)
-    np.add.at(grad, st.bars[:, 0], -force[:, None] * unit)
-    h_bars = bar_hessians(x, st.bars, st.bar_k, st.bar_rest)
-    rho = fold_angles(x, st.hinges)
-    dr = hinge_gradients(x, st.hinges)
-    over = np.abs(rho) - (st.hinge_limit - st.limit_margin)
-    active = over > 0
-    moment = st.hinge_k * (rho - st.hinge_rest) + np.where(
-        active, st.limit_k * over, 0.0
-    ) * np.sign(rho)
-    np.add.at(grad, st.hinges.ravel(), (moment[:, None, None] * dr).reshape(-1, 3))
-    k_rot = st.hinge_k + np.where(active, st.limit_k, 0.0)
-    drf = dr.reshape(len(dr), 12)
-    h_hinges = k_rot[:, None, None] * drf[:, :, None] * drf[:, None, :]
-    h_hinges += moment[:, None, None] * hinge_hessians(x, st.hinges)
-    grad[:, 2] += st.weight
-    h_nodes = None
-    if ground is not None:
-        g_ground, h_nodes = ground.derivatives(x)
-        grad += g_ground
-    values = [h_bars, h_hinges, h_nodes]
-    tensions = []
-    if strings is not None:
-        for s in strings.strings:
-            total, _ = string_length(x, s, strings)
-            stretch = total - s.free_length
-            tension = s.stiffness * stretch if stretch > 0 else 0.0
-            tensions.append(tension)
-            if tension > 0:
-                nodes, g, h = string_derivatives(x, s, strings)
-                grad[nodes] += tension * g
-                gf = g.ravel()
-                values.append(s.stiffness * np.outer(gf, gf) + tension * h)
-            else:
-                values.append(None)
-    return grad, values, tensions
+_Assembly = HessianAssembly  # the former private name, still used by simulate.py
+
+
+def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_iter: int):
+    """Conjugate gradients on ``a x = rhs`` preconditioned by an earlier factorisation.
+
+    Returns ``(x, iterations)``; ``x`` is None when it did not reach ``rtol``
+    (relative residual) within ``max_iter`` iterations, or when it met a
+    direction of non-positive curvature (``a`` not positive definite there).
+    """
+    x = np.zeros_like(rhs)
+    r = rhs.copy()
+    z = factor.solve(r)
+    p = z.copy()
+    rz = float(r @ z)
+    target = rtol * float(np.linalg.norm(rhs))
+    for it in range(1, max_iter + 1):
+        ap = a @ p
+        curvature = float(p @ ap)
+        if not curvature > 0 or not rz > 0:
+            return None, it
+        alpha = rz / curvature
+        x += alpha * p
+        r -= alpha * ap
+        if float(np.linalg.norm(r)) <= target:
+            return x, it
+        z = factor.solve(r)
+        rz_next = float(r @ z)
+        p = z + (rz_next / rz) * p
+        rz = rz_next
+    return None, max_iter
 
 
 @dataclass
 class SolveInfo:
-    """What one equilibrium solve did."""
+    """What one equilibrium solve did.
+
+    Attributes
+    ----------
+    iterations : int
+        Accepted Newton iterations.
+    factorisations : int
+        Sparse factorisations (a damped retry counts again).
+    cg_iterations : int
+        Preconditioned conjugate-gradient iterations, over all Newton steps.
+    energies : list of float
+        The energy at the start and after each accepted iteration, N mm.
+    gradient_norm : float
+        The largest residual force on a free node at the end, N.
+    converged : bool
+        Whether that residual fell below the tolerance.
+    tensions : list of float
+        Each string's tension at the end, N.
+    """
 
     iterations: int = 0
     factorisations: int = 0
+    cg_iterations: int = 0
     energies: list[float] = field(default_factory=list)
     gradient_norm: float = math.inf
     converged: bool = False
     tensions: list[float] = field(default_factory=list)
 
 
-def _factorise(a: sp.csc_matrix):
-    """LDL^T-like factorisation with diagonal pivots; None unless ``a`` is positive definite."""
-    try:
-        lu = splu(
-            a,
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
-    except RuntimeError:  # exactly singular
-        return None
-    if not np.array_equal(lu.perm_r, lu.perm_c):
-        return None
-    pivots = lu.U.diagonal()
-    if not np.all(pivots > 0):
-        return None  # Sylvester: a non-positive pivot means the matrix is not positive definite
-    return lu
+# conjugate gradients: relative residual and iterations at most, and the iterations
+# beyond which the preconditioner counts as stale (measured on the benchmark's
+# Miura: a factorisation costs about 20 preconditioned iterations, and the
+# iterations grow quickly as the preconditioner ages)
+_CG_RTOL = 1e-3
+_CG_MAX_ITER = 30
+_CG_REFRESH = 5
+
+
+def _line_search(x, step, g, energy, free, st, strings, ground):
+    """Armijo backtracking along ``step``: (accepted, t, trial x, trial energy)."""
+    slope = float(g @ step)
+    t = 1.0
+    while t > 1e-6 and slope < 0:
+        trial = x.copy()
+        trial.reshape(-1)[free] += t * step
+        e_trial = total_energy(trial, st, strings, ground)
+        if e_trial <= energy + 1e-4 * t * slope:
+            return True, t, trial, e_trial
+        t *= 0.5
+    return False, t, x, energy
 
 
 def solve_equilibrium(
@@ -276,9 +482,15 @@ def solve_equilibrium(
     ground: Ground | None = None,
     tol: float = 1e-7,
     max_iter: int = 200,
-    assembly: _Assembly | None = None,
+    assembly: HessianAssembly | None = None,
 ) -> tuple[np.ndarray, SolveInfo]:
     """Minimise the energy from ``x`` (n, 3), mm, with the held nodes fixed.
+
+    Each Newton step solves ``H step = -g`` by conjugate gradients
+    preconditioned with the latest factorisation of ``H`` (kept in the
+    assembly, across iterations and solves) while that takes few iterations,
+    and otherwise by a fresh factorisation, whose pivots also check that ``H``
+    is positive definite (Levenberg damping where it is not).
 
     Parameters
     ----------
@@ -295,6 +507,9 @@ def solve_equilibrium(
         Convergence: largest residual force on a free node, N.
     max_iter : int
         Newton iterations at most.
+    assembly : HessianAssembly, optional
+        The structure's Hessian pattern (built here when not given); pass the
+        same one to successive solves to reuse its ordering and preconditioner.
 
     Returns
     -------
@@ -302,7 +517,7 @@ def solve_equilibrium(
         The equilibrium (n, 3), mm, and what the solve did.
     """
     x = np.array(x, dtype=float)
-    asm = assembly or _Assembly(st, strings)
+    asm = assembly or HessianAssembly(st, strings)
     free = asm.free
     info = SolveInfo()
     energy = total_energy(x, st, strings, ground)
@@ -310,7 +525,7 @@ def solve_equilibrium(
     scale = max(float(np.max(st.bar_k)), 1.0)
     damping = 0.0
     for it in range(max_iter):
-        grad, values, tensions = _gradient_hessian(x, st, strings, ground)
+        grad, values, tensions = asm.assemble(x, st, strings, ground)
         g = grad.ravel()[free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
@@ -320,28 +535,35 @@ def solve_equilibrium(
             info.converged = True
             break
         accepted = False
-        for _ in range(16):
+        # first try: conjugate gradients preconditioned by the latest factorisation
+        if asm.reuse_factorisations and asm.preconditioner is not None and not asm.stale:
             a = asm.matrix(values, damping * scale)
-            lu = _factorise(a)
-            info.factorisations += 1
-            if lu is None:
-                damping = max(damping * 10.0, 1e-10)
-                continue
-            step = -lu.solve(g)
-            step -= lu.solve(g + a @ step)  # one round of iterative refinement
-            slope = float(g @ step)
-            t = 1.0
-            while t > 1e-6 and slope < 0:
-                trial = x.copy()
-                trial.reshape(-1)[free] += t * step
-                e_trial = total_energy(trial, st, strings, ground)
-                if e_trial <= energy + 1e-4 * t * slope:
-                    accepted = True
+            step, cg_iterations = _pcg(a, -g, asm.preconditioner, _CG_RTOL, _CG_MAX_ITER)
+            info.cg_iterations += cg_iterations
+            asm.count_iterations(cg_iterations)
+            if step is not None:
+                accepted, t, trial, e_trial = _line_search(
+                    x, step, g, energy, free, st, strings, ground
+                )
+            if not accepted:
+                asm.stale = True
+        if not accepted:
+            for _ in range(16):
+                factor = asm.factorise(values, damping * scale)
+                info.factorisations += 1
+                if factor is None:
+                    damping = max(damping * 10.0, 1e-10)
+                    continue
+                asm.keep(factor)
+                a = asm.matrix(values, damping * scale)
+                step = -factor.solve(g)
+                step -= factor.solve(g + a @ step)  # one round of iterative refinement
+                accepted, t, trial, e_trial = _line_search(
+                    x, step, g, energy, free, st, strings, ground
+                )
+                if accepted:
                     break
-                t *= 0.5
-            if accepted:
-                break
-            damping = max(damping * 10.0, 1e-10)
+                damping = max(damping * 10.0, 1e-10)
         if not accepted:
             break  # no descent possible: as converged as the model allows
         x = trial
