@@ -765,9 +765,10 @@ def run_crawl(
     of ``steps`` quasi-static steps between keyframes; ``reverse`` plays the gait
     backwards. Writes the body's path and per-TSA torque and tensions
     (``crawl.json``), the body's position against time (``crawl.png``), torques and
-    tensions (``loads.png``) and the crawl seen from the side (``crawl.gif``).
+    tensions (``loads.png``), the crawl seen from the side (``crawl.gif``) and the
+    gait as a sequence for ``drive`` (``gait_sequence.toml``, mappings from the model).
     """
-    from origami_cad.simulation.crawler import load_robot, simulate_gait
+    from origami_cad.simulation.crawler import gait_sequence_text, load_robot, simulate_gait
     from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
     from origami_cad.viz.render3d import render_folding_gif
 
@@ -785,7 +786,7 @@ def run_crawl(
     )
     seconds = time.perf_counter() - start
     per = result.displacement_per_cycle()
-    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif")
+    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml")
     legs = [leg.name for leg in spec.legs]
     inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
     with atomic_directory(folder, inputs=inputs) as stage:
@@ -815,6 +816,9 @@ def run_crawl(
         every = max(1, len(result.states) // max(gif_frames, 1))
         shown = [*result.states[::every], result.states[-1]]
         render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
+        text = gait_sequence_text(spec, repeat=cycles)
+        with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
+            fh.write(text)
     files = [Path(folder) / n for n in names]
     mean = float(per.mean())
     return Outputs(

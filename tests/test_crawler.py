@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import importlib.util
 import json
 import math
@@ -11,6 +12,7 @@ import numpy as np
 import pytest
 
 from origami_cad.cli import main
+from origami_cad.drive.sequence import load_sequence
 from origami_cad.errors import DesignError
 from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
@@ -128,6 +130,20 @@ def test_crawl_command(tmp_path, capsys):
     assert data["paper_mm_per_cycle"] == 63.0
     assert (out / "crawl.gif").read_bytes()[:3] == b"GIF"
     assert (out / "crawl.png").read_bytes()[:4] == b"\x89PNG"
+    # the same gait, as TSA turns from the model, drives emulated servos to the end
+    seq = load_sequence(out / "gait_sequence.toml")
+    assert [t.name for t in seq.tsas] == ["front left", "front right", "rear left", "rear right"]
+    robot = load_robot(ROBOT)
+    assert list(seq.turns_at(11.0).values()) == pytest.approx(gait_turns(robot)[2], rel=1e-3)
+    log = tmp_path / "drive.csv"
+    args = ["drive", str(out / "gait_sequence.toml"), "--dry-run", "--speed", "32"]
+    assert main([*args, "--log", str(log), "--baudrate", "1000000"]) == 0
+    with log.open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert {int(r["id"]) for r in rows} == {1, 2, 3, 4}
+    front = [float(r["measured_turns"]) for r in rows if r["id"] == "1"]
+    # the emulated front-left servo twists up to the crawl's 3.8 turns and back
+    assert max(front) == pytest.approx(gait_turns(robot)[2, 0], abs=0.1)
     capsys.readouterr()
     assert main(["crawl", str(ROBOT), "-o", str(tmp_path / "x"), "--cycles", "0"]) == 2
     assert "cycles" in capsys.readouterr().err

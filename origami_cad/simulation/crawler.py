@@ -51,6 +51,7 @@ __all__ = [
     "Leg",
     "PointMass",
     "Robot",
+    "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
     "leg_heading",
@@ -379,6 +380,50 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
             np.clip(c, 0, None), tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
         ) / (2 * math.pi)
     return out
+
+
+def gait_sequence_text(
+    robot: Robot, *, repeat: int = 1, rate: float = 10.0, current_limit: float | None = 1200.0
+) -> str:
+    """The gait as a sequence file for ``origami-cad drive`` (TOML text).
+
+    Each TSA's ``mapping`` (fold ratio to contraction, mm) is :func:`leg_contraction`
+    sampled every 0.02 up to the blockers' fold ratio, so ``drive`` turns the gait's
+    fold-ratio keyframes into the same turns as :func:`gait_turns` (between samples,
+    linearly). ``current_limit`` (mA) stops a stalling servo.
+    """
+    p_max = robot.blocker_angle / 180.0
+    samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
+    source = robot.source.name if robot.source else "the robot file"
+    lines = [
+        f"# The gait of {source} as TSA commands, written by origami-cad crawl: each",
+        "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
+        "# strings measured through their holes), so fold ratios become motor turns.",
+        "[sequence]",
+        f"repeat = {repeat}",
+        f"rate = {rate:g}              # Hz",
+    ]
+    if current_limit is not None:
+        lines.append(f"current_limit = {current_limit:g}   # mA: a stalling TSA is stopped")
+    for leg in robot.legs:
+        tsa = leg.route.tsa
+        c = leg_contraction(robot.pattern, leg, samples)
+        pairs = ", ".join(f"[{p:.4f}, {v:.4f}]" for p, v in zip(samples, c, strict=True))
+        lines += [
+            "",
+            "[[tsa]]",
+            f"id = {leg.servo}",
+            f'name = "{leg.name}"',
+            f"length = {tsa.length:g}           # mm, twisted strands",
+            f"radius = {tsa.radius:g}            # mm",
+            f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",
+            f"mapping = [{pairs}]  # [p, mm]",
+        ]
+    t0 = float(robot.gait_t[0])
+    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
+        values = ", ".join(f"{v:g}" for v in p)
+        lines += ["", "[[keyframe]]", f"t = {t - t0:g}", f"p = [{values}]"]
+    return "\n".join(lines) + "\n"
 
 
 # ----------------------------------------------------------------------------- walking
