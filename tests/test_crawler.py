@@ -218,3 +218,23 @@ def test_robot_mass_estimate_against_the_paper(printed):
     for name in ("infills.stl", "shells.stl", "print.3mf", "assembly.step", "robot.step"):
         assert (out / name).stat().st_size > 0
     assert (out / "tsa_module_front_left.stl").read_bytes()[:5] != b"solid"  # binary STL
+
+
+def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
+    """The gait's sequence on emulated servos whose rear-left strings go taut at 2 turns."""
+    from origami_cad.drive.dynamixel import DynamixelBus
+    from origami_cad.drive.emulator import DynamixelEmulator
+    from origami_cad.drive.errors import StallError
+    from origami_cad.drive.sequence import run_sequence
+    from origami_cad.simulation.crawler import gait_sequence_text
+
+    path = tmp_path / "gait.toml"
+    path.write_text(gait_sequence_text(robot), encoding="utf-8")
+    seq = load_sequence(path)
+    ids = [leg.servo for leg in robot.legs]
+    log = tmp_path / "stall.csv"
+    with DynamixelEmulator(ids, time_scale=32.0, load_turns={3: 2.0}) as emu:
+        with pytest.raises(StallError, match="servo 3"):
+            with DynamixelBus(emu.port, ids=ids, profile_velocity=0, current_limit_ma=1000) as bus:
+                run_sequence(seq, bus, log, time_scale=32.0)
+        assert all(s.table[64] == 0 for s in emu.servos.values())  # torque off everywhere
