@@ -8,7 +8,7 @@ import time
 from origami_cad.pattern.design import miura_design
 from origami_cad.simulation import simulate
 from origami_cad.strings import TOP, TSAParams
-from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
+from origami_cad.strings.route import RouteSpec, StringRoute, auto_holes
 
 
 def _run(n: int, steps: int = 100) -> tuple[float, float, int, int]:
@@ -17,7 +17,7 @@ def _run(n: int, steps: int = 100) -> tuple[float, float, int, int]:
     cp = design.pattern
     row = f"c{n // 4}r0s"
     labels = [f"{row}{k}" for k in range(n)]
-    auto = _auto_holes(cp, 2.0)
+    auto = auto_holes(cp, 2.0)
     faces = tuple(cp.face_index(label) for label in labels)
     hx, hy = auto[labels[0]]
     from origami_cad.strings.route import side_rule
@@ -31,7 +31,7 @@ def _run(n: int, steps: int = 100) -> tuple[float, float, int, int]:
     t0, c0 = time.perf_counter(), time.process_time()
     result = simulate(cp, route, steps=steps)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    return wall, cpu, cp.n_vertices, len(result.steps)
+    return wall, cpu, cp.n_vertices, len(result)
 
 
 def run() -> list[tuple[str, float, str]]:

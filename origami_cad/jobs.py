@@ -595,20 +595,20 @@ def run_route(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
     loaded = load_pattern_source(design)
     cp = loaded.pattern
     spec = load_route(route, cp)
-    result = simulate_dcqc(loaded, spec)
+    result = simulate_dcqc(loaded, spec, crease_stiffness=_sim_params(spec).crease_stiffness)
     names = ("dcqc.json", "route.png", "dcqc.png", "route_folded.png")
     with atomic_directory(folder, inputs=_sources(design, route, loaded)) as stage:
         with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
             json.dump(result.to_dict(), fh, indent=1)
         save_route_png(cp, spec, stage / names[1])
         save_dcqc_png(result, stage / names[2])
-        final = result.final
+        p, turns = float(result.p[-1]), float(result.turns[-1])
         render_folded(
             cp,
             result.final_coords,
             stage / names[3],
             strings=result.final_strings,
-            title=f"final p = {final['p']:.3f}",
+            title=f"final p = {p:.3f}",
         )
     files = [Path(folder) / n for n in names]
     captions = ["Routing (solid above, dashed below the sheet)", "Fold ratio against TSA turns"]
@@ -618,19 +618,71 @@ def run_route(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
         files=files,
         images=list(zip(files[1:], captions, strict=True)),
         numbers=[
-            ("strings / quasi-static steps", f"{len(spec.strings)} / {len(result.steps) - 1}"),
-            ("final fold ratio p", f"{final['p']:.3f} after {final['turns']:.2f} turns"),
+            ("strings / quasi-static steps", f"{len(spec.strings)} / {len(result) - 1}"),
+            ("final fold ratio p", f"{p:.3f} after {turns:.2f} turns"),
             ("why it stops", result.reason),
             ("DCQC side-rule violations", str(len(result.violations))),
             ("segments cutting through panels", str(len(result.cutting))),
         ],
         messages=[
             *(f"warning: {v}" for v in result.violations + result.cutting),
-            f"{state}: p = {final['p']:.4f} after {final['turns']:.2f} turns; {result.reason}",
+            f"{state}: p = {p:.4f} after {turns:.2f} turns; {result.reason}",
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,
         status=0 if result.valid else 1,
+    )
+
+
+def _sim_params(spec, **loads):
+    """The simulation's materials: from the route's [fabrication] (one source), else defaults."""
+    from origami_cad.simulation import SimulationParams
+
+    if spec.fabrication is not None:
+        return SimulationParams.from_fabrication(spec.fabrication, **loads)
+    return SimulationParams(**loads)
+
+
+def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
+    """Both string models from one route file: fig5.png (p, tensions, torque, four stages).
+
+    Also ``simulation.json``; the numbers give where the two p(turns) curves differ.
+    """
+    import numpy as np
+
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.simulation import simulate
+    from origami_cad.strings import load_route, simulate_dcqc
+    from origami_cad.viz.strings_plots import save_fig5_png
+
+    check_outputs([design, route], folders=[folder])
+    loaded = load_pattern_source(design)
+    spec = load_route(route, loaded.pattern)
+    params = _sim_params(spec)
+    dcqc = simulate_dcqc(loaded, spec, crease_stiffness=params.crease_stiffness)
+    sim = simulate(loaded.pattern, spec, params, design=loaded)
+    gap = np.abs(sim.p - np.interp(sim.turns, dcqc.turns, dcqc.p))
+    names = ("fig5.png", "simulation.json")
+    with atomic_directory(folder, inputs=_sources(design, route, loaded)) as stage:
+        save_fig5_png(loaded.pattern, dcqc, sim, stage / names[0])
+        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+            json.dump(sim.to_dict(), fh)
+    files = [Path(folder) / n for n in names]
+    return Outputs(
+        files=files,
+        images=[(files[0], "p against turns in both models; tensions, torque; four stages")],
+        numbers=[
+            ("simulated states", str(len(sim))),
+            ("final fold ratio p (simulation)", f"{sim.p[-1]:.3f} after {sim.turns[-1]:.2f} turns"),
+            ("largest gap in p(turns) between the models", f"{np.nanmax(gap):.3f}"),
+            (
+                "largest string tension / TSA torque",
+                f"{sim.tensions.max():.1f} N / {sim.torque.max():.2f} N mm",
+            ),
+            ("why the simulation stops", sim.reason),
+        ],
+        messages=[f"wrote {folder}/: " + " ".join(names)],
+        result=(dcqc, sim),
     )
 
 
@@ -654,8 +706,8 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     from origami_cad.viz.strings_plots import save_route_png
 
     frames = [
-        folded_frame(x, s["fold_angles_deg"], f"theta_s = {s['theta_s_deg']:.0f} deg")
-        for x, s in zip(result.states, result.steps, strict=True)
+        folded_frame(x, a, f"theta_s = {math.degrees(t):.0f} deg")
+        for x, a, t in zip(result.states, result.fold_angles, result.theta, strict=True)
     ]
     write_fold(cp, stage / names[0], frames=frames)
     with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
@@ -664,7 +716,7 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     shown = [*result.states[::every], result.states[-1]]
     view = (1, -1.5, 1)
     render_folding_gif(cp, shown, stage / names[2], view=view)
-    title = f"after {result.steps[-1]['turns']:.1f} TSA turns"
+    title = f"after {result.turns[-1]:.1f} TSA turns"
     render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
     save_route_png(cp, spec, stage / names[4])
 
@@ -693,7 +745,7 @@ def run_simulate(
     the number of frames of the animation.
     """
     from origami_cad.pattern.design import load_pattern_source
-    from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.simulation import simulate
     from origami_cad.strings import load_route
 
     if steps is not None and not 1 <= steps <= 100_000:
@@ -702,20 +754,19 @@ def run_simulate(
     if friction is not None and friction < 0:
         raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
-    if params is None:
-        params = SimulationParams(**{k: v for k, v in given.items() if v is not None})
     loaded = load_pattern_source(pattern)
     cp = loaded.pattern
     spec = load_route(route, cp)
+    if params is None:
+        params = _sim_params(spec, **{k: v for k, v in given.items() if v is not None})
     limits = _blocker_limits(cp, blockers, pattern)
     kwargs = {"steps": steps, "fold_limits": limits or None, "progress": progress, "free": free}
-    result = simulate(cp, spec, params, **kwargs)
-    last = result.steps[-1]
+    result = simulate(cp, spec, params, design=loaded, **kwargs)
     names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
         _write_simulation(stage, names, cp, spec, result, gif_frames)
     files = [Path(folder) / n for n in names]
-    tensions = ", ".join(f"{t:.3g}" for t in last["tensions_N"])
+    tensions = ", ".join(f"{t:.3g}" for t in result.tensions[-1])
     return Outputs(
         files=files,
         images=[
@@ -724,15 +775,15 @@ def run_simulate(
             (files[2], "The folding as the TSA turns"),
         ],
         numbers=[
-            ("simulated steps", str(len(result.steps))),
-            ("final TSA turns", f"{last['turns']:.1f}"),
-            ("string tensions at the end", ", ".join(f"{t:.2f} N" for t in last["tensions_N"])),
+            ("simulated steps", str(len(result))),
+            ("final TSA turns", f"{result.turns[-1]:.1f}"),
+            ("string tensions at the end", ", ".join(f"{t:.2f} N" for t in result.tensions[-1])),
             ("why it stops", result.reason),
         ],
         messages=[
-            f"{len(result.steps)} equilibrium states up to {last['turns']:.2f} TSA turns; "
+            f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; "
             f"{result.reason}",
-            f"string tensions {tensions} N, TSA torque {last['tsa_torque_Nmm']:.3g} N mm",
+            f"string tensions {tensions} N, TSA torque {result.torque[-1]:.3g} N mm",
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,

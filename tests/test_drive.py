@@ -243,7 +243,7 @@ def test_sequence_mapping_from_a_dcqc_result(tmp_path):
     (tmp_path / "seq.toml").write_text(text)
     seq = load_sequence(tmp_path / "seq.toml")
     mapping = seq.tsas[0].mapping
-    assert mapping[0, 0] == pytest.approx(result.steps[0]["p"])
+    assert mapping[0, 0] == pytest.approx(result.p[0])
     assert np.all(np.diff(mapping[:, 0]) > 0) and np.all(np.diff(mapping[:, 1]) >= 0)
-    taken = [s["tsa_length_mm"][0] - result.steps[0]["tsa_length_mm"][0] for s in result.steps]
+    taken = result.tsa_length[:, 0] - result.tsa_length[0, 0]
     assert mapping[-1, 1] == pytest.approx(max(taken))

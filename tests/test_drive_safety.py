@@ -616,14 +616,11 @@ def test_bad_dcqc_mapping_files_are_refused(tmp_path):
     text = path.read_text().replace("mapping = [[0.0, 0.0], [1.0, 20.0]]", 'mapping = "r.json"')
     path.write_text(text)
     cases = {
-        '{"steps": [{"p": 0.0, "tsa_length_mm": [0.0]}, {"p": NaN, "tsa_length_mm": [5.0]}]}': (
-            "finite numbers"
-        ),
-        '{"steps": [{"p": 0.0, "tsa_length_mm": [0.0]}, {"p": "1", "tsa_length_mm": [5.0]}]}': (
-            "finite numbers"
-        ),
-        '{"steps": [{"p": 0.0, "tsa_length_mm": [0.0]}]}': "fewer than two",
-        '{"steps": []}': "not a dcqc.json",
+        '{"states": {"p": [0.0, NaN], "tsa_length_mm": [[0.0], [5.0]]}}': "finite numbers",
+        '{"states": {"p": [0.0, "1"], "tsa_length_mm": [[0.0], [5.0]]}}': "finite numbers",
+        '{"states": {"p": [0.0], "tsa_length_mm": [[0.0]]}}': "fewer than two",
+        '{"states": {"p": [], "tsa_length_mm": []}}': "not a dcqc.json",
+        '{"states": {"p": [0.0, 0.5], "tsa_length_mm": [[0.0]]}}': "not a dcqc.json",
         "[" * 100_000: "not a dcqc.json",
     }
     for content, expected in cases.items():

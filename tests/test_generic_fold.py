@@ -105,7 +105,7 @@ def test_patterns_that_cannot_fold_this_way_are_named():
     flipped = CreasePattern(cp.vertices, cp.edges, assign)
     with pytest.raises(PatternError, match=r"vertex \d+ at .* cannot fold rigidly"):
         fold_degree4(flipped, 0.3, driving_edge=main_crease(cp, design))
-    with pytest.raises(PatternError, match=r"\[0, 1\)"):
+    with pytest.raises(PatternError, match=r"\[0, 1\]"):
         fold_degree4(cp, 1.5)
     # a degree-4 vertex that is not flat-foldable
     c = np.array([50.0, 50.0])

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import json
 import math
@@ -21,8 +20,9 @@ from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.simulation import SimulationParams, fold_angles, hinge_gradients, simulate
 from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
 from origami_cad.strings import TOP, TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.route import RouteSpec, StringRoute, _auto_holes
-from origami_cad.strings.tsa import onboard_contraction
+from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.route import RouteSpec, StringRoute, auto_holes
+from origami_cad.strings.tsa import onboard_contraction, onboard_transmission
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 ONBOARD = TSAParams(model="onboard", length=120.0, radius=0.6, max_helix_angle=75.0)
@@ -92,32 +92,38 @@ def test_single_crease_matches_the_closed_form_moment_balance():
             + float(onboard_contraction(theta, 120.0, 0.6, math.radians(75.0)))
         )
 
-    rest = demand(math.radians(2.0), 0.0)  # the pre-folded state the string is tied in
+    rest = demand(0.0, 0.0)  # the string is tight on the flat sheet (eq. 7)
+    rest_angle = math.radians(3.0)  # the crease rests pre-folded (simulate's prefold)
     k_string = params.string_axial_stiffness / rest
-    for step in result.steps[1:]:
-        theta = math.radians(step["theta_s_deg"])
+    assert len(result) == 13
+    for k in range(1, len(result)):
+        theta = result.theta[k]
 
         def energy(rho: float, theta: float = theta) -> float:
             return (
-                0.5 * k_crease * rho**2 + 0.5 * k_string * max(0.0, demand(rho, theta) - rest) ** 2
+                0.5 * k_crease * (rho - rest_angle) ** 2
+                + 0.5 * k_string * max(0.0, demand(rho, theta) - rest) ** 2
             )
 
         best = minimize_scalar(
             energy, bounds=(0.0, 2.5), method="bounded", options={"xatol": 1e-12}
         )
-        assert step["fold_angles_deg"][crease] == pytest.approx(math.degrees(best.x), abs=2e-3)
+        assert result.fold_angles[k, crease] == pytest.approx(math.degrees(best.x), abs=2e-3)
         # energy decreases monotonically within every solve
-        energies = step["energy_per_iteration"]
+        energies = result.energies[k]
         assert all(b <= a + 1e-12 for a, b in itertools.pairwise(energies))
-        assert step["converged"]
-    assert result.steps[-1]["fold_angles_deg"][crease] > 10.0
-    assert result.steps[-1]["tsa_torque_Nmm"] > 0
+        assert result.converged[k]
+    assert result.fold_angles[-1, crease] > 10.0
+    assert result.torque[-1] > 0
+    # the torque is the tension times eq. 8's (here the onboard model's) analytic rate
+    rate = onboard_transmission(result.theta[-1], 120.0, 0.6, math.radians(75.0))
+    assert result.torque[-1] == pytest.approx(result.tensions[-1, 0] * rate, rel=1e-9)
 
 
 def test_miura_follows_the_rigid_folding_and_the_dcqc(tmp_path):
     design = load_design(EXAMPLES / "miura_6x4.toml")
     cp = design.pattern
-    hx, hy = _auto_holes(cp, 2.0)["c1r0s0"]
+    hx, hy = auto_holes(cp, 2.0)["c1r0s0"]
     path = tmp_path / "row.toml"
     path.write_text(
         '[tsa]\nmodel = "onboard"\nlength = 120.0\nradius = 0.6\nmax_helix_angle = 75.0\n'
@@ -126,18 +132,18 @@ def test_miura_follows_the_rigid_folding_and_the_dcqc(tmp_path):
         'holes = ["c1r0s0", "c1r0s1", "c1r0s2", "c1r0s3", "c1r0s4", "c1r0s5"]\n'
     )
     route = load_route(path, cp)
-    result = simulate(cp, route)
+    result = simulate(cp, route, design=design)
     main_creases = np.flatnonzero(
         np.isin(cp.vertices[cp.edges[:, 0], 1], (30.0, 90.0))
         & (cp.vertices[cp.edges[:, 0], 1] == cp.vertices[cp.edges[:, 1], 1])
     )
-    p_sim = [
-        np.mean(np.abs(np.array(s["fold_angles_deg"])[main_creases])) / 180 for s in result.steps
-    ]
-    dcqc = simulate_dcqc(design, dataclasses.replace(route, p0=p_sim[0], step=math.radians(5)))
+    p_sim = np.mean(np.abs(result.fold_angles[:, main_creases]), axis=1) / 180
+    # the state's fitted fold ratio is the main creases' (a Miura folded rigidly)
+    np.testing.assert_allclose(result.p, p_sim, atol=0.01)
+    dcqc = simulate_dcqc(design, route)
     assert p_sim[-1] > 0.15
-    for step, p, x in zip(result.steps, p_sim, result.states, strict=True):
-        assert p == pytest.approx(float(np.interp(step["turns"], dcqc.turns, dcqc.p)), abs=0.02)
+    for turns, p, x in zip(result.turns, p_sim, result.states, strict=True):
+        assert p == pytest.approx(float(np.interp(turns, dcqc.turns, dcqc.p)), abs=0.02)
         rigid = fold_design(design, p).coords
         a, b = rigid - rigid.mean(axis=0), x - x.mean(axis=0)
         u, _, vt = np.linalg.svd(a.T @ b)
@@ -155,11 +161,11 @@ def test_a_blocker_stops_the_crawler_leg_at_its_angle():
     result = simulate(
         cp, route, steps=60, fixed_panel=cp.face_labels[held], fold_limits={crease: 60.0}
     )
-    final = result.steps[-1]["fold_angles_deg"][crease]
+    final = result.fold_angles[-1, crease]
     assert final == pytest.approx(60.0, abs=0.5)
-    assert result.reason == "fold limit reached"
-    angles = [s["fold_angles_deg"][crease] for s in result.steps]
-    assert max(angles) < 60.5
+    assert result.stop is StopReason.FOLD_LIMIT and result.limited_edges == (crease,)
+    assert "fold limit reached" in result.reason
+    assert max(result.fold_angles[:, crease]) < 60.5
 
 
 def test_degenerate_input_is_a_clear_error():
@@ -214,11 +220,13 @@ def test_cli_simulate_writes_states_json_and_gif(tmp_path):
         == 0
     )
     frames = read_fold_frames(out / "states.fold")
-    assert len(frames) == 1 + 9 and frames[-1][:, 2].max() > 1.0
     data = json.loads((out / "simulation.json").read_text())
-    assert {"theta_s_deg", "tensions_N", "tsa_torque_Nmm", "fold_angles_deg", "energy_Nmm"} <= set(
-        data["steps"][0]
+    states = data["states"]
+    assert {"theta_s_deg", "tensions_N", "tsa_torque_Nmm", "fold_angles_deg", "taut", "p"} <= set(
+        states
     )
+    assert len(frames) == 1 + len(states["turns"]) > 4 and frames[-1][:, 2].max() > 1.0
+    assert data["stop"] in {r.value for r in StopReason}
     assert (out / "fold.gif").read_bytes()[:3] == b"GIF"
 
 
@@ -234,7 +242,7 @@ def test_the_boat_from_dxf_folds_up_when_its_tsa_turns():
     route = load_route(EXAMPLES / "boat_route.toml", cp)
     result = simulate(cp, route, steps=40)
     keel = int(np.flatnonzero(cp.edge_mask("V"))[0])
-    angles = [s["fold_angles_deg"][keel] for s in result.steps]
+    angles = result.fold_angles[:, keel]
     assert angles[-1] > 60.0  # the sides have risen
     assert all(b >= a - 1e-6 for a, b in itertools.pairwise(angles))
     lifted = result.states[-1][:, 2].max()

@@ -94,11 +94,11 @@ def test_friction_holds_a_free_plate_until_the_string_pulls_mu_times_its_weight(
         params = SimulationParams(gravity=EARTH, ground=0.0, friction=mu)
         result = simulate(cp, route, params, steps=12, free=True)
         assert "no panel is held" in result.notes[0]
-        assert all(s["converged"] for s in result.steps)
+        assert result.converged.all()
         start, end = result.states[0], result.states[-1]
         # it slides: the tension stays at Coulomb's mu W while the TSA takes up string
-        for step in result.steps[2:]:
-            assert step["tensions_N"][0] == pytest.approx(mu * weight, rel=1e-3)
+        for tension in result.tensions[2:, 0]:
+            assert tension == pytest.approx(mu * weight, rel=1e-3)
         moved = start[:, 0].mean() - end[:, 0].mean()
         x_dis = 60.0 + 5.0
         taken = ONBOARD.consumed(12 * 2 * math.pi, x_dis) - ONBOARD.consumed(0.0, x_dis)
@@ -127,7 +127,7 @@ def test_an_onboard_tsa_folds_a_free_sheet_whose_heavy_panel_stays_put():
     params = SimulationParams(gravity=EARTH, ground=0.0, friction=0.5)
     result = simulate(cp, route, params, steps=20, free=True)
     crease = int(np.flatnonzero(cp.assignments == "V")[0])
-    angles = [s["fold_angles_deg"][crease] for s in result.steps]
+    angles = result.fold_angles[:, crease]
     assert angles[-1] > 60.0
     assert all(b >= a - 1e-6 for a, b in itertools.pairwise(angles))
     corners = [cp.face_of_point(1, 1), cp.face_of_point(1, 39)]
@@ -136,7 +136,7 @@ def test_an_onboard_tsa_folds_a_free_sheet_whose_heavy_panel_stays_put():
     drift = np.linalg.norm(result.states[-1][outer, :2] - result.states[0][outer, :2], axis=1)
     assert drift.max() < 0.05  # friction holds the heavy panel
     assert result.states[-1][:, 2].min() > 1.1 - 1e-3
-    assert all(s["converged"] for s in result.steps)
+    assert result.converged.all()
 
 
 def test_a_free_structure_needs_gravity_and_a_ground():
@@ -196,7 +196,7 @@ def test_cli_free_structure_without_gravity_exits_2_and_writes_nothing(tmp_path,
     assert main([*args, "--ground", "0", "--gravity", "9810", "--steps", "4"]) == 0
     data = json.loads((out / "simulation.json").read_text())
     assert data["notes"][0].startswith("no panel is held")
-    assert data["steps"][-1]["tensions_N"][0] > 0
+    assert data["states"]["tensions_N"][-1][0] > 0
 
 
 def test_an_anchor_on_the_held_panel_acts_as_the_same_anchor_fixed_in_space():
@@ -220,5 +220,5 @@ def test_an_anchor_on_the_held_panel_acts_as_the_same_anchor_fixed_in_space():
         for s in (mounted, fixed)
     ]
     crease = int(np.flatnonzero(cp.assignments == "V")[0])
-    assert results[0].steps[-1]["fold_angles_deg"][crease] > 10.0
+    assert results[0].fold_angles[-1, crease] > 10.0
     np.testing.assert_allclose(results[0].states[-1], results[1].states[-1], atol=1e-6)

@@ -25,6 +25,7 @@ from origami_cad.strings import (
     ring_length,
     simulate_dcqc,
 )
+from origami_cad.strings.dcqc import StopReason, segment_names
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -73,7 +74,10 @@ def test_single_valley_crease_matches_the_closed_form(tmp_path):
     """Two 40 x 20 mm panels on a valley crease, one string over it from an onboard TSA."""
     tg = TGDesign((40.0,), (), 1, 40.0, 1)
     design = Design(tg_pattern(tg), tg, "transition-graph")
-    a, e, z_a, length, radius = 10.0, 1.1, 30.0, 100.0, 0.5
+    # the anchor sits out along the string, 5 mm up: the string shortens from the
+    # first twist (an anchor right above the crease, as this test had, makes it
+    # lengthen first, +0.5 mm per radian: DCQC now reports that as a jam)
+    a, e, y_a, z_a, length, radius = 10.0, 1.1, -40.0, 5.0, 100.0, 0.5
     route = tmp_path / "one.toml"
     route.write_text(
         f"""
@@ -87,7 +91,7 @@ step = 10.0
 max_turns = 8
 p_max = 0.9
 [[route.strings]]
-anchor = [20.0, 0.0, {z_a}]
+anchor = [20.0, {y_a}, {z_a}]
 holes = [[20.0, {-a}], [20.0, {a}]]
 """
     )
@@ -102,12 +106,14 @@ holes = [[20.0, {-a}], [20.0, {a}]]
         shift = 4 * 20.0 * math.sin(phi) / 6
         y = a * math.cos(phi) - e * math.sin(phi)
         z = a * math.sin(phi) + e * math.cos(phi) - shift
-        first = math.hypot(y, z_a - z)
+        first = math.hypot(-y - y_a, z_a - z)
         return first + float(onboard_contraction(theta_s, length, radius)) + 2 * y
 
     l0 = demand(0.0, 0.0)
-    for step in result.steps[1:]:
-        theta_s = math.radians(step["theta_s_deg"])
+    phis = np.linspace(0.0, 0.9 * math.pi / 2, 200)
+    assert np.all(np.diff([demand(f, 0.0) for f in phis]) < 0)  # continuous folding
+    assert len(result) > 10
+    for theta_s, p in zip(result.theta[1:], result.p[1:], strict=True):
         if demand(0.0, theta_s) - l0 <= 0:
             expected = 0.0
         elif demand(0.9 * math.pi / 2, theta_s) - l0 > 0:
@@ -115,8 +121,8 @@ holes = [[20.0, {-a}], [20.0, {a}]]
         else:
             phi = brentq(lambda f, t=theta_s: demand(f, t) - l0, 0.0, 0.9 * math.pi / 2)
             expected = 2 * phi / math.pi
-        assert step["p"] == pytest.approx(expected, abs=2e-5)
-    assert result.final["p"] > 0.3
+        assert p == pytest.approx(expected, abs=2e-5)
+    assert result.p[-1] > 0.3
 
 
 # ------------------------------------------------------------------ Fig. 5
@@ -134,15 +140,14 @@ def test_fig5_auto_routing_folds_the_miura(miura):
     assert result.valid
     p = result.p
     assert np.all(np.diff(p) >= 0) and p[-1] > 0.5
-    assert "fold limit" in result.reason
+    assert result.stop is StopReason.FOLD_LIMIT and "fold limit" in result.reason
     # the routed length of the binding strings really shrinks
-    routed = np.array([s["routed_length_mm"] for s in result.steps])
-    assert np.all(routed[-1] < routed[0])
+    assert np.all(result.routed_length[-1] < result.routed_length[0])
 
 
 def test_wrong_side_routing_is_flagged_and_does_not_fold(miura, tmp_path):
     spec = load_route(EXAMPLES / "miura_route.toml", miura.pattern)
-    text = '[tsa]\nmodel = "ring"\n[route]\nstep = 2.0\nmax_turns = 10\np_max = 0.814\n'
+    text = '[tsa]\nmodel = "ring"\n[route]\nmax_turns = 10\np_max = 0.814\n'
     for s in spec.strings:  # every segment after the first on the wrong side
         wrong = ["top"] + ["bottom" if side == TOP else "top" for side in s.sides[1:]]
         text += (
@@ -156,7 +161,10 @@ def test_wrong_side_routing_is_flagged_and_does_not_fold(miura, tmp_path):
     assert len(bad.violations) >= 4
     assert "DCQC needs it" in bad.violations[0]
     result = simulate_dcqc(miura, bad)
-    assert not result.valid or result.final["p"] < 0.05
+    assert not result.valid and result.stop is StopReason.JAM
+    assert result.p[-1] == 0.0 and result.jam.segment in {
+        n for s in bad.strings for n in segment_names(s)
+    }
     assert result.violations == bad.violations
 
 
@@ -189,7 +197,9 @@ def test_cli_route_writes_its_outputs(tmp_path):
     )
     assert code == 0
     data = json.loads((out / "dcqc.json").read_text())
-    assert data["valid"] and data["final"]["p"] > 0.5
-    assert {"theta_s_deg", "p", "routed_length_mm"} <= set(data["steps"][1])
+    assert data["valid"] and data["final"]["p"] > 0.5 and data["stop"] == "fold_limit"
+    states = data["states"]
+    assert {"theta_s_deg", "p", "routed_length_mm", "tensions_N", "taut"} <= set(states)
+    assert len(states["p"]) == len(states["turns"]) > 10
     for name in ("dcqc.png", "route.png", "route_folded.png"):
         assert (out / name).read_bytes()[:4] == b"\x89PNG"

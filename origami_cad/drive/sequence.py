@@ -176,9 +176,11 @@ def _mapping(t: Table, base: Path, length: float) -> np.ndarray:
             raise t.error("mapping", f"{path} is larger than {MAX_MAPPING_FILE} bytes")
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
-            steps = data["steps"]
-            first = steps[0]["tsa_length_mm"][0]
-            pairs = [(s["p"], s["tsa_length_mm"][0]) for s in steps]
+            states = data["states"]  # columns: p (S,), tsa_length_mm (S, strings)
+            first = states["tsa_length_mm"][0][0]
+            pairs = [
+                (p, row[0]) for p, row in zip(states["p"], states["tsa_length_mm"], strict=True)
+            ]
         except (ValueError, KeyError, IndexError, TypeError, RecursionError):
             raise t.error("mapping", f"{path} is not a dcqc.json result") from None
         for k, (fold, taken) in enumerate(pairs):

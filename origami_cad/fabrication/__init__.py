@@ -19,7 +19,6 @@ from origami_cad.fabrication.panels import (
     PanelOutline,
     offset_ring,
     panel_outlines,
-    place_holes,
     plan_holes,
 )
 from origami_cad.fabrication.params import (
@@ -50,7 +49,6 @@ __all__ = [
     "fabricate",
     "offset_ring",
     "panel_outlines",
-    "place_holes",
     "plan_holes",
     "plan_panels",
     "theta_max",

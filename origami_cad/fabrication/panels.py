@@ -26,7 +26,6 @@ __all__ = [
     "PanelOutline",
     "offset_ring",
     "panel_outlines",
-    "place_holes",
     "plan_holes",
 ]
 
@@ -199,18 +198,6 @@ def _centred_pole(region) -> shapely.Point:
     if core.contains(centroid):
         return centroid
     return nearest_points(core, centroid)[0]
-
-
-def place_holes(
-    cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
-) -> list[tuple[int, float, float, float]]:
-    """Legacy form of :func:`plan_holes`: ``(panel index, x, y, diameter)`` tuples.
-
-    Kept only for ``strings/route.py`` until its automatic holes call
-    :func:`~origami_cad.fabrication.plan_panels`; use :func:`plan_holes`.
-    """
-    holes, panels = plan_holes(cp, outlines, params)
-    return [(int(i), h.x, h.y, h.diameter) for h, i in zip(holes, panels, strict=True)]
 
 
 def plan_holes(

@@ -136,7 +136,8 @@ def fold_degree4(
         A pattern whose interior vertices are flat-foldable degree-4 vertices with
         mountain/valley creases.
     p : float
-        Fold ratio of the driving crease, in [0, 1).
+        Fold ratio of the driving crease, in [0, 1] (1: flat-folded, the limit of
+        the closed form).
     driving_edge : int, optional
         The driving crease (default: the mountain or valley crease nearest the
         pattern's centroid).
@@ -150,8 +151,8 @@ def fold_degree4(
     fold_angles : ndarray (m,)
         Fold angle of every edge, degrees (valley positive; 0 on the border).
     """
-    if not 0.0 <= p < 1.0:
-        raise PatternError(f"fold ratio p must lie in [0, 1) for the degree-4 folder, got {p}")
+    if not 0.0 <= p <= 1.0:
+        raise PatternError(f"fold ratio p must lie in [0, 1] for the degree-4 folder, got {p}")
     creases = np.flatnonzero(cp.edge_mask(*_FOLD))
     if not len(creases):
         raise PatternError("the pattern has no mountain or valley crease to fold")

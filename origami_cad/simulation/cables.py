@@ -75,10 +75,21 @@ class StringSet:
     theta: float = 0.0  # TSA rotation, rad
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (k, 3) arrays (np.cross costs more on small arrays)."""
+    return np.column_stack(
+        [
+            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+        ]
+    )
+
+
 def _frames(x: np.ndarray, tri: np.ndarray, ab: np.ndarray, orient: np.ndarray):
     v0, v1, v2 = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
     e1, e2 = v1 - v0, v2 - v0
-    n = np.cross(e1, e2) * orient[:, None]
+    n = _cross(e1, e2) * orient[:, None]
     norm = np.linalg.norm(n, axis=1)
     centre = v0 + ab[:, :1] * e1 + ab[:, 1:] * e2
     return e1, e2, n, norm, centre
@@ -168,11 +179,7 @@ def string_derivatives(
     gl = np.zeros((nf, 3))
     first = arrive[0] - anchor
     x_dis = float(np.linalg.norm(first))
-    h = 1e-4 * max(x_dis, 1.0)
-    c_minus, c_0, c_plus = (
-        float(strings.tsa.consumed(strings.theta, x_dis + d)) for d in (-h, 0.0, h)
-    )
-    rate = (c_plus - c_minus) / (2 * h)
+    _, _, rate, curv = (float(v) for v in strings.tsa.consumed_derivatives(strings.theta, x_dis))
     u0 = first / x_dis
     ga[0] += rate * u0
     if s.mounted:
@@ -203,8 +210,8 @@ def string_derivatives(
         scatter(dp, dq, -(jpt @ hs @ jq))
         scatter(dq, dp, -(jqt @ hs @ jp))
 
-    # the anchor's stretch: rate' u u^T + rate (I - u u^T) / x_dis
-    curv = (c_plus - 2 * c_0 + c_minus) / h**2
+    # the anchor's stretch: rate' u u^T + rate (I - u u^T) / x_dis (eq. 8's analytic
+    # derivatives, TSAParams.consumed_derivatives)
     uu = np.outer(u0, u0)
     h0 = (curv * uu + rate * (np.eye(3) - uu) / x_dis)[None]
     if s.mounted:

@@ -19,9 +19,12 @@ import numpy as np
 import shapely
 
 from origami_cad.errors import PatternError
+from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["SimulationParams", "Structure", "build_structure"]
+
+_PRINTED = FabricationParams()  # the default printed sheet (paper Fig. 4)
 
 
 @dataclass(frozen=True)
@@ -33,22 +36,25 @@ class SimulationParams:
     panel_modulus : float
         Young's modulus of the panels, MPa (PLA 3500).
     panel_thickness : float
-        Panel thickness, mm (the paper's h = 2.2).
+        Panel thickness, mm (the printed sheet's h; 2.2 by default).
     crease_modulus : float
         Young's modulus of the crease material, MPa (TPU 95A about 26).
     crease_thickness : float
-        Crease layer thickness, mm (t = 0.4).
+        Crease layer thickness, mm (the printed sheet's t; 0.4 by default).
     hinge_zone : float
-        Width of the bending zone of a crease, mm (2 (b + m) = 7 for b = 3, m = 0.5).
+        Width of the bending zone of a crease, mm (2 (b + m): 7 for b = 3, m = 0.5).
     string_axial_stiffness : float
-        ``EA`` of a string, N (a 0.5 mm UHMWPE braid: about 1500).
+        ``EA`` of a string, N (a 0.5 mm UHMWPE braid: about 0.1 mm^2 of fibre at
+        an effective 60 GPa, i.e. about 3.5 % stretch at its 200 N breaking load:
+        6000).
     fold_limit : float
-        Default fold limit of every crease, degrees (eq. 6: 146.6 for b = 3, h = 2.2, t = 0.4).
+        Default fold limit of every crease, degrees (eq. 6's theta_max of the printed
+        sheet: 146.6 for b = 3, h = 2.2, t = 0.4).
     limit_margin : float
         The barrier starts this many degrees before the limit, degrees (0: at the
         limit; the barrier is quadratic, so energy and moment stay continuous).
     density : float
-        Panel density, g/cm^3 (PLA 1.24).
+        Panel density, g/cm^3 (PLA's, from ``fabrication.params``).
     gravity : float
         Gravitational acceleration along -z, mm/s^2 (0: none; 9810 on Earth).
     ground : float or None
@@ -64,19 +70,41 @@ class SimulationParams:
     """
 
     panel_modulus: float = 3500.0
-    panel_thickness: float = 2.2
+    panel_thickness: float = _PRINTED.height
     crease_modulus: float = 26.0
-    crease_thickness: float = 0.4
-    hinge_zone: float = 7.0
-    string_axial_stiffness: float = 1500.0
-    fold_limit: float = 146.6
+    crease_thickness: float = _PRINTED.thickness
+    hinge_zone: float = 2.0 * (_PRINTED.bias + _PRINTED.midlayer_bias)
+    string_axial_stiffness: float = 6000.0
+    fold_limit: float = math.degrees(_PRINTED.theta_max)
     limit_margin: float = 0.0
-    density: float = 1.24
+    density: float = DENSITY_G_CM3["PLA"]
     gravity: float = 0.0
     ground: float | None = None
     friction: float = 0.5
     ground_stiffness: float = 100.0
     slip: float = 1e-3
+
+    @classmethod
+    def from_fabrication(cls, fab: FabricationParams, **overrides) -> SimulationParams:
+        """The parameters of a sheet printed with ``fab``: one source for h, t, b and eq. 6.
+
+        ``panel_thickness = h``, ``crease_thickness = t``, ``hinge_zone = 2 (b + m)``,
+        ``fold_limit`` = eq. 6's ``theta_max`` in degrees and the panels' density that
+        of PLA; ``overrides`` set any other field (materials, loads).
+
+        >>> p = SimulationParams.from_fabrication(FabricationParams(bias=2.0))
+        >>> round(p.fold_limit, 1), p.hinge_zone
+        (131.5, 5.0)
+        """
+        values = {
+            "panel_thickness": fab.height,
+            "crease_thickness": fab.thickness,
+            "hinge_zone": 2.0 * (fab.bias + fab.midlayer_bias),
+            "fold_limit": math.degrees(fab.theta_max),
+            "density": DENSITY_G_CM3["PLA"],
+        }
+        values.update(overrides)
+        return cls(**values)
 
     @property
     def crease_stiffness(self) -> float:

@@ -1,4 +1,29 @@
-"""String-driven folding of any crease pattern: the actuation loop and its records."""
+"""String-driven folding of any crease pattern: the continuation loop, its records and stops.
+
+The TSA turns in steps of string taken up (``route.take_up`` mm for the string
+that takes most, at most ``route.step`` of rotation), so the slow start of
+eq. 8 costs few steps and its fast end stays accurate. After each step the
+bar-and-hinge equilibrium is found. The folding ends only for a physical
+reason (:class:`~origami_cad.strings.dcqc.StopReason`), named in the result:
+
+- the TSA reached its turn limit or, onboard, its maximum helix angle;
+- a fold limit (eq. 6 or a blocker) is active while the strings stretch
+  instead of folding further;
+- a string's tension or the TSA torque passed the route's ``max_tension`` or
+  ``max_torque``;
+- a jam: the strings stretch instead of folding the sheet (most of the string
+  taken up goes into stretch, or a string's or a panel's strain passes its
+  threshold), named with the string and the segment that lengthens.
+
+Placement (the same default as the DCQC model): a panel given by the route or
+the caller is held; otherwise the sheet keeps its mean pose (its vertex
+centroid stays and it does not rotate on average), a sheet free in the middle
+of the ring and pulled evenly. The solver holds the panel nearest the centroid
+and, in turn, the fixed anchors are placed in that panel's frame so that the
+whole state, moved back to the mean pose, has them where the route puts them
+(a fixed point, usually in one or two solves per step). ``free=True`` lays the
+sheet on the ground instead (gravity and friction hold it).
+"""
 
 from __future__ import annotations
 
@@ -10,32 +35,94 @@ from typing import Any
 import numpy as np
 
 from origami_cad.errors import PatternError, SimulationError
+from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
-from origami_cad.simulation.mechanics import fold_angles
+from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
-from origami_cad.simulation.solver import Ground, _Assembly, solve_equilibrium, total_energy
-from origami_cad.strings.route import RouteSpec, frame_orientation, hole_frames, panel_frame
+from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
+from origami_cad.strings.dcqc import Jam, StopReason, segment_names, tsa_step
+from origami_cad.strings.route import (
+    RouteSpec,
+    frame_orientation,
+    hole_frames,
+    panel_frame,
+    rigid_fit,
+)
 
-__all__ = ["SimulationResult", "simulate"]
+__all__ = ["SimulationResult", "fold_ratio_fit", "simulate"]
+
+POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
 
 @dataclass
 class SimulationResult:
-    """Equilibrium states as the TSA turns, and why the folding stopped."""
+    """Equilibrium states as the TSA turns (NumPy columns, one row per state) and the stop.
 
-    states: list[np.ndarray] = field(default_factory=list)  # (n, 3) mm
-    steps: list[dict[str, Any]] = field(default_factory=list)
-    reason: str = ""
+    ``states`` (S, n, 3) mm; ``theta`` (S,) rad; ``p`` (S,) fold ratio fitted to the
+    rigid folding (NaN where the pattern has no one-parameter folding);
+    ``tensions`` (S, k) N; ``taut`` (S, k); ``torque`` (S,) N mm; ``fold_angles``
+    (S, m) deg of every edge; ``take_up`` (S, k) mm of string the TSA has taken;
+    ``stretch`` (S, k) mm; ``energy`` (S,) N mm; ``iterations`` (S,);
+    ``converged`` (S,); ``moved`` (S,) largest node displacement in the step, mm;
+    ``energies`` the energy after each Newton iteration of each solve.
+    """
+
+    states: np.ndarray
+    theta: np.ndarray
+    p: np.ndarray
+    tensions: np.ndarray
+    taut: np.ndarray
+    torque: np.ndarray
+    fold_angles: np.ndarray
+    take_up: np.ndarray
+    stretch: np.ndarray
+    energy: np.ndarray
+    iterations: np.ndarray
+    converged: np.ndarray
+    moved: np.ndarray
+    stop: StopReason
+    reason: str
+    jam: Jam | None = None
+    limited_edges: tuple[int, ...] = ()
     notes: list[str] = field(default_factory=list)
+    energies: list[list[float]] = field(default_factory=list)
+
+    @property
+    def turns(self) -> np.ndarray:
+        return self.theta / (2 * math.pi)
+
+    def __len__(self) -> int:
+        return len(self.theta)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"reason": self.reason, "notes": self.notes, "steps": self.steps}
+        """The JSON form (``simulation.json``)."""
+        p = np.where(np.isfinite(self.p), self.p, np.nan)
+        return {
+            "stop": self.stop.value,
+            "reason": self.reason,
+            "jam": None if self.jam is None else self.jam.to_dict(),
+            "limited_edges": list(self.limited_edges),
+            "notes": self.notes,
+            "states": {
+                "turns": self.turns.tolist(),
+                "theta_s_deg": np.degrees(self.theta).tolist(),
+                "p": [None if math.isnan(v) else v for v in p.tolist()],
+                "tensions_N": self.tensions.tolist(),
+                "taut": self.taut.tolist(),
+                "tsa_torque_Nmm": self.torque.tolist(),
+                "take_up_mm": self.take_up.tolist(),
+                "stretch_mm": self.stretch.tolist(),
+                "energy_Nmm": self.energy.tolist(),
+                "iterations": self.iterations.tolist(),
+                "converged": self.converged.tolist(),
+                "max_displacement_mm": self.moved.tolist(),
+                "fold_angles_deg": self.fold_angles.tolist(),
+            },
+        }
 
 
-def _strings(
-    cp: CreasePattern, route: RouteSpec, x: np.ndarray, params: SimulationParams
-) -> StringSet:
+def _strings(cp: CreasePattern, route: RouteSpec, flat: np.ndarray, params) -> StringSet:
     out = []
     for k, s in enumerate(route.strings):
         tri, ab = hole_frames(cp, s)
@@ -63,8 +150,8 @@ def _strings(
             sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
         out.append(sim)
     strings = StringSet(out, route.thickness / 2.0, route.tsa)
-    for s in strings.strings:
-        s.free_length, _ = string_length(x, s, strings)
+    for s in strings.strings:  # the strings are tight on the flat sheet (eq. 7)
+        s.free_length, _ = string_length(flat, s, strings)
         s.stiffness = params.string_axial_stiffness / s.free_length
     return strings
 
@@ -76,71 +163,184 @@ def _distance_to_ring(p: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return np.linalg.norm(a + t[:, None] * ab - p, axis=1)
 
 
+def _rigid_table(design: Design) -> tuple[np.ndarray, np.ndarray] | None:
+    """Fold ratios and the rigid folding's crease angles (G, m), radians; None if unfoldable."""
+    from origami_cad.kinematics.fold3d import fold_angles_from_coords
+    from origami_cad.kinematics.folding import fold_coords, fold_sequence
+
+    try:
+        if design.tg is not None:
+            ratios = np.linspace(0.0, 1.0, 201)
+            coords = fold_coords(design, ratios)
+            table = np.stack([fold_angles_from_coords(design.pattern, c) for c in coords])
+        else:
+            ratios = np.linspace(0.0, 1.0, 101)
+            table = np.radians(np.stack([s.fold_angles for s in fold_sequence(design, ratios)]))
+    except (PatternError, ValueError):
+        return None
+    return ratios, table
+
+
+def fold_ratio_fit(angles: np.ndarray, table: tuple[np.ndarray, np.ndarray], mask) -> float:
+    """The fold ratio whose rigid folding best matches crease angles ``angles`` (m,), radians.
+
+    Least squares over the creases ``mask`` against the rigid folding's table
+    (from the same folder as the DCQC model), refined between samples by a parabola.
+    """
+    ratios, rigid = table
+    err = ((rigid[:, mask] - angles[mask]) ** 2).sum(axis=1)
+    k = int(np.clip(np.argmin(err), 1, len(ratios) - 2))
+    a, b, c = err[k - 1], err[k], err[k + 1]
+    denom = a - 2 * b + c
+    shift = 0.5 * (a - c) / denom if denom > 0 else 0.0
+    return float(ratios[k] + np.clip(shift, -1.0, 1.0) * (ratios[1] - ratios[0]))
+
+
+class _Placement:
+    """Keeps the solver's held panel and the route's fixed anchors consistent with the mean pose."""
+
+    def __init__(self, strings: StringSet, flat: np.ndarray, active: bool) -> None:
+        self.active = active
+        self.flat = flat
+        self.world = [None if s.mounted else s.anchor.copy() for s in strings.strings]
+        self.strings = strings
+        self.rot, self.shift = np.eye(3), np.zeros(3)
+        self.history: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def set(self, rot: np.ndarray, shift: np.ndarray) -> float:
+        """Put the anchors in the solver's frame for the pose ``world = rot x + shift``."""
+        change = 0.0
+        for s, a in zip(self.strings.strings, self.world, strict=True):
+            if a is not None:
+                new = (a - shift) @ rot
+                change = max(change, float(np.linalg.norm(new - s.anchor)))
+                s.anchor = new
+        self.rot, self.shift = rot, shift
+        return change
+
+    @property
+    def fixed(self) -> np.ndarray:
+        return np.array([a is not None for a in self.world], dtype=bool)
+
+    def anchors(self) -> np.ndarray:
+        """The fixed anchors in the solver's frame, (k_fixed, 3)."""
+        return np.array(
+            [
+                s.anchor
+                for s, a in zip(self.strings.strings, self.world, strict=True)
+                if a is not None
+            ]
+        )
+
+    def put(self, anchors: np.ndarray) -> None:
+        it = iter(anchors)
+        for s, a in zip(self.strings.strings, self.world, strict=True):
+            if a is not None:
+                s.anchor = np.array(next(it))
+
+    def lengths(self, x: np.ndarray) -> np.ndarray:
+        return np.array([string_length(x, s, self.strings)[0] for s in self.strings.strings])
+
+    def predict(self) -> tuple[np.ndarray, np.ndarray]:
+        """The pose extrapolated linearly from the last two accepted poses."""
+        if len(self.history) < 2:
+            return self.rot, self.shift
+        (r0, s0), (r1, s1) = self.history[-2:]
+        u, _, vt = np.linalg.svd(r1 @ r0.T @ r1)
+        return u @ vt, 2.0 * s1 - s0
+
+    def accept(self) -> None:
+        self.history = [*self.history[-1:], (self.rot, self.shift)]
+
+    def to_world(self, x: np.ndarray) -> np.ndarray:
+        return x @ self.rot.T + self.shift
+
+
 def simulate(
     cp: CreasePattern,
     route: RouteSpec,
     params: SimulationParams | None = None,
     *,
+    design: Design | None = None,
     steps: int | None = None,
     fixed_panel: str | None = None,
     fold_limits: dict[int, float] | None = None,
-    prefold: float = 2.0,
-    tension_limit: float = math.inf,
-    still_steps: int = 3,
+    prefold: float = 3.0,
+    tension_limit: float | None = None,
+    jam_ratio: float = 0.8,
+    jam_steps: int = 3,
+    max_string_strain: float = 0.02,
+    max_bar_strain: float = 0.01,
+    max_dp: float = 0.01,
+    max_states: int = 5000,
     progress: Callable[[int, int], None] | None = None,
     free: bool = False,
 ) -> SimulationResult:
-    """Turn the route's TSA step by step and find the equilibrium at each step.
+    """Turn the route's TSA and find the equilibrium after each step, until a physical stop.
 
     Parameters
     ----------
     cp : CreasePattern
         Any pattern (mm).
     route : RouteSpec
-        TSA, strings through holes, step and maximum turns.
+        TSA, strings through holes, take-up per step, turn, tension and torque limits.
     params : SimulationParams
-        Materials and loads.
+        Materials and loads (default: from the route's ``[fabrication]``, else the
+        default printed sheet).
+    design : Design, optional
+        The pattern's design, to fit each state's fold ratio ``p`` to the same rigid
+        folding as the DCQC model (``Design(cp, None, "file")`` for the degree-4
+        folder); without it ``p`` is NaN (fitting costs a hundred rigid folds).
     steps : int, optional
-        Number of actuation steps (default: as many as ``route.step`` and
-        ``route.max_turns`` give).
+        Turn the TSA in exactly this many equal steps up to ``route.max_turns``
+        instead of steps of string taken up (benchmarks, animations).
     fixed_panel : str, optional
-        Panel held in place (default: the route's ``fixed_panel``, else the one
-        nearest the centroid).
+        Panel held in place (default: the route's ``fixed_panel``; without one the
+        sheet keeps its mean pose).
     fold_limits : dict, optional
         ``{edge: degrees}``: fold limits of particular creases (blockers).
     prefold : float
-        The flat sheet is a bifurcation point; the creases are first pre-folded by
-        this many degrees in the sense of their assignments (strings slack), deg.
-    tension_limit : float
-        Stop when a string's tension exceeds it, N.
-    still_steps : int
-        Stop when, for this many steps, no crease has turned by more than 0.01 deg
-        and no node has moved by more than 1e-4 of the pattern's size.
+        The flat sheet is a bifurcation point (it can fold into several branches);
+        the creases rest this many degrees folded in the sense of their assignments,
+        as a printed sheet pre-folded by hand does, so that the strings fold it along
+        its assigned branch. The strings are tight on the flat sheet (eq. 7) and
+        slack by what the pre-fold saves, deg.
+    tension_limit : float, optional
+        Stop when a string's tension exceeds it, N (default: the route's ``max_tension``).
+    jam_ratio, jam_steps : float, int
+        A jam (or, with a fold limit active, the fold limit): over ``jam_steps``
+        steps a taut string stretched by more than ``jam_ratio`` of the string the
+        TSA took up.
+    max_string_strain, max_bar_strain : float
+        A jam also when a string's strain or a panel bar's strain passes these.
+    max_dp : float
+        The take-up per step shrinks (to 1/20 at least) so that the fold ratio changes
+        by about this much at most between states.
+    max_states : int
+        Safety cap on the number of states.
     progress : callable, optional
-        Called as ``progress(step, steps)`` after each equilibrium.
+        Called as ``progress(state, estimated states)`` after each equilibrium.
     free : bool
-        Hold no panel: the structure lies on the ground plane, held there by
-        gravity and friction (a walking structure). Needs ``params.gravity > 0``
-        and ``params.ground``.
+        Hold no panel: the structure lies on the ground plane, held there by gravity
+        and friction (a walking structure). Needs ``params.gravity > 0`` and
+        ``params.ground``.
     """
-    params = params or SimulationParams()
+    if params is None:
+        params = (
+            SimulationParams.from_fabrication(route.fabrication)
+            if route.fabrication is not None
+            else SimulationParams()
+        )
     if free and (params.ground is None or params.gravity <= 0):
         raise SimulationError(
             "a free structure (no panel held) needs gravity > 0 and a ground plane to rest on"
         )
-    st: Structure = build_structure(
-        cp, params, fixed_panel or route.fixed_panel, fold_limits, free=free
-    )
-    result = SimulationResult(notes=list(st.notes))
-    # pre-fold toward the assignments so that the strings have a way to go
-    sign = np.zeros(len(st.hinges))
-    folds = st.folds
-    sign[folds] = np.where(
-        cp.assignments[st.hinge_edge[folds]] == "M",
-        -1.0,
-        np.where(cp.assignments[st.hinge_edge[folds]] == "V", 1.0, 0.0),
-    )
-    st.hinge_rest = sign * math.radians(prefold)
+    held = fixed_panel or route.fixed_panel
+    mean_pose = not free and held is None and params.ground is None and params.gravity == 0
+    st: Structure = build_structure(cp, params, held, fold_limits, free=free)
+    notes = list(st.notes)
+    if mean_pose:
+        notes = ["the sheet keeps its mean pose (free on the ring, pulled evenly)"]
     ground = None
     if params.ground is not None:
         # nodes lie on the mid-surface: the bottom face touches the ground
@@ -148,91 +348,270 @@ def simulate(
         ground = Ground(contact, params.ground_stiffness, params.friction, params.slip)
         if free:  # lay the sheet on the ground
             st.x0[:, 2] = contact
+    flat = st.x0.copy()
+    strings = _strings(cp, route, flat, params)
+    # pre-fold toward the assignments so that the strings have a way to go
+    sign = np.zeros(len(st.hinges))
+    folds = st.folds
+    letters = cp.assignments[st.hinge_edge[folds]]
+    sign[folds] = np.where(letters == "M", -1.0, np.where(letters == "V", 1.0, 0.0))
+    st.hinge_rest = sign * math.radians(prefold)
+    if ground is not None:
         ground.start(st.x0)
     x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
-    st.hinge_rest = np.zeros(len(st.hinges))
-    strings = _strings(cp, route, x, params)
-    assembly = _Assembly(st, strings)
+    assembly = HessianAssembly(st, strings)
+    place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
-    n_steps = steps if steps is not None else int(route.max_turns * 2 * math.pi / route.step)
-    if steps is not None:
-        step_angle = route.max_turns * 2 * math.pi / max(steps, 1)
-    else:
-        step_angle = route.step
-    dtheta = 1e-4
-    still = 0
-    previous_angles = None
+    table = None if design is None else _rigid_table(design)
+    creases = cp.edge_mask("M", "V")
+    limit_edges = st.hinge_edge[folds]
+    limits = st.hinge_limit[folds]
+    tension_cap = route.max_tension if tension_limit is None else tension_limit
+    theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
+    uniform = None if steps is None else route.max_turns * 2 * math.pi / max(steps, 1)
+    rows: dict[str, list] = {}
     previous = None
-    for k in range(n_steps + 1):
-        strings.theta = k * step_angle
-        # secant predictor (the equilibrium path is smooth in the TSA angle), kept
-        # when it starts lower than the last state (not where panels turn fast)
+    theta = 0.0
+    stop, reason, jam, limited = None, "", None, ()
+    window: list[tuple[np.ndarray, np.ndarray]] = []
+    held_at_limit = 0
+    while stop is None:
+        strings.theta = theta
         start = x
-        if previous is not None:
+        if previous is not None:  # secant predictor, kept when it starts lower
             guess = 2.0 * x - previous
             if total_energy(guess, st, strings, ground) < total_energy(x, st, strings, ground):
                 start = guess
-        x_new, info = solve_equilibrium(start, st, strings, ground=ground, assembly=assembly)
+        x_new, info = _solve(start, st, strings, ground, assembly, place)
         previous = x
-        moved = float(np.max(np.linalg.norm(x_new - x, axis=1))) if k else 0.0
+        world = place.to_world(x_new)
+        moved = float(np.max(np.linalg.norm(world - rows["states"][-1], axis=1))) if rows else 0.0
         x = x_new
         if ground is not None:
-            ground.start(x)  # the next step's friction starts from here
-        result.states.append(x.copy())
-        # TSA torque: tension times the string the TSA takes per radian (virtual work)
-        torque = 0.0
-        for s, tension in zip(strings.strings, info.tensions, strict=True):
-            _, x_dis = string_length(x, s, strings)
-            rate = (
-                float(strings.tsa.consumed(strings.theta + dtheta, x_dis))
-                - float(strings.tsa.consumed(strings.theta, x_dis))
-            ) / dtheta
-            torque += tension * rate
-        rho = fold_angles(x, st.hinges)[folds]
+            ground.start(x)
+        lengths = np.array([string_length(x, s, strings) for s in strings.strings]).reshape(-1, 2)
+        derivs = [
+            route.tsa.consumed_derivatives(theta, xd)
+            for xd in (lengths[:, 1] if len(lengths) else [])
+        ]
+        rate = np.array([float(d[1]) for d in derivs])
+        taken = (
+            np.array(
+                [
+                    float(route.tsa.consumed(theta, xd) - route.tsa.consumed(0.0, xd))
+                    for xd in lengths[:, 1]
+                ]
+            )
+            if len(lengths)
+            else np.zeros(0)
+        )
+        tensions = np.asarray(info.tensions, dtype=float)
+        stretch = (
+            np.array(
+                [ln - s.free_length for ln, s in zip(lengths[:, 0], strings.strings, strict=True)]
+            )
+            if len(lengths)
+            else np.zeros(0)
+        )
+        rho = fold_angles(x, st.hinges)
         angles = np.zeros(cp.n_edges)
-        angles[st.hinge_edge[folds]] = np.degrees(rho)
-        limit_active = bool(np.any(np.abs(rho) >= st.hinge_limit[folds] - st.limit_margin))
-        result.steps.append(
-            {
-                "step": k,
-                "theta_s_deg": math.degrees(strings.theta),
-                "turns": strings.theta / (2 * math.pi),
-                "tensions_N": [float(t) for t in info.tensions],
-                "tsa_torque_Nmm": torque,
-                "energy_Nmm": total_energy(x, st, strings, ground),
-                "energy_per_iteration": info.energies,
-                "iterations": info.iterations,
-                "converged": info.converged,
-                "max_displacement_mm": moved,
-                "fold_angles_deg": angles.tolist(),
-            }
-        )
+        angles[limit_edges] = rho[folds]
+        p = fold_ratio_fit(angles, table, creases) if table is not None else math.nan
+        record = {
+            "states": world,
+            "theta": theta,
+            "p": p,
+            "tensions": tensions,
+            "taut": tensions > 0,
+            "torque": float(np.sum(tensions * rate)),
+            "fold_angles": np.degrees(angles),
+            "take_up": taken,
+            "stretch": np.maximum(stretch, 0.0),
+            "energy": total_energy(x, st, strings, ground),
+            "iterations": info.iterations,
+            "converged": info.converged,
+            "moved": moved,
+            "energies": info.energies,
+        }
+        for key, value in record.items():
+            rows.setdefault(key, []).append(value)
+        n = len(rows["theta"])
         if progress is not None:
-            progress(k, n_steps)
-        if max(info.tensions, default=0.0) > tension_limit:
-            result.reason = (
-                f"string tension {max(info.tensions):.3g} N exceeds the limit of "
-                f"{tension_limit:g} N"
+            progress(n, (steps + 1) if steps is not None else n + 1)
+        # ------------------------------------------------ why it might stop here
+        active = np.abs(rho[folds]) >= limits - math.radians(0.25)
+        held_at_limit = held_at_limit + 1 if active.any() else 0
+        if len(tensions) and tensions.max() > tension_cap:
+            i = int(np.argmax(tensions))
+            stop = StopReason.TENSION_LIMIT
+            reason = (
+                f"string {i + 1}'s tension {tensions[i]:.3g} N exceeds the route's limit of "
+                f"{tension_cap:g} N"
             )
             break
-        # the fold has stopped when no crease turns by more than 0.01 deg and nothing moves
-        turned = (
-            math.inf
-            if previous_angles is None
-            else float(np.max(np.abs(angles - previous_angles), initial=0.0))
-        )
-        previous_angles = angles
-        still = still + 1 if turned < 0.01 and moved < 1e-4 * cp.size else 0
-        if still >= still_steps:
-            result.reason = (
-                "fold limit reached"
-                if limit_active
-                else "the structure stopped moving: the strings cannot shorten it any further"
+        if record["torque"] > route.max_torque:
+            stop = StopReason.TORQUE_LIMIT
+            reason = (
+                f"the TSA torque {record['torque']:.3g} N mm exceeds the route's max_torque of "
+                f"{route.max_torque:g} N mm"
             )
             break
-    else:
-        result.reason = (
-            f"the TSA reached its last step ({n_steps * step_angle / (2 * math.pi):.3g} turns)"
-        )
-    return result
+        window.append((taken, record["stretch"]))
+        window = window[-(jam_steps + 1) :]
+        free_lengths = np.array([s.free_length for s in strings.strings])
+        culprit = _stalled(window, jam_ratio, jam_steps, 1e-3 * free_lengths)
+        strain = record["stretch"] / free_lengths
+        if culprit is None and len(strain) and strain.max() > max_string_strain:
+            culprit = int(np.argmax(strain))
+        length, _ = bar_lengths(x, st.bars)
+        bar_strain = float(np.max(np.abs(length - st.bar_rest) / st.bar_rest))
+        if culprit is None and bar_strain > max_bar_strain and len(tensions):
+            culprit = int(np.argmax(tensions))
+        if culprit is None and held_at_limit > jam_steps:
+            culprit = int(np.argmax(tensions)) if len(tensions) else 0
+        if culprit is not None:
+            if active.any():
+                limited = tuple(int(e) for e in np.unique(limit_edges[active]))
+                stop = StopReason.FOLD_LIMIT
+                reason = (
+                    f"fold limit reached on crease{'s' if len(limited) > 1 else ''} "
+                    f"{', '.join(map(str, limited[:8]))}: the strings stretch instead of "
+                    "folding further"
+                )
+            else:
+                segment = _lengthening_segment(cp, route, rows["states"], culprit)
+                jam = Jam(culprit, segment, p, float(record["stretch"][culprit]))
+                stop = StopReason.JAM
+                reason = (
+                    f"jam: string {culprit + 1} stretches ({record['stretch'][culprit]:.3g} mm, "
+                    f"strain {100 * strain[culprit]:.2g} %) instead of folding the sheet"
+                    f"{'' if math.isnan(p) else f' at p = {p:.3f}'}; {jam.hint()}"
+                )
+            break
+        if theta >= theta_end - 1e-12:
+            helix = route.tsa.max_theta() < route.max_turns * 2 * math.pi
+            stop = StopReason.HELIX_LIMIT if helix else StopReason.TURN_LIMIT
+            reason = (
+                "the TSA's strands reached their maximum helix angle"
+                if helix
+                else f"the TSA reached its turn limit ({route.max_turns:g} turns)"
+            )
+            break
+        if n >= max_states:
+            raise SimulationError(f"no stop after {max_states} states; raise take_up or step")
+        if uniform is not None:
+            dtheta = uniform
+        else:
+            ds = route.take_up
+            if n > 1 and np.isfinite(p) and np.isfinite(rows["p"][-2]):
+                gained = float(np.max(taken - rows["take_up"][-2], initial=0.0))
+                speed = abs(p - rows["p"][-2]) / gained if gained > 0 else 0.0
+                if speed * ds > max_dp:  # fold at most max_dp per step
+                    ds = max(max_dp / speed, route.take_up / 20.0)
+            dtheta = tsa_step(
+                route.tsa, theta, lengths[:, 1], ds, min(route.step, theta_end - theta)
+            )
+        theta = min(theta + dtheta, theta_end)
+    notes.append(reason)
+    return SimulationResult(
+        states=np.array(rows["states"]),
+        theta=np.array(rows["theta"]),
+        p=np.array(rows["p"]),
+        tensions=np.array(rows["tensions"]).reshape(len(rows["theta"]), -1),
+        taut=np.array(rows["taut"], dtype=bool).reshape(len(rows["theta"]), -1),
+        torque=np.array(rows["torque"]),
+        fold_angles=np.array(rows["fold_angles"]),
+        take_up=np.array(rows["take_up"]).reshape(len(rows["theta"]), -1),
+        stretch=np.array(rows["stretch"]).reshape(len(rows["theta"]), -1),
+        energy=np.array(rows["energy"]),
+        iterations=np.array(rows["iterations"]),
+        converged=np.array(rows["converged"], dtype=bool),
+        moved=np.array(rows["moved"]),
+        stop=stop,
+        reason=reason,
+        jam=jam,
+        limited_edges=limited,
+        notes=notes,
+        energies=rows["energies"],
+    )
+
+
+def _solve(x, st, strings, ground, assembly, place: _Placement, rounds: int | None = None):
+    """One equilibrium; with the mean pose, the anchors consistent with the state's pose.
+
+    The anchors (in the held panel's frame) start from the pose extrapolated from
+    the last two states. After the solve the state's pose is fitted; if re-placing
+    the anchors for it changes a string's length by more than 1e-4 of the sheet's
+    size, they are re-placed and the state solved again, up to ``rounds`` times
+    (default :data:`POSE_ROUNDS`), with a secant (Anderson) update since this fixed
+    point converges only linearly. The error left does not accumulate (every step
+    places the anchors from the states); on the Fig. 5 set-up more rounds change
+    the fold ratios by less than the two models differ (docs/simulation.md).
+    """
+    if place.active:
+        place.set(*place.predict())
+    x, info = solve_equilibrium(x, st, strings, ground=ground, assembly=assembly)
+    if not place.active or not place.fixed.any():
+        return x, info
+    tol = 1e-4 * max(float(np.ptp(place.flat, axis=0).max()), 1.0)
+    last = None
+    for _ in range(POSE_ROUNDS if rounds is None else rounds):
+        before = place.lengths(x)
+        current = place.anchors()
+        place.set(*rigid_fit(x, place.flat))
+        target = place.anchors()
+        if np.max(np.abs(place.lengths(x) - before)) < tol:
+            break
+        if last is not None:  # secant step on the fixed point a = F(a)
+            d_res = (target - current) - (last[1] - last[0])
+            denom = float(np.sum(d_res * d_res))
+            gamma = float(np.sum((target - current) * d_res)) / denom if denom > 0 else 0.0
+            if -3.0 < gamma < 0.0:  # accelerate a linear convergence; else plain iteration
+                place.put(target - gamma * (target - last[1]))
+        last = (current, target)
+        x, info = solve_equilibrium(x, st, strings, ground=ground, assembly=assembly)
+    place.rot, place.shift = rigid_fit(x, place.flat)
+    place.accept()
+    return x, info
+
+
+def _stalled(window, ratio: float, count: int, least: np.ndarray) -> int | None:
+    """A string the sheet no longer shortens, over the last ``count`` steps, or None.
+
+    Either every taut string stretched by more than ``ratio`` of the string the TSA
+    took up (the take-up goes into stretch, not folding), or one string stretched
+    by more than twice its take-up (the folding lengthens it: it would have to
+    stretch to fold on); in both cases by more than ``least`` (k,) mm over the
+    window, so that a string just coming taut is not a jam. Returns the string that
+    stretched most.
+    """
+    if len(window) <= count:
+        return None
+    taken = window[-1][0] - window[0][0]
+    stretched = window[-1][1] - window[0][1]
+    taut = (window[-1][1] > 0) & (taken > 1e-9)
+    if not taut.any():
+        return None
+    stalled = bool(np.all(stretched[taut] > ratio * taken[taut])) and bool(
+        np.any(stretched[taut] > least[taut])
+    )
+    lengthened = taut & (stretched > 2.0 * taken) & (stretched > least)
+    if not stalled and not lengthened.any():
+        return None
+    return int(np.argmax(np.where(taut, stretched - taken, -np.inf)))
+
+
+def _lengthening_segment(cp, route: RouteSpec, states: list[np.ndarray], string: int) -> str:
+    """The segment of ``string`` that breaks the DCQC rule, else the one lengthened most.
+
+    Lengthened most since the flat sheet; the same naming as the DCQC model's jam.
+    """
+    from origami_cad.strings.dcqc import segment_lengths
+
+    s = route.strings[string]
+    if s.bad_segments:
+        return segment_names(s)[s.bad_segments[0]]
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    lengths = segment_lengths(cp, np.stack([flat, states[-1]]), s, route.thickness)
+    return segment_names(s)[int(np.argmax(lengths[1] - lengths[0]))]

@@ -387,9 +387,6 @@ class HessianAssembly:
         return Factor(lu, order)
 
 
-_Assembly = HessianAssembly  # the former private name, still used by simulate.py
-
-
 def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_iter: int):
     """Conjugate gradients on ``a x = rhs`` preconditioned by an earlier factorisation.
 

@@ -1,6 +1,13 @@
 """Strings: twisted string actuators, routing through panel holes, DCQC folding (section IV-B)."""
 
-from origami_cad.strings.dcqc import DCQCResult, simulate_dcqc
+from origami_cad.strings.dcqc import (
+    DCQCResult,
+    FoldLimit,
+    Jam,
+    StopReason,
+    fold_limit,
+    simulate_dcqc,
+)
 from origami_cad.strings.route import (
     BOTTOM,
     TOP,
@@ -18,15 +25,20 @@ from origami_cad.strings.tsa import (
     onboard_contraction,
     onboard_transmission,
     ring_length,
+    ring_length_derivatives,
 )
 
 __all__ = [
     "BOTTOM",
     "TOP",
     "DCQCResult",
+    "FoldLimit",
+    "Jam",
     "RouteSpec",
+    "StopReason",
     "StringRoute",
     "TSAParams",
+    "fold_limit",
     "hole_exits",
     "load_route",
     "onboard_angle",
@@ -34,6 +46,7 @@ __all__ = [
     "onboard_contraction",
     "onboard_transmission",
     "ring_length",
+    "ring_length_derivatives",
     "side_rule",
     "simulate_dcqc",
     "string_lengths",

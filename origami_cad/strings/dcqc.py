@@ -3,222 +3,552 @@
 In the initial state ``S_0`` (fold ratio ``p0``, strings tight) each string's
 length is ``L_0 = l_AB(0) + routed length`` (eq. 7). As the TSA turns by
 ``theta_s``, its share ``l_AB(theta_s)`` grows (eq. 8, or the onboard model),
-so each string demands ``g_i(p) = l_AB,i(theta_s, p) + rest_i(p) - L_0,i <= 0``:
-the structure must fold until every string fits. With elastic creases resisting,
-the quasi-static state is the *smallest* fold ratio not below the previous one
-at which all strings fit; strings that are not binding go slack. When no fold
-ratio up to the fold limit satisfies all strings, the previous state is final,
-and why is reported: the fold limit is reached, or a string's routed length
-cannot shrink any more (it no longer decreases as the pattern folds).
+so each string demands ``g_i(p) = l_AB,i(theta_s, p) + rest_i(p) - L_0,i <= 0``.
 
-For patterns the kinematics folds with one parameter (TG tessellations,
-Miura-ori, degree-4 patterns read from files). The folded sheet is placed with
-its vertex centroid where it was flat (a sheet centred on the ring rail,
-pulled evenly), or with the route's ``fixed_panel`` held in place; anchors are
-fixed in that frame.
+Each quasi-static state is the *continuous successor* of the previous one: the
+TSA turns by a small step (at most ``route.take_up`` mm of string and
+``route.step`` of rotation), and the sheet folds from the previous fold ratio
+up to where every string fits again. Folding is only possible while the
+binding string's demand falls as the sheet folds (the DCQC rule): if it would
+rise, the string would have to stretch, and the folding *jams*; the jam names
+the string, the segment that lengthens, the fold ratio and the stretch it would
+need. A state never jumps over fold ratios the strings forbid.
+
+Strings and panels are inextensible and rigid. The sheet keeps its mean pose
+(:func:`~origami_cad.strings.route.mean_pose`: the vertex centroid stays and it
+does not rotate on average, a sheet free in the middle of the ring and pulled
+evenly) unless the route holds a panel. The fold limit is the route's
+``p_max``, else the printed sheet's (eq. 6 on the first crease, legs included,
+:func:`fold_limit`), else the largest fold ratio the folder takes.
+
+With a crease stiffness, the tension follows by virtual work: the binding
+strings' tension times the string that folding saves per unit ``p`` equals the
+creases' elastic energy per unit ``p``; the TSA torque is the tension times
+the string taken up per radian (:meth:`TSAParams.consumed_derivatives`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
 
-from origami_cad.kinematics.folding import fold_coords
+from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.strings.route import (
     RouteSpec,
+    StringRoute,
+    anchor_points,
     cutting_segments,
+    hole_exits,
     hole_frames,
-    string_lengths,
+    mean_pose,
+    rigid_fit,
     string_path,
 )
 
-__all__ = ["DCQCResult", "simulate_dcqc"]
+__all__ = [
+    "DCQCResult",
+    "FoldLimit",
+    "Jam",
+    "StopReason",
+    "fold_limit",
+    "segment_lengths",
+    "segment_names",
+    "simulate_dcqc",
+    "tsa_step",
+]
+
+
+class StopReason(StrEnum):
+    """Why a string-driven folding ended (both string models use these)."""
+
+    TURN_LIMIT = "turn_limit"  #: the TSA reached the route's max_turns
+    HELIX_LIMIT = "helix_limit"  #: the onboard TSA's strands reached their maximum helix angle
+    FOLD_LIMIT = "fold_limit"  #: eq. 6 or a blocker stops the creases the strings drive
+    TENSION_LIMIT = "tension_limit"  #: a string pulls harder than the route's max_tension
+    TORQUE_LIMIT = "torque_limit"  #: the TSA needs more than the route's max_torque
+    JAM = "jam"  #: the strings would stretch instead of folding the sheet
+
+
+@dataclass(frozen=True)
+class Jam:
+    """A string that would have to stretch for the sheet to fold further.
+
+    ``string`` is 0-based; ``segment`` names the segment that lengthens as the
+    sheet folds (``"anchor -> c0r0s5"`` or ``"c0r0s5 -> c0r0s4"``); ``p`` the fold
+    ratio where it jams; ``stretch_mm`` how much the string would have to stretch
+    to fold on (mm).
+    """
+
+    string: int
+    segment: str
+    p: float
+    stretch_mm: float
+
+    def describe(self) -> str:
+        return (
+            f"jam: string {self.string + 1} would have to stretch by {self.stretch_mm:.3g} mm "
+            f"at p = {self.p:.3f}; {self.hint()}"
+        )
+
+    def hint(self) -> str:
+        """What lengthens, and what to change."""
+        if self.segment.startswith("anchor"):
+            return (
+                f"its segment {self.segment} lengthens as the sheet folds (the first hole "
+                "moves away from the TSA: move the anchor or thread from another side)"
+            )
+        return (
+            f"its segment {self.segment} lengthens as the sheet folds (check its sides "
+            "against the DCQC rule)"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "string": self.string + 1,
+            "segment": self.segment,
+            "p": self.p,
+            "stretch_mm": self.stretch_mm,
+        }
+
+
+@dataclass(frozen=True)
+class FoldLimit:
+    """The largest fold ratio a model may reach, and where it comes from."""
+
+    p: float
+    source: str  # "route" (p_max), "eq6" (the printed sheet) or "folder"
+    edges: tuple[int, ...] = ()  # creases that reach eq. 6's theta_max first
+
+    def describe(self) -> str:
+        if self.source == "eq6":
+            return (
+                f"the printed sheet's fold limit p = {self.p:.3f} (eq. 6's theta_max on "
+                f"crease{'s' if len(self.edges) > 1 else ''} "
+                f"{', '.join(map(str, self.edges[:6]))})"
+            )
+        if self.source == "route":
+            return f"the route's fold limit p_max = {self.p:g}"
+        return f"the folder's largest fold ratio p = {self.p:g}"
 
 
 @dataclass
 class DCQCResult:
-    """The sequence of quasi-static states and why the last one is final.
+    """The quasi-static states (one row per state, NumPy columns) and why they end.
 
-    ``steps`` holds one record per state: ``theta_s_deg``, ``turns``, ``p``,
-    ``routed_length_mm`` (per string), ``tsa_length_mm`` (``l_AB`` per string),
-    ``binding`` (index of the string that set the fold ratio, or -1).
+    Columns: ``theta`` (S,) TSA rotation, rad; ``turns`` (S,); ``p`` (S,) fold
+    ratio; ``taut`` (S, k) bool, the strings that bind; ``tensions`` (S, k) N
+    and ``torque`` (S,) N mm (NaN without a crease stiffness); ``routed_length``
+    and ``tsa_length`` (S, k) mm; ``fold_angles`` (S, m) deg of every edge.
     """
 
-    steps: list[dict[str, Any]] = field(default_factory=list)
-    reason: str = ""
+    theta: np.ndarray
+    p: np.ndarray
+    taut: np.ndarray
+    tensions: np.ndarray
+    torque: np.ndarray
+    routed_length: np.ndarray
+    tsa_length: np.ndarray
+    fold_angles: np.ndarray
+    stop: StopReason
+    reason: str
+    limit: FoldLimit
+    jam: Jam | None = None
     valid: bool = True
     initial_length_mm: list[float] = field(default_factory=list)
     violations: list[str] = field(default_factory=list)
     cutting: list[str] = field(default_factory=list)
     final_coords: np.ndarray | None = None
     final_strings: list[np.ndarray] = field(default_factory=list)
-
-    @property
-    def final(self) -> dict[str, Any]:
-        return self.steps[-1]
-
-    @property
-    def p(self) -> np.ndarray:
-        return np.array([s["p"] for s in self.steps])
+    placement: str = ""
 
     @property
     def turns(self) -> np.ndarray:
-        return np.array([s["turns"] for s in self.steps])
+        return self.theta / (2 * math.pi)
+
+    def __len__(self) -> int:
+        return len(self.theta)
 
     def to_dict(self) -> dict[str, Any]:
+        """The JSON form (``dcqc.json``)."""
+
+        def col(a: np.ndarray) -> list:  # NaN (no crease stiffness given) -> null
+            if a.dtype.kind != "f":
+                return a.tolist()
+            out = a.astype(object)
+            out[~np.isfinite(a)] = None
+            return out.tolist()
+
         return {
             "valid": self.valid,
+            "stop": self.stop.value,
             "reason": self.reason,
+            "jam": None if self.jam is None else self.jam.to_dict(),
+            "fold_limit": {"p": self.limit.p, "source": self.limit.source},
+            "placement": self.placement,
             "initial_length_mm": self.initial_length_mm,
             "route_violations": self.violations,
             "segments_cutting_panels": self.cutting,
-            "steps": self.steps,
-            "final": self.final,
+            "states": {
+                "turns": col(self.turns),
+                "theta_s_deg": col(np.degrees(self.theta)),
+                "p": col(self.p),
+                "taut": col(self.taut),
+                "tensions_N": col(self.tensions),
+                "tsa_torque_Nmm": col(self.torque),
+                "routed_length_mm": col(self.routed_length),
+                "tsa_length_mm": col(self.tsa_length),
+            },
+            "final": {"turns": float(self.turns[-1]), "p": float(self.p[-1])},
         }
 
 
-def simulate_dcqc(design: Design, route: RouteSpec, grid: int = 801) -> DCQCResult:
-    """Simulate the folding that the route's strings and TSA produce, step by step.
+def tsa_step(tsa, theta: float, x_dis: np.ndarray, take_up: float, cap: float) -> float:
+    """The TSA rotation (rad) from ``theta`` that takes up ``take_up`` mm of string.
+
+    For the string that takes most (``x_dis`` (k,) mm each), at most ``cap`` rad:
+    the slow start of eq. 8 costs few steps and its fast end stays accurate.
+    """
+    x_dis = np.atleast_1d(np.asarray(x_dis, dtype=float))
+    if not len(x_dis):
+        return cap
+    now = tsa.consumed(theta, x_dis)
+
+    def taken(d: float) -> float:
+        return float(np.max(tsa.consumed(theta + d, x_dis) - now))
+
+    if taken(cap) <= take_up:
+        return cap
+    lo, hi = 0.0, cap
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if taken(mid) < take_up else (lo, mid)
+    return hi
+
+
+def segment_names(string: StringRoute) -> list[str]:
+    """Names of a string's segments: ``anchor -> hole 1``, then hole to hole."""
+    return [f"anchor -> {string.names[0]}"] + [
+        f"{a} -> {b}" for a, b in zip(string.names[:-1], string.names[1:], strict=True)
+    ]
+
+
+def segment_lengths(
+    cp, coords: np.ndarray, string: StringRoute, thickness: float, frames=None
+) -> np.ndarray:
+    """Length of each segment (:func:`segment_names`) in folded states ``coords`` (P, n, 3).
+
+    Returns (P, k) mm: the anchor's free stretch, then each hole-to-hole segment.
+    """
+    arrive, leave, _ = hole_exits(cp, coords, string, thickness, frames)
+    first = np.linalg.norm(arrive[:, 0] - anchor_points(cp, coords, string, thickness), axis=-1)
+    seg = np.linalg.norm(arrive[:, 1:] - leave[:, :-1], axis=-1)
+    return np.column_stack([first, seg])
+
+
+def _angle_table(design: Design, ratios: np.ndarray, coords: np.ndarray | None) -> np.ndarray:
+    """Fold angles (G, m) in radians of every edge at fold ratios ``ratios``."""
+    from origami_cad.kinematics.fold3d import fold_angles_from_coords
+
+    if coords is not None:
+        return np.stack([fold_angles_from_coords(design.pattern, c) for c in coords])
+    return np.radians(np.stack([s.fold_angles for s in fold_sequence(design, ratios)]))
+
+
+def fold_limit(design: Design, route: RouteSpec, samples: int = 81) -> FoldLimit:
+    """The fold limit of a routed sheet: the largest fold ratio either model may reach.
+
+    The route's ``p_max`` if given; with ``[fabrication]`` the printed sheet's
+    limit, the fold ratio at which the *first* crease (legs included) reaches
+    eq. 6's ``theta_max`` (:func:`~origami_cad.fabrication.params.theta_max`),
+    refined by bisection to 1e-6; both given: the smaller. Otherwise the largest
+    fold ratio the folder takes, 1 (flat-folded).
+    """
+    limits = []
+    if route.p_max is not None:
+        limits.append(FoldLimit(float(route.p_max), "route"))
+    fab = route.fabrication
+    if fab is not None:
+        cp = design.pattern
+        creases = np.flatnonzero(cp.edge_mask("M", "V"))
+        top = fab.theta_max
+
+        def excess(p: float) -> float:
+            return float(np.max(np.abs(np.radians(fold_design(design, p).fold_angles[creases]))))
+
+        ratios = np.linspace(route.p0, 1.0, samples)
+        worst = np.abs(_angle_table(design, ratios, None)[:, creases]).max(axis=1)
+        over = np.flatnonzero(worst >= top)
+        if len(over) and over[0] > 0:
+            lo, hi = float(ratios[over[0] - 1]), float(ratios[over[0]])
+            while hi - lo > 1e-6:
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if excess(mid) < top else (lo, mid)
+            angles = np.abs(fold_design(design, hi).fold_angles[creases])
+            edges = tuple(int(e) for e in creases[angles >= math.degrees(top) - 1e-3])
+            limits.append(FoldLimit(lo, "eq6", edges))
+    if not limits:
+        return FoldLimit(1.0, "folder")
+    return min(limits, key=lambda lim: lim.p)
+
+
+def _place(route: RouteSpec, cp, coords: np.ndarray) -> tuple[np.ndarray, str]:
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    if route.fixed_panel is None:
+        return mean_pose(coords, flat), "the sheet keeps its mean pose (free on the ring)"
+    ring = cp.faces[cp.face_index(route.fixed_panel)]
+    out = np.empty_like(coords)
+    for k, c in enumerate(coords):
+        rot, shift = rigid_fit(c[ring], flat[ring])
+        out[k] = c @ rot.T + shift
+    return out, f"panel {route.fixed_panel} is held"
+
+
+def simulate_dcqc(
+    design: Design,
+    route: RouteSpec,
+    grid: int | None = None,
+    crease_stiffness: float | None = None,
+    max_dp: float = 0.01,
+) -> DCQCResult:
+    """Simulate the folding that the route's strings and TSA produce, state by state.
 
     Parameters
     ----------
     design : Design
         A pattern the kinematics folds with one parameter.
     route : RouteSpec
-        TSA, strings and settings (step, max turns, ``p0``, fold limit ``p_max``).
-    grid : int
-        Fold ratios sampled between ``p0`` and ``p_max`` (the exact geometry is
-        evaluated there, vectorised); each state is where the linearly
-        interpolated demand crosses zero, accurate to about ``1e-6`` in ``p``
-        for the default grid.
+        TSA, strings and settings (take-up per step, max turns, ``p0``, fold limit).
+    grid : int, optional
+        Fold ratios sampled between ``p0`` and the fold limit, where the exact
+        geometry is evaluated; lengths in between are interpolated linearly
+        (default 801 for TG tessellations, 201 for the degree-4 folder).
+    crease_stiffness : float, optional
+        Rotational stiffness of the creases per unit length, N mm / rad / mm
+        (e.g. ``SimulationParams.crease_stiffness``); gives tensions and torque.
+    max_dp : float
+        Largest change of the fold ratio between two states; a TSA step that
+        folds more is halved.
     """
     cp = design.pattern
-    ratios = np.linspace(route.p0, route.p_max, grid)
-    centre = np.r_[cp.vertices.mean(axis=0), 0.0]
-
-    held = None if route.fixed_panel is None else cp.faces[cp.face_index(route.fixed_panel)]
-    flat3 = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-
-    def placed(rs) -> np.ndarray:
-        c = fold_coords(design, rs)
-        if held is None:  # the sheet sits centred on the rail: its centroid stays put
-            return c - c.mean(axis=1, keepdims=True) + centre
-        return _hold(c, held, flat3)  # the held panel stays where it is flat
-
-    coords = placed(ratios)
+    limit = fold_limit(design, route)
+    if grid is None:
+        grid = 801 if design.tg is not None else 201
+    ratios = np.linspace(route.p0, limit.p, grid)
+    if design.tg is not None:
+        raw = fold_coords(design, ratios)
+        sub = np.linspace(0, grid - 1, min(grid, 201)).round().astype(int)
+        angles = _angle_table(design, ratios[sub], raw[sub])
+        angle_ratios = ratios[sub]
+    else:
+        states = fold_sequence(design, ratios)
+        raw = np.stack([s.coords for s in states])
+        angles = np.radians(np.stack([s.fold_angles for s in states]))
+        angle_ratios = ratios
+    coords, placement = _place(route, cp, raw)
     frames = [hole_frames(cp, s) for s in route.strings]
-
-    def measure(c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        vals = [
-            string_lengths(cp, c, s, route.thickness, f)
-            for s, f in zip(route.strings, frames, strict=True)
-        ]
-        return np.stack([v[0] for v in vals]), np.stack([v[1] for v in vals])
-
-    x_dis, rest = measure(coords)  # (strings, grid)
+    segs = [
+        segment_lengths(cp, coords, s, route.thickness, f)
+        for s, f in zip(route.strings, frames, strict=True)
+    ]  # each (G, k_i)
+    through = np.array(
+        [route.thickness * float(np.sum(np.diff(s.sides) != 0)) for s in route.strings]
+    )
+    x_dis = np.stack([s[:, 0] for s in segs])  # (strings, G)
+    rest = np.stack([s[:, 1:].sum(axis=1) for s in segs]) + through[:, None]
     tsa = route.tsa
     l0 = tsa.consumed(0.0, x_dis[:, 0]) + rest[:, 0]
-    result = DCQCResult(initial_length_mm=l0.tolist(), violations=route.violations)
+    energy_rate = None
+    if crease_stiffness is not None:
+        lengths = np.linalg.norm(np.diff(cp.vertices[cp.edges], axis=1)[:, 0], axis=1)
+        k = crease_stiffness * lengths * cp.edge_mask("M", "V")
+        energy = 0.5 * (angles**2 * k).sum(axis=1)
+        energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
+    tol = 1e-7 * max(cp.size, 1.0)
 
-    def record(theta: float, p: float, binding: int) -> None:
-        xd = np.array([np.interp(p, ratios, row) for row in x_dis])
-        rs = np.array([np.interp(p, ratios, row) for row in rest])
-        result.steps.append(
-            {
-                "theta_s_deg": math.degrees(theta),
-                "turns": theta / (2 * math.pi),
-                "p": p,
-                "routed_length_mm": rs.tolist(),
-                "tsa_length_mm": tsa.consumed(theta, xd).tolist(),
-                "binding": binding,
-            }
-        )
+    def at(p: float, table: np.ndarray) -> np.ndarray:
+        return np.array([np.interp(p, ratios, row) for row in table])
 
-    record(0.0, route.p0, -1)
+    rows: dict[str, list] = {k: [] for k in ("theta", "p", "taut", "tension", "torque", "rs", "ta")}
+
+    def record(theta: float, p: float, moving: bool) -> None:
+        xd, rs = at(p, x_dis), at(p, rest)
+        length, rate, _, _ = tsa.consumed_derivatives(theta, xd)
+        g = length + rs - l0
+        taut = (g >= -tol) & moving
+        tension = np.full(len(l0), np.nan)
+        torque = math.nan
+        if energy_rate is not None:
+            tension[:] = 0.0
+            if taut.any():
+                dp = 1e-4 * (limit.p - route.p0)
+                lo, hi = max(p - dp, route.p0), min(p + dp, limit.p)
+                dg = (
+                    tsa.consumed(theta, at(hi, x_dis))
+                    + at(hi, rest)
+                    - tsa.consumed(theta, at(lo, x_dis))
+                    - at(lo, rest)
+                ) / (hi - lo)
+                saved = -float(np.sum(dg[taut]))
+                work = float(np.interp(p, angle_ratios, energy_rate))
+                if saved > 0:
+                    tension[taut] = max(work, 0.0) / saved
+            torque = float(np.sum(tension * rate))
+        for key, value in zip(
+            rows, (theta, p, taut, tension, torque, rs, np.asarray(length)), strict=True
+        ):
+            rows[key].append(value)
+
+    record(0.0, route.p0, False)
     theta_end = min(route.max_turns * 2 * math.pi, tsa.max_theta())
-    n_steps = math.floor(theta_end / route.step + 1e-9)
-    p_prev = route.p0
-    for step in range(1, n_steps + 1):
-        theta = step * route.step
-        g = tsa.consumed(theta, x_dis) + rest - l0[:, None]  # (strings, grid)
-        worst = g.max(axis=0)
-        w_prev = np.interp(p_prev, ratios, worst)
-        if w_prev <= 0:  # the strings still fit: nothing moves
-            record(theta, p_prev, -1)
-            continue
-        start_k = int(np.searchsorted(ratios, p_prev, side="right"))
-        ok = np.flatnonzero(worst[start_k:] <= 0)
-        if not len(ok):
-            result.reason = _why(g, max(start_k - 1, 0), ratios, route)
-            if step == 1:
-                result.valid = False
-                result.reason = "the routing never folds the structure: " + result.reason
+    theta, p = 0.0, float(route.p0)
+    stop, reason, jam = None, "", None
+    while stop is None:
+        if theta >= theta_end - 1e-12:
+            stop = (
+                StopReason.TURN_LIMIT
+                if tsa.model == "ring"
+                or math.isinf(tsa.max_theta())
+                or route.max_turns * 2 * math.pi <= tsa.max_theta()
+                else StopReason.HELIX_LIMIT
+            )
+            reason = (
+                f"the TSA reached its turn limit ({route.max_turns:g} turns)"
+                if stop is StopReason.TURN_LIMIT
+                else "the TSA's strands reached their maximum helix angle"
+            )
             break
-        k = start_k + int(ok[0])
-        # the state: where the (piecewise linear) worst demand crosses zero
-        lo = p_prev if k == start_k else float(ratios[k - 1])
-        w_lo = w_prev if k == start_k else float(worst[k - 1])
-        p = lo + (0.0 - w_lo) / (worst[k] - w_lo) * (ratios[k] - lo)
-        record(theta, float(p), int(np.argmax(g[:, k])))
-        p_prev = float(p)
-    else:
-        result.reason = (
-            f"the TSA reached its limit ({route.max_turns:g} turns)"
-            if tsa.max_theta() > theta_end or tsa.model == "ring"
-            else "the strands reached their maximum helix angle"
+        dtheta = tsa_step(
+            tsa, theta, at(p, x_dis), route.take_up, min(route.step, theta_end - theta)
         )
-    # geometry of the final state, and segments cutting through panels along the way
-    final = placed([result.final["p"]])[0]
+        for _ in range(30):
+            new = theta + dtheta
+            outcome = _advance(tsa, new, p, ratios, x_dis, rest, l0)
+            if outcome[0] != "fold" or outcome[1] - p <= max_dp or dtheta < 1e-9:
+                break
+            dtheta *= 0.5
+        kind, value = outcome[0], outcome[1]
+        if kind == "fit":
+            theta = new
+            record(theta, p, False)
+        elif kind == "fold":
+            theta, p = new, value
+            record(theta, p, True)
+        elif kind == "limit":
+            # the TSA angle at which the strings fit exactly at the fold limit
+            lo, hi = theta, new
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                g = tsa.consumed(mid, x_dis[:, -1]) + rest[:, -1] - l0
+                lo, hi = (mid, hi) if np.max(g) <= 0 else (lo, mid)
+            if limit.p > p:
+                theta, p = lo, float(limit.p)
+                record(theta, p, True)
+            stop, reason = StopReason.FOLD_LIMIT, f"fold limit reached: {limit.describe()}"
+        else:  # jam
+            string, stretch = value
+            jam = Jam(string, _lengthening_segment(design, route, string, p, limit.p), p, stretch)
+            stop, reason = StopReason.JAM, jam.describe()
+        if energy_rate is not None and stop is None:
+            if np.nanmax(rows["tension"][-1], initial=0.0) > route.max_tension:
+                stop = StopReason.TENSION_LIMIT
+                reason = (
+                    f"a string's tension {np.nanmax(rows['tension'][-1]):.3g} N exceeds the "
+                    f"route's max_tension of {route.max_tension:g} N"
+                )
+            elif rows["torque"][-1] > route.max_torque:
+                stop = StopReason.TORQUE_LIMIT
+                reason = (
+                    f"the TSA torque {rows['torque'][-1]:.3g} N mm exceeds the route's "
+                    f"max_torque of {route.max_torque:g} N mm"
+                )
+    p_states = np.array(rows["p"])
+    result = DCQCResult(
+        theta=np.array(rows["theta"]),
+        p=p_states,
+        taut=np.array(rows["taut"], dtype=bool),
+        tensions=np.array(rows["tension"]),
+        torque=np.array(rows["torque"]),
+        routed_length=np.array(rows["rs"]),
+        tsa_length=np.array(rows["ta"]),
+        fold_angles=np.degrees(
+            np.column_stack([np.interp(p_states, angle_ratios, col) for col in angles.T])
+        ).reshape(len(p_states), -1),
+        stop=stop,
+        reason=reason,
+        limit=limit,
+        jam=jam,
+        valid=not (stop is StopReason.JAM and p <= route.p0),
+        initial_length_mm=l0.tolist(),
+        violations=route.violations,
+        placement=placement,
+    )
+    if not result.valid:
+        result.reason = "the routing never folds the structure: " + result.reason
+    final = _place(route, cp, fold_coords(design, [p]))[0][0]
     result.final_coords = final
     result.final_strings = [string_path(cp, final, s, route.thickness) for s in route.strings]
     seen: set[str] = set()
-    for p in np.linspace(route.p0, result.final["p"], 6):
-        c = placed([p])[0]
+    checks = np.linspace(route.p0, p, 6)
+    for q, c in zip(checks, _place(route, cp, fold_coords(design, checks))[0], strict=True):
         for i, s in enumerate(route.strings):
             for msg in cutting_segments(cp, c, s, route.thickness, i):
                 if msg not in seen:
                     seen.add(msg)
-                    result.cutting.append(f"{msg} (from p = {p:.3f})")
+                    result.cutting.append(f"{msg} (from p = {q:.3f})")
     return result
 
 
-def _hold(coords: np.ndarray, ring: np.ndarray, flat: np.ndarray) -> np.ndarray:
-    """Move each state rigidly so that the panel ``ring`` is back at its flat place."""
-    out = np.empty_like(coords)
-    target = flat[ring]
-    tc = target.mean(axis=0)
-    for k, c in enumerate(coords):
-        src = c[ring]
-        sc = src.mean(axis=0)
-        u, _, vt = np.linalg.svd((src - sc).T @ (target - tc))
-        d = np.sign(np.linalg.det(u @ vt))
-        rot = u @ np.diag([1.0, 1.0, d]) @ vt
-        out[k] = (c - sc) @ rot + tc
-    return out
+def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
+    """Where the sheet goes from fold ratio ``p`` when the TSA is at ``theta``.
 
-
-def _why(g: np.ndarray, k_prev: int, ratios: np.ndarray, route: RouteSpec) -> str:
-    """Why no fold ratio in ``[p_prev, p_max]`` lets every string fit."""
-    worst = g[:, k_prev:].max(axis=0)
-    i = int(np.argmin(worst))
-    binding = int(np.argmax(g[:, k_prev + i]))
-    gi = g[binding, k_prev:]
-    if i == len(worst) - 1:
-        return (
-            f"the fold limit p = {route.p_max:g} is reached (string {binding + 1} would need "
-            "more folding)"
-        )
-    if np.argmin(gi) == 0:
-        return (
-            f"string {binding + 1}'s length does not decrease as the pattern folds "
-            "(check its sides against the DCQC rule)"
-        )
-    return (
-        f"string {binding + 1} cannot shorten enough: folding further (its length is "
-        f"shortest at p = {ratios[k_prev + int(np.argmin(gi))]:.3f}) no longer makes up for "
-        "the string the TSA takes"
+    ``("fit", p)``: every string still fits; ``("fold", p_new)``: the sheet folds
+    continuously to ``p_new``, the worst demand falling all the way; ``("limit",
+    None)``: it would fold past the fold limit; ``("jam", (string, stretch))``:
+    the binding string's demand rises as the sheet folds.
+    """
+    start = int(np.searchsorted(ratios, p, side="right"))
+    g_p = (
+        tsa.consumed(theta, np.array([np.interp(p, ratios, r) for r in x_dis]))
+        + np.array([np.interp(p, ratios, r) for r in rest])
+        - l0
     )
+    w_p = float(np.max(g_p))
+    if w_p <= 0:
+        return "fit", p
+    g = tsa.consumed(theta, x_dis[:, start:]) + rest[:, start:] - l0[:, None]
+    worst = np.r_[w_p, g.max(axis=0)]
+    below = np.flatnonzero(worst <= 0)
+    end = int(below[0]) if len(below) else len(worst) - 1
+    rises = np.flatnonzero(np.diff(worst[: end + 1]) > 1e-9 * max(1.0, abs(w_p)))
+    if len(rises):
+        k = int(rises[0])
+        string = int(np.argmax(g[:, k]))  # the string that makes the worst demand rise
+        return "jam", (string, float(np.max(worst[k : end + 1])))
+    if not len(below):
+        return "limit", None
+    lo = p if end == 1 else float(ratios[start + end - 2])
+    w_lo = float(worst[end - 1])
+    return "fold", lo + (0.0 - w_lo) / (worst[end] - w_lo) * (ratios[start + end - 1] - lo)
+
+
+def _lengthening_segment(design: Design, route: RouteSpec, string: int, p: float, p_lim: float):
+    """The segment of ``string`` that breaks the DCQC rule, else the one lengthening most.
+
+    Lengthening most as the sheet folds on from ``p`` (rigidly, in the model's placement).
+    """
+    cp = design.pattern
+    s = route.strings[string]
+    if s.bad_segments:
+        return segment_names(s)[s.bad_segments[0]]
+    dp = min(1e-3, max(p_lim - p, 1e-6))
+    lo, hi = max(p - dp, 0.0), min(p + dp, p_lim)
+    if hi <= lo:
+        lo = max(lo - dp, 0.0)
+    coords, _ = _place(route, cp, fold_coords(design, [lo, hi]))
+    lengths = segment_lengths(cp, coords, s, route.thickness)
+    return segment_names(s)[int(np.argmax(lengths[1] - lengths[0]))]

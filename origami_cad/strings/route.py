@@ -7,15 +7,25 @@ Route file (TOML)::
     d1 = 10.0                 # mm, rotation diameter
     d2 = 8.0                  # mm, distance of the two first-entry holes
     string_width = 0.5        # mm
+    [fabrication]             # optional: the printed sheet (eq. 6 gives its fold limit)
+    bias = 3.0                # mm, b
+    height = 2.2              # mm, h (also the default route thickness)
+    thickness = 0.4           # mm, t (crease layer)
+    midlayer_bias = 0.5       # mm, m
     [route]
     thickness = 2.2           # mm, panel thickness: hole exits sit half of it off the sheet
     hole_diameter = 2.0       # mm, for holes placed automatically (panel labels)
-    step = 2.0                # deg of TSA rotation per quasi-static step
+    take_up = 0.1             # mm of string the TSA takes up per quasi-static step
+    step = 180.0              # deg: the TSA turns at most this much per step
     max_turns = 20.0          # TSA turns at most
+    max_tension = 50.0        # N, optional: stop when a string pulls harder
+    max_torque = 20.0         # N mm, optional: stop when the TSA needs more (e.g. stall torque)
     p0 = 0.0                  # initial fold ratio
-    p_max = 1.0               # fold limit (e.g. eq. 6's p_max of the printed structure)
-    fixed_panel = "c0r0s0"    # optional: this panel stays in place (default: the sheet's
-                              # vertex centroid stays in place)
+    p_max = 0.5               # optional fold limit; default: the printed sheet's limit when
+                              # [fabrication] is given (first crease at eq. 6, legs
+                              # included), else the largest ratio the pattern's folder takes
+    fixed_panel = "c0r0s0"    # optional: this panel is held (default: the sheet keeps its
+                              # mean pose, as a sheet free on the ring and pulled evenly)
     [[route.strings]]
     anchor = [60.0, -10.0, 20.0]          # A: where the string leaves the TSA, mm
     # anchor_panel = "c0r0s0"             # optional: the TSA rides on this panel (onboard);
@@ -42,6 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._toml import Table, load_toml
+from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.tsa import TSAParams
 
@@ -49,12 +60,15 @@ __all__ = [
     "RouteSpec",
     "StringRoute",
     "anchor_points",
+    "auto_holes",
     "cutting_segments",
     "frame_orientation",
     "hole_exits",
     "hole_frames",
     "load_route",
+    "mean_pose",
     "panel_frame",
+    "rigid_fit",
     "side_rule",
     "string_lengths",
     "string_path",
@@ -75,11 +89,20 @@ class StringRoute:
     names: tuple[str, ...]
     violations: tuple[str, ...] = ()
     anchor_face: int = -1  # >= 0: the anchor rides on this panel, anchor = (x, y, height)
+    bad_segments: tuple[int, ...] = ()  # segments k (hole k-1 -> hole k) breaking the DCQC rule
 
 
 @dataclass(frozen=True)
 class RouteSpec:
-    """A routing: the TSA, the strings and the simulation settings (mm, radians inside)."""
+    """A routing: the TSA, the strings and the simulation settings (mm, radians inside).
+
+    ``take_up`` is the string (mm) the TSA takes up per quasi-static step (the
+    largest over the strings), ``step`` the largest TSA rotation per step
+    (radians), ``max_tension`` (N) and ``max_torque`` (N mm) limits that stop
+    the folding, ``p_max`` an explicit fold limit (None: see
+    :func:`~origami_cad.strings.dcqc.fold_limit`) and ``fabrication`` the
+    printed sheet whose eq. 6 limits every crease.
+    """
 
     tsa: TSAParams
     strings: tuple[StringRoute, ...]
@@ -87,9 +110,13 @@ class RouteSpec:
     step: float = math.radians(2.0)
     max_turns: float = 20.0
     p0: float = 0.0
-    p_max: float = 1.0
+    p_max: float | None = None
     notes: tuple[str, ...] = field(default=())
     fixed_panel: str | None = None
+    take_up: float = 0.1
+    max_tension: float = math.inf
+    max_torque: float = math.inf
+    fabrication: FabricationParams | None = None
 
     @property
     def violations(self) -> list[str]:
@@ -111,14 +138,16 @@ def side_rule(cp: CreasePattern, face_a: int, face_b: int) -> int | None:
     return None
 
 
-def _auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float, float]]:
-    """The automatic hole of every panel (as the fabrication step places them), by label."""
-    from origami_cad.fabrication.panels import panel_outlines, place_holes
-    from origami_cad.fabrication.params import FabricationParams
+def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float, float]]:
+    """The automatic hole of every panel, as fabrication places them, by panel label.
 
-    params = FabricationParams(hole_diameter=hole_diameter)
-    outlines = panel_outlines(cp, params)
-    return {cp.face_labels[fi]: (x, y) for fi, x, y, _ in place_holes(cp, outlines, params)}
+    ``hole_diameter`` in mm; the centres ``(x, y)`` in mm, from
+    :func:`origami_cad.fabrication.plan_panels` (no solids are built).
+    """
+    from origami_cad.fabrication import FabricationParams, plan_panels
+
+    plan = plan_panels(cp, FabricationParams(hole_diameter=hole_diameter))
+    return {label: (hs[0].x, hs[0].y) for label, hs in plan.holes_by_label().items()}
 
 
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
@@ -126,8 +155,19 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     p = Path(path)
     top = Table(load_toml(p), str(p))
     tsa_t = top.table("tsa", {})
+    fab_t = top.table("fabrication") if top.has("fabrication") else None
     route = top.table("route")
     top.finish()
+    fabrication = None
+    if fab_t is not None:
+        defaults = FabricationParams()
+        fabrication = FabricationParams(
+            bias=fab_t.number("bias", defaults.bias, low=0, low_open=True),
+            height=fab_t.number("height", defaults.height, low=0, low_open=True),
+            thickness=fab_t.number("thickness", defaults.thickness, low=0, low_open=True),
+            midlayer_bias=fab_t.number("midlayer_bias", defaults.midlayer_bias, low=0),
+        )
+        fab_t.finish()
     model = tsa_t.string("model", "ring", choices=("ring", "onboard"))
     tsa = TSAParams(
         model=model,
@@ -144,16 +184,25 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     if not tsa_t.has("x_dis"):
         tsa_t.used.add("x_dis")
     tsa_t.finish()
-    thickness = route.number("thickness", 2.2, low=0)
+    thickness = route.number(
+        "thickness", fabrication.height if fabrication is not None else 2.2, low=0
+    )
     hole_d = route.number("hole_diameter", 2.0, low=0, low_open=True)
-    step = route.number("step", 2.0, low=0, high=90, low_open=True)
+    take_up = route.number("take_up", 0.1, low=0, low_open=True)
+    step = route.number("step", 180.0, low=0, high=360, low_open=True)
     max_turns = route.number("max_turns", 20.0, low=0, low_open=True)
+    max_tension, max_torque = (
+        route.number(key, None, low=0, low_open=True) if route.has(key) else math.inf
+        for key in ("max_tension", "max_torque")
+    )
     p0 = route.number("p0", 0.0, low=0, high=1, high_open=True)
-    p_max = route.number("p_max", 1.0, low=0, high=1, low_open=True)
+    p_max = (
+        route.number("p_max", None, low=0, high=1, low_open=True) if route.has("p_max") else None
+    )
     fixed_panel = route.string("fixed_panel") if route.has("fixed_panel") else None
     if fixed_panel is not None and fixed_panel not in cp.face_labels:
         raise route.error("fixed_panel", f"no panel labelled {fixed_panel!r}")
-    if p_max <= p0:
+    if p_max is not None and p_max <= p0:
         raise route.error("p_max", f"must exceed p0 = {p0:g}")
     raw = route.data.get("strings")
     route.used.add("strings")
@@ -189,7 +238,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 if h not in cp.face_labels:
                     raise t.error("holes", f"item {hi}: no panel labelled {h!r}")
                 if auto is None:
-                    auto = _auto_holes(cp, hole_d)
+                    auto = auto_holes(cp, hole_d)
                 x, y = auto[h]
                 names.append(h)
             elif (
@@ -216,6 +265,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
             for k, r in enumerate(rule):
                 sides.append(r if r is not None else (sides[k - 1] if k else TOP))
             violations = []
+            bad = []
         else:
             if (
                 not isinstance(raw_sides, list)
@@ -225,8 +275,10 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 raise t.error("sides", f'expected "auto" or {len(faces)} of "top"/"bottom"')
             sides = [_SIDE_NAMES[s] for s in raw_sides]
             violations = []
+            bad = []
             for k in range(1, len(faces)):
                 if rule[k] is not None and sides[k] != rule[k]:
+                    bad.append(k)
                     crease = "valley" if rule[k] == TOP else "mountain"
                     violations.append(
                         f"string {si + 1}: segment {names[k - 1]} -> {names[k]} runs "
@@ -242,6 +294,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
                 tuple(names),
                 tuple(violations),
                 anchor_face,
+                tuple(bad),
             )
         )
     return RouteSpec(
@@ -253,7 +306,39 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
         p0,
         p_max,
         fixed_panel=fixed_panel,
+        take_up=take_up,
+        max_tension=max_tension,
+        max_torque=max_torque,
+        fabrication=fabrication,
     )
+
+
+def rigid_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rotation ``R`` (3, 3) and shift ``t`` (3,) that best map points ``src`` onto ``dst``.
+
+    Least squares over all points (Kabsch): ``R src_i + t ~ dst_i``, both (n, 3), mm.
+    """
+    sc, dc = src.mean(axis=0), dst.mean(axis=0)
+    u, _, vt = np.linalg.svd((src - sc).T @ (dst - dc))
+    d = np.sign(np.linalg.det(u @ vt)) or 1.0
+    rot = (u @ np.diag([1.0, 1.0, d]) @ vt).T
+    return rot, dc - rot @ sc
+
+
+def mean_pose(coords: np.ndarray, flat: np.ndarray) -> np.ndarray:
+    """Place each folded state of ``coords`` (P, n, 3) in the flat sheet's mean pose, mm.
+
+    The state is moved rigidly so that it fits the flat sheet ``flat`` (n, 3) best in
+    the least-squares sense: its vertex centroid stays where it was flat and it has
+    no mean rotation. This is the placement of a sheet lying free in the middle of
+    the ring and pulled evenly by its strings; both string models use it unless
+    the route holds a panel.
+    """
+    out = np.empty_like(coords)
+    for k, c in enumerate(coords):
+        rot, shift = rigid_fit(c, flat)
+        out[k] = c @ rot.T + shift
+    return out
 
 
 def hole_frames(cp: CreasePattern, string: StringRoute) -> tuple[np.ndarray, np.ndarray]:

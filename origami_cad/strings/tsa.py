@@ -31,6 +31,7 @@ __all__ = [
     "onboard_contraction",
     "onboard_transmission",
     "ring_length",
+    "ring_length_derivatives",
 ]
 
 
@@ -70,6 +71,44 @@ def ring_length(theta_s: Any, x_dis: Any, d1: float, d2: float, d_s: float) -> n
     first = ((d2 - d1 * np.cos(theta)) ** 2 + (d1 * np.sin(theta)) ** 2) / 4.0
     wound = (d2 + d1 + (theta - math.pi) * d_s) ** 2 / 4.0
     return np.sqrt(x**2 + np.where(theta < math.pi, first, wound))
+
+
+def ring_length_derivatives(
+    theta_s: Any, x_dis: Any, d1: float, d2: float, d_s: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Eq. 8 and its analytic derivatives: ``(l_AB, dl/dtheta, dl/dx_dis, d2l/dx_dis2)``.
+
+    With ``l = sqrt(x^2 + q(theta))`` (``q`` the second term of eq. 8):
+    ``dl/dtheta = q'(theta) / (2 l)``, ``dl/dx = x / l`` and ``d2l/dx2 = q / l^3``;
+    ``q' = d1 d2 sin(theta) / 2`` on the first branch and
+    ``d_s (d2 + d1 + (theta - pi) d_s) / 2`` on the wound one. The length is
+    continuous at ``theta = pi`` but its rate jumps there, from 0 to
+    ``d_s (d1 + d2) / (4 l)``, where the strings start winding on each other; at
+    ``pi`` the wound branch's (right-hand) rate is returned.
+
+    Parameters are those of :func:`ring_length` (radians, mm). Returns mm,
+    mm/rad, dimensionless and 1/mm.
+
+    Examples
+    --------
+    >>> l, dth, dx, dxx = ring_length_derivatives(1.0, 60.0, 10.0, 8.0, 0.5)
+    >>> h = 1e-6
+    >>> up, down = (ring_length(1.0 + s, 60.0, 10.0, 8.0, 0.5) for s in (h, -h))
+    >>> bool(abs(dth - (up - down) / (2 * h)) < 1e-8)
+    True
+    """
+    theta = np.asarray(theta_s, dtype=float)
+    if np.any(theta < 0):
+        raise DesignError("the TSA rotation theta_s must be >= 0")
+    x = np.asarray(x_dis, dtype=float)
+    first = theta < math.pi
+    wound = d2 + d1 + (theta - math.pi) * d_s
+    q = np.where(
+        first, ((d2 - d1 * np.cos(theta)) ** 2 + (d1 * np.sin(theta)) ** 2) / 4.0, wound**2 / 4.0
+    )
+    dq = np.where(first, d1 * d2 * np.sin(theta) / 2.0, d_s * wound / 2.0)
+    length = np.sqrt(x**2 + q)
+    return length, dq / (2.0 * length), x / length, q / length**3
 
 
 def _check_twist(theta: np.ndarray, length: float, radius: float, max_helix: float) -> None:
@@ -184,6 +223,37 @@ class TSAParams:
         return np.asarray(x_dis, dtype=float) + onboard_contraction(
             theta_s, self.length, self.radius, math.radians(self.max_helix_angle)
         )
+
+    def consumed_derivatives(
+        self, theta_s: Any, x_dis: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`consumed` and its analytic derivatives (no finite differences).
+
+        Returns ``(length, d/dtheta, d/dx_dis, d2/dx_dis2)`` in mm, mm/rad, 1 and 1/mm:
+        eq. 8's derivatives (:func:`ring_length_derivatives`) for the ring model, and
+        for the onboard model ``dx/dtheta`` = :func:`onboard_transmission`, 1 and 0.
+        With a fixed ``x_dis`` in the route the length does not depend on the geometry.
+        """
+        x = np.asarray(x_dis, dtype=float)
+        if self.model == "ring":
+            fixed = self.x_dis is not None
+            length, dth, dx, dxx = ring_length_derivatives(
+                theta_s, self.x_dis if fixed else x, self.d1, self.d2, self.string_width
+            )
+            length, dth = np.broadcast_arrays(length, dth)
+            if fixed:
+                dx, dxx = np.zeros_like(length), np.zeros_like(length)
+            return (
+                length,
+                dth,
+                np.broadcast_to(dx, length.shape),
+                np.broadcast_to(dxx, length.shape),
+            )
+        helix = math.radians(self.max_helix_angle)
+        c = onboard_contraction(theta_s, self.length, self.radius, helix)
+        rate = onboard_transmission(theta_s, self.length, self.radius, helix)
+        length, rate = np.broadcast_arrays(x + c, rate)
+        return length, rate, np.ones_like(length), np.zeros_like(length)
 
     def max_theta(self) -> float:
         """Largest twist the TSA can make, radians (infinite for the ring model)."""
