@@ -871,7 +871,7 @@ def run_crawl(
         with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
             fh.write(text)
     files = [Path(folder) / n for n in names]
-    mean = float(per.mean())
+    mean = float(per.mean()) if per.size else math.nan
     return Outputs(
         files=files,
         images=[
@@ -880,7 +880,7 @@ def run_crawl(
             (files[3], "The crawl seen from the side"),
         ],
         numbers=[
-            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per)),
+            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
             ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
             ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
             ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
@@ -889,10 +889,12 @@ def run_crawl(
             ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
             ("simulated mass", f"{result.mass_g:.0f} g"),
             ("simulation time", f"{seconds:.1f} s"),
+            ("how the gait ended", result.reason),
         ],
         messages=[
             f"{cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
             f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
+            *([f"stopped: {result.reason}"] if result.stop is not None else []),
             *(f"note: {n}" for n in result.notes),
             f"wrote {folder}/: " + " ".join(names),
         ],

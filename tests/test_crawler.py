@@ -238,3 +238,17 @@ def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
             with DynamixelBus(emu.port, ids=ids, profile_velocity=0, current_limit_ma=1000) as bus:
                 run_sequence(seq, bus, log, time_scale=32.0)
         assert all(s.table[64] == 0 for s in emu.servos.values())  # torque off everywhere
+
+
+def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
+    for name in ("crawler.toml", "crawler.fold", "route_fl.toml", "route_fr.toml", "route_rr.toml"):
+        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    text = (HERE / "route_rl.toml").read_text(encoding="utf-8")
+    text = text.replace("max_turns = 8\n", "max_turns = 8\nmax_torque = 2.0   # N mm\n")
+    (tmp_path / "route_rl.toml").write_text(text, encoding="utf-8")
+    robot = load_robot(tmp_path / "crawler.toml")
+    result = simulate_gait(robot, cycles=1, steps=2)
+    assert str(result.stop) == "torque_limit"
+    assert "rear left (servo 3)" in result.reason and "max_torque of 2 N mm" in result.reason
+    assert result.torque[-1, 2] > 2.0 and (result.torque[:-1, 2] <= 2.0).all()
+    assert len(result.t) < 13  # stopped before the end of the cycle

@@ -32,6 +32,7 @@ from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import fold_angles
 from origami_cad.simulation.model import SimulationParams, build_structure
 from origami_cad.simulation.solver import Ground, solve_equilibrium
+from origami_cad.strings.dcqc import StopReason
 from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,
@@ -454,8 +455,11 @@ class GaitResult:
         Largest fold angle over every blocked crease, deg.
     converged : ndarray (N,) bool
     cycle_starts : list of int
-        Row index where each cycle starts (and one past the last).
+        Row index where each cycle starts (the last one: the final state).
     notes : list of str
+    stop, reason : StopReason or None, str
+        Why the gait ended early (a leg's route ``max_tension`` or ``max_torque``
+        passed, naming the leg), else None.
     """
 
     t: np.ndarray
@@ -471,6 +475,8 @@ class GaitResult:
     notes: list[str] = field(default_factory=list)
     friction: float = 0.0
     mass_g: float = 0.0
+    stop: StopReason | None = None
+    reason: str = "the gait ran to its end"
 
     def displacement_per_cycle(self, axis: int = 0) -> np.ndarray:
         """Body displacement over each cycle along ``axis`` (0: x, the heading), mm."""
@@ -491,6 +497,8 @@ class GaitResult:
             "max_tension_N": float(self.tensions.max()),
             "max_torque_Nmm": self.torque.max(axis=0).tolist(),
             "all_converged": bool(self.converged.all()),
+            "stop": None if self.stop is None else str(self.stop),
+            "reason": self.reason,
             "notes": self.notes,
             "t_s": self.t.tolist(),
             "body_mm": self.body.tolist(),
@@ -535,6 +543,31 @@ def _schedule(
             times.append(c * t[-1] + t[k] + s * (t[k + 1] - t[k]))
             ratios.append(p[k] + s[:, None] * (p[k + 1] - p[k]))
     return np.concatenate(times), np.concatenate(ratios)
+
+
+def _over_limit(robot: Robot, tensions: np.ndarray, torque: np.ndarray):
+    """(StopReason, reason) when a leg passes its route's max_tension or max_torque."""
+    for k, leg in enumerate(robot.legs):
+        if tensions[k].max() > leg.route.max_tension:
+            return StopReason.TENSION_LIMIT, (
+                f"{leg.name} (servo {leg.servo}): a string pulls {tensions[k].max():.3g} N, "
+                f"over its route's max_tension of {leg.route.max_tension:g} N"
+            )
+        if torque[k] > leg.route.max_torque:
+            return StopReason.TORQUE_LIMIT, (
+                f"{leg.name} (servo {leg.servo}): the TSA needs {torque[k]:.3g} N mm, over "
+                f"its route's max_torque of {leg.route.max_torque:g} N mm"
+            )
+    return None
+
+
+def _truncate(out: GaitResult, rows: int) -> None:
+    for name in ("t", "states", "body", "turns", "tensions", "torque", "fold", "blocked"):
+        setattr(out, name, getattr(out, name)[:rows])
+    out.converged = out.converged[:rows]
+    out.cycle_starts = [k for k in out.cycle_starts if k < rows]
+    if out.cycle_starts[-1] != rows - 1:
+        out.notes.append("the last cycle is incomplete")
 
 
 def simulate_gait(
@@ -678,6 +711,11 @@ def simulate_gait(
             out.torque[r, k] = float(mine.sum()) * ratio
         if progress is not None:
             progress(r, rows)
+        stop = _over_limit(robot, out.tensions[r], out.torque[r])
+        if stop is not None:
+            out.stop, out.reason = stop
+            _truncate(out, r + 1)
+            break
     if not out.converged.all():
         out.notes.append(f"{int((~out.converged).sum())} of {rows} states did not fully converge")
     return out
