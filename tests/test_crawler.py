@@ -252,3 +252,31 @@ def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
     assert "rear left (servo 3)" in result.reason and "max_torque of 2 N mm" in result.reason
     assert result.torque[-1, 2] > 2.0 and (result.torque[:-1, 2] <= 2.0).all()
     assert len(result.t) < 13  # stopped before the end of the cycle
+
+
+def test_bad_robot_files_are_refused_naming_file_and_key(tmp_path, capsys):
+    for name in (
+        "crawler.fold",
+        "route_fl.toml",
+        "route_fr.toml",
+        "route_rl.toml",
+        "route_rr.toml",
+    ):
+        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    good = ROBOT.read_text(encoding="utf-8")
+    cases = [
+        (good.replace('panel = "leg_rl"', 'panel = "leg_xx"'), "[[leg]] #3: key 'panel'"),
+        (good.replace("servo = 4", "servo = 3"), "servo IDs must differ"),
+        (good.replace("friction = 0.6", "friction = -1"), "key 'friction'"),
+        (good.replace("at = [153.0, 75.0]", "at = [0.0, 0.0]"), "is not on panel 'leg_fl'"),
+        (good.replace('route = "route_fr.toml"', 'route = "nowhere.toml"'), "nowhere.toml"),
+        (good + "\n[extra]\n", "unknown key 'extra'"),
+    ]
+    for k, (text, message) in enumerate(cases):
+        path = tmp_path / f"bad{k}.toml"
+        path.write_text(text, encoding="utf-8")
+        out = tmp_path / f"out{k}"
+        assert main(["robot", str(path), "-o", str(out), "--no-renders"]) == 2, message
+        err = capsys.readouterr().err
+        assert message in err and f"bad{k}.toml" in err and err.count("\n") == 1, err
+        assert not out.exists()

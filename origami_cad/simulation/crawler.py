@@ -166,7 +166,12 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         if crease is None:
             raise t.error("panel", f"panel {panel!r} does not share one crease with {body!r}")
         route_path = (p.parent / t.string("route")).resolve()
-        route = load_route(route_path, cp)
+        if not route_path.is_file():
+            raise t.error("route", f"{route_path}: no such file")
+        try:
+            route = load_route(route_path, cp)
+        except DesignError as exc:
+            raise t.error("route", str(exc)) from None
         if route.tsa.model != "onboard":
             raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
         servo = t.integer("servo", low=0, high=252)
