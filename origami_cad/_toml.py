@@ -17,23 +17,80 @@ from typing import Any
 
 from origami_cad.errors import DesignError
 
-__all__ = ["Table", "load_toml"]
+__all__ = ["MAX_INTEGER", "MAX_MAGNITUDE", "Table", "input_file", "load_toml", "printable"]
 
 _MISSING = object()
+#: Largest magnitude of any number in an input file (mm, degrees, seconds, ...): no
+#: physical quantity of the package comes near it, and larger ones overflow later.
+MAX_MAGNITUDE = 1e9
+#: Largest magnitude of any integer in an input file (exact as a float).
+MAX_INTEGER = 2**53
+
+
+def printable(text: str, limit: int = 80) -> str:
+    r"""``text`` safe to put in a one-line message: control characters escaped, long text cut.
+
+    >>> printable("a\nb")
+    'a\\nb'
+    """
+    text = str(text)
+    if len(text) > limit:
+        text = text[:limit] + "..."
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def input_file(
+    path: str | os.PathLike[str], error: type[Exception] = DesignError
+) -> tuple[Path, str]:
+    """An input file that exists and is a regular file: ``(path, name for messages)``.
+
+    A missing file, a folder, a device or FIFO (which could block or never end), or
+    a name the file system refuses (too long, a NUL byte) is ``error`` naming it.
+    """
+    p = Path(path)
+    name = printable(str(p), 300)
+    try:
+        if p.is_file():
+            return p, name
+        exists = p.exists()
+    except (OSError, ValueError) as exc:
+        raise error(f"{name}: cannot be read ({getattr(exc, 'strerror', None) or exc})") from None
+    raise error(f"{name}: {'not a regular file' if exists else 'no such file'}")
 
 
 def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
-    p = Path(path)
-    if not p.is_file():
-        raise DesignError(f"{p}: no such file")
+    p, name = input_file(path)
     try:
         with open(p, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{p}: not valid TOML ({exc})") from None
+        raise DesignError(f"{name}: not valid TOML ({exc})") from None
     except UnicodeDecodeError:
-        raise DesignError(f"{p}: not a text file") from None
+        raise DesignError(f"{name}: not a text file") from None
+    except RecursionError:
+        raise DesignError(f"{name}: not valid TOML (arrays or tables nested too deeply)") from None
+    except ValueError as exc:  # e.g. an integer with more digits than Python converts
+        raise DesignError(f"{name}: not valid TOML ({exc})") from None
+    except OSError as exc:
+        raise DesignError(f"{name}: cannot be read ({exc.strerror or exc})") from None
+
+
+def _finite_number(v: Any) -> bool:
+    """A TOML integer or float (not a boolean), finite and within :data:`MAX_MAGNITUDE`."""
+    return (
+        isinstance(v, int | float)
+        and not isinstance(v, bool)
+        and math.isfinite(v)
+        and abs(v) <= MAX_MAGNITUDE
+    )
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:60] + "..."
 
 
 def _type_name(value: Any) -> str:
@@ -88,10 +145,14 @@ class Table:
         """A finite number within ``[low, high]`` (open ends if asked)."""
         value = self._raw(key, default)
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise self.error(key, f"expected a number, got {_type_name(value)} {value!r}")
+            raise self.error(key, f"expected a number, got {_type_name(value)} {_shown(value)}")
+        if isinstance(value, int) and abs(value) > MAX_MAGNITUDE:
+            raise self.error(key, f"{_shown(value)} is too large (limit {MAX_MAGNITUDE:g})")
         value = float(value)
         if not math.isfinite(value):
             raise self.error(key, f"expected a finite number, got {value}")
+        if abs(value) > MAX_MAGNITUDE:
+            raise self.error(key, f"{value:g} is too large (limit {MAX_MAGNITUDE:g})")
         bad_low = low is not None and (value <= low if low_open else value < low)
         bad_high = high is not None and (value >= high if high_open else value > high)
         if bad_low or bad_high:
@@ -108,7 +169,9 @@ class Table:
         """A whole number within ``[low, high]``."""
         value = self._raw(key, default)
         if isinstance(value, bool) or not isinstance(value, int):
-            raise self.error(key, f"expected an integer, got {_type_name(value)} {value!r}")
+            raise self.error(key, f"expected an integer, got {_type_name(value)} {_shown(value)}")
+        if abs(value) > MAX_INTEGER:
+            raise self.error(key, f"{_shown(value)} is too large (limit 2**53)")
         if (low is not None and value < low) or (high is not None and value > high):
             raise self.error(key, f"{value} is out of range [{low}, {high}]")
         return int(value)
@@ -116,15 +179,17 @@ class Table:
     def boolean(self, key: str, default: Any = _MISSING) -> bool:
         value = self._raw(key, default)
         if not isinstance(value, bool):
-            raise self.error(key, f"expected true or false, got {_type_name(value)} {value!r}")
+            raise self.error(
+                key, f"expected true or false, got {_type_name(value)} {_shown(value)}"
+            )
         return value
 
     def string(self, key: str, default: Any = _MISSING, *, choices: tuple[str, ...] = ()) -> str:
         value = self._raw(key, default)
         if not isinstance(value, str):
-            raise self.error(key, f"expected a string, got {_type_name(value)} {value!r}")
+            raise self.error(key, f"expected a string, got {_type_name(value)} {_shown(value)}")
         if choices and value not in choices:
-            raise self.error(key, f"{value!r} is not one of {', '.join(map(repr, choices))}")
+            raise self.error(key, f"{_shown(value)} is not one of {', '.join(map(repr, choices))}")
         return value
 
     def numbers(
@@ -143,8 +208,11 @@ class Table:
             raise self.error(key, f"expected a list of numbers, got {_type_name(value)}")
         out = []
         for i, v in enumerate(value):
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-                raise self.error(key, f"item {i} is not a finite number: {v!r}")
+            if not _finite_number(v):
+                raise self.error(
+                    key,
+                    f"item {i} is not a finite number within +-{MAX_MAGNITUDE:g}: {_shown(v)}",
+                )
             if check is not None and not check(float(v)):
                 raise self.error(key, f"item {i} = {v!r}: {what or 'out of range'}")
             out.append(float(v))
@@ -165,12 +233,12 @@ class Table:
             raise self.error(key, f"expected a list of at least {min_length} [a, b] pairs")
         out = []
         for i, item in enumerate(value):
-            if (
-                not isinstance(item, list)
-                or len(item) != 2
-                or any(isinstance(v, bool) or not isinstance(v, int | float) for v in item)
-            ):
-                raise self.error(key, f"item {i} must be a pair of numbers, got {item!r}")
+            if not isinstance(item, list) or len(item) != 2 or not all(map(_finite_number, item)):
+                raise self.error(
+                    key,
+                    f"item {i} must be a pair of finite numbers within +-{MAX_MAGNITUDE:g}, "
+                    f"got {_shown(item)}",
+                )
             out.append([float(item[0]), float(item[1])])
         return out
 
@@ -186,7 +254,7 @@ class Table:
         """Raise on keys that were never read (typos, unsupported options)."""
         unknown = [k for k in self.data if k not in self.used]
         if unknown:
-            raise DesignError(
-                f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} "
-                f"{', '.join(repr(k) for k in unknown)}"
-            )
+            shown = ", ".join(_shown(k) for k in unknown[:5])
+            if len(unknown) > 5:
+                shown += f" and {len(unknown) - 5} more"
+            raise DesignError(f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} {shown}")

@@ -13,17 +13,31 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from build123d import Box, Compound, Cylinder, Location, Part
+from build123d import (
+    Axis,
+    Compound,
+    Cylinder,
+    Edge,
+    Face,
+    Location,
+    Part,
+    Plane,
+    Solid,
+    Vector,
+    Wire,
+)
 
 from origami_cad.errors import DesignError
 
 from .parameters import resolve_params, spec
 
-__all__ = ["RingRailParams", "ring_anchor_points", "ring_rail"]
+__all__ = ["CLEARANCE", "WALL", "RingRailParams", "ring_anchor_points", "ring_rail"]
 
 
 #: Thickness of a carriage's walls, mm; the string eyelet goes through its inner wall.
 WALL = 2.0
+#: Gap between a carriage and the rail, mm (radially on both sides and above).
+CLEARANCE = 0.2
 
 
 @dataclass(frozen=True)
@@ -75,8 +89,29 @@ def ring_anchor_points(params: RingRailParams | None = None, **values: Any) -> l
     ]
 
 
+def _sector(r0: float, r1: float, a0: float, a1: float, z0: float, z1: float) -> Solid:
+    """The annular sector ``r0 <= r <= r1``, ``a0 <= angle <= a1`` (deg), ``z0 <= z <= z1``.
+
+    Centred on the origin; radii and heights in mm.
+    """
+    plane = Plane.XY.offset(z0)
+    span = a1 - a0  # built from angle 0, away from the circle's seam, then turned to a0
+    outer = Edge.make_circle(r1, plane, start_angle=0.0, end_angle=span)
+    inner = Edge.make_circle(r0, plane, start_angle=0.0, end_angle=span)
+    ends = [
+        Edge.make_line(inner.position_at(0), outer.position_at(0)),
+        Edge.make_line(outer.position_at(1), inner.position_at(1)),
+    ]
+    face = Face(Wire([ends[0], outer, ends[1], inner.reversed()]))
+    return Solid.extrude(face, Vector(0, 0, z1 - z0)).rotate(Axis.Z, a0)
+
+
 def ring_rail(params: RingRailParams | None = None, **values: Any) -> Compound:
     """The rail (a ring) and its carriages, as an assembly with named children.
+
+    Each carriage is an arc of the ring's own curvature: a top and two curved walls
+    around the rail, ``CLEARANCE`` (mm) from it everywhere (radially on both sides and
+    above), so it slides on the printed ring without interference.
 
     Parameters
     ----------
@@ -97,32 +132,47 @@ def ring_rail(params: RingRailParams | None = None, **values: Any) -> Compound:
         raise DesignError("at least one carriage angle is needed")
     r_in = inner_diameter / 2.0
     r_out = r_in + width
+    if r_in - WALL <= 0:
+        raise DesignError(f"inner_diameter must exceed {2 * WALL:g} mm (the carriage walls)")
     cx, cy = float(centre[0]), float(centre[1])
     z0 = z_top - height
     ring = Cylinder(r_out, height, align=None) - Cylinder(r_in, height, align=None)
     ring = ring.moved(Location((cx, cy, z0)))
     ring.label = "rail"
     children = [ring]
-    wall = WALL
-    for k, a in enumerate(angles):
-        # a U-shaped carriage straddling the ring, hanging a wall inside it with the eyelet
-        outer = Box(carriage_length, width + 2 * wall, carriage_height + wall, align=None)
-        outer = outer.moved(Location((-carriage_length / 2, -wall, 0)))
-        slot = Box(carriage_length + 2, width + 0.4, height + 0.2, align=None)
-        slot = slot.moved(Location((-carriage_length / 2 - 1, -0.2, -0.01)))
-        shell = outer - slot
-        screw = Cylinder(lock_screw / 2, carriage_height + 2 * wall, align=None)
-        screw = screw.moved(Location((0, width / 2, height - 1)))
-        eye = Cylinder(eyelet / 2, 3 * wall, align=None).moved(
-            Location((0, -wall - 1, height / 2), (1, 0, 0), -90)
+    r_mid = (r_in + r_out) / 2.0
+    half = math.degrees(carriage_length / 2.0 / r_mid)  # half the carriage's arc, deg
+    if not half < 90.0:
+        raise DesignError(
+            f"carriage_length {carriage_length:g} mm is too long for a ring of "
+            f"inner diameter {inner_diameter:g} mm"
         )
-        body = shell - screw - eye
-        # local frame: x along the ring, y radial outward from the inner edge, z up from z0
-        yaw = a - 90.0
+    top = z0 + carriage_height + WALL
+    for k, a in enumerate(angles):
+        # a U-shaped arc straddling the ring, hanging a wall inside it with the eyelet
+        outer = _sector(r_in - WALL, r_out + WALL, a - half, a + half, z0, top)
+        slot = _sector(
+            r_in - CLEARANCE,
+            r_out + CLEARANCE,
+            a - half - 1,
+            a + half + 1,
+            z0 - 1,
+            z0 + height + CLEARANCE,
+        )
         ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
-        body = body.moved(Location((cx + r_in * ca, cy + r_in * sa, z0), (0, 0, 1), yaw))
-        if not isinstance(body, Part):
-            body = Part(body.wrapped)
+        screw = Cylinder(lock_screw / 2, top - z0, align=None).moved(
+            Location((r_mid * ca, r_mid * sa, z0 + height - 1))
+        )
+        # the eyelet: radial, through the inner wall at half the ring's height
+        eye = Cylinder(eyelet / 2, 2 * WALL, align=None).moved(
+            Location(
+                ((r_in - 1.5 * WALL) * ca, (r_in - 1.5 * WALL) * sa, z0 + height / 2),
+                (-sa, ca, 0),
+                90,
+            )
+        )
+        body = (outer - slot - screw - eye).moved(Location((cx, cy, 0)))
+        body = Part(Compound(body.solids()).wrapped)
         body.label = f"carriage {k + 1} ({a:g} deg)"
         children.append(body)
     assembly = Compound(children=children)

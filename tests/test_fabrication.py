@@ -28,6 +28,7 @@ from origami_cad.fabrication import (
     bias_for_theta_max,
     build_fabrication,
     fabricate,
+    largest_bias,
     offset_ring,
     plan_panels,
     theta_max,
@@ -36,7 +37,7 @@ from origami_cad.fabrication import (
 from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.kinematics.folding import fold_sequence
 from origami_cad.pattern import CreasePattern
-from origami_cad.pattern.design import miura_design
+from origami_cad.pattern.design import load_design, miura_design
 from origami_cad.viz.fabrication_plots import save_panels_png
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -375,3 +376,88 @@ assert vtkMapper.GetResolveCoincidentTopology() == resolve, "VTK mapper state ch
     folded = imread(tmp_path / "folded.png")[..., :3]
     ink = np.any(folded < 0.9, axis=-1).mean()  # panels and creases on white
     assert 0.05 < ink < 0.9
+
+
+def test_offset_ring_keeps_a_vanished_edge_of_a_convex_panel_as_a_corner():
+    # two creases converging on a 0.5 mm border edge (like Fig. 2's 0.734 mm one)
+    sliver = np.array([[0.0, 0.0], [0.5, 0.0], [30.0, 12.0], [0.0, 12.0]])
+    crease = np.array([0.0, 2.0, 2.0, 2.0])  # border edge 0 keeps offset 0
+    out = offset_ring(sliver, crease, "s")
+    assert out.shape == (4, 2)
+    assert np.allclose(out[0], out[1])  # the border edge vanished: a corner of zero length
+    poly = shapely.Polygon(sliver)
+    for k in (1, 2, 3):  # the other edges are exactly 2 mm inside their own sides
+        a, b = sliver[k], sliver[(k + 1) % 4]
+        side = shapely.LineString([a, b])
+        for p in (out[k], out[(k + 1) % 4]):
+            assert side.distance(shapely.Point(p)) >= 2.0 - 1e-9
+    assert shapely.Polygon(out).area > 0 and poly.contains(shapely.Polygon(out).buffer(-1e-9))
+    # a non-convex panel still refuses an edge that would vanish
+    notch = np.array([[0, 0], [10, 0], [10, 10], [5.5, 10], [5, 4], [4.5, 10], [0, 10]], float)
+    with pytest.raises(PatternError, match="panel n is too small"):
+        offset_ring(notch, np.full(7, 1.0), "n")
+
+
+def _chamfer_violation(points: np.ndarray, outline, params) -> float:
+    """How far (mm) any point lies outside the eq. 6 chamfer planes of its panel's creases."""
+    half, b = params.half_height, params.bias
+    poly = outline.polygon
+    worst = 0.0
+    for k in np.flatnonzero(outline.crease_edge):
+        a, c = poly[k], poly[(k + 1) % len(poly)]
+        u = (c - a) / np.linalg.norm(c - a)
+        n = np.array([-u[1], u[0]])
+        inward = (points[:, :2] - a) @ n
+        z = points[:, 2]
+        # the chamfer of a half runs from inset b at the outer face to 0 at the crease layer
+        depth = np.where(z <= half, (half - z), (z - (params.height - half))) / half
+        need = b * np.clip(depth, 0.0, 1.0)
+        worst = max(worst, float(np.max(need - inward)))
+    return worst
+
+
+def test_fig2_design_fabricates_or_names_the_panel_and_the_largest_bias(tmp_path):
+    """Issue 18: the paper's Fig. 2 design failed at every bias, saying neither why nor what."""
+    design = load_design(EXAMPLES / "fig2_tg.toml")
+    best = largest_bias(design)
+    assert 1.5 < best < 2.0
+    with pytest.raises(PatternError) as err:
+        plan_panels(design)  # b = 3 mm
+    message = str(err.value)
+    assert "panel c0r0s" in message
+    assert f"largest inner bias that fits every panel is {best:.2f} mm" in message
+    assert f"--bias {best:.2f}" in message
+    with pytest.raises(PatternError):
+        plan_panels(design, FabricationParams(bias=best + 0.02))
+    fab = fabricate(design, FabricationParams(bias=best))
+    assert len(fab.outlines) == len(design.pattern.faces) == len(fab.holes)
+    for name in PART_NAMES:
+        assert fab.parts.solids[name] and all(s.is_valid for s in fab.parts.solids[name])
+    # the 0.734 mm border edge of c0r0s3 vanished from its outer face, not the panel
+    sliver = fab.plan.outline("c0r0s3")
+    lengths = np.hypot(*(np.roll(sliver.polygon, -1, 0) - sliver.polygon).T)
+    assert lengths.min() == pytest.approx(0.734, abs=1e-3)
+    outer_lengths = np.hypot(*(np.roll(sliver.outer, -1, 0) - sliver.outer).T)
+    assert np.sum(outer_lengths < 1e-9) == 1
+    # no solid of any panel reaches past its chamfer planes: eq. 6 still holds
+    for o, (lower, upper) in zip(fab.outlines, fab.parts.halves, strict=True):
+        pts = np.array([[v.X, v.Y, v.Z] for s in (lower, upper) for v in s.vertices()])
+        assert _chamfer_violation(pts, o, fab.params) < 1e-6, o.label
+    # and its files open in the clients: lib3mf strict reads a valid manifold
+    path = write_fabrication(fab, tmp_path)["3mf"]
+    model = lib3mf.get_wrapper().CreateModel()
+    reader = model.QueryReader("3mf")
+    reader.SetStrictModeActive(True)
+    reader.ReadFromFile(str(path))
+    objects = model.GetMeshObjects()
+    while objects.MoveNext():
+        mesh = objects.GetCurrentMeshObject()
+        assert mesh.IsValid() and mesh.IsManifoldAndOriented()
+
+
+def test_the_6x4_example_sheet_measures_120_by_120_mm():
+    cp = load_design(EXAMPLES / "miura_6x4.toml").pattern
+    size = cp.vertices.max(axis=0) - cp.vertices.min(axis=0)
+    np.testing.assert_allclose(size, [120.0, 120.0], atol=1e-3)
+    plan = plan_panels(cp)  # fabricable at the paper's b = 3 mm, one hole per panel
+    assert len(plan.holes) == 24

@@ -15,6 +15,7 @@ from origami_cad.parts import (
     PARTS,
     BlockerParams,
     Placement,
+    RingRailParams,
     blocker,
     blocker_frame,
     build_part,
@@ -295,3 +296,60 @@ def test_parts_are_installed_inside_the_package():
         for p in (root / "origami_cad").rglob("__init__.py")
     }
     assert set(setup["packages"]) == found | {"origami_cad.parts"}
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        {},
+        {"inner_diameter": 200.0, "angles": (0.0, 120.0, 240.0)},
+        {"inner_diameter": 60.0, "width": 8.0, "carriage_length": 30.0, "angles": (-30.0, 90.0)},
+    ],
+)
+def test_ring_rail_carriages_fit_the_ring_with_clearance_everywhere(kwargs):
+    """Issue 18: straight carriages overlapped the curved ring by 39 mm^3 each."""
+    from origami_cad.parts.ring_rail import CLEARANCE
+
+    rail = ring_rail(**kwargs)
+    ring, carriages = rail.children[0], rail.children[1:]
+    assert len(carriages) == len(kwargs.get("angles", RingRailParams().angles))
+    for carriage in carriages:
+        assert carriage.is_valid and carriage.volume > 0
+        common = ring & carriage
+        overlap = sum(s.volume for s in common.solids()) if common else 0.0
+        assert overlap == 0.0, carriage.label
+        assert ring.distance_to(carriage) >= CLEARANCE - 1e-6, carriage.label
+        # and the carriage does hold the ring: it is no further than the clearance
+        assert ring.distance_to(carriage) == pytest.approx(CLEARANCE, abs=1e-6)
+
+
+def _placed_parts():
+    design = load_design(EXAMPLES / "miura_6x4.toml")
+    plan = plan_panels(design)
+    crease = int(np.flatnonzero(plan.pattern.assignments == "V")[0])
+    return [
+        ("blocker-on-crease", blocker(plan, crease, angle=45.0)),
+        ("tsa-module-on-panel", tsa_module(plan=plan, panel="c0r1s2")),
+        ("ring-rail-high", ring_rail(z_top=35.0)),
+    ]
+
+
+def test_every_exported_part_lies_on_the_bed(tmp_path):
+    """Every part's STL and STEP has its lowest point at z = 0 (slicers place it there)."""
+    shapes = [(name, build_part(name)) for name in PARTS] + _placed_parts()
+    for name, shape in shapes:
+        step, stl = export_part(shape, tmp_path / name, name)
+        mesh = trimesh.load(stl)
+        assert mesh.bounds[0][2] == pytest.approx(0.0, abs=1e-6), name
+        size = shape.bounding_box().size
+        assert mesh.extents[2] == pytest.approx(size.Z, abs=1e-3), name  # moved, not cut
+        back = import_step(step)
+        assert back.bounding_box().min.Z == pytest.approx(0.0, abs=1e-6), name
+        assert back.volume == pytest.approx(shape.volume, rel=1e-6), name
+        # x and y as built
+        assert back.bounding_box().min.X == pytest.approx(shape.bounding_box().min.X, abs=1e-6)
+    # an assembly keeps its named children
+    _, rail = shapes[list(PARTS).index("ring-rail")]
+    step, _ = export_part(rail, tmp_path / "labels", "ring-rail")
+    children = import_step(step).children
+    assert children[0].label == "rail" and len(children) == len(rail.children)

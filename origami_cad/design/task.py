@@ -45,6 +45,13 @@ __all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
 
 #: Vertices of the polygon that stands for a circular obstacle.
 CIRCLE_SEGMENTS = 128
+#: Limits on the counts of a task file (far beyond any useful search).
+MAX_SAMPLES = 10_000
+MAX_RUNS = 10_000
+MAX_POPSIZE = 100_000
+MAX_GENERATIONS = 1_000_000
+#: Most vertices of all warning and prohibited polygons together.
+MAX_AREA_VERTICES = 100_000
 
 
 @dataclass(frozen=True)
@@ -109,6 +116,10 @@ class ArmTask:
         object.__setattr__(self, "weights", w)
         if len(pts) < 2:
             raise DesignError("an arm task needs at least two points (P_start and P_end)")
+        if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(self.start))):
+            raise DesignError("the start and every point of an arm task must be finite (mm)")
+        if not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise DesignError("the weights of an arm task must be finite and >= 0")
         if len(w) != len(pts) - 2:
             raise DesignError(f"{len(pts) - 2} intermediate points need as many weights")
         if not 0 <= self.alpha <= 600:
@@ -150,6 +161,11 @@ class SearchSettings:
     def __post_init__(self) -> None:
         if self.runs < 1:
             raise DesignError(f"runs must be >= 1, got {self.runs}")
+        if not 0 <= self.seed <= 2**32 - 1 - self.runs:
+            raise DesignError(
+                f"seed must lie in [0, 2**32 - 1 - runs] (run k is seeded seed + k), "
+                f"got {self.seed}"
+            )
         if self.popsize < 0 or self.popsize == 1:
             raise DesignError(f"popsize must be 0 (default) or >= 2, got {self.popsize}")
         if self.max_generations < 1:
@@ -209,6 +225,12 @@ def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
         areas[kind] = tuple(
             _area(Table(item, f"{p} [[arm.{kind}]] #{i + 1}"), kind) for i, item in enumerate(raw)
         )
+    n_area_vertices = sum(len(shapely.get_coordinates(a)) for k in areas for a in areas[k])
+    if n_area_vertices > MAX_AREA_VERTICES:
+        raise DesignError(
+            f"{p} [arm]: the warning and prohibited areas have {n_area_vertices:,} vertices, "
+            f"more than the limit of {MAX_AREA_VERTICES:,}"
+        )
     lr = arm.numbers("length_range", [10.0, 120.0], length=2)
     sr = arm.numbers("shape_angle_range", [10.0, 80.0], length=2)
     try:
@@ -222,18 +244,20 @@ def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
             shape_angle_range=(sr[0], sr[1]),
             entry_flag=None if ef == "both" else int(ef),
             hypar_base=arm.boolean("hypar_base", True),
-            samples=arm.integer("samples", 46, low=2),
+            samples=arm.integer("samples", 46, low=2, high=MAX_SAMPLES),
             unit_width=arm.number("unit_width", 36.0, low=0),
             min_leg_gap=arm.number("min_leg_gap", 2.0, low=0),
             warning=areas["warning"],
             prohibited=areas["prohibited"],
         )
         arm.finish()
+        runs = search.integer("runs", 10, low=1, high=MAX_RUNS)
         settings = SearchSettings(
-            runs=search.integer("runs", 10, low=1),
-            seed=search.integer("seed", 1),
-            popsize=search.integer("popsize", 0, low=0),
-            max_generations=search.integer("max_generations", 400, low=1),
+            runs=runs,
+            # run k is seeded seed + k, and seeds are 32-bit unsigned (NumPy, CMA-ES)
+            seed=search.integer("seed", 1, low=0, high=2**32 - 1 - runs),
+            popsize=search.integer("popsize", 0, low=0, high=MAX_POPSIZE),
+            max_generations=search.integer("max_generations", 400, low=1, high=MAX_GENERATIONS),
             sigma0=search.number("sigma0", 0.25, low=0, high=1, low_open=True),
         )
         search.finish()

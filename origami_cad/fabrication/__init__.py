@@ -32,6 +32,7 @@ from origami_cad.fabrication.plan import (
     LimitStatus,
     PanelPlan,
     crease_limits,
+    largest_bias,
     plan_panels,
 )
 
@@ -47,6 +48,7 @@ __all__ = [
     "build_fabrication",
     "crease_limits",
     "fabricate",
+    "largest_bias",
     "offset_ring",
     "panel_outlines",
     "plan_holes",

@@ -147,7 +147,9 @@ def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[
     paths["step"] = export_step_assembly(fab.parts, out / "assembly.step")
     fab.timings["step"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    paths["3mf"] = export_3mf(fab.parts, out / "print.3mf", name=fab.pattern.title or "origami")
+    paths["3mf"] = export_3mf(
+        fab.parts, out / "print.3mf", name=fab.pattern.title or "origami", params=fab.params
+    )
     fab.timings["3mf"] = time.perf_counter() - t0
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"

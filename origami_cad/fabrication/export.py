@@ -1,38 +1,48 @@
 """Exports of the printed parts: four STL files, a STEP assembly and a slicer-ready 3MF.
 
 The 3MF holds one object made of four parts, PLA parts on extruder 1 and TPU
-parts on extruder 2, described both for PrusaSlicer
+parts on extruder 2; each solid is its own closed, oriented shell and each part
+a range of triangles, described both for PrusaSlicer
 (``Metadata/Slic3r_PE_model.config``: volumes as triangle ranges with an
 ``extruder`` key) and for Bambu Studio / OrcaSlicer
-(``Metadata/model_settings.config``: parts with an ``extruder`` key), with
-display colours through ``<basematerials>``. build123d's own 3MF writer gives
-each shape its own object and no extruder, so the package is written here
-from build123d's tessellation.
+(``Metadata/model_settings.config``: parts with ``firstid``/``lastid`` and an
+``extruder`` key), with display colours through ``<basematerials>`` and the
+print settings of :func:`slicer_settings` (``Metadata/Slic3r_PE.config``,
+``Metadata/project_settings.config``). build123d's own 3MF writer gives each
+shape its own object and no extruder, so the package is written here from
+build123d's tessellation.
 """
 
 from __future__ import annotations
 
+import json
 import os
-import tempfile
 import zipfile
 from pathlib import Path
 from xml.sax.saxutils import escape
 
 import numpy as np
-from build123d import Color, Compound, export_step, export_stl
+from build123d import Color, Compound, Location, Solid, export_step, export_stl
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_path
+from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
 __all__ = [
     "EXTRUDERS",
     "MATERIAL_COLORS",
+    "MATERIAL_SETTINGS",
     "export_3mf",
     "export_part",
     "export_step_assembly",
     "export_stls",
+    "lay_on_bed",
+    "layer_height",
+    "part_meshes",
     "read_binary_stl",
+    "slicer_settings",
+    "solid_mesh",
 ]
 
 #: Extruder of each material (1-based, as slicers count).
@@ -69,12 +79,26 @@ def _color(material: str) -> Color:
 
 
 def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
-    """Write one STEP with four named, coloured parts (compounds of solids)."""
+    """Write one STEP with four named parts, each solid a separately coloured child.
+
+    The assembly ``origami_structure`` holds the four parts (``infills``,
+    ``midlayers``, ``shells``, ``creases``); each part holds its solids
+    (``shells 0``, ``shells 1``...), every one carrying its part's colour. FreeCAD
+    resolves a colour from a solid's own label, then its parent's: colours set on a
+    compound alone come in grey.
+    """
     children = []
     for name in PART_NAMES:
-        comp = parts.compound(name)
+        color = _color(PART_MATERIALS[name])
+        solids = []
+        for k, solid in enumerate(parts.solids[name]):
+            child = Solid(solid.wrapped)
+            child.label = f"{name} {k}"
+            child.color = color
+            solids.append(child)
+        comp = Compound(children=solids)
         comp.label = name
-        comp.color = _color(PART_MATERIALS[name])
+        comp.color = color
         children.append(comp)
     assembly = Compound(children=children)
     assembly.label = "origami_structure"
@@ -96,35 +120,161 @@ def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     return verts, inverse.reshape(-1, 3)
 
 
-def _mesh(parts: Parts, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """The part meshed by OCC (as its STL export does), as NumPy arrays."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / f"{name}.stl"
-        export_stl(
-            parts.compound(name),
-            str(path),
-            tolerance=TOLERANCE,
-            angular_tolerance=ANGULAR_TOLERANCE,
-            ascii_format=False,
-        )
-        return read_binary_stl(path)
+def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
+    """One solid meshed by OCC: vertices (mm) welded within the solid, triangles.
+
+    Vertices are welded only inside one solid, never across solids: neighbouring
+    shell chamfers meet on a line, and welding them would join four triangles on one
+    edge. Triangles that collapse in the weld are dropped.
+    """
+    points, triangles = solid.tessellate(TOLERANCE, ANGULAR_TOLERANCE)
+    v = np.array([(p.X, p.Y, p.Z) for p in points], dtype=float).reshape(-1, 3)
+    t = np.array(triangles, dtype=np.int64).reshape(-1, 3)
+    key = np.round(v / 1e-6).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    t = inverse.reshape(-1)[t]
+    t = t[(t[:, 0] != t[:, 1]) & (t[:, 1] != t[:, 2]) & (t[:, 2] != t[:, 0])]
+    return v[first], t
 
 
-def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami") -> Path:
-    """Write a 3MF with one four-part object and the slicers' extruder metadata."""
-    meshes = {n: _mesh(parts, n) for n in PART_NAMES}
+def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The meshes of every solid of a part (see :func:`solid_mesh`)."""
+    return [solid_mesh(s) for s in parts.solids[name]]
+
+
+def layer_height(params: FabricationParams, largest: float = 0.2) -> float:
+    """The largest layer height (mm, at most ``largest``) that resolves every layer.
+
+    Each panel half ``(h - t) / 2``, the crease layer ``t`` and the shell ``s`` are a
+    whole number of layers, so no layer straddles two materials' boundary. Tries
+    ``largest``, then steps of 0.01 mm down to 0.05 mm; falls back to 0.05 mm.
+    """
+    targets = (params.half_height, params.thickness, params.shell)
+    for hundredths in range(round(largest * 100), 4, -1):
+        h = hundredths / 100
+        if all(abs(x / h - round(x / h)) < 1e-6 for x in targets):
+            return h
+    return 0.05
+
+
+#: Per-material slicer settings: nozzle and first-layer temperatures (deg C), bed (deg C),
+#: filament type as the slicers name it, and the largest volumetric speed (mm^3/s).
+MATERIAL_SETTINGS = {
+    "PLA": {
+        "temperature": 210,
+        "first_layer_temperature": 215,
+        "bed": 60,
+        "type": "PLA",
+        "max_volumetric_speed": 15.0,
+    },
+    "TPU": {
+        "temperature": 230,
+        "first_layer_temperature": 230,
+        "bed": 60,
+        "type": "FLEX",
+        "max_volumetric_speed": 3.6,
+    },
+}
+
+
+def slicer_settings(params: FabricationParams | None = None) -> dict[str, object]:
+    """The print settings carried by the 3MF, as plain data (see docs/fabrication.md).
+
+    Extruder 1 prints PLA, extruder 2 TPU (:data:`EXTRUDERS`); ``layer_height`` and
+    ``first_layer_height`` come from :func:`layer_height`; temperatures in deg C.
+    """
+    params = params or FabricationParams()
+    h = layer_height(params)
+    mats = sorted(EXTRUDERS, key=EXTRUDERS.get)
+    per = [MATERIAL_SETTINGS[m] for m in mats]
+    return {
+        "layer_height": h,
+        "first_layer_height": h,
+        "materials": mats,
+        "filament_type": [p["type"] for p in per],
+        "temperature": [p["temperature"] for p in per],
+        "first_layer_temperature": [p["first_layer_temperature"] for p in per],
+        "bed_temperature": [p["bed"] for p in per],
+        "filament_max_volumetric_speed": [p["max_volumetric_speed"] for p in per],
+        "filament_colour": [MATERIAL_COLORS[m] for m in mats],
+    }
+
+
+def _prusa_print_config(settings: dict[str, object]) -> str:
+    """``Metadata/Slic3r_PE.config``: PrusaSlicer's print settings, ``; key = value`` lines."""
+
+    def join(values, sep=","):
+        return sep.join(f"{v:g}" if isinstance(v, float) else str(v) for v in values)
+
+    lines = {
+        "layer_height": f"{settings['layer_height']:g}",
+        "first_layer_height": f"{settings['first_layer_height']:g}",
+        "nozzle_diameter": "0.4,0.4",
+        "filament_type": join(settings["filament_type"], ";"),
+        "temperature": join(settings["temperature"]),
+        "first_layer_temperature": join(settings["first_layer_temperature"]),
+        "bed_temperature": join(settings["bed_temperature"]),
+        "first_layer_bed_temperature": join(settings["bed_temperature"]),
+        "filament_max_volumetric_speed": join(settings["filament_max_volumetric_speed"]),
+        "filament_colour": join(settings["filament_colour"], ";"),
+        "extruder_colour": join(settings["filament_colour"], ";"),
+    }
+    head = f"; generated by origami_cad {__version__}\n\n"
+    return head + "".join(f"; {k} = {v}\n" for k, v in lines.items())
+
+
+def _strings(values) -> list[str]:
+    return [f"{v:g}" if isinstance(v, float) else str(v) for v in values]
+
+
+def _bambu_project_config(settings: dict[str, object]) -> str:
+    """``Metadata/project_settings.config``: Bambu Studio / OrcaSlicer settings (JSON)."""
+    return json.dumps(
+        {
+            "layer_height": f"{settings['layer_height']:g}",
+            "initial_layer_print_height": f"{settings['first_layer_height']:g}",
+            "filament_type": ["TPU" if t == "FLEX" else t for t in settings["filament_type"]],
+            "nozzle_temperature": _strings(settings["temperature"]),
+            "nozzle_temperature_initial_layer": _strings(settings["first_layer_temperature"]),
+            "hot_plate_temp": _strings(settings["bed_temperature"]),
+            "hot_plate_temp_initial_layer": _strings(settings["bed_temperature"]),
+            "filament_max_volumetric_speed": _strings(settings["filament_max_volumetric_speed"]),
+            "filament_colour": list(settings["filament_colour"]),
+            "nozzle_diameter": ["0.4", "0.4"],
+        },
+        indent=1,
+    )
+
+
+def export_3mf(
+    parts: Parts,
+    path: str | os.PathLike[str],
+    name: str = "origami",
+    params: FabricationParams | None = None,
+) -> Path:
+    """Write a 3MF with one four-part object, the slicers' extruder metadata and settings.
+
+    The object's mesh holds every solid as its own closed, oriented shell (no vertex
+    shared between solids), the triangles of each part in one range. PrusaSlicer reads
+    the ranges from ``Metadata/Slic3r_PE_model.config`` and its settings from
+    ``Metadata/Slic3r_PE.config``; Bambu Studio and OrcaSlicer read the ranges
+    (``firstid``/``lastid`` on each ``<part>``) from ``Metadata/model_settings.config``
+    and their settings from ``Metadata/project_settings.config``.
+    """
     all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
     for n in PART_NAMES:
-        v, t = meshes[n]
-        all_v.append(v)
-        all_t.append(t + voff)
-        ranges.append((toff, toff + len(t) - 1))
-        mats.append(np.full(len(t), list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
-        voff += len(v)
-        toff += len(t)
+        first = toff
+        for v, t in part_meshes(parts, n):
+            all_v.append(v)
+            all_t.append(t + voff)
+            voff += len(v)
+            toff += len(t)
+        ranges.append((first, toff - 1))
+        mats.append(np.full(toff - first, list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
     verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
     model = _model_xml(verts, tris, mat, name)
     prusa, bambu = _slicer_configs(ranges, name)
+    settings = slicer_settings(params)
     content_types = (
         '<?xml version="1.0" encoding="UTF-8"?>\n'
         '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
@@ -148,6 +298,8 @@ def export_3mf(parts: Parts, path: str | os.PathLike[str], name: str = "origami"
         zf.writestr("3D/3dmodel.model", "\n".join(model))
         zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
         zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
+        zf.writestr("Metadata/Slic3r_PE.config", _prusa_print_config(settings))
+        zf.writestr("Metadata/project_settings.config", _bambu_project_config(settings))
     return Path(path)
 
 
@@ -215,7 +367,7 @@ def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str]
             "  </volume>",
         ]
         bambu += [
-            f'  <part id="{k + 1}" subtype="normal_part">',
+            f'  <part id="{k + 1}" subtype="normal_part" firstid="{first}" lastid="{last}">',
             f'   <metadata key="name" value="{n}"/>',
             f'   <metadata key="extruder" value="{ext}"/>',
             f'   <metadata key="source_volume_id" value="{k}"/>',
@@ -226,8 +378,35 @@ def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str]
     return prusa, bambu
 
 
+def lay_on_bed(shape):
+    """A copy of a part or assembly moved along z so that its lowest point is at z = 0.
+
+    x and y are kept; an assembly keeps its tree of named, coloured children (each
+    child moved by the same amount), so slicers place it on the bed as built.
+    """
+    dz = -shape.bounding_box().min.Z
+    return _moved_tree(shape, Location((0.0, 0.0, dz)))
+
+
+def _moved_tree(shape, loc: Location):
+    children = list(getattr(shape, "children", ()) or ())
+    if not children:
+        out = shape.moved(loc)
+    else:
+        out = Compound(children=[_moved_tree(c, loc) for c in children])
+    out.label = shape.label
+    if getattr(shape, "color", None) is not None:
+        out.color = shape.color
+    return out
+
+
 def export_part(part, folder: str | os.PathLike[str], name: str) -> list[Path]:
-    """Write ``name.step`` and ``name.stl`` (binary) of a part or assembly (atomic)."""
+    """Write ``name.step`` and ``name.stl`` (binary) of a part or assembly (atomic).
+
+    Both files hold the part laid on the print bed (:func:`lay_on_bed`: its lowest
+    point at z = 0, x and y as built), so a slicer places it where it prints.
+    """
+    part = lay_on_bed(part)
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     step, stl = out / f"{name}.step", out / f"{name}.stl"

@@ -4,8 +4,9 @@ Every solid of a panel is bounded by planes parallel to its edges, so each
 footprint is the panel polygon with every edge moved inward by its own offset:
 crease edges by the chamfer's run at that height, border and cut edges by the
 border margin. :func:`offset_ring` computes such polygons exactly (each corner
-is the intersection of its two offset lines) and refuses a panel too small for
-its inset instead of returning a broken polygon.
+is the intersection of its two offset lines); on a convex panel a short side
+that the inset makes vanish stays as a corner of zero length, and a panel too
+small for its inset is refused instead of returning a broken polygon.
 """
 
 from __future__ import annotations
@@ -39,8 +40,13 @@ def offset_ring(
     """Move every edge of a counter-clockwise ring inward by its own offset (mm).
 
     Edge ``k`` joins ``ring[k]`` and ``ring[k + 1]``. Corners between collinear
-    edges with equal offsets are dropped. Raises :class:`PatternError` naming the
-    panel when an edge would vanish or turn over (the panel is too small).
+    edges with equal offsets are dropped. On a convex panel, an edge that the
+    offset makes vanish (a short edge between two converging creases, such as the
+    0.734 mm border edge of the paper's Fig. 2 pattern) is kept as a corner of zero
+    length: the ring keeps one point per edge, two of them equal, so the solids built
+    between rings stay planar-faced. Raises :class:`PatternError` naming the panel
+    when the panel is too small for its inset (fewer than three edges would remain),
+    or when an edge of a non-convex panel would vanish or turn over.
     """
     pts = np.asarray(ring, dtype=float)
     off = np.asarray(offsets, dtype=float)
@@ -74,10 +80,63 @@ def offset_ring(
     dots = np.einsum("ij,ij->i", e, u[keep_edges])
     poly = shapely.Polygon(res)
     if np.any(dots <= 1e-9) or not poly.is_valid or poly.area <= 0:
+        convex = _is_convex(pts)
+        if convex:
+            return _offset_convex(
+                pts[keep_edges], u[keep_edges], n[keep_edges], base[keep_edges], label, what
+            )
         raise PatternError(
             f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
         )
     return res
+
+
+def _is_convex(pts: np.ndarray) -> bool:
+    d = np.roll(pts, -1, axis=0) - pts
+    cross = d[:, 0] * np.roll(d, -1, axis=0)[:, 1] - d[:, 1] * np.roll(d, -1, axis=0)[:, 0]
+    return bool(np.all(cross >= -1e-9 * np.max(np.abs(d)) ** 2))
+
+
+def _offset_convex(
+    pts: np.ndarray, u: np.ndarray, n: np.ndarray, base: np.ndarray, label: str, what: str
+) -> np.ndarray:
+    """The offset of a convex ring as the intersection of its edges' inner half-planes.
+
+    ``pts[k]`` starts edge ``k`` (unit direction ``u[k]``, inward normal ``n[k]``, offset
+    line through ``base[k]``). Returns one point per edge: the start of the edge's side
+    of the result, or, for an edge that vanished, the start of the next edge that did not.
+    """
+    size = float(np.ptp(pts, axis=0).max()) * 4.0 + 1.0
+    region = shapely.Polygon(pts)
+    for k in range(len(pts)):
+        b, uk, nk = base[k], u[k], n[k]
+        half = shapely.Polygon(
+            [b - uk * size, b + uk * size, b + uk * size + nk * size, b - uk * size + nk * size]
+        )
+        region = region.intersection(half)
+    too_small = PatternError(f"panel {label} is too small for the {what or 'inset'}")
+    if region.is_empty or region.geom_type != "Polygon" or region.area <= 1e-9:
+        raise too_small
+    corners = shapely.get_coordinates(shapely.geometry.polygon.orient(region, 1).exterior)[:-1]
+    starts: list[np.ndarray | None] = []
+    for k in range(len(pts)):
+        dist = np.abs((corners - base[k]) @ n[k])
+        on = corners[dist < 1e-7]
+        along = (on - base[k]) @ u[k] if len(on) else np.zeros(0)
+        if len(on) >= 2 and np.ptp(along) > 1e-9:
+            starts.append(on[np.argmin(along)])
+        else:
+            starts.append(None)
+    alive = [k for k, p in enumerate(starts) if p is not None]
+    if len(alive) < 3:
+        raise too_small
+    out = np.empty_like(pts)
+    for k in range(len(pts)):
+        j = k
+        while starts[j % len(pts)] is None:
+            j += 1
+        out[k] = starts[j % len(pts)]
+    return out
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,7 @@ into solids.
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 import time
@@ -31,7 +32,14 @@ from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
 
-__all__ = ["CreaseLimits", "LimitStatus", "PanelPlan", "crease_limits", "plan_panels"]
+__all__ = [
+    "CreaseLimits",
+    "LimitStatus",
+    "PanelPlan",
+    "crease_limits",
+    "largest_bias",
+    "plan_panels",
+]
 
 
 class LimitStatus(enum.Enum):
@@ -239,8 +247,11 @@ def plan_panels(
     design = source if isinstance(source, Design) else Design(source, None, "file")
     cp = design.pattern
     t0 = time.perf_counter()
-    outlines = tuple(panel_outlines(cp, params))
-    holes, hole_panels = plan_holes(cp, list(outlines), params)
+    try:
+        outlines = tuple(panel_outlines(cp, params))
+        holes, hole_panels = plan_holes(cp, list(outlines), params)
+    except PatternError as exc:
+        raise PatternError(f"{exc}; {_bias_advice(cp, params)}") from None
     timings = {"panels_and_holes": time.perf_counter() - t0}
     t0 = time.perf_counter()
     limits = crease_limits(design, params)
@@ -248,6 +259,68 @@ def plan_panels(
         timings["crease_limits"] = time.perf_counter() - t0
     return PanelPlan(
         cp, params, outlines, holes, hole_panels, limits, _warnings(params, limits), timings
+    )
+
+
+def _fits(cp: CreasePattern, params: FabricationParams) -> bool:
+    try:
+        plan_holes(cp, panel_outlines(cp, params), params)
+    except PatternError:
+        return False
+    return True
+
+
+def largest_bias(
+    pattern: CreasePattern | Design, params: FabricationParams | None = None, step: float = 0.01
+) -> float | None:
+    """The largest inner bias ``b`` (mm, a multiple of ``step``) at which every panel fits.
+
+    Every panel must keep its footprints for ``b`` and the mid-layer inset ``b + m``
+    and, with ``holes`` set, room for its hole: the other parameters of ``params``
+    stay as they are. ``None`` when not even ``step`` fits (the cause is then not
+    the bias: the hole diameter, the mid-layer inset or the pattern itself).
+    Searched by bisection up to ``params.bias`` (returned as is when it fits).
+
+    >>> from origami_cad.pattern.design import miura_design
+    >>> largest_bias(miura_design(2, 3, 20.0, 20.0, 70.0), FabricationParams(bias=8))
+    7.59
+    """
+    cp = pattern.pattern if isinstance(pattern, Design) else pattern
+    params = params or FabricationParams()
+
+    def fits(b: float) -> bool:
+        return _fits(cp, dataclasses.replace(params, bias=b))
+
+    lo, hi = step, max(params.bias, step)
+    if not fits(lo):
+        return None
+    if fits(hi):
+        return hi
+    for _ in range(40):  # fits(lo), not fits(hi)
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+        if hi - lo < step / 10:
+            break
+    best = math.floor(lo / step + 1e-9) * step
+    while best > step and not fits(best):
+        best -= step
+    while best + step < hi and fits(best + step):
+        best += step
+    return round(best, 10)
+
+
+def _bias_advice(cp: CreasePattern, params: FabricationParams) -> str:
+    """What to change: the largest bias that fits, or that no bias does."""
+    best = largest_bias(cp, params)
+    if best is None:
+        return (
+            "no inner bias fits (not even 0.01 mm): reduce hole_diameter or midlayer_bias, "
+            "use holes = 'none', or enlarge the panel"
+        )
+    theta = math.degrees(dataclasses.replace(params, bias=best).theta_max)
+    return (
+        f"the largest inner bias that fits every panel is {best:.2f} mm "
+        f"(theta_max {theta:.1f} deg): use bias = {best:.2f} (fabricate --bias {best:.2f})"
     )
 
 

@@ -45,7 +45,22 @@ class Parts:
         return float(sum(s.volume for s in self.solids[name]))
 
 
-def _face(points: list[tuple[float, float, float]]) -> Face:
+def _distinct(points: list) -> list:
+    """``points`` without consecutive repeats (a vanished edge leaves two equal corners)."""
+    out = []
+    for p in points:
+        if not out or max(abs(a - b) for a, b in zip(p, out[-1], strict=True)) > 1e-9:
+            out.append(p)
+    while len(out) > 1 and max(abs(a - b) for a, b in zip(out[0], out[-1], strict=True)) <= 1e-9:
+        out.pop()
+    return out
+
+
+def _face(points: list[tuple[float, float, float]]) -> Face | None:
+    """The planar face through ``points``; ``None`` when they collapse to a segment."""
+    points = _distinct(points)
+    if len(points) < 3:
+        return None
     return Face(Wire.make_polygon([Vector(*p) for p in points], close=True))
 
 
@@ -62,7 +77,7 @@ def half_solid(low: np.ndarray, z_low: float, high: np.ndarray, z_high: float) -
     for i in range(k):
         j = (i + 1) % k
         faces.append(_face([lo[i], lo[j], hi[j], hi[i]]))
-    solid = Solid(Shell(faces))
+    solid = Solid(Shell([f for f in faces if f is not None]))
     if not solid.is_valid or solid.volume <= 0:
         raise PatternError("internal error: a panel half is not a valid solid")
     return solid
@@ -86,8 +101,8 @@ def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
 
 def _planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
     def wire(ring) -> Wire:
-        c = shapely.get_coordinates(ring)[:-1]
-        return Wire.make_polygon([Vector(float(x), float(y), z0) for x, y in c], close=True)
+        c = _distinct([(float(x), float(y)) for x, y in shapely.get_coordinates(ring)[:-1]])
+        return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
 
     inner = [wire(r) for r in poly.interiors]
     face = Face(wire(poly.exterior), inner)

@@ -26,10 +26,10 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import Table, input_file, load_toml, printable
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.io import READ_FORMATS, read_pattern
-from origami_cad.pattern.miura import miura_pattern
+from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
 
@@ -104,8 +104,14 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             table.finish()
             return Design(tg_pattern(design, title=p.stem), design, kind, p)
         if kind == "miura":
-            rows = table.integer("rows", low=1)
-            columns = table.integer("columns", low=1)
+            rows = table.integer("rows", low=1, high=MAX_PANELS)
+            columns = table.integer("columns", low=1, high=MAX_PANELS)
+            if rows * columns > MAX_PANELS:
+                raise table.error(
+                    "columns",
+                    f"rows x columns = {rows * columns:,} panels, more than the limit of "
+                    f"{MAX_PANELS:,}",
+                )
             length = table.number("panel_length", low=0, low_open=True)
             width = table.number("panel_width", low=0, low_open=True)
             angle = table.number("sector_angle", low=0, high=90, low_open=True, high_open=True)
@@ -115,11 +121,17 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             return Design(d.pattern.with_metadata(title=p.stem), d.tg, kind, p)
         rel = table.string("path")
         table.finish()
-        target = (p.parent / rel).resolve()
+        shown = printable(rel, 300)
+        try:
+            target = (p.parent / rel).resolve()
+        except (OSError, ValueError, RuntimeError) as exc:
+            raise table.error("path", f"{shown!r} cannot be used ({exc})") from None
         if target.suffix.lower() not in READ_FORMATS:
-            raise table.error("path", f"{rel!r} is not a {', '.join(READ_FORMATS)} file")
-        if not target.is_file():
-            raise table.error("path", f"{target}: no such file")
+            raise table.error("path", f"{shown!r} is not a {', '.join(READ_FORMATS)} file")
+        try:
+            input_file(target, PatternError)
+        except PatternError as exc:
+            raise table.error("path", str(exc)) from None
         return Design(read_pattern(target), None, kind, p)
     except PatternError as exc:
         raise DesignError(f"{p}: {exc}") from None
@@ -127,7 +139,7 @@ def load_design(path: str | os.PathLike[str]) -> Design:
 
 def _tg_design(table: Table) -> TGDesign:
     unit_width = table.number("unit_width", low=0, low_open=True)
-    copies = table.integer("copies", low=1)
+    copies = table.integer("copies", low=1, high=MAX_PANELS // 2)
     flag = table.integer("entry_flag", low=0, high=1)
     start = table.point("start", [0.0, 0.0])
     hypar = table.boolean("hypar_base", False)
@@ -137,6 +149,14 @@ def _tg_design(table: Table) -> TGDesign:
         raise DesignError(
             f"{table.where}: give either 'vectors' (with 'fold_ratio') or 'lengths' and "
             "'shape_angles', not both or neither"
+        )
+    listed = table.data.get("vectors" if has_vectors else "lengths")
+    n_vectors = len(listed) if isinstance(listed, list) else 0
+    if 2 * copies * n_vectors > MAX_PANELS:
+        raise table.error(
+            "copies",
+            f"{copies} copies x 2 rows x {n_vectors} vectors = {2 * copies * n_vectors:,} "
+            f"panels, more than the limit of {MAX_PANELS:,}",
         )
     if has_vectors:
         p = table.number("fold_ratio", low=0, high=1, low_open=True)

@@ -22,7 +22,9 @@ edge, closed flags honoured, z ignored), in model space and inside block
 references (INSERT and MINSERT, nested, with the block transforms; entities on
 layer ``0`` inside a block take the layer of the reference, BYBLOCK colours and
 linetypes its colour and linetype). ARC, CIRCLE, ELLIPSE, SPLINE and bulged
-polyline segments are flattened (0.01 mm chords) for border and cut lines only:
+polyline segments are flattened (chords within 0.01 mm of the curve, or within
+1e-6 of the drawing's size if that is larger, so no curve becomes more than a few
+thousand chords) for border and cut lines only:
 a curved crease cannot fold rigidly, so a curved mountain, valley, flat or
 unassigned line is an error naming its handle. A CIRCLE on a layer whose name
 contains ``hole`` (``Holes``, ``Hole``) is a :class:`~origami_cad.pattern.Hole`.
@@ -49,6 +51,12 @@ exterior of the union of the faces) become border; cut lines inside stay cuts.
 ``$INSUNITS`` is honoured (inches, feet, cm, m, ... are converted to mm;
 unitless files are taken as mm). The title is the file name's stem.
 
+Limits, each a :class:`~origami_cad.errors.PatternError` naming the entity: the
+drawing may expand to at most :data:`MAX_ENTITIES` entities through its block
+references and MINSERT grids (counted from the block definitions before any is
+expanded), give at most :data:`MAX_SEGMENTS` line segments, and lie within
+:data:`~origami_cad.pattern.model.MAX_COORDINATE` mm of the origin.
+
 Examples
 --------
 >>> import tempfile, pathlib
@@ -63,6 +71,7 @@ Examples
 from __future__ import annotations
 
 import itertools
+import math
 import os
 from collections import Counter
 from collections.abc import Iterable, Iterator
@@ -74,10 +83,18 @@ import numpy as np
 import shapely
 
 from origami_cad._fileio import atomic_path
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern, Hole, Problem, Severity
+from origami_cad.pattern.model import (
+    MAX_COORDINATE,
+    CreasePattern,
+    Hole,
+    Problem,
+    Severity,
+    printable,
+)
 
-__all__ = ["read_dxf", "write_dxf"]
+__all__ = ["MAX_ENTITIES", "MAX_SEGMENTS", "read_dxf", "write_dxf"]
 
 #: assignment -> (layer, ACI colour, linetype) written by :func:`write_dxf`
 _LAYERS = {
@@ -116,13 +133,33 @@ _MM_PER_UNIT = {
 }
 _LINEAR = ("LINE", "LWPOLYLINE", "POLYLINE")
 _CURVED = ("ARC", "CIRCLE", "ELLIPSE", "SPLINE")
-#: chord tolerance of flattened curves, mm
+#: chord tolerance of flattened curves, mm (at least; see _FLATTEN_RELATIVE)
 _FLATTEN_MM = 0.01
+#: chord tolerance relative to the drawing's size: a curve never becomes more than a
+#: few thousand chords, however large the drawing (the pattern merges vertices closer
+#: than 1e-6 of its size anyway)
+_FLATTEN_RELATIVE = 1e-6
 #: block nesting deeper than this is taken as a cycle
 _MAX_DEPTH = 32
+#: most entities a drawing may expand to, block references and MINSERT arrays counted
+#: (each takes about 50 us to read: 100,000 take a few seconds)
+MAX_ENTITIES = 100_000
+#: most line segments read, curves flattened
+MAX_SEGMENTS = 1_000_000
 
 
 # --------------------------------------------------------------------- writing
+def _dxf_text(text: str, limit: int = 255) -> str:
+    """``text`` safe as one DXF string value: a line break would start a new group
+    (injecting entities), so control characters become spaces; lone surrogates,
+    which no encoding holds, become U+FFFD; at most ``limit`` characters."""
+    out = []
+    for c in str(text)[:limit]:
+        code = ord(c)
+        out.append(" " if code < 32 or code == 127 else "\ufffd" if 0xD800 <= code < 0xE000 else c)
+    return "".join(out)
+
+
 def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
     """Write a crease pattern as a DXF file (R2010, millimetres), atomically.
 
@@ -149,7 +186,7 @@ def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
     doc.header["$INSUNITS"] = 4
     doc.header["$MEASUREMENT"] = 1
     if cp.title:
-        doc.header["$PROJECTNAME"] = cp.title
+        doc.header["$PROJECTNAME"] = _dxf_text(cp.title)
     for name, color, linetype in dict.fromkeys(_LAYERS.values()):
         doc.layers.add(name, color=color, linetype=linetype)
     doc.layers.add(_HOLE_LAYER[0], color=_HOLE_LAYER[1])
@@ -257,8 +294,9 @@ class _Item:
         where = self.block.where if self.block is not None else ""
         by = "" if self.own_colour is not None else " (by layer)"
         return (
-            f"handle {self.entity.dxf.get('handle', '?')}{where} ({self.entity.dxftype()}) "
-            f"on layer {self.layer!r}, colour {_colour_text(self.colour)}{by}"
+            f"handle {printable(self.entity.dxf.get('handle', '?'))}{where} "
+            f"({self.entity.dxftype()}) on layer {printable(self.layer)!r}, "
+            f"colour {_colour_text(self.colour)}{by}"
         )
 
 
@@ -298,6 +336,71 @@ def _item(entity: Any, doc: Any, block: _Block | None) -> _Item:
     return _Item(entity, block, layer, own, layer_colour, linetype)
 
 
+def _grid_matrices(entity: Any) -> Iterator[Any]:
+    """Matrices (block -> WCS) of an INSERT, one per cell of a MINSERT grid.
+
+    Only the distinct cells (``Insert.mcount``) are visited: a zero spacing
+    repeats nothing, whatever the row or column count says.
+    """
+    from ezdxf.math import Matrix44, Vec3
+
+    base = entity.matrix44()
+    if entity.mcount <= 1:
+        yield base
+        return
+    dxf = entity.dxf
+    rows = dxf.row_count if dxf.row_spacing else 1
+    cols = dxf.column_count if dxf.column_spacing else 1
+    ocs = entity.ocs()
+    for row in range(rows):
+        for col in range(cols):
+            offset = Vec3(col * dxf.column_spacing, row * dxf.row_spacing)
+            if dxf.rotation:
+                offset = offset.rotate_deg(dxf.rotation)
+            yield Matrix44.chain(base, Matrix44.translate(*ocs.to_wcs(offset)))
+
+
+def _nested_too_deep(entity: Any) -> PatternError:
+    return PatternError(
+        f"block references nested deeper than {_MAX_DEPTH} levels (a block "
+        f"that contains itself?) at handle {printable(entity.dxf.get('handle', '?'))}"
+    )
+
+
+def _expanded_count(
+    space: Iterable[Any], memo: dict[str, int], inside: tuple[str, ...] = ()
+) -> int:
+    """How many entities a layout expands to, block references and MINSERT grids counted.
+
+    Computed from the block definitions alone (each once), so a small file that
+    would expand to millions of entities is refused before any is made.
+    """
+    total = 0
+    for entity in space:
+        if entity.dxftype() != "INSERT":
+            total += 1
+            continue
+        name = str(entity.dxf.get("name", "?"))
+        layout = entity.block()
+        if layout is None:
+            continue  # reported by _walk
+        if name in inside or len(inside) >= _MAX_DEPTH:
+            raise _nested_too_deep(entity)
+        if name not in memo:
+            memo[name] = _expanded_count(layout, memo, (*inside, name))
+        # every reference (each cell of a MINSERT grid) costs work, even of an empty block
+        made = max(entity.mcount, 1) * (1 + memo[name])
+        total += made
+        if total > MAX_ENTITIES:
+            grid = f" (a {entity.mcount:,}-cell MINSERT)" if entity.mcount > 1 else ""
+            raise PatternError(
+                f"the drawing expands to more than {MAX_ENTITIES:,} entities through its "
+                f"block references; at handle {printable(entity.dxf.get('handle', '?'))}, "
+                f"block {printable(name)!r}{grid} makes {made:,}"
+            )
+    return total
+
+
 def _walk(space: Iterable[Any], doc: Any, block: _Block | None = None) -> Iterator[_Item]:
     """Every entity of a layout, entering block references (nested)."""
     from ezdxf.math import Matrix44
@@ -308,21 +411,16 @@ def _walk(space: Iterable[Any], doc: Any, block: _Block | None = None) -> Iterat
             continue
         depth = 0 if block is None else block.depth + 1
         if depth > _MAX_DEPTH:
-            raise PatternError(
-                f"block references nested deeper than {_MAX_DEPTH} levels (a block "
-                f"that contains itself?) at handle {entity.dxf.get('handle', '?')}"
-            )
+            raise _nested_too_deep(entity)
         ref = _item(entity, doc, block)
         layout = entity.block()
-        name = entity.dxf.get("name", "?")
-        handle = entity.dxf.get("handle", "?")
+        name = printable(entity.dxf.get("name", "?"))
+        handle = printable(entity.dxf.get("handle", "?"))
         if layout is None:
             raise PatternError(
                 f"INSERT {handle} refers to block {name!r}, which the file does not define"
             )
-        inserts = entity.multi_insert() if entity.mcount > 1 else [entity]
-        for ins in inserts:
-            m = ins.matrix44()
+        for m in _grid_matrices(entity):
             if block is not None:
                 m = Matrix44.chain(m, block.matrix)
             inner = _Block(
@@ -366,17 +464,47 @@ def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
     ``flatten`` is the largest distance (drawing units) between a curve and its chords.
     """
     m = item.block.matrix if item.block is not None else None
-    if m is not None:  # flatten in block coordinates, finer by the block's largest stretch
+    if m is not None and item.entity.dxftype() != "LINE":
+        # flatten in block coordinates, finer by the block's largest stretch (the 2x2
+        # matrix's largest singular value, in closed form: this runs per entity)
         ux, uy = m.transform_direction((1, 0, 0)), m.transform_direction((0, 1, 0))
-        stretch = float(np.linalg.norm([[ux.x, ux.y], [uy.x, uy.y]], 2))
-        flatten /= max(stretch, 1e-300)
+        a, b, c, d = ux.x, ux.y, uy.x, uy.y
+        total = a * a + b * b + c * c + d * d
+        det = a * d - b * c
+        stretch = math.sqrt(
+            max(0.5 * (total + math.sqrt(max(total * total - 4 * det * det, 0))), 0)
+        )
+        flatten /= max(stretch, 1e-300) if math.isfinite(stretch) else math.inf
     try:
         chains = list(_flat_pieces(item.entity, flatten))
-    except (TypeError, ValueError, ZeroDivisionError, ArithmeticError) as exc:
-        raise PatternError(f"{item.describe()}: cannot read its geometry ({exc})") from None
+    except Exception as exc:  # ezdxf's geometry code raises anything on degenerate input
+        raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
     if m is not None:
         chains = [list(m.transform_vertices(chain)) for chain in chains]
     return [[(float(v.x), float(v.y)) for v in chain] for chain in chains]
+
+
+def _why(exc: BaseException) -> str:
+    if isinstance(exc, RecursionError):
+        return "a degenerate curve"
+    return printable(str(exc) or type(exc).__name__, 120)
+
+
+def _box(item: _Item) -> np.ndarray:
+    """Corners (WCS drawing units, x and y) of a curved entity's bounding box."""
+    from ezdxf import bbox
+
+    try:
+        ext = bbox.extents([item.entity], fast=True)
+    except Exception as exc:  # ezdxf's geometry code raises anything on degenerate input
+        raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
+    if not ext.has_data:
+        return np.zeros((1, 2))
+    (x0, y0, z0), (x1, y1, z1) = ext.extmin, ext.extmax
+    corners = [(x, y, z) for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)]
+    if item.block is not None:
+        corners = list(item.block.matrix.transform_vertices(corners))
+    return np.array([(float(v[0]), float(v[1])) for v in corners])
 
 
 def _hole(item: _Item, scale: float) -> Hole:
@@ -463,13 +591,11 @@ def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
         or if there are no crease lines; the message starts with the path and
         names the entities concerned.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         return _read(p)
     except PatternError as exc:
-        raise PatternError(f"{p}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
 
 
 def _read(p: Path) -> CreasePattern:
@@ -478,14 +604,18 @@ def _read(p: Path) -> CreasePattern:
     try:
         doc = ezdxf.readfile(str(p))
     except Exception as exc:  # ezdxf raises OSError, DXFStructureError, StopIteration, ...
-        problem = str(exc) or type(exc).__name__
+        problem = printable(str(exc) or type(exc).__name__, 200)
         if isinstance(exc, OSError) and str(p) in problem:
             problem = "not a DXF file"
         raise PatternError(f"not a readable DXF file ({problem})") from None
     scale = _mm_per_unit(doc)
-    flatten = _FLATTEN_MM / scale
-    segments: list[tuple[float, float, float, float]] = []
-    letters: list[str] = []
+    _expanded_count(doc.modelspace(), {})
+    limit = MAX_COORDINATE / scale  # drawing units
+    # pass 1: classify every entity; straight ones give their chains now, curved ones
+    # their bounding box (the chord tolerance depends on the drawing's size)
+    chains: list[tuple[str, list[list[tuple[float, float]]] | _Item]] = []
+    x0 = y0 = math.inf
+    x1 = y1 = -math.inf
     holes: list[Hole] = []
     unknown: list[str] = []
     skipped: Counter[str] = Counter()
@@ -505,16 +635,44 @@ def _read(p: Path) -> CreasePattern:
         if letter is None:
             unknown.append(item.describe())
             continue
-        if letter not in ("B", "C") and _is_curved(e):
+        curved = _is_curved(e)
+        if letter not in ("B", "C") and curved:
             raise PatternError(
                 f"{item.describe()} is a curved {_NAMES[letter]} line; only border and "
                 "cut lines may be curved (a curved crease cannot be folded rigidly)"
             )
-        for chain in _points(item, flatten):
+        if curved:
+            box = [tuple(map(float, q)) for q in _box(item)]
+            chains.append((letter, item))
+        else:
+            pts = _points(item, _FLATTEN_MM / scale)
+            box = [q for chain in pts for q in chain] or [(0.0, 0.0)]
+            chains.append((letter, pts))
+        # plain Python: this runs per entity (abs(nan) <= limit is False too)
+        if not all(abs(v) <= limit for q in box for v in q):
+            raise PatternError(
+                f"{item.describe()} lies farther than {MAX_COORDINATE:g} mm from the origin "
+                "(or is not finite); coordinates are limited to that magnitude"
+            )
+        xs, ys = [q[0] for q in box], [q[1] for q in box]
+        x0, x1, y0, y1 = min(x0, *xs), max(x1, *xs), min(y0, *ys), max(y1, *ys)
+    size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
+    flatten = max(_FLATTEN_MM / scale, _FLATTEN_RELATIVE * size)
+    # pass 2: flatten the curves, in the order of the entities
+    segments: list[tuple[float, float, float, float]] = []
+    letters: list[str] = []
+    for letter, got in chains:
+        pts = _points(got, flatten) if isinstance(got, _Item) else got
+        for chain in pts:
             for a, b in itertools.pairwise(chain):
                 if a != b:
                     segments.append((*a, *b))
                     letters.append(letter)
+        if len(segments) > MAX_SEGMENTS:
+            raise PatternError(
+                f"more than {MAX_SEGMENTS:,} line segments (curves flattened); the drawing "
+                "is too large to read as a crease pattern"
+            )
     if unknown:
         shown = "; ".join(unknown[:3])
         if len(unknown) > 3:

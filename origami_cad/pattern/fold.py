@@ -17,6 +17,7 @@ missing faces (computed), the old key ``edges_foldAngles``, and a missing
 from __future__ import annotations
 
 import json
+import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -25,8 +26,9 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern, Hole
+from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
 __all__ = [
     "FoldFrame",
@@ -142,35 +144,143 @@ def write_fold(
 
 
 def _load(path: str | os.PathLike[str]) -> dict[str, Any]:
-    p = Path(path)
-    if not p.exists():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         data = json.loads(p.read_text(encoding="utf-8"))
     except json.JSONDecodeError as exc:
         raise PatternError(
-            f"{p}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})"
+            f"{name}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})"
         ) from None
     except UnicodeDecodeError:
-        raise PatternError(f"{p}: not a text file (FOLD is JSON)") from None
+        raise PatternError(f"{name}: not a text file (FOLD is JSON)") from None
+    except RecursionError:
+        raise PatternError(f"{name}: JSON nested too deeply to read") from None
+    except ValueError as exc:  # e.g. an integer with more digits than Python converts
+        raise PatternError(f"{name}: not valid JSON ({exc})") from None
+    except OSError as exc:
+        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
     if not isinstance(data, dict):
-        raise PatternError(f"{p}: a FOLD file must hold a JSON object, not {type(data).__name__}")
+        raise PatternError(
+            f"{name}: a FOLD file must hold a JSON object, not {type(data).__name__}"
+        )
     return data
+
+
+def _json_type(value: Any) -> str:
+    if value is None:
+        return "null"
+    return {bool: "a boolean", int: "a number", float: "a number", str: "a string"}.get(
+        type(value), "an array" if isinstance(value, list) else "an object"
+    )
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and not isinstance(v, bool)
+
+
+def _list(frame: dict[str, Any], key: str, where: str) -> list[Any]:
+    value = frame[key]
+    if not isinstance(value, list):
+        raise PatternError(f"{where}: {key!r} must be an array, not {_json_type(value)}")
+    return value
+
+
+def _index(v: Any, key: str, k: int, where: str) -> int:
+    """A vertex index: a whole JSON number (``3`` or ``3.0``), never a boolean."""
+    if isinstance(v, bool) or not isinstance(v, int | float):
+        raise PatternError(f"{where}: {key}[{k}] holds {_json_type(v)}, not a vertex index")
+    if isinstance(v, float) and not (math.isfinite(v) and v.is_integer()):
+        raise PatternError(f"{where}: {key}[{k}] holds {v!r}, not a whole vertex index")
+    return int(v)
+
+
+def _coords(frame: dict[str, Any], where: str, scale: float) -> np.ndarray:
+    """``vertices_coords`` checked: [x, y] or [x, y, z] numbers, finite, bounded (mm)."""
+    raw = _list(frame, "vertices_coords", where)
+    dims = None
+    for k, c in enumerate(raw):
+        if not isinstance(c, list) or len(c) not in (2, 3):
+            raise PatternError(
+                f"{where}: vertices_coords[{k}] must be [x, y] or [x, y, z], got "
+                f"{_json_type(c) if not isinstance(c, list) else f'{len(c)} values'}"
+            )
+        if dims is None:
+            dims = len(c)
+        elif len(c) != dims:
+            raise PatternError(
+                f"{where}: vertices_coords[{k}] has {len(c)} coordinates, the first vertex {dims}"
+            )
+        for v in c:
+            if not _is_number(v) or not math.isfinite(v):
+                shown = repr(v) if _is_number(v) else _json_type(v)
+                raise PatternError(
+                    f"{where}: vertices_coords[{k}] holds {shown}, not a finite number"
+                )
+    if not raw:
+        return np.zeros((0, 2))
+    verts = np.asarray(raw, dtype=float) * scale
+    big = np.abs(verts) > MAX_COORDINATE
+    if big.any():
+        k = int(np.flatnonzero(big.any(axis=1))[0])
+        raise PatternError(
+            f"{where}: vertices_coords[{k}] lies farther than {MAX_COORDINATE:g} mm from the "
+            "origin; coordinates are limited to that magnitude"
+        )
+    return verts
+
+
+def _index_rows(
+    frame: dict[str, Any], key: str, where: str, n_vertices: int, width: int | None
+) -> list[list[int]]:
+    """Rows of vertex indices (``edges_vertices``: 2 each; ``faces_vertices``: any)."""
+    rows = []
+    for k, row in enumerate(_list(frame, key, where)):
+        if not isinstance(row, list) or (width is not None and len(row) != width):
+            raise PatternError(
+                f"{where}: {key}[{k}] must be an array of {width or 'the'} vertex indices"
+            )
+        idx = [_index(v, key, k, where) for v in row]
+        if width is not None and any(not 0 <= i < n_vertices for i in idx):
+            raise PatternError(
+                f"{where}: {key}[{k}] = {idx} refers to vertex "
+                f"{next(i for i in idx if not 0 <= i < n_vertices)}, which does not exist "
+                f"(there are {n_vertices} vertices)"
+            )
+        rows.append(idx)
+    return rows
+
+
+def _parent(fr: dict[str, Any], n_before: int, k: int) -> int:
+    parent = fr.get("frame_parent", 0)
+    if isinstance(parent, bool) or not isinstance(parent, int | float):
+        raise PatternError(f"file_frames[{k}]: frame_parent holds {_json_type(parent)}")
+    if isinstance(parent, float) and not (math.isfinite(parent) and parent.is_integer()):
+        raise PatternError(f"file_frames[{k}]: frame_parent {parent!r} is not a frame index")
+    parent = int(parent)
+    if not 0 <= parent < n_before:
+        raise PatternError(f"file_frames[{k}]: frame_parent {parent} does not exist")
+    return parent
 
 
 def _frames(data: dict[str, Any]) -> list[dict[str, Any]]:
     """All frames with inheritance resolved (frame 0 is the key frame)."""
     base = {k: v for k, v in data.items() if k != "file_frames"}
-    raw = data.get("file_frames") or []
+    raw = data.get("file_frames")
+    if raw is None:
+        raw = []
+    if not isinstance(raw, list):
+        raise PatternError(f"file_frames must be an array of frames, not {_json_type(raw)}")
     out = [base]
-    for fr in raw:
+    for k, fr in enumerate(raw):
         if not isinstance(fr, dict):
-            raise PatternError("file_frames must hold JSON objects")
-        if fr.get("frame_inherit"):
-            parent = int(fr.get("frame_parent", 0))
-            if not 0 <= parent < len(out):
-                raise PatternError(f"frame_parent {parent} does not exist")
-            merged = {**out[parent], **fr}
+            raise PatternError(f"file_frames[{k}] must be a JSON object, not {_json_type(fr)}")
+        inherit = fr.get("frame_inherit", False)
+        if not isinstance(inherit, bool):
+            raise PatternError(
+                f"file_frames[{k}]: frame_inherit must be true or false, not {_json_type(inherit)}"
+            )
+        if inherit:
+            merged = {**out[_parent(fr, len(out), k)], **fr}
         else:
             merged = dict(fr)
         out.append(merged)
@@ -188,7 +298,10 @@ def _key(frame: dict[str, Any], name: str, where: str, required: bool = True) ->
 
 
 def _unit_scale(frame: dict[str, Any], where: str) -> float:
-    unit = str(frame.get("frame_unit", "mm")).lower()
+    unit = frame.get("frame_unit", "mm")
+    if not isinstance(unit, str):
+        raise PatternError(f"{where}: frame_unit must be a string, not {_json_type(unit)}")
+    unit = unit.lower()
     scales = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4, "pt": 25.4 / 72, "unit": 1.0}
     if unit not in scales:
         # FOLD allows "unit" (no physical unit); anything else unknown is kept as mm
@@ -196,51 +309,102 @@ def _unit_scale(frame: dict[str, Any], where: str) -> float:
     return scales[unit]
 
 
-def _frame_to_pattern(frame: dict[str, Any], where: str, title: str) -> CreasePattern:
-    coords = _key(frame, "vertices_coords", where)
-    edges = _key(frame, "edges_vertices", where)
-    if not isinstance(edges, list) or len(edges) == 0:
-        raise PatternError(f"{where}: 'edges_vertices' is empty; a crease pattern needs edges")
-    try:
-        verts = np.asarray(coords, dtype=float)
-        e = np.asarray(edges, dtype=np.int64)
-    except (TypeError, ValueError):
-        raise PatternError(f"{where}: vertices_coords/edges_vertices are not numeric") from None
-    if verts.ndim != 2 or verts.shape[1] not in (2, 3):
-        raise PatternError(f"{where}: vertices_coords must be a list of [x, y] or [x, y, z]")
-    if e.ndim != 2 or e.shape[1] != 2:
-        raise PatternError(f"{where}: every entry of edges_vertices must be [v1, v2]")
-    verts = verts * _unit_scale(frame, where)
-    angles = _key(frame, "edges_foldAngle", where, required=False)
-    if angles is not None:
-        if len(angles) != len(e):
+def _fold_angles(frame: dict[str, Any], where: str, m: int) -> np.ndarray | None:
+    key = "edges_foldAngle" if "edges_foldAngle" in frame else "edges_foldAngles"
+    if key not in frame:
+        return None
+    raw = _list(frame, key, where)
+    if len(raw) != m:
+        raise PatternError(f"{where}: {key} has {len(raw)} entries for {m} edges")
+    out = np.full(m, np.nan)
+    for k, a in enumerate(raw):
+        if a is None:
+            continue
+        if not _is_number(a) or not math.isfinite(a) or abs(a) > 180 + 1e-9:
+            shown = repr(a) if _is_number(a) else _json_type(a)
             raise PatternError(
-                f"{where}: edges_foldAngle has {len(angles)} entries for {len(e)} edges"
+                f"{where}: {key}[{k}] holds {shown}; fold angles are numbers within "
+                "[-180, 180] degrees (or null)"
             )
-        angles = np.array([np.nan if a is None else float(a) for a in angles])
-        if np.any(np.abs(angles[np.isfinite(angles)]) > 180 + 1e-9):
-            raise PatternError(f"{where}: edges_foldAngle must lie within [-180, 180] degrees")
-    assign = _key(frame, "edges_assignment", where, required=False)
+        out[k] = float(a)
+    return out
+
+
+def _assignments(frame: dict[str, Any], where: str, m: int) -> list[str] | None:
+    if "edges_assignment" not in frame:
+        return None
+    raw = _list(frame, "edges_assignment", where)
+    if len(raw) != m:
+        raise PatternError(f"{where}: edges_assignment has {len(raw)} entries for {m} edges")
+    for k, a in enumerate(raw):
+        if not isinstance(a, str):
+            raise PatternError(
+                f"{where}: edges_assignment[{k}] holds {_json_type(a)}, not a letter "
+                "(M V B F U C J)"
+            )
+    return raw
+
+
+def _holes(frame: dict[str, Any], where: str) -> list[Hole]:
+    if frame.get(_HOLES) is None:
+        return []
+    holes = []
+    for k, face_holes in enumerate(_list(frame, _HOLES, where)):
+        if not isinstance(face_holes, list):
+            raise PatternError(f"{where}: {_HOLES}[{k}] must be an array of [x, y, diameter]")
+        for h in face_holes:
+            if not (isinstance(h, list) and len(h) == 3 and all(map(_is_number, h))):
+                raise PatternError(
+                    f"{where}: {_HOLES}[{k}] holds {_json_type(h)}, not [x, y, diameter]"
+                )
+            x, y, dia = (float(v) for v in h)
+            if not all(math.isfinite(v) and abs(v) <= MAX_COORDINATE for v in (x, y, dia)):
+                raise PatternError(f"{where}: {_HOLES}[{k}]: {h!r} is not a finite hole")
+            try:
+                holes.append(Hole(x, y, dia))
+            except PatternError as exc:
+                raise PatternError(f"{where}: {_HOLES}[{k}]: {exc}") from None
+    return holes
+
+
+def _labels(frame: dict[str, Any], where: str) -> list[str] | None:
+    if frame.get(_LABELS) is None:
+        return None
+    raw = _list(frame, _LABELS, where)
+    for k, lbl in enumerate(raw):
+        if not isinstance(lbl, str):
+            raise PatternError(f"{where}: {_LABELS}[{k}] holds {_json_type(lbl)}, not a string")
+    if len(set(raw)) != len(raw):
+        dup = next(lbl for lbl in raw if raw.count(lbl) > 1)
+        raise PatternError(f"{where}: {_LABELS}: the label {dup!r} is used twice")
+    return raw
+
+
+def _frame_to_pattern(
+    frame: dict[str, Any], where: str, title: str, verts: np.ndarray
+) -> CreasePattern:
+    if "edges_vertices" not in frame:
+        raise PatternError(f"{where}: missing key 'edges_vertices'")
+    e = _index_rows(frame, "edges_vertices", where, len(verts), 2)
+    if len(e) == 0:
+        raise PatternError(f"{where}: 'edges_vertices' is empty; a crease pattern needs edges")
+    angles = _fold_angles(frame, where, len(e))
+    assign = _assignments(frame, where, len(e))
     if assign is None:
         if angles is not None:
             a = np.nan_to_num(angles)
             assign = np.where(a > 0, "V", np.where(a < 0, "M", "U"))
         else:
             assign = "U"
-    elif len(assign) != len(e):
-        raise PatternError(
-            f"{where}: edges_assignment has {len(assign)} entries for {len(e)} edges"
-        )
-    faces = frame.get("faces_vertices")
-    labels = frame.get(_LABELS)
-    holes = []
-    for face_holes in frame.get(_HOLES) or []:
-        for x, y, d in face_holes:
-            holes.append(Hole(float(x), float(y), float(d)))
+    faces = None
+    if frame.get("faces_vertices") is not None:
+        faces = _index_rows(frame, "faces_vertices", where, len(verts), None)
+    labels = _labels(frame, where)
+    holes = _holes(frame, where)
     try:
         cp = CreasePattern(
             verts,
-            e,
+            np.asarray(e, dtype=np.int64),
             assign,
             angles,
             faces=faces,
@@ -253,12 +417,11 @@ def _frame_to_pattern(frame: dict[str, Any], where: str, title: str) -> CreasePa
     return cp
 
 
-def _is_flat(frame: dict[str, Any]) -> bool:
-    c = frame.get("vertices_coords") or []
-    if not c or len(c[0]) == 2:
+def _is_flat(verts: np.ndarray) -> bool:
+    if verts.shape[1] == 2 or len(verts) == 0:
         return True
-    z = np.asarray(c, dtype=float)[:, 2]
-    return bool(np.ptp(z) <= 1e-9 * max(1.0, float(np.abs(np.asarray(c, float)).max())))
+    z = verts[:, 2]
+    return bool(np.ptp(z) <= 1e-9 * max(1.0, float(np.abs(verts).max())))
 
 
 def read_fold(path: str | os.PathLike[str]) -> CreasePattern:
@@ -267,30 +430,55 @@ def read_fold(path: str | os.PathLike[str]) -> CreasePattern:
     The key frame is used when it is flat; otherwise the first flat frame of
     ``file_frames`` (a file holding only a folded form is an error, since its
     crease pattern cannot be recovered without unfolding it).
+
+    Every field used is checked for its JSON type, shape and range (finite
+    coordinates within :data:`~origami_cad.pattern.model.MAX_COORDINATE` mm,
+    whole vertex indices that exist, fold angles within [-180, 180] degrees);
+    a wrong one is a :class:`PatternError` naming the file, frame and key.
     """
     data = _load(path)
-    frames = _frames(data)
-    title = str(data.get("file_title", "") or "")
+    name = printable(str(path), 300)
+    try:
+        frames = _frames(data)
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
+    title = data.get("file_title", "")
+    if title is None:
+        title = ""
+    if not isinstance(title, str):
+        raise PatternError(f"{name}: file_title must be a string, not {_json_type(title)}")
     for i, frame in enumerate(frames):
         if "vertices_coords" not in frame and i == 0 and len(frames) > 1:
             continue
-        where = f"{path}" if i == 0 else f"{path} (file_frames[{i - 1}])"
+        where = f"{name}" if i == 0 else f"{name} (file_frames[{i - 1}])"
         if i == 0 and "edges_vertices" not in frame and "edges_foldAngles" not in frame:
-            raise PatternError(f"{path}: missing key 'edges_vertices' (the file has no edges)")
-        if _is_flat(frame):
-            return _frame_to_pattern(frame, where, title)
+            raise PatternError(f"{name}: missing key 'edges_vertices' (the file has no edges)")
+        _key(frame, "vertices_coords", where)
+        verts = _coords(frame, where, _unit_scale(frame, where))
+        if _is_flat(verts):
+            return _frame_to_pattern(frame, where, title, verts)
     raise PatternError(
-        f"{path}: no frame is flat: the file holds a folded form only, not a crease pattern"
+        f"{name}: no frame is flat: the file holds a folded form only, not a crease pattern"
     )
 
 
 def read_fold_frames(path: str | os.PathLike[str]) -> list[np.ndarray]:
     """Vertex coordinates (mm, shape (n, 3)) of every frame of a FOLD file, key frame first."""
     data = _load(path)
+    name = printable(str(path), 300)
     out = []
-    for frame in _frames(data):
-        c = np.asarray(frame.get("vertices_coords", []), dtype=float)
-        if c.ndim == 2 and c.shape[1] == 2:
+    try:
+        frames = _frames(data)
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
+    for i, frame in enumerate(frames):
+        where = f"{name}" if i == 0 else f"{name} (file_frames[{i - 1}])"
+        scale = _unit_scale(frame, where)
+        if "vertices_coords" not in frame:
+            out.append(np.asarray([], dtype=float) * scale)
+            continue
+        c = _coords(frame, where, scale)
+        if c.shape[1] == 2:
             c = np.column_stack([c, np.zeros(len(c))])
-        out.append(c * _unit_scale(frame, str(path)))
+        out.append(c)
     return out

@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from origami_cad._toml import input_file, printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 
@@ -38,11 +39,10 @@ def read_pattern(path: str | os.PathLike[str]) -> CreasePattern:
     suffix = p.suffix.lower()
     if suffix not in READ_FORMATS:
         raise PatternError(
-            f"{p}: unknown crease-pattern format {suffix or '(no extension)'!r} "
-            f"(readable: {', '.join(READ_FORMATS)})"
+            f"{printable(str(p), 300)}: unknown crease-pattern format "
+            f"{suffix or '(no extension)'!r} (readable: {', '.join(READ_FORMATS)})"
         )
-    if not p.is_file():
-        raise PatternError(f"{p}: no such file")
+    p, _ = input_file(p, PatternError)
     if suffix == ".fold":
         from origami_cad.pattern.fold import read_fold
 

@@ -32,7 +32,16 @@ import numpy as np
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["leg_gaps", "miura_pattern", "miura_tessellation", "tessellation_leg_offsets"]
+__all__ = [
+    "MAX_PANELS",
+    "leg_gaps",
+    "miura_pattern",
+    "miura_tessellation",
+    "tessellation_leg_offsets",
+]
+
+#: Most panels a generated tessellation may have (about 4 s and 400 MB to build).
+MAX_PANELS = 100_000
 
 
 def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.ndarray:
@@ -116,10 +125,18 @@ def miura_tessellation(
             )
     if entry_flag not in (0, 1):
         raise PatternError(f"entry_flag must be 0 or 1, got {entry_flag}")
-    if not row_height > 0:
+    if not (math.isfinite(row_height) and row_height > 0):
         raise PatternError(f"row height must be > 0 mm, got {row_height}")
-    if rows < 1:
-        raise PatternError(f"rows must be >= 1, got {rows}")
+    if isinstance(rows, bool) or int(rows) != rows or rows < 1:
+        raise PatternError(f"rows must be a whole number >= 1, got {rows}")
+    rows = int(rows)
+    if rows * (n + 1) > MAX_PANELS:
+        raise PatternError(
+            f"{rows} rows x {n + 1} segments = {rows * (n + 1):,} panels, more than the "
+            f"limit of {MAX_PANELS:,}"
+        )
+    if not all(math.isfinite(float(v)) for v in start):
+        raise PatternError(f"start {tuple(start)} is not a finite point")
     h = float(row_height)
     x_joint = np.concatenate([[0.0], np.cumsum(l)]) + start[0]  # n + 2 joints incl. ends
     offsets = np.zeros(n + 2)

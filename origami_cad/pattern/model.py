@@ -7,6 +7,13 @@ near-coincident vertices, splits edges at T-junctions and crossings, drops
 zero-length and duplicate edges) in O(n log n), and records what it changed in
 :attr:`CreasePattern.notes` so nothing is repaired behind the user's back.
 
+Inputs are checked, not coerced: vertex indices must be whole numbers,
+coordinates finite numbers within :data:`MAX_COORDINATE` mm, fold angles within
+[-180, 180] degrees. Normalisation works within budgets (:data:`MAX_CROSSINGS`
+crossing points, :data:`MAX_CANDIDATE_PAIRS` overlapping edge pairs,
+:data:`MAX_CLOSE_PAIRS` near-coincident vertex pairs) and refuses a pattern that
+would exceed one, instead of running for minutes into gigabytes.
+
 Examples
 --------
 >>> import numpy as np
@@ -32,19 +39,35 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from origami_cad._toml import printable
 from origami_cad.errors import PatternError
 
 __all__ = [
     "DEFAULT_RELATIVE_TOLERANCE",
+    "MAX_COORDINATE",
+    "MAX_CROSSINGS",
     "Assignment",
     "CreasePattern",
     "Hole",
     "Problem",
     "Severity",
+    "printable",
 ]
 
 #: Vertices closer than this fraction of the pattern's size are merged.
 DEFAULT_RELATIVE_TOLERANCE = 1e-6
+#: Largest coordinate magnitude accepted, mm (1000 km). Anything larger is a
+#: mistake (or a hostile file) and would overflow the geometry in squares and areas.
+MAX_COORDINATE = 1e9
+#: Normalisation budget: most crossing points added where edges cross. A drawing
+#: needing more is refused instead of being normalised for minutes into gigabytes.
+MAX_CROSSINGS = 100_000
+#: Normalisation budget: most pairs of edges whose bounding boxes overlap.
+MAX_CANDIDATE_PAIRS = 25_000_000
+#: Normalisation budget: most pairs of vertices closer than the tolerance.
+MAX_CLOSE_PAIRS = 5_000_000
+#: Candidate edge pairs examined at once (bounds the memory of normalisation).
+_PAIR_CHUNK = 500_000
 
 
 class Assignment(StrEnum):
@@ -218,7 +241,7 @@ class CreasePattern:
         tolerance: float | None = None,
     ) -> None:
         verts = _as_vertices(vertices)
-        edge_arr = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+        edge_arr = _as_edges(edges)
         if edge_arr.size and (edge_arr.min() < 0 or edge_arr.max() >= len(verts)):
             bad = int(np.flatnonzero((edge_arr < 0).any(1) | (edge_arr >= len(verts)).any(1))[0])
             raise PatternError(
@@ -231,6 +254,11 @@ class CreasePattern:
             given = np.asarray(fold_angles, dtype=float).reshape(-1)
             if given.shape != (len(edge_arr),):
                 raise PatternError(f"{given.size} fold angles given for {len(edge_arr)} edges")
+            bad = np.flatnonzero(np.isinf(given) | (np.abs(np.nan_to_num(given)) > 180 + 1e-9))
+            if bad.size:
+                raise PatternError(
+                    f"edge {bad[0]}: fold angle {given[bad[0]]} deg is outside [-180, 180]"
+                )
             known = np.isfinite(given)
             angles[known] = given[known]
         if len(edge_arr) == 0:
@@ -245,6 +273,10 @@ class CreasePattern:
         self.metadata.setdefault("unit", "mm")
         result = _normalise(verts, edge_arr, assign, angles, self.tolerance)
         self.vertices, self.edges, self.assignments, self.fold_angles, notes, changed = result
+        if len(self.edges) == 0:
+            raise PatternError(
+                "every edge has zero length (its two vertices coincide): no crease is left"
+            )
         for arr in (self.vertices, self.edges, self.assignments, self.fold_angles):
             arr.flags.writeable = False
         face_notes: list[Problem] = []
@@ -426,8 +458,41 @@ class CreasePattern:
 # helpers
 
 
+def _as_edges(edges: Any) -> np.ndarray:
+    """Edges as an (m, 2) int64 array; fractional or boolean indices are refused."""
+    try:
+        raw = np.asarray(edges)
+    except (TypeError, ValueError):
+        raise PatternError("edges must be an array of [v1, v2] vertex indices") from None
+    if raw.size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    if raw.dtype.kind == "f":
+        whole = np.isfinite(raw) & (raw == np.round(raw)) & (np.abs(raw) < 2**62)
+        if not whole.all():
+            bad = np.argwhere(~whole)[0]
+            raise PatternError(
+                f"edge {bad[0]}: vertex index {raw[tuple(bad)]!r} is not a whole number"
+            )
+    elif raw.dtype.kind not in "iu":
+        raise PatternError(
+            f"edges must hold whole vertex indices, not {raw.dtype.kind!r}-kind values "
+            "(booleans, text or objects)"
+        )
+    if raw.ndim != 2 or raw.shape[1] != 2:
+        raise PatternError(f"edges must have shape (m, 2), got {raw.shape}")
+    return raw.astype(np.int64)
+
+
 def _as_vertices(vertices: Any) -> np.ndarray:
-    verts = np.asarray(vertices, dtype=float)
+    try:
+        raw = np.asarray(vertices)
+        if raw.dtype.kind not in "iuf":
+            raise TypeError
+        verts = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise PatternError(
+            "vertices must be an (n, 2) array of numbers (not booleans, text or ragged lists)"
+        ) from None
     if verts.ndim != 2 or verts.shape[1] not in (2, 3):
         raise PatternError(f"vertices must have shape (n, 2) or (n, 3), got {verts.shape}")
     if verts.shape[1] == 3:
@@ -440,17 +505,35 @@ def _as_vertices(vertices: Any) -> np.ndarray:
     if not np.all(np.isfinite(verts)):
         bad = int(np.flatnonzero(~np.isfinite(verts).all(axis=1))[0])
         raise PatternError(f"vertex {bad} has a non-finite coordinate {verts[bad].tolist()}")
+    if verts.size and np.abs(verts).max() > MAX_COORDINATE:
+        bad = int(np.flatnonzero((np.abs(verts) > MAX_COORDINATE).any(axis=1))[0])
+        raise PatternError(
+            f"vertex {bad} at {verts[bad].tolist()} mm is farther than {MAX_COORDINATE:g} mm "
+            "(1000 km) from the origin; coordinates are limited to that magnitude"
+        )
     return np.ascontiguousarray(verts)
 
 
 def _merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     """Map each vertex to a representative; vertices within ``tol`` share one."""
     n = len(verts)
-    pairs = cKDTree(verts).query_pairs(tol, output_type="ndarray")
-    if len(pairs) == 0:
+    # exact duplicates first (cheap), so that many copies of a point cost nothing
+    uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    u = len(uniq)
+    tree = cKDTree(uniq)
+    close = int(tree.query_ball_point(uniq, tol, return_length=True).sum()) - u
+    if close // 2 > MAX_CLOSE_PAIRS:
+        raise PatternError(
+            f"more than {MAX_CLOSE_PAIRS:,} pairs of vertices lie closer than the tolerance "
+            f"({tol:.3g} mm); the pattern is too degenerate to normalise"
+        )
+    pairs = tree.query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0 and u == n:
         return np.arange(n)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(u, u))
     _, labels = connected_components(graph, directed=False)
+    labels = labels[inverse]
     # representative: the lowest index of each cluster, so coordinates stay exact
     rep = np.full(labels.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, labels, np.arange(n))
@@ -465,6 +548,10 @@ def _split_points(
     Returns ``(edge, t, vertex, new_vertices)``: edge ``edge[k]`` is split at
     parameter ``t[k]`` by vertex ``vertex[k]`` (indices >= len(verts) refer to
     ``new_vertices``, the crossing points).
+
+    The candidate pairs (edges whose boxes overlap) are examined in chunks, so the
+    memory stays bounded; more than :data:`MAX_CANDIDATE_PAIRS` candidates or
+    :data:`MAX_CROSSINGS` crossings is a :class:`PatternError`.
     """
     p0 = verts[edges[:, 0]]
     p1 = verts[edges[:, 1]]
@@ -472,17 +559,14 @@ def _split_points(
     hi = np.maximum(p0, p1) + tol
     boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
     tree = shapely.STRtree(boxes)
-    i, j = tree.query(boxes)
-    keep = i < j
-    i, j = i[keep], j[keep]
-    # drop pairs sharing a vertex only when they cannot overlap (handled below)
     d = p1 - p0
     length = np.hypot(d[:, 0], d[:, 1])
-    split_e: list[np.ndarray] = []
-    split_t: list[np.ndarray] = []
-    split_v: list[np.ndarray] = []
+    # five kinds of split, each in the order of the candidate pairs
+    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], [], [], [], []]
+    crossings: list[np.ndarray] = []
+    n_pairs = n_cross = 0
 
-    def endpoint_on(a: np.ndarray, b: np.ndarray) -> None:
+    def endpoint_on(a: np.ndarray, b: np.ndarray, kind: int) -> None:
         # endpoints of edges b lying inside edges a
         for col in (0, 1):
             q_idx = edges[b, col]
@@ -494,88 +578,92 @@ def _split_points(
             dist = np.hypot(*(foot - q).T)
             inside = (dist <= tol) & (t * la > tol) & ((1.0 - t) * la > tol)
             inside &= (q_idx != edges[a, 0]) & (q_idx != edges[a, 1])
-            split_e.append(a[inside])
-            split_t.append(t[inside])
-            split_v.append(q_idx[inside])
+            parts[kind + col].append((a[inside], t[inside], q_idx[inside]))
 
-    endpoint_on(i, j)
-    endpoint_on(j, i)
-    # proper crossings
-    shares = (
-        (edges[i, 0] == edges[j, 0])
-        | (edges[i, 0] == edges[j, 1])
-        | (edges[i, 1] == edges[j, 0])
-        | (edges[i, 1] == edges[j, 1])
-    )
-    ci, cj = i[~shares], j[~shares]
-    di, dj = d[ci], d[cj]
-    denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
-    w = p0[cj] - p0[ci]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
-        u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
-    li, lj = length[ci], length[cj]
-    sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
-    cross = (
-        (sin_angle > 1e-12)
-        & (t * li > tol)
-        & ((1 - t) * li > tol)
-        & (u * lj > tol)
-        & ((1 - u) * lj > tol)
-    )
-    ci, cj, t, u = ci[cross], cj[cross], t[cross], u[cross]
-    new = p0[ci] + t[:, None] * d[ci]
+    step = max(1, _PAIR_CHUNK // max(len(edges), 1))
+    for first in range(0, len(edges), step):
+        i, j = tree.query(boxes[first : first + step])
+        i = i + first
+        keep = i < j
+        i, j = i[keep], j[keep]
+        n_pairs += len(i)
+        if n_pairs > MAX_CANDIDATE_PAIRS:
+            raise PatternError(
+                f"more than {MAX_CANDIDATE_PAIRS:,} pairs of edges overlap (by bounding box); "
+                "the pattern is too dense to normalise"
+            )
+        endpoint_on(i, j, 0)
+        endpoint_on(j, i, 2)
+        # proper crossings
+        shares = (
+            (edges[i, 0] == edges[j, 0])
+            | (edges[i, 0] == edges[j, 1])
+            | (edges[i, 1] == edges[j, 0])
+            | (edges[i, 1] == edges[j, 1])
+        )
+        ci, cj = i[~shares], j[~shares]
+        di, dj = d[ci], d[cj]
+        denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
+        w = p0[cj] - p0[ci]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
+            u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
+        li, lj = length[ci], length[cj]
+        sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
+        cross = (
+            (sin_angle > 1e-12)
+            & (t * li > tol)
+            & ((1 - t) * li > tol)
+            & (u * lj > tol)
+            & ((1 - u) * lj > tol)
+        )
+        n_cross += int(cross.sum())
+        if n_cross > MAX_CROSSINGS:
+            raise PatternError(
+                f"more than {MAX_CROSSINGS:,} points where edges cross; the pattern is too "
+                "tangled to normalise (are these really creases?)"
+            )
+        ci, cj, t, u = ci[cross], cj[cross], t[cross], u[cross]
+        crossings.append(p0[ci] + t[:, None] * d[ci])
+        parts[4].append((ci, t, cj))
+        parts[4].append((cj, u, ci))
+    new = np.concatenate(crossings) if crossings else np.zeros((0, 2))
     new_idx = len(verts) + np.arange(len(new))
-    split_e += [ci, cj]
-    split_t += [t, u]
-    split_v += [new_idx, new_idx]
+    # crossings: all the "ci" splits first, then the "cj" splits, as one batch each
+    cross_ci = [pc for k, pc in enumerate(parts[4]) if k % 2 == 0]
+    cross_cj = [pc for k, pc in enumerate(parts[4]) if k % 2 == 1]
+    split_e: list[np.ndarray] = []
+    split_t: list[np.ndarray] = []
+    split_v: list[np.ndarray] = []
+    for kind in range(4):
+        for e, t, v in parts[kind]:
+            split_e.append(e)
+            split_t.append(t)
+            split_v.append(v)
+    for batch in (cross_ci, cross_cj):
+        for e, t, _ in batch:
+            split_e.append(e)
+            split_t.append(t)
+        split_v.append(new_idx)
+    empty_i, empty_f = np.zeros(0, np.int64), np.zeros(0)
     return (
-        np.concatenate(split_e),
-        np.concatenate(split_t),
-        np.concatenate(split_v),
+        np.concatenate([*split_e, empty_i]).astype(np.int64),
+        np.concatenate([*split_t, empty_f]),
+        np.concatenate([*split_v, empty_i]).astype(np.int64),
         new,
     )
 
 
-def _normalise(
+def _drop_duplicates(
     verts: np.ndarray,
     edges: np.ndarray,
     assign: np.ndarray,
     angles: np.ndarray,
-    tol: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[Problem], bool]:
-    notes: list[Problem] = []
-    n_in_vertices, n_in_edges = len(verts), len(edges)
-    # 1. snap near-coincident vertices
-    rep = _merge_close(verts, tol)
-    merged = int(np.sum(rep != np.arange(len(rep))))
-    edges = rep[edges]
-    # 2. zero-length edges
-    zero = edges[:, 0] == edges[:, 1]
-    n_zero = int(zero.sum())
-    edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # 3. split at T-junctions and crossings
-    se, st, sv, new = _split_points(verts, edges, tol)
-    n_split = len(np.unique(se))
-    n_cross = len(new)
-    if len(se):
-        verts = np.vstack([verts, new])
-        m = len(edges)
-        all_e = np.concatenate([np.arange(m), np.arange(m), se])
-        all_t = np.concatenate([np.zeros(m), np.ones(m), st])
-        all_v = np.concatenate([edges[:, 0], edges[:, 1], sv])
-        order = np.lexsort((all_t, all_e))
-        all_e, all_v = all_e[order], all_v[order]
-        same = all_e[:-1] == all_e[1:]
-        src = all_e[:-1][same]
-        edges = np.stack([all_v[:-1][same], all_v[1:][same]], axis=1)
-        assign, angles = assign[src], angles[src]
-        # crossing points may coincide with each other or with vertices
-        rep = _merge_close(verts, tol)
-        edges = rep[edges]
-        zero = edges[:, 0] == edges[:, 1]
-        edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # 4. duplicates in either direction: keep the highest-priority assignment
+    notes: list[Problem],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Drop edges joining the same two vertices (either direction), keeping the one
+    whose assignment comes first in ``BCMVJUF`` (then the first given); conflicts
+    between creases are added to ``notes``."""
     key_lo = np.minimum(edges[:, 0], edges[:, 1])
     key_hi = np.maximum(edges[:, 0], edges[:, 1])
     prio = np.vectorize(_PRIORITY.__getitem__, otypes=[int])(assign) if len(assign) else assign
@@ -601,6 +689,52 @@ def _normalise(
     n_dup = int((~first).sum())
     keep = np.sort(order[first])
     edges, assign, angles = edges[keep], assign[keep], angles[keep]
+    return edges, assign, angles, n_dup
+
+
+def _normalise(
+    verts: np.ndarray,
+    edges: np.ndarray,
+    assign: np.ndarray,
+    angles: np.ndarray,
+    tol: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[Problem], bool]:
+    notes: list[Problem] = []
+    n_in_vertices, n_in_edges = len(verts), len(edges)
+    # 1. snap near-coincident vertices
+    rep = _merge_close(verts, tol)
+    merged = int(np.sum(rep != np.arange(len(rep))))
+    edges = rep[edges]
+    # 2. zero-length edges
+    zero = edges[:, 0] == edges[:, 1]
+    n_zero = int(zero.sum())
+    edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    # exact duplicates go before the split, so that they cost nothing there
+    edges, assign, angles, n_dup = _drop_duplicates(verts, edges, assign, angles, notes)
+    # 3. split at T-junctions and crossings
+    se, st, sv, new = _split_points(verts, edges, tol)
+    n_split = len(np.unique(se))
+    n_cross = len(new)
+    if len(se):
+        verts = np.vstack([verts, new])
+        m = len(edges)
+        all_e = np.concatenate([np.arange(m), np.arange(m), se])
+        all_t = np.concatenate([np.zeros(m), np.ones(m), st])
+        all_v = np.concatenate([edges[:, 0], edges[:, 1], sv])
+        order = np.lexsort((all_t, all_e))
+        all_e, all_v = all_e[order], all_v[order]
+        same = all_e[:-1] == all_e[1:]
+        src = all_e[:-1][same]
+        edges = np.stack([all_v[:-1][same], all_v[1:][same]], axis=1)
+        assign, angles = assign[src], angles[src]
+        # crossing points may coincide with each other or with vertices
+        rep = _merge_close(verts, tol)
+        edges = rep[edges]
+        zero = edges[:, 0] == edges[:, 1]
+        edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    # 4. duplicates in either direction: keep the highest-priority assignment
+    edges, assign, angles, more = _drop_duplicates(verts, edges, assign, angles, notes)
+    n_dup += more
     # 5. drop unused vertices, keeping order
     used = np.unique(edges)
     remap = np.full(len(verts), -1, dtype=np.int64)

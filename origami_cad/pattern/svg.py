@@ -10,7 +10,11 @@ Reading takes ``line``, ``polyline``, ``polygon``, ``rect`` and ``path`` element
 element and its groups applied and colours and opacities inherited from groups
 (``style`` wins over attributes). A curved path command or a stroke colour that is
 not one of the six is an error naming the element. Circles with a fill and no
-stroke are holes.
+stroke are holes. Every number, transform, colour and opacity is checked: junk in
+path data, a transform with the wrong number of arguments, an opacity outside
+[0, 1] (it would scale a fold past 180 degrees) or a non-finite or huge
+coordinate is an error naming the element (its ``id`` with control characters
+escaped). The writer escapes the title (``&``, ``<``, control characters).
 
 Units: with a ``viewBox`` and ``width``/``height`` in absolute units (mm, cm, in,
 pt, px at 96 per inch) user units are converted to mm; otherwise one user unit is
@@ -25,13 +29,15 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
+import xml.sax.saxutils
 from pathlib import Path
 
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern, Hole
+from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
 __all__ = ["read_svg", "write_svg"]
 
@@ -70,7 +76,16 @@ _UNIT_MM = {
     "px": 25.4 / 96,
     "": None,
 }
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_NUMBER = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+#: characters XML 1.0 cannot hold, even escaped (control characters, lone surrogates)
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _xml_text(text: str) -> str:
+    """``text`` escaped for XML content or attributes; characters XML cannot hold become U+FFFD."""
+    return xml.sax.saxutils.escape(_NOT_XML.sub("\ufffd", str(text)), {'"': "&quot;"})
 
 
 def _fmt(v: float) -> str:
@@ -87,7 +102,7 @@ def write_svg(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
         f'height="{_fmt(h)}mm" viewBox="{_fmt(x0)} {_fmt(-y1)} {_fmt(w)} {_fmt(h)}">',
     ]
     if cp.title:
-        lines.append(f"<title>{cp.title}</title>")
+        lines.append(f"<title>{_xml_text(cp.title)}</title>")
     width = 0.002 * max(w, h)
     for (a, b), letter, angle in zip(cp.edges, cp.assignments, cp.fold_angles, strict=True):
         pa, pb = cp.vertices[a], cp.vertices[b]
@@ -123,7 +138,40 @@ def _style(el: ET.Element) -> dict[str, str]:
     return out
 
 
-def _color(value: str) -> str | None:
+def _num(text: str, where: str, what: str) -> float:
+    """A finite SVG number (no unit), else a :class:`PatternError` naming ``what``."""
+    if not re.fullmatch(r"\s*" + _NUMBER + r"\s*", text):
+        raise PatternError(f"{where}: {what} = {printable(text)!r} is not a number")
+    value = float(text)
+    if not math.isfinite(value) or abs(value) > MAX_COORDINATE:
+        raise PatternError(f"{where}: {what} = {printable(text)!r} is out of range")
+    return value
+
+
+def _numbers(text: str, where: str, what: str) -> list[float]:
+    """A list of numbers separated by white space and/or commas, nothing else."""
+    body = text.strip()
+    if not body:
+        return []
+    if not re.fullmatch(rf"{_NUMBER}(?:(?:\s*,\s*|\s+|(?=[-+.])){_NUMBER})*", body):
+        raise PatternError(f"{where}: {what} = {printable(text)!r} is not a list of numbers")
+    return [_num(v, where, what) for v in re.findall(_NUMBER, body)]
+
+
+def _opacity(text: str, where: str, what: str) -> float:
+    """An opacity: a number or percentage within [0, 1] (0% .. 100%)."""
+    t = text.strip()
+    pct = t.endswith("%")
+    value = _num(t[:-1] if pct else t, where, what) / (100.0 if pct else 1.0)
+    if not 0.0 <= value <= 1.0:
+        raise PatternError(
+            f"{where}: {what} = {printable(text)!r} is outside [0, 1]; an opacity scales the "
+            "fold angle and cannot exceed 1 (180 degrees)"
+        )
+    return value
+
+
+def _color(value: str, where: str = "") -> str | None:
     v = value.strip().lower()
     if v in ("none", "transparent", ""):
         return None
@@ -133,22 +181,54 @@ def _color(value: str) -> str | None:
         return "#" + "".join(c * 2 for c in v[1:])
     if re.fullmatch(r"#[0-9a-f]{6}", v):
         return v
-    m = re.fullmatch(r"rgb\(\s*([^,]+),\s*([^,]+),\s*([^)]+)\)", v)
-    if m:
+    parts = v[4:-1].split(",") if v.startswith("rgb(") and v.endswith(")") else []
+    if len(parts) == 3:
         chans = []
-        for c in m.groups():
+        for c in parts:
             c = c.strip()
-            chans.append(round(float(c[:-1]) * 2.55) if c.endswith("%") else int(float(c)))
+            pct = c.endswith("%")
+            x = _num(c[:-1] if pct else c, where, f"colour {printable(value)!r}")
+            chans.append(round(x * 2.55) if pct else int(x))
         return "#" + "".join(f"{max(0, min(255, c)):02x}" for c in chans)
-    return v  # unknown: reported by the caller
+    return printable(v)  # unknown: reported by the caller
 
 
-def _transform(text: str) -> np.ndarray:
+#: transform name -> allowed argument counts
+_TRANSFORM_ARGS = {
+    "matrix": (6,),
+    "translate": (1, 2),
+    "scale": (1, 2),
+    "rotate": (1, 3),
+    "skewX": (1,),
+    "skewY": (1,),
+}
+
+
+def _transform(text: str, where: str = "") -> np.ndarray:
     m = np.eye(3)
-    for name, args in re.findall(r"(\w+)\s*\(([^)]*)\)", text or ""):
-        a = [float(v) for v in re.findall(_NUMBER, args)]
+    text = text or ""
+    pos = 0
+    item = re.compile(r"[\s,]*(\w+)\s*\(([^)]*)\)[\s,]*")
+    while pos < len(text):
+        found = item.match(text, pos)
+        if found is None:
+            if text[pos:].strip(" \t\r\n,"):
+                raise PatternError(
+                    f"{where}: transform {printable(text)!r} is malformed at character {pos}"
+                )
+            break
+        pos = found.end()
+        name, args = found.groups()
+        if name not in _TRANSFORM_ARGS:
+            raise PatternError(f"{where}: unknown transform {printable(name)!r}")
+        a = _numbers(args, where, f"transform {name}()")
+        if len(a) not in _TRANSFORM_ARGS[name]:
+            raise PatternError(
+                f"{where}: transform {name}() takes "
+                f"{' or '.join(map(str, _TRANSFORM_ARGS[name]))} numbers, got {len(a)}"
+            )
         t = np.eye(3)
-        if name == "matrix" and len(a) == 6:
+        if name == "matrix":
             t = np.array([[a[0], a[2], a[4]], [a[1], a[3], a[5]], [0, 0, 1]])
         elif name == "translate":
             t[0, 2], t[1, 2] = a[0], (a[1] if len(a) > 1 else 0.0)
@@ -165,12 +245,39 @@ def _transform(text: str) -> np.ndarray:
             t[0, 1] = math.tan(math.radians(a[0]))
         elif name == "skewY":
             t[1, 0] = math.tan(math.radians(a[0]))
-        m = m @ t
+        with np.errstate(over="ignore", invalid="ignore"):
+            m = m @ t
+    if not np.all(np.isfinite(m)):
+        raise PatternError(f"{where}: transform {printable(text)!r} overflows")
     return m
 
 
+#: numbers each path command takes
+_PATH_ARGS = {"M": 2, "L": 2, "H": 1, "V": 1, "Z": 0}
+_PATH_TOKEN = re.compile(r"[\s,]*(?:([A-Za-z])|(" + _NUMBER + r"))")
+
+
+def _path_tokens(d: str, where: str) -> list[str]:
+    """Tokens of path data; anything that is neither a command nor a number is an error."""
+    tokens = []
+    pos = 0
+    while pos < len(d):
+        m = _PATH_TOKEN.match(d, pos)
+        if m is None:
+            rest = d[pos:]
+            if rest.strip(" \t\r\n\f,"):
+                raise PatternError(
+                    f"{where}: path data has {printable(rest.lstrip()[:12])!r} at character "
+                    f"{pos}, neither a command nor a number"
+                )
+            break
+        tokens.append(m.group(1) or m.group(2))
+        pos = m.end()
+    return tokens
+
+
 def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
-    tokens = re.findall(r"[A-Za-z]|" + _NUMBER, d)
+    tokens = _path_tokens(d, where)
     subpaths: list[list[tuple[float, float]]] = []
     current: list[tuple[float, float]] = []
     x = y = 0.0
@@ -189,18 +296,28 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
                     current = []
                 x, y = start
                 continue
-            if cmd not in "MmLlHhVv":
+            if cmd.upper() in "CSQTA":
                 raise PatternError(
                     f"{where} uses the curved path command {cmd!r}; crease lines must be straight"
                 )
+            if cmd.upper() not in _PATH_ARGS:
+                raise PatternError(f"{where}: {cmd!r} is not a path command")
+            if i >= len(tokens) or tokens[i].isalpha():
+                raise PatternError(f"{where}: path command {cmd!r} has no coordinates")
             continue
         if cmd is None:
             raise PatternError(f"{where}: path data must start with a command")
-        value = float(tok)
+        if cmd in "Zz":
+            raise PatternError(f"{where}: path data has a number after {cmd!r}")
+        need = _PATH_ARGS[cmd.upper()]
+        args = tokens[i : i + need]
+        if len(args) < need or any(a.isalpha() for a in args):
+            raise PatternError(f"{where}: path command {cmd!r} needs {need} numbers")
+        vals = [_num(a, where, "path data") for a in args]
+        i += need
         if cmd in "Mm":
-            nx = value + (x if cmd == "m" else 0.0)
-            ny = float(tokens[i + 1]) + (y if cmd == "m" else 0.0)
-            i += 2
+            nx = vals[0] + (x if cmd == "m" else 0.0)
+            ny = vals[1] + (y if cmd == "m" else 0.0)
             if current:
                 subpaths.append(current)
             current = [(nx, ny)]
@@ -208,15 +325,12 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
             cmd = "l" if cmd == "m" else "L"  # implicit lineto after a moveto
             continue
         if cmd in "Ll":
-            nx = value + (x if cmd == "l" else 0.0)
-            ny = float(tokens[i + 1]) + (y if cmd == "l" else 0.0)
-            i += 2
+            nx = vals[0] + (x if cmd == "l" else 0.0)
+            ny = vals[1] + (y if cmd == "l" else 0.0)
         elif cmd in "Hh":
-            nx, ny = value + (x if cmd == "h" else 0.0), y
-            i += 1
+            nx, ny = vals[0] + (x if cmd == "h" else 0.0), y
         else:
-            nx, ny = x, value + (y if cmd == "v" else 0.0)
-            i += 1
+            nx, ny = x, vals[0] + (y if cmd == "v" else 0.0)
         if not current:
             current = [(x, y)]
         current.append((nx, ny))
@@ -226,95 +340,124 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
     return subpaths
 
 
-def _scale(root: ET.Element, p: Path) -> tuple[float, float]:
-    box = [float(v) for v in re.findall(_NUMBER, root.attrib.get("viewBox", ""))]
+def _scale(root: ET.Element, name: str) -> tuple[float, float]:
+    where = f"{name}: <svg>"
+    box = _numbers(root.attrib.get("viewBox", ""), where, "viewBox")
+    if box and (len(box) != 4 or box[2] < 0 or box[3] < 0):
+        raise PatternError(f"{where}: viewBox must be 4 numbers: min-x min-y width height >= 0")
     result = []
     for k, key in enumerate(("width", "height")):
         m = re.fullmatch(r"\s*(" + _NUMBER + r")\s*([a-z%]*)\s*", root.attrib.get(key, ""))
         if not m or len(box) != 4 or m.group(2) not in _UNIT_MM or _UNIT_MM[m.group(2)] is None:
             result.append(1.0)
             continue
-        size_mm = float(m.group(1)) * _UNIT_MM[m.group(2)]
+        size = _num(m.group(1), where, key)
+        if size <= 0:
+            raise PatternError(f"{where}: {key} = {size:g} must be > 0")
+        size_mm = size * _UNIT_MM[m.group(2)]
         result.append(size_mm / box[2 + k] if box[2 + k] else 1.0)
     return result[0], result[1]
+
+
+def _polylines(el: ET.Element, tag: str, where: str) -> list[list[tuple[float, float]]]:
+    """The straight polylines an element draws, in its own user units."""
+
+    def attr(name: str) -> float:
+        return _num(el.attrib.get(name, "0"), where, name)
+
+    if tag == "line":
+        return [[(attr("x1"), attr("y1")), (attr("x2"), attr("y2"))]]
+    if tag in ("polyline", "polygon"):
+        v = _numbers(el.attrib.get("points", ""), where, "points")
+        if len(v) % 2:
+            raise PatternError(f"{where}: points has an odd count of numbers ({len(v)})")
+        pts = list(zip(v[::2], v[1::2], strict=True))
+        if tag == "polygon" and pts:
+            pts.append(pts[0])
+        return [pts]
+    if tag == "rect":
+        x, y, w, h = attr("x"), attr("y"), attr("width"), attr("height")
+        if w < 0 or h < 0:
+            raise PatternError(f"{where}: a rect's width and height must be >= 0")
+        return [[(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)]]
+    if tag == "path":
+        return _path_points(el.attrib.get("d", ""), where)
+    return []
 
 
 def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
     """Read a crease pattern from an SVG in Origami Simulator's convention (mm).
 
+    Every number, transform, colour and opacity is checked: malformed path
+    data, a transform that is not one of SVG's six, an opacity outside [0, 1]
+    or a non-finite coordinate is an error naming the element.
+
     Raises
     ------
     PatternError
-        Naming the file and the element with an unknown colour or a curve.
+        Naming the file and the element with an unknown colour, a curve or a
+        malformed value.
     """
-    p = Path(path)
-    if not p.is_file():
-        raise PatternError(f"{p}: no such file")
+    p, name = input_file(path, PatternError)
     try:
         root = ET.parse(p).getroot()
     except ET.ParseError as exc:
-        raise PatternError(f"{p}: not valid XML ({exc})") from None
+        raise PatternError(f"{name}: not valid XML ({exc})") from None
+    except OSError as exc:
+        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
     if _local(root.tag) != "svg":
-        raise PatternError(f"{p}: the root element is <{_local(root.tag)}>, not <svg>")
-    sx, sy = _scale(root, p)
+        raise PatternError(
+            f"{name}: the root element is <{printable(_local(root.tag))}>, not <svg>"
+        )
+    sx, sy = _scale(root, name)
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     holes: list[Hole] = []
     title = ""
-    counter = [0]
-
-    def visit(el: ET.Element, matrix: np.ndarray, inherited: dict[str, str], opacity: float):
+    counter = 0
+    # depth-first, in document order, without recursion (nesting depth is the file's)
+    stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float]] = [(root, np.eye(3), {}, 1.0)]
+    while stack:
+        el, matrix, inherited, opacity = stack.pop()
         tag = _local(el.tag)
+        own = _style(el)
         style = {
             **inherited,
-            **{k: v for k, v in _style(el).items() if k in ("stroke", "stroke-opacity", "fill")},
+            **{k: v for k, v in own.items() if k in ("stroke", "stroke-opacity", "fill")},
         }
-        own = _style(el)
-        opacity = opacity * float(own.get("opacity", 1.0))
-        m = matrix @ _transform(el.attrib.get("transform", ""))
-        nonlocal title
         if tag == "title" and el.text and not title:
             title = el.text.strip()
         if tag in ("defs", "clipPath", "mask", "symbol", "metadata", "style"):
-            return
-        counter[0] += 1
+            continue
+        counter += 1
         ident = el.attrib.get("id")
-        where = f"{p}: <{tag}{' id=' + ident if ident else ''}> (element {counter[0]})"
-        polylines: list[list[tuple[float, float]]] = []
-        try:
-            if tag == "line":
-                polylines = [
-                    [
-                        (float(el.attrib.get("x1", 0)), float(el.attrib.get("y1", 0))),
-                        (float(el.attrib.get("x2", 0)), float(el.attrib.get("y2", 0))),
-                    ]
-                ]
-            elif tag in ("polyline", "polygon"):
-                v = [float(t) for t in re.findall(_NUMBER, el.attrib.get("points", ""))]
-                pts = list(zip(v[::2], v[1::2], strict=False))
-                if tag == "polygon" and pts:
-                    pts.append(pts[0])
-                polylines = [pts]
-            elif tag == "rect":
-                x, y = float(el.attrib.get("x", 0)), float(el.attrib.get("y", 0))
-                w, h = float(el.attrib.get("width", 0)), float(el.attrib.get("height", 0))
-                polylines = [[(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)]]
-            elif tag == "path":
-                polylines = _path_points(el.attrib.get("d", ""), where)
-            elif tag == "circle":
-                stroke = _color(style.get("stroke", "none"))
-                if stroke is None and _color(style.get("fill", "black")) is not None:
-                    c = m @ np.array(
-                        [float(el.attrib.get("cx", 0)), float(el.attrib.get("cy", 0)), 1.0]
-                    )
-                    r = float(el.attrib.get("r", 0)) * math.sqrt(abs(np.linalg.det(m[:2, :2])))
+        where = (
+            f"{name}: <{printable(tag)}{' id=' + printable(ident) if ident else ''}> "
+            f"(element {counter})"
+        )
+        if "opacity" in own:
+            opacity = opacity * _opacity(own["opacity"], where, "opacity")
+        m = matrix @ _transform(el.attrib.get("transform", ""), where)
+        if tag == "circle":
+            stroke = _color(style.get("stroke", "none"), where)
+            if stroke is None and _color(style.get("fill", "black"), where) is not None:
+                cx = _num(el.attrib.get("cx", "0"), where, "cx")
+                cy = _num(el.attrib.get("cy", "0"), where, "cy")
+                r = _num(el.attrib.get("r", "0"), where, "r")
+                c = m @ np.array([cx, cy, 1.0])
+                r = r * math.sqrt(abs(np.linalg.det(m[:2, :2])))
+                try:
                     holes.append(Hole(c[0] * sx, -c[1] * sy, 2 * r * math.sqrt(sx * sy)))
-                    return
-        except PatternError:
-            raise
-        except ValueError:
-            raise PatternError(f"{where} has a malformed coordinate") from None
+                except PatternError as exc:
+                    raise PatternError(f"{where}: {exc}") from None
+                continue
+        if tag in ("circle", "ellipse") and _color(style.get("stroke", "none"), where):
+            raise PatternError(
+                f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
+                "circle with a fill and no stroke)"
+            )
+        polylines = _polylines(el, tag, where)
         if polylines:
-            stroke = _color(style.get("stroke", "none"))
+            stroke = _color(style.get("stroke", "none"), where)
             if stroke is not None:
                 letter = _BY_COLOR.get(stroke)
                 if letter is None:
@@ -323,19 +466,27 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
                         "Simulator convention (black border, red mountain, blue valley, green "
                         "cut, yellow facet, magenta undriven)"
                     )
-                alpha = opacity * float(style.get("stroke-opacity", 1.0))
+                alpha = opacity * _opacity(
+                    style.get("stroke-opacity", "1"), where, "stroke-opacity"
+                )
                 angle = {"M": -180.0 * alpha, "V": 180.0 * alpha}.get(letter, 0.0)
                 for pts in polylines:
-                    arr = np.column_stack([np.array(pts, float), np.ones(len(pts))]) @ m.T
+                    if not pts:
+                        continue
+                    with np.errstate(over="ignore", invalid="ignore"):
+                        arr = np.column_stack([np.array(pts, float), np.ones(len(pts))]) @ m.T
+                        mm = arr[:, :2] * (sx, sy)
+                    if not np.all(np.abs(mm) <= MAX_COORDINATE):
+                        raise PatternError(
+                            f"{where}: a point lies farther than {MAX_COORDINATE:g} mm from the "
+                            "origin (after transforms and units), or is not finite"
+                        )
                     for a, b in itertools.pairwise(arr):
                         if not np.allclose(a, b):
                             segments.append((a[:2], b[:2], letter, angle))
-        for child in el:
-            visit(child, m, style, opacity)
-
-    visit(root, np.eye(3), {}, 1.0)
+        stack.extend((child, m, style, opacity) for child in reversed(el))
     if not segments:
-        raise PatternError(f"{p}: no crease lines found (no stroked line, polyline or path)")
+        raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
     coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
     coords[:, 0] *= sx
     coords[:, 1] *= -sy
@@ -349,5 +500,5 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
             metadata={"title": title or p.stem},
         )
     except PatternError as exc:
-        raise PatternError(f"{p}: {exc}") from None
+        raise PatternError(f"{name}: {exc}") from None
     return cp.with_holes(holes) if holes else cp

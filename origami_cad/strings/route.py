@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.tsa import TSAParams
@@ -188,9 +188,9 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
         "thickness", fabrication.height if fabrication is not None else 2.2, low=0
     )
     hole_d = route.number("hole_diameter", 2.0, low=0, low_open=True)
-    take_up = route.number("take_up", 0.1, low=0, low_open=True)
+    take_up = route.number("take_up", 0.1, low=0, high=1e3, low_open=True)
     step = route.number("step", 180.0, low=0, high=360, low_open=True)
-    max_turns = route.number("max_turns", 20.0, low=0, low_open=True)
+    max_turns = route.number("max_turns", 20.0, low=0, high=1e4, low_open=True)
     max_tension, max_torque = (
         route.number(key, None, low=0, low_open=True) if route.has(key) else math.inf
         for key in ("max_tension", "max_torque")
@@ -244,12 +244,21 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
             elif (
                 isinstance(h, list)
                 and len(h) == 2
-                and all(isinstance(v, int | float) and not isinstance(v, bool) for v in h)
+                and all(
+                    isinstance(v, int | float)
+                    and not isinstance(v, bool)
+                    and math.isfinite(v)
+                    and abs(v) <= MAX_MAGNITUDE
+                    for v in h
+                )
             ):
                 x, y = float(h[0]), float(h[1])
                 names.append(f"({x:g}, {y:g})")
             else:
-                raise t.error("holes", f"item {hi}: expected a panel label or [x, y], got {h!r}")
+                raise t.error(
+                    "holes",
+                    f"item {hi}: expected a panel label or a finite [x, y], got {repr(h)[:60]}",
+                )
             fi = cp.face_of_point(x, y)
             if fi < 0:
                 raise t.error("holes", f"item {hi}: ({x:g}, {y:g}) mm is not on any panel")
@@ -270,7 +279,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
             if (
                 not isinstance(raw_sides, list)
                 or len(raw_sides) != len(faces)
-                or any(s not in _SIDE_NAMES for s in raw_sides)
+                or any(not isinstance(s, str) or s not in _SIDE_NAMES for s in raw_sides)
             ):
                 raise t.error("sides", f'expected "auto" or {len(faces)} of "top"/"bottom"')
             sides = [_SIDE_NAMES[s] for s in raw_sides]

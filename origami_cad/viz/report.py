@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import html
 import os
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +29,24 @@ class StepReport:
     files: list[str] = field(default_factory=list)
     seconds: float = 0.0
     error: str = ""
+
+
+#: characters an HTML page cannot hold (C0 controls but tab/newline/return, DEL, lone
+#: surrogates): replaced by U+FFFD so that no message breaks the page or its encoding
+_NOT_HTML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ud800-\udfff]")
+
+
+def _text(value: object) -> str:
+    """Any text made safe for HTML content and quoted attributes."""
+    return html.escape(_NOT_HTML.sub("\ufffd", str(value)), quote=True)
+
+
+def _href(path: str) -> str:
+    """A relative link: a path that looks like a URL scheme (``javascript:``) gets ``./``."""
+    path = str(path)
+    if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", path):
+        path = "./" + path
+    return _text(path)
 
 
 _CSS = """
@@ -57,7 +76,7 @@ def write_report(
     subtitle: str = "",
 ) -> Path:
     """Write the report page (atomic). Images and files are linked relatively."""
-    e = html.escape
+    e = _text
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
         f"<title>{e(title)}</title><style>{_CSS}</style></head><body>",
@@ -80,13 +99,13 @@ def write_report(
             parts.append("<div class='imgs'>")
             for src, cap in s.images:
                 parts.append(
-                    f"<figure><a href='{e(src)}'><img src='{e(src)}' alt='{e(cap)}'></a>"
+                    f"<figure><a href='{_href(src)}'><img src='{_href(src)}' alt='{e(cap)}'></a>"
                     f"<figcaption>{e(cap)}</figcaption></figure>"
                 )
             parts.append("</div>")
         if s.files:
             parts.append("<p><b>Files</b></p><div class='files'>")
-            parts += [f"<div><a href='{e(f)}'>{e(f)}</a></div>" for f in s.files]
+            parts += [f"<div><a href='{_href(f)}'>{e(f)}</a></div>" for f in s.files]
             parts.append("</div>")
         parts.append("</section>")
     parts.append("</body></html>\n")

@@ -1,0 +1,84 @@
+"""STEP opened in FreeCAD itself (when installed): every solid in its part's colour.
+
+FreeCAD 0.20's GUI importer (``ImportGui.insert``) runs off-screen
+(``QT_QPA_PLATFORM=offscreen``) with its own throw-away settings folder. It is run with
+STEP compound merging off (Preferences > Import-Export > STEP: "Enable STEP compound
+merge" unchecked), the mode that keeps the assembly tree: each solid becomes a
+feature, each part a compound. Skipped when ``freecadcmd`` is not installed
+(``apt install freecad``).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+
+import pytest
+
+from origami_cad.fabrication import FabricationParams, fabricate
+from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
+from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
+from origami_cad.pattern.design import miura_design
+
+FREECAD = shutil.which("freecadcmd") or shutil.which("FreeCADCmd")
+
+SCRIPT = """
+import json, FreeCAD, FreeCADGui
+FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Import/hSTEP").SetBool(
+    "ReadShapeCompoundMode", False)
+FreeCADGui.showMainWindow()
+import ImportGui
+doc = FreeCAD.newDocument()
+ImportGui.insert({path!r}, doc.Name)
+FreeCADGui.updateGui()
+rows = []
+for o in doc.Objects:
+    vo = o.ViewObject
+    colour = getattr(vo, "ShapeColor", None)
+    solids = len(o.Shape.Solids) if hasattr(o, "Shape") else 0
+    rows.append([o.Label, o.TypeId, solids, list(colour[:3]) if colour else None])
+with open({out!r}, "w") as fh:
+    json.dump(rows, fh)
+"""
+
+
+def _rgb(hexa: str) -> list[float]:
+    h = hexa.lstrip("#")
+    return [int(h[i : i + 2], 16) / 255 for i in (0, 2, 4)]
+
+
+@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
+def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
+    fab = fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
+    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    out = tmp_path / "objects.json"
+    script = tmp_path / "probe.py"
+    script.write_text(SCRIPT.format(path=str(step), out=str(out)))
+    home = tmp_path / "home"
+    home.mkdir()
+    env = {
+        **os.environ,
+        "QT_QPA_PLATFORM": "offscreen",
+        "HOME": str(home),
+        "XDG_CONFIG_HOME": str(home / ".config"),
+        "XDG_DATA_HOME": str(home / ".local" / "share"),
+    }
+    run = subprocess.run(
+        [FREECAD, str(script)], env=env, capture_output=True, text=True, timeout=600, check=False
+    )
+    assert out.is_file(), run.stdout[-2000:] + run.stderr[-2000:]
+    rows = json.loads(out.read_text())
+    for name in PART_NAMES:
+        expected = _rgb(MATERIAL_COLORS[PART_MATERIALS[name]])
+        solids = [r for r in rows if r[1] == "Part::Feature" and r[0].startswith(f"{name} ")]
+        if len(fab.parts.solids[name]) == 1:  # a part of one solid is that solid's feature
+            solids = [r for r in rows if r[1] == "Part::Feature" and r[0] == name]
+        assert len(solids) == len(fab.parts.solids[name]), name
+        for label, _, count, colour in solids:
+            assert count == 1, label
+            assert colour == pytest.approx(expected, abs=2e-3), label
+        compounds = [r for r in rows if r[1] == "Part::Compound2" and r[0].startswith(name)]
+        for label, _, _, colour in compounds:  # the part itself, not grey
+            assert colour == pytest.approx(expected, abs=2e-3), label

@@ -1,0 +1,266 @@
+"""Hostile and careless SVG files, and markup injection (issue 19, classes 9, 11 and 12).
+
+The SVGs are written here. Malformed path data, transforms, colours and opacities
+give a PatternError naming the file and the element, on one line; what the
+package writes into XML (the SVG title) or HTML (the demo report) is escaped, so a
+real XML/HTML parser reads back the text and finds no injected element.
+"""
+
+from __future__ import annotations
+
+import html.parser
+import math
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from origami_cad.errors import PatternError
+from origami_cad.pattern import CreasePattern, miura_pattern, read_pattern, write_pattern
+from origami_cad.pattern.svg import read_svg
+from origami_cad.viz.report import StepReport, write_report
+
+HEAD = '<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">'
+BORDER = '<rect x="0" y="0" width="100" height="100" stroke="black" fill="none"/>'
+
+
+def svg(tmp_path, body, name="bad.svg", head=HEAD):
+    p = tmp_path / name
+    p.write_text(f"{head}{BORDER}{body}</svg>", encoding="utf-8")
+    return p
+
+
+def refused(path, *fragments):
+    with pytest.raises(PatternError) as info:
+        read_svg(path)
+    msg = str(info.value)
+    assert msg.startswith(str(path)), msg
+    assert msg.isprintable(), msg  # one line, no escape sequences for the terminal
+    for f in fragments:
+        assert f in msg, (f, msg)
+    return msg
+
+
+def valley(body_attrs):
+    return f'<path stroke="blue" {body_attrs}/>'
+
+
+@pytest.mark.parametrize(
+    "d, fragment",
+    [
+        ("M 0 0 L 100 100 junk", "'j' is not a path command"),
+        ("M 0 0 L 100 100 # 5 5", "'# 5 5'"),
+        ("M 0 0 L 100", "'L' needs 2 numbers"),
+        ("M 0", "'M' needs 2 numbers"),
+        ("M 0 0 L", "has no coordinates"),
+        ("L 100 100 M", "has no coordinates"),
+        ("M 0 0 X 5 5", "'X' is not a path command"),
+        ("M 0 0 L 1e999 5", "out of range"),
+        ("M 0 0 L 5e9 5", "out of range"),
+        ("M 0 0 Z 5 5", "a number after 'Z'"),
+        ("10 10 L 0 0", "must start with a command"),
+        ("M 0 0 c 5 5 10 10 20 20", "curved path command 'c'"),
+        ("M 0 0 L 10 10 A 5 5 0 0 1 20 20", "curved path command 'A'"),
+    ],
+)
+def test_malformed_path_data_is_refused(tmp_path, d, fragment):
+    refused(svg(tmp_path, valley(f'id="p1" d="{d}"')), "<path id=p1>", fragment)
+
+
+def test_junk_inside_path_data_is_not_skipped(tmp_path):
+    # the old reader skipped "q" and read this as a straight valley from (0,0) to (100,100)
+    refused(svg(tmp_path, valley('d="M 0 0 q L 100 100"')), "path")
+
+
+@pytest.mark.parametrize(
+    "transform, fragment",
+    [
+        ("translate()", "takes 1 or 2 numbers, got 0"),
+        ("matrix(1 0 0 1 0)", "takes 6 numbers, got 5"),
+        ("rotate(1 2)", "takes 1 or 3 numbers, got 2"),
+        ("scale(1e999)", "out of range"),
+        ("scale(1e9) " * 40, "overflows"),
+        ("translate(5,x)", "not a list of numbers"),
+        ("spin(30)", "unknown transform 'spin'"),
+        ("translate(5) garbage", "malformed at character"),
+    ],
+)
+def test_malformed_transforms_are_refused(tmp_path, transform, fragment):
+    body = valley(f'd="M 0 0 L 100 100" transform="{transform}"')
+    refused(svg(tmp_path, body), fragment)
+    # on a group too
+    inner = valley("d='M 0 0 L 9 9'")
+    refused(svg(tmp_path, f'<g transform="{transform}">{inner}</g>'), fragment)
+
+
+@pytest.mark.parametrize(
+    "attrs, fragment",
+    [
+        ('stroke="rgb(1e999, 0, 0)"', "out of range"),
+        ('stroke="rgb(a, b, c)"', "is not a number"),
+        ('stroke="rgb(255, 0, 0" ', "not a crease colour"),
+        ('stroke="#12"', "not a crease colour"),
+        ('stroke="blue" stroke-opacity="5"', "outside [0, 1]"),
+        ('stroke="red" stroke-opacity="-0.5"', "outside [0, 1]"),
+        ('stroke="red" stroke-opacity="150%"', "outside [0, 1]"),
+        ('stroke="red" stroke-opacity="half"', "is not a number"),
+        ('stroke="red" opacity="NaN"', "is not a number"),
+        ('stroke="red" style="stroke-opacity: 1e400"', "out of range"),
+    ],
+)
+def test_malformed_colours_and_opacities_are_refused(tmp_path, attrs, fragment):
+    refused(svg(tmp_path, f'<line x1="0" y1="0" x2="100" y2="100" {attrs}/>'), fragment)
+
+
+def test_opacity_five_no_longer_gives_a_900_degree_fold(tmp_path):
+    refused(
+        svg(tmp_path, '<line x1="0" y1="0" x2="100" y2="100" stroke="red" stroke-opacity="5"/>')
+    )
+    ok = read_svg(
+        svg(tmp_path, '<line x1="0" y1="0" x2="100" y2="100" stroke="red" stroke-opacity="50%"/>')
+    )
+    assert sorted(ok.fold_angles.tolist())[0] == -90.0
+
+
+@pytest.mark.parametrize(
+    "element, fragment",
+    [
+        ('<line x1="0" y1="0" x2="inf" y2="100" stroke="blue"/>', "x2 = 'inf' is not a number"),
+        ('<line x1="0" y1="0" x2="1e999" y2="100" stroke="blue"/>', "out of range"),
+        ('<line x1="0" y1="0" x2="5mm" y2="100" stroke="blue"/>', "x2 = '5mm' is not a number"),
+        ('<polyline points="0,0 100,100 50" stroke="blue"/>', "odd count"),
+        ('<polyline points="0,0 100,100 x,y" stroke="blue"/>', "not a list of numbers"),
+        ('<rect x="0" y="0" width="-5" height="5" stroke="blue"/>', "must be >= 0"),
+        ('<circle cx="50" cy="50" r="-2" fill="black"/>', "diameter must be > 0"),
+        ('<circle cx="nan" cy="50" r="2" fill="black"/>', "cx = 'nan' is not a number"),
+    ],
+)
+def test_malformed_numbers_are_refused(tmp_path, element, fragment):
+    refused(svg(tmp_path, element), fragment)
+
+
+@pytest.mark.parametrize(
+    "head, fragment",
+    [
+        ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100">', "viewBox must be 4"),
+        ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 -1 100">', "viewBox must be 4"),
+        (
+            '<svg xmlns="http://www.w3.org/2000/svg" width="1e999mm" height="1mm" '
+            'viewBox="0 0 1 1">',
+            "out of range",
+        ),
+    ],
+)
+def test_malformed_root_sizes_are_refused(tmp_path, head, fragment):
+    refused(svg(tmp_path, "", head=head), fragment)
+
+
+def test_a_transform_that_throws_points_past_the_limit_is_refused(tmp_path):
+    body = valley('d="M 0 0 L 100 100" transform="scale(1e8)"')
+    refused(svg(tmp_path, body), "farther than 1e+09 mm")
+
+
+def test_deeply_nested_groups_read_without_recursion(tmp_path):
+    depth = 20_000
+    body = "<g>" * depth + '<line x1="0" y1="0" x2="100" y2="100" stroke="blue"/>' + "</g>" * depth
+    cp = read_svg(svg(tmp_path, body, "deep.svg"))
+    assert int((cp.assignments == "V").sum()) == 1 and len(cp.faces) == 2
+
+
+def test_an_id_with_a_newline_cannot_forge_message_lines(tmp_path):
+    ident = "x&#10;origami-cad: everything is fine&#13;&#9;"
+    msg = refused(svg(tmp_path, f'<line id="{ident}" x1="0" y1="0" x2="1" y2="1" stroke="#123"/>'))
+    assert "\n" not in msg and "\r" not in msg and "\t" not in msg
+    assert "x\\norigami-cad: everything is fine" in msg
+
+
+@pytest.mark.parametrize(
+    "title",
+    [
+        "</title><script>alert(1)</script>",
+        'Tom & Jerry\'s <fold> "1"',
+        "]]><![CDATA[",
+        "bell\x07 escape\x1b nul-free \ud800 lone surrogate",
+    ],
+)
+def test_titles_are_escaped_in_the_svg_we_write(tmp_path, title):
+    cp = miura_pattern(2, 3, 20.0, 30.0, 60.0).with_metadata(title=title)
+    path = write_pattern(cp, tmp_path / "out.svg")
+    root = ET.parse(path).getroot()  # a real XML parser accepts the file
+    tags = {el.tag.rsplit("}", 1)[-1] for el in root.iter()}
+    assert "script" not in tags
+    back = read_pattern(path)  # and so does our reader
+    printable_in = "".join(c if c.isprintable() else "\ufffd" for c in title)
+    assert back.title in (title, printable_in)
+    assert back.same_graph(cp)
+
+
+def test_titles_and_messages_are_escaped_in_the_report(tmp_path):
+    evil = "</title><script>alert('x')</script>&\x07\ud800"
+    step = StepReport(
+        key="k'><script>",
+        title=evil,
+        summary=evil,
+        numbers=[(evil, evil)],
+        images=[("javascript:alert(1)", evil)],
+        files=["javascript:alert(1)", "a b.fold"],
+        error=evil,
+    )
+    path = write_report(tmp_path / "report.html", [step], title=evil, subtitle=evil)
+    text = path.read_text(encoding="utf-8")
+
+    class Collect(html.parser.HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.tags, self.links = [], []
+
+        def handle_starttag(self, tag, attrs):
+            self.tags.append(tag)
+            self.links += [v for k, v in attrs if k in ("href", "src")]
+
+    parser = Collect()
+    parser.feed(text)
+    assert "script" not in parser.tags
+    assert parser.links and all(not v.startswith("javascript:") for v in parser.links)
+    assert "</title><script>" not in text
+
+
+def test_a_deep_zero_scale_does_not_divide_by_zero(tmp_path):
+    # degenerate transforms collapse lines to points: no crease lines, not a crash
+    inner = valley("d='M 0 0 L 9 9'")
+    body = f'<g transform="scale(0)">{inner}</g>'
+    p = svg(tmp_path, body, "zero.svg")
+    cp = read_svg(p)
+    assert cp.n_edges == 4 and not math.isnan(cp.size)
+    assert isinstance(cp, CreasePattern)
+
+
+@pytest.mark.parametrize(
+    "attr, value",
+    [
+        ("points", "1" * 200_000 + "x"),
+        ("points", "1." * 100_000 + "x"),
+        ("d", "M 0 0 " + "L 1 1 " * 50_000 + "#"),
+        ("transform", "scale(" + "1 " * 100_000 + ")"),
+        ("stroke", "rgb(1, " + " " * 100_000 + "x"),
+    ],
+)
+def test_long_malformed_attributes_are_refused_in_linear_time(tmp_path, attr, value):
+    # a backtracking pattern would take hours on these (the old number pattern did)
+    body = f'<polyline points="0 0 100 100" stroke="blue" {attr}="{value}"/>'
+    if attr == "d":
+        body = f'<path stroke="blue" d="{value}"/>'
+    refused(svg(tmp_path, body))
+
+
+@pytest.mark.parametrize(
+    "element",
+    [
+        '<circle cx="50" cy="50" r="20" stroke="red" fill="none"/>',
+        '<ellipse cx="50" cy="50" rx="20" ry="10" stroke="black"/>',
+    ],
+)
+def test_stroked_circles_and_ellipses_are_not_silently_dropped(tmp_path, element):
+    refused(svg(tmp_path, element), "crease lines must be straight")
+    # a filled circle without a stroke is still a hole
+    hole = read_svg(svg(tmp_path, '<circle cx="50" cy="50" r="2" fill="black"/>', "hole.svg"))
+    assert [(h.x, h.y, h.diameter) for h in hole.holes] == [(50.0, -50.0, 4.0)]
