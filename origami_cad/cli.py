@@ -50,35 +50,16 @@ def _blocker(text: str) -> tuple[int, float]:
     return int(edge), _finite(angle or "60")
 
 
-def _bar(kind: str):
-    """A transient progress bar and the callback the job reports to."""
-    from rich.progress import Progress
+def _display(name: str, *args):
+    from origami_cad.viz import console  # imported only when a job runs (a fast --help)
 
-    bar = Progress(transient=True)
-    task = bar.add_task(kind, total=None)
-    return bar, lambda k, n=None, *rest: bar.update(task, completed=k, total=n)
-
-
-def _drive_table():
-    """A live table of targets, positions and currents, and the drive job's callback."""
-    from rich.live import Live
-    from rich.table import Table
-
-    live = Live(refresh_per_second=8, transient=True)
-
-    def update(t: float, targets, state) -> None:
-        tab = Table("servo", "target turns", "measured turns", "current mA", title=f"t = {t:.2f} s")
-        for i, target in targets.items():
-            tab.add_row(str(i), f"{target:.3f}", f"{state[i][0]:.3f}", f"{state[i][1]:.0f}")
-        live.update(tab)
-
-    return live, update
+    return getattr(console, name)(*args)
 
 
 _PROGRESS = {
-    "design-arm": lambda: _bar("CMA-ES generations"),
-    "simulate": lambda: _bar("simulating"),
-    "drive": _drive_table,
+    "design-arm": lambda: _display("progress_bar", "CMA-ES generations"),
+    "simulate": lambda: _display("progress_bar", "simulating"),
+    "drive": lambda: _display("servo_table"),
 }
 
 
@@ -158,6 +139,12 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
     ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
+    ("robot", "--no-renders", {"action": "store_false", "dest": "renders",
+                                "help": "skip the render"}),
+    ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
+    ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
+    ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
+    ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
     ("emulate drive", "--protocol", _PROTOCOL),
     ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
@@ -193,6 +180,8 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "simulate": (jobs.run_simulate, ("pattern", "route"), "folder"),
     "sequence": (jobs.run_sequence, ("design", "route"), "output"),
     "arm-scene": (jobs.run_arm_scene, ("task", "design", "route"), "folder"),
+    "robot": (jobs.run_robot, ("robot",), "folder"),
+    "crawl": (jobs.run_crawl, ("robot",), "folder"),
     "emulate": (jobs.run_emulate, (), None),
     "drive": (jobs.run_drive, ("sequence",), None),
     "part": (jobs.run_part, (), None),

@@ -39,6 +39,7 @@ __all__ = [
     "run_arm_scene",
     "run_check",
     "run_convert",
+    "run_crawl",
     "run_design_arm",
     "run_drive",
     "run_emulate",
@@ -46,6 +47,7 @@ __all__ = [
     "run_fold",
     "run_part",
     "run_pattern",
+    "run_robot",
     "run_route",
     "run_sequence",
     "run_simulate",
@@ -1168,6 +1170,213 @@ def run_arm_scene(
             f"wrote {folder}/: " + " ".join(names),
         ],
         result=result,
+    )
+
+
+# --------------------------------------------------------------------------- robots
+
+PAPER_CRAWL_MM = 63.0  # the paper's crawler: mm forward per 32 s gait cycle on a PVC mat
+PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
+
+
+def run_crawl(
+    robot: PathLike,
+    folder: PathLike,
+    *,
+    cycles: int = 2,
+    steps: int = 6,
+    reverse: bool = False,
+    friction: float | None = None,
+    gif_frames: int = GIF_FRAMES,
+    progress: Callable[[int, int], None] | None = None,
+) -> Outputs:
+    """Walk a legged robot through its gait in simulation: crawl.json, .png plots, crawl.gif.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, one onboard
+    TSA route per leg, blockers, masses and the gait as fold ratios; each keyframe is
+    turned into TSA turns through the model and the robot lies free on the ground
+    (gravity, Coulomb ``friction``, default the robot file's). ``cycles`` gait cycles
+    of ``steps`` quasi-static steps between keyframes; ``reverse`` plays the gait
+    backwards. Writes the body's path and per-TSA torque and tensions
+    (``crawl.json``), the body's position against time (``crawl.png``), torques and
+    tensions (``loads.png``), the crawl seen from the side (``crawl.gif``) and the
+    gait as a sequence for ``drive`` (``gait_sequence.toml``, mappings from the model).
+    """
+    from origami_cad.simulation.crawler import gait_sequence_text, load_robot, simulate_gait
+    from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
+    from origami_cad.viz.render3d import render_folding_gif
+
+    if not 1 <= cycles <= 100:
+        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+    if not 1 <= steps <= 1000:
+        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+    if friction is not None and not friction >= 0:
+        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+    check_outputs([robot], folders=[folder])
+    spec = load_robot(robot)
+    start = time.perf_counter()
+    result = simulate_gait(
+        spec, cycles=cycles, steps=steps, reverse=reverse, friction=friction, progress=progress
+    )
+    seconds = time.perf_counter() - start
+    per = result.displacement_per_cycle()
+    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml")
+    legs = [leg.name for leg in spec.legs]
+    inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
+    with atomic_directory(folder, inputs=inputs) as stage:
+        data = result.to_dict()
+        data.update(
+            {
+                "robot": str(robot),
+                "cycles": cycles,
+                "reverse": reverse,
+                "cycle_s": spec.cycle,
+                "legs": legs,
+                "paper_mm_per_cycle": PAPER_CRAWL_MM,
+                "simulation_s": seconds,
+            }
+        )
+        with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=1)
+        save_crawl_position_png(
+            result.t,
+            result.body,
+            result.cycle_starts,
+            stage / names[1],
+            reference=-PAPER_CRAWL_MM if reverse else PAPER_CRAWL_MM,
+            cycle=spec.cycle,
+        )
+        save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
+        every = max(1, len(result.states) // max(gif_frames, 1))
+        shown = [*result.states[::every], result.states[-1]]
+        render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
+        text = gait_sequence_text(spec, repeat=cycles)
+        with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
+            fh.write(text)
+    files = [Path(folder) / n for n in names]
+    mean = float(per.mean()) if per.size else math.nan
+    return Outputs(
+        files=files,
+        images=[
+            (files[1], "Body position against time (paper: 63 mm per 32 s cycle)"),
+            (files[2], "TSA torque and string tension per leg"),
+            (files[3], "The crawl seen from the side"),
+        ],
+        numbers=[
+            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
+            ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
+            ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
+            ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
+            ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
+            ("largest string tension", f"{result.tensions.max():.1f} N"),
+            ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
+            ("simulated mass", f"{result.mass_g:.0f} g"),
+            ("simulation time", f"{seconds:.1f} s"),
+            ("how the gait ended", result.reason),
+        ],
+        messages=[
+            f"{cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
+            f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
+            *([f"stopped: {result.reason}"] if result.stop is not None else []),
+            *(f"note: {n}" for n in result.notes),
+            f"wrote {folder}/: " + " ".join(names),
+        ],
+        result=result,
+    )
+
+
+def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Outputs:
+    """The printable robot: the sheet's STLs, STEP, 3MF and its parts, robot.step, mass budget.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, the holes its
+    strings need, a TSA module per leg, blockers on the leg creases and the driver
+    adapter. Writes what ``fabricate`` writes for the sheet (with the robot's holes),
+    one STL per added part in place (``tsa_module_*.stl``, ``blocker_*.stl``,
+    ``driver_adapter.stl``), ``robot.step`` (every solid named and coloured in place),
+    ``robot.json`` (each solid's volume, mass and bounding box, the mass budget with the
+    robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
+    ``robot.png``.
+    """
+    from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
+    from origami_cad.parts.robot import (
+        robot_assembly,
+        robot_overlaps,
+        robot_report,
+        write_robot_step,
+        write_robot_stls,
+    )
+    from origami_cad.simulation.crawler import load_robot, robot_placements
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    check_outputs([robot], folders=[folder])
+    spec = load_robot(robot)
+    fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
+    assembly = robot_assembly(fab, **robot_placements(spec))
+    report = robot_report(assembly)
+    overlaps = robot_overlaps(assembly)
+    sheet = fab.report()["total_mass_g"]
+    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
+    bought = sum(m.grams for m in spec.masses)
+    total = sheet + printed + bought
+    budget = {
+        "sheet_g": sheet,
+        "printed_parts_g": printed,
+        "bought_parts_g": {m.name: m.grams for m in spec.masses},
+        "total_g": total,
+        "paper_g": PAPER_CRAWLER_G,
+        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
+    }
+    inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
+    with atomic_directory(folder, inputs=inputs) as stage:
+        write_fabrication(fab, stage)
+        save_panels_png(fab, stage / "panels.png")
+        stls = write_robot_stls(assembly, stage)
+        write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
+        data = {
+            "robot": str(robot),
+            "mass_budget": budget,
+            "solids": report,
+            "interpenetrating_mm3": {f"{a} / {b}": v for (a, b), v in overlaps.items()},
+        }
+        with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
+            json.dump(data, fh, indent=1)
+        images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
+        if renders:
+            from origami_cad.viz.parts_render import render_parts
+
+            every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+            every.update(stls)
+            render_parts(every, stage / "robot.png", title=f"{Path(robot).stem}: printed robot")
+            images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
+        staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))
+    files = _moved(staged, stage, folder)
+    kinds = [v["kind"] for v in report.values()]
+    return Outputs(
+        files=files,
+        images=[(Path(folder) / p.name, c) for p, c in images],
+        numbers=[
+            ("sheet mass", f"{sheet:.1f} g"),
+            ("printed parts", f"{printed:.1f} g"),
+            ("bought parts (servos, driver module)", f"{bought:.1f} g"),
+            (
+                "mass estimate (paper: 361.45 g)",
+                f"{total:.0f} g ({budget['difference_percent']:+.0f} %)",
+            ),
+            (
+                "parts",
+                f"{kinds.count('tsa-module')} TSA modules, {kinds.count('blocker')} blockers, "
+                f"{kinds.count('driver-adapter')} driver adapter",
+            ),
+            ("interpenetrating pairs", str(len(overlaps))),
+        ],
+        messages=[
+            f"mass estimate {total:.0f} g against the paper's {PAPER_CRAWLER_G:g} g "
+            f"(sheet {sheet:.0f} g, printed parts {printed:.0f} g, bought {bought:.0f} g)",
+            *(f"warning: {a} and {b} share {v:.1f} mm^3" for (a, b), v in overlaps.items()),
+            *(f"warning: {w}" for w in fab.warnings),
+            f"wrote {folder}/: " + " ".join(p.name for p in files),
+        ],
+        result=assembly,
     )
 
 

@@ -1,0 +1,726 @@
+"""Legged robots driven by onboard TSAs: the robot file, its gait, and walking in simulation.
+
+A robot file (TOML, see ``examples/crawler/crawler.toml``) names a crease pattern, one
+route file per leg (an onboard TSA on that leg, ``anchor_panel``), blockers on the leg
+creases, point masses (servos, the driver module) and a gait: keyframes of fold ratios,
+one per leg. :func:`gait_turns` turns fold ratios into TSA turns through the model (the
+strings' lengths of the rigidly folded leg, eq. 7, and the onboard TSA's contraction);
+:func:`simulate_gait` runs the gait in the bar-and-hinge simulator with the robot lying
+free on the ground (gravity, penalty contact, Coulomb friction), each TSA twisted
+independently, and records the body's path, tensions and torques.
+
+Units: mm, N, N mm, grams, seconds; degrees at the edges, radians inside. A leg's fold
+ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from origami_cad._toml import Table, load_toml
+from origami_cad.errors import DesignError, PatternError
+from origami_cad.pattern.io import read_pattern
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.simulation.cables import SimString, StringSet, string_length
+from origami_cad.simulation.mechanics import fold_angles
+from origami_cad.simulation.model import SimulationParams, build_structure
+from origami_cad.simulation.solver import Ground, solve_equilibrium
+from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.route import (
+    RouteSpec,
+    frame_orientation,
+    hole_frames,
+    load_route,
+    panel_frame,
+)
+from origami_cad.strings.tsa import (
+    onboard_angle,
+    onboard_contraction,
+    onboard_transmission,
+)
+
+__all__ = [
+    "SERVO",
+    "GaitResult",
+    "Leg",
+    "PointMass",
+    "Robot",
+    "gait_sequence_text",
+    "gait_turns",
+    "leg_contraction",
+    "leg_heading",
+    "load_robot",
+    "robot_placements",
+    "simulate_gait",
+]
+
+
+@dataclass(frozen=True)
+class Leg:
+    """One leg: its panel, the crease joining it to the body, its TSA route and servo."""
+
+    panel: str
+    face: int
+    crease: int
+    route: RouteSpec
+    servo: int
+    name: str
+    route_path: Path | None = None
+
+
+@dataclass(frozen=True)
+class PointMass:
+    """Hardware carried by a panel: ``grams`` at pattern point ``at`` (mm) of ``panel``."""
+
+    name: str
+    panel: str
+    at: tuple[float, float]
+    grams: float
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A robot file, loaded: the pattern, its legs, blockers, masses, adapter and gait.
+
+    ``gait_t`` (K,) are keyframe times in s, ``gait_p`` (K, legs) fold ratios.
+    """
+
+    pattern: CreasePattern
+    body: str
+    legs: tuple[Leg, ...]
+    blocker_angle: float
+    friction: float
+    holes: tuple[tuple[float, float], ...]
+    masses: tuple[PointMass, ...]
+    adapter_at: tuple[float, float]
+    adapter_heading: float
+    gait_t: np.ndarray
+    gait_p: np.ndarray
+    source: Path | None = None
+    pattern_path: Path | None = None
+
+    @property
+    def blockers(self) -> dict[int, float]:
+        """``{crease edge: degrees}``: a blocker on every leg crease."""
+        return {leg.crease: self.blocker_angle for leg in self.legs}
+
+    @property
+    def cycle(self) -> float:
+        """Duration of one gait cycle, s."""
+        return float(self.gait_t[-1] - self.gait_t[0])
+
+
+def _shared_crease(cp: CreasePattern, a: int, b: int) -> int | None:
+    ef = cp.edge_faces()
+    hit = np.flatnonzero(((ef[:, 0] == a) & (ef[:, 1] == b)) | ((ef[:, 0] == b) & (ef[:, 1] == a)))
+    hit = [int(e) for e in hit if cp.assignments[e] in ("M", "V")]
+    return hit[0] if len(hit) == 1 else None
+
+
+def load_robot(path: str | os.PathLike[str]) -> Robot:
+    """Read a robot file; errors name the file, table and key (:class:`DesignError`)."""
+    p = Path(path)
+    top = Table(load_toml(p), str(p))
+    robot = top.table("robot")
+    fab = top.table("fabrication", {})
+    adapter = top.table("adapter", {})
+    gait = top.table("gait")
+    legs_raw = top.data.get("leg")
+    masses_raw = top.data.get("mass", [])
+    top.used.update(("leg", "mass"))
+    top.finish()
+    rel = robot.string("pattern")
+    pattern_path = (p.parent / rel).resolve()
+    if not pattern_path.is_file():
+        raise robot.error("pattern", f"{pattern_path}: no such file")
+    try:
+        cp = read_pattern(pattern_path)
+    except PatternError as exc:
+        raise DesignError(f"{p}: [robot] pattern: {exc}") from None
+    body = robot.string("body")
+    if body not in cp.face_labels:
+        raise robot.error("body", f"no panel labelled {body!r} in {rel}")
+    body_face = cp.face_index(body)
+    blocker = robot.number("blocker_angle", 60.0, low=0, high=180, low_open=True, high_open=True)
+    friction = robot.number("friction", 0.6, low=0)
+    robot.finish()
+    given = fab.pairs("holes", None, min_length=1) if fab.has("holes") else None
+    fab.finish()
+    if not isinstance(legs_raw, list) or not legs_raw:
+        raise DesignError(f"{p}: expected at least one [[leg]] table")
+    legs = []
+    for i, item in enumerate(legs_raw):
+        t = Table(item, f"{p} [[leg]] #{i + 1}")
+        panel = t.string("panel")
+        if panel not in cp.face_labels:
+            raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
+        face = cp.face_index(panel)
+        crease = _shared_crease(cp, face, body_face)
+        if crease is None:
+            raise t.error("panel", f"panel {panel!r} does not share one crease with {body!r}")
+        route_path = (p.parent / t.string("route")).resolve()
+        if not route_path.is_file():
+            raise t.error("route", f"{route_path}: no such file")
+        try:
+            route = load_route(route_path, cp)
+        except DesignError as exc:
+            raise t.error("route", str(exc)) from None
+        if route.tsa.model != "onboard":
+            raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
+        servo = t.integer("servo", low=0, high=252)
+        name = t.string("name", panel)
+        t.finish()
+        legs.append(Leg(panel, face, crease, route, servo, name, route_path))
+    if given is None:  # the holes the strings run through, in route order
+        routed = [p for leg in legs for s in leg.route.strings for p in s.points]
+        holes = tuple(dict.fromkeys(routed))
+    else:
+        holes = tuple((float(x), float(y)) for x, y in given)
+    ids = [leg.servo for leg in legs]
+    if len(set(ids)) != len(ids):
+        raise DesignError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+    masses = []
+    for i, item in enumerate(masses_raw if isinstance(masses_raw, list) else [masses_raw]):
+        t = Table(item, f"{p} [[mass]] #{i + 1}")
+        name = t.string("name")
+        panel = t.string("panel")
+        if panel not in cp.face_labels:
+            raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
+        at = t.point("at")
+        if cp.face_of_point(*at) != cp.face_index(panel):
+            raise t.error("at", f"({at[0]:g}, {at[1]:g}) mm is not on panel {panel!r}")
+        grams = t.number("grams", low=0)
+        t.finish()
+        masses.append(PointMass(name, panel, at, grams))
+    adapter_at = adapter.point("at", (0.0, 0.0))
+    heading = adapter.number("heading", 0.0)
+    adapter.finish()
+    frames = gait.data.get("keyframe")
+    gait.used.add("keyframe")
+    gait.finish()
+    if not isinstance(frames, list) or len(frames) < 2:
+        raise DesignError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
+    times, ratios = [], []
+    for i, item in enumerate(frames):
+        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}")
+        times.append(t.number("t", low=0))
+        ratios.append(
+            t.numbers("p", length=len(legs), check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
+        )
+        t.finish()
+    if np.any(np.diff(times) <= 0):
+        raise DesignError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
+    limit = blocker / 180.0
+    worst = max(max(r) for r in ratios)
+    if worst > limit + 1e-9:
+        raise DesignError(
+            f"{p}: [[gait.keyframe]] p = {worst:g} folds a leg past its blocker "
+            f"({blocker:g} deg = p {limit:.3f})"
+        )
+    return Robot(
+        cp,
+        body,
+        tuple(legs),
+        blocker,
+        friction,
+        holes,
+        tuple(masses),
+        adapter_at,
+        heading,
+        np.asarray(times),
+        np.asarray(ratios),
+        p,
+        pattern_path,
+    )
+
+
+#: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).
+SERVO = "XL330"
+#: Thickness of a leg module's mount plate, mm (thin: the leg panel carries the load).
+MOUNT_THICKNESS = 1.0
+
+
+def leg_heading(robot: Robot, leg: Leg) -> float:
+    """Direction (deg from +x) across the leg's crease toward the body: a module's twist axis."""
+    cp = robot.pattern
+    a, b = cp.vertices[cp.edges[leg.crease]]
+    d = (b - a) / np.linalg.norm(b - a)
+    normal = np.array([-d[1], d[0]])
+    centre = cp.vertices[cp.faces[leg.face]].mean(axis=0)
+    if np.dot(centre - a, normal) > 0:
+        normal = -normal
+    return math.degrees(math.atan2(normal[1], normal[0])) % 360.0
+
+
+def robot_placements(robot: Robot) -> dict[str, list]:
+    """The robot's parts as placements for :func:`origami_cad.parts.robot.robot_assembly`.
+
+    A TSA module (``SERVO``, strands = the route's TSA length as its guide distance, twist
+    axis toward the body) on every leg, a blocker on every leg crease and the driver
+    adapter (one connector per leg) at ``[adapter] at``. Names have no spaces (STEP
+    labels).
+    """
+    from origami_cad.parts.robot import BlockerPlacement, FreePlacement, ModulePlacement
+
+    def key(leg: Leg) -> str:
+        return leg.name.replace(" ", "_")
+
+    modules = [
+        ModulePlacement(
+            f"tsa_module_{key(leg)}",
+            leg.panel,
+            {
+                "servo": SERVO,
+                "guide_distance": leg.route.tsa.length,
+                "mount_thickness": MOUNT_THICKNESS,
+                "heading": leg_heading(robot, leg),
+                "tsa": leg.route.tsa,
+            },
+        )
+        for leg in robot.legs
+    ]
+    blockers = [
+        BlockerPlacement(f"blocker_{key(leg)}", leg.crease, robot.blocker_angle)
+        for leg in robot.legs
+    ]
+    free = [
+        FreePlacement(
+            "driver_adapter",
+            "driver-adapter",
+            robot.adapter_at,
+            robot.adapter_heading,
+            {"connectors": len(robot.legs)},
+        )
+    ]
+    return {"modules": modules, "blockers": blockers, "free": free}
+
+
+# ----------------------------------------------------------------------------- strings
+
+
+def _sim_strings(cp: CreasePattern, route: RouteSpec) -> list[SimString]:
+    """The route's strings in the simulator's form (as ``simulate`` builds them)."""
+    out = []
+    for s in route.strings:
+        tri, ab = hole_frames(cp, s)
+        sides = np.asarray(s.sides, dtype=float)
+        sim = SimString(
+            np.asarray(s.anchor, float),
+            tri,
+            ab,
+            frame_orientation(cp, tri),
+            sides,
+            route.thickness * float(np.sum(np.diff(sides) != 0)),
+        )
+        if s.anchor_face >= 0:
+            sim.anchor_tri, sim.anchor_ab = panel_frame(cp, s.anchor_face, *s.anchor[:2])
+            sim.anchor_orient = float(frame_orientation(cp, sim.anchor_tri))
+            sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
+        out.append(sim)
+    return out
+
+
+def _folded_leg(cp: CreasePattern, leg: Leg, angle: float) -> np.ndarray:
+    """Vertices (n, 3) with the leg turned rigidly about its crease by ``angle`` (rad).
+
+    Positive ``angle`` folds the crease in the sense of its assignment (a mountain's leg
+    goes below the body's plane).
+    """
+    x = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    i, j = cp.edges[leg.crease]
+    a, b = x[i], x[j]
+    axis = (b - a) / np.linalg.norm(b - a)
+    ring = cp.faces[leg.face]
+    centre = cp.vertices[ring].mean(axis=0)
+    # orient the axis so that turning by +angle about it lifts the leg (+z), then flip
+    # for a mountain
+    side = np.cross(axis, np.r_[centre, 0.0] - a)[2]
+    sign = 1.0 if side > 0 else -1.0
+    if cp.assignments[leg.crease] == "M":
+        sign = -sign
+    t = sign * angle
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    rot = np.eye(3) + math.sin(t) * k + (1 - math.cos(t)) * k @ k
+    moved = np.setdiff1d(ring, cp.edges[leg.crease])
+    x[moved] = (x[moved] - a) @ rot.T + a
+    return x
+
+
+def leg_contraction(cp: CreasePattern, leg: Leg, ratios: np.ndarray) -> np.ndarray:
+    """String the leg's TSA must take up to fold it to fold ratios ``ratios`` (mm).
+
+    The leg turns rigidly about its crease by ``p * 180`` deg; each string's path length
+    (eq. 7: holes on the panel faces, half the thickness off the mid-surface) is measured
+    as the simulator measures it; the TSA takes up the largest shortening among its
+    strings (the others go slack a little), from the flat sheet.
+    """
+    strings = StringSet(_sim_strings(cp, leg.route), leg.route.thickness / 2.0, leg.route.tsa)
+    flat = _folded_leg(cp, leg, 0.0)
+    base = np.array([string_length(flat, s, strings)[0] for s in strings.strings])
+    out = []
+    for p in np.atleast_1d(np.asarray(ratios, dtype=float)):
+        x = _folded_leg(cp, leg, p * math.pi)
+        now = np.array([string_length(x, s, strings)[0] for s in strings.strings])
+        out.append(float(np.max(base - now)))
+    return np.asarray(out)
+
+
+def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
+    """TSA turns (K, legs) for fold ratios (K, legs) (default: the gait's keyframes).
+
+    Through :func:`leg_contraction` and the inverse of the onboard TSA model
+    (``onboard_angle``); raises :class:`DesignError` beyond what the strands give.
+    """
+    ratios = robot.gait_p if ratios is None else np.atleast_2d(ratios)
+    out = np.zeros(ratios.shape)
+    for k, leg in enumerate(robot.legs):
+        tsa = leg.route.tsa
+        c = leg_contraction(robot.pattern, leg, ratios[:, k])
+        out[:, k] = onboard_angle(
+            np.clip(c, 0, None), tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
+        ) / (2 * math.pi)
+    return out
+
+
+def gait_sequence_text(
+    robot: Robot, *, repeat: int = 1, rate: float = 10.0, current_limit: float | None = 1200.0
+) -> str:
+    """The gait as a sequence file for ``origami-cad drive`` (TOML text).
+
+    Each TSA's ``mapping`` (fold ratio to contraction, mm) is :func:`leg_contraction`
+    sampled every 0.02 up to the blockers' fold ratio, so ``drive`` turns the gait's
+    fold-ratio keyframes into the same turns as :func:`gait_turns` (between samples,
+    linearly). ``current_limit`` (mA) stops a stalling servo.
+    """
+    p_max = robot.blocker_angle / 180.0
+    samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
+    source = robot.source.name if robot.source else "the robot file"
+    lines = [
+        f"# The gait of {source} as TSA commands, written by origami-cad crawl: each",
+        "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
+        "# strings measured through their holes), so fold ratios become motor turns.",
+        "[sequence]",
+        f"repeat = {repeat}",
+        f"rate = {rate:g}              # Hz",
+    ]
+    if current_limit is not None:
+        lines.append(f"current_limit = {current_limit:g}   # mA: a stalling TSA is stopped")
+    for leg in robot.legs:
+        tsa = leg.route.tsa
+        c = leg_contraction(robot.pattern, leg, samples)
+        pairs = ", ".join(f"[{p:.4f}, {v:.4f}]" for p, v in zip(samples, c, strict=True))
+        lines += [
+            "",
+            "[[tsa]]",
+            f"id = {leg.servo}",
+            f'name = "{leg.name}"',
+            f"length = {tsa.length:g}           # mm, twisted strands",
+            f"radius = {tsa.radius:g}            # mm",
+            f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",
+            f"mapping = [{pairs}]  # [p, mm]",
+        ]
+    t0 = float(robot.gait_t[0])
+    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
+        values = ", ".join(f"{v:g}" for v in p)
+        lines += ["", "[[keyframe]]", f"t = {t - t0:g}", f"p = [{values}]"]
+    return "\n".join(lines) + "\n"
+
+
+# ----------------------------------------------------------------------------- walking
+
+
+@dataclass
+class GaitResult:
+    """A simulated gait, columnar: one row per equilibrium state.
+
+    Attributes
+    ----------
+    t : ndarray (N,)
+        Gait time, s.
+    states : ndarray (N, n, 3)
+        Node positions, mm.
+    body : ndarray (N, 3)
+        The body panel's centroid (mean of its vertices), mm.
+    turns : ndarray (N, legs)
+        Each TSA's twist, turns.
+    tensions : ndarray (N, legs, strings)
+        String tensions, N.
+    torque : ndarray (N, legs)
+        Each TSA's torque (sum of tension x the onboard transmission ratio), N mm.
+    fold : ndarray (N, legs)
+        Each leg crease's fold angle (magnitude), deg.
+    blocked : ndarray (N,)
+        Largest fold angle over every blocked crease, deg.
+    converged : ndarray (N,) bool
+    cycle_starts : list of int
+        Row index where each cycle starts (the last one: the final state).
+    notes : list of str
+    stop, reason : StopReason or None, str
+        Why the gait ended early (a leg's route ``max_tension`` or ``max_torque``
+        passed, naming the leg), else None.
+    """
+
+    t: np.ndarray
+    states: np.ndarray
+    body: np.ndarray
+    turns: np.ndarray
+    tensions: np.ndarray
+    torque: np.ndarray
+    fold: np.ndarray
+    blocked: np.ndarray
+    converged: np.ndarray
+    cycle_starts: list[int] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    friction: float = 0.0
+    mass_g: float = 0.0
+    stop: StopReason | None = None
+    reason: str = "the gait ran to its end"
+
+    def displacement_per_cycle(self, axis: int = 0) -> np.ndarray:
+        """Body displacement over each cycle along ``axis`` (0: x, the heading), mm."""
+        idx = self.cycle_starts
+        return np.array(
+            [self.body[b, axis] - self.body[a, axis] for a, b in itertools.pairwise(idx)]
+        )
+
+    def to_dict(self) -> dict:
+        per = self.displacement_per_cycle()
+        return {
+            "friction": self.friction,
+            "mass_g": self.mass_g,
+            "displacement_per_cycle_mm": per.tolist(),
+            "displacement_total_mm": float(self.body[-1, 0] - self.body[0, 0]),
+            "lateral_drift_mm": float(self.body[-1, 1] - self.body[0, 1]),
+            "max_blocked_fold_deg": float(self.blocked.max()),
+            "max_tension_N": float(self.tensions.max()),
+            "max_torque_Nmm": self.torque.max(axis=0).tolist(),
+            "all_converged": bool(self.converged.all()),
+            "stop": None if self.stop is None else str(self.stop),
+            "reason": self.reason,
+            "notes": self.notes,
+            "t_s": self.t.tolist(),
+            "body_mm": self.body.tolist(),
+            "turns": self.turns.tolist(),
+            "torque_Nmm": self.torque.tolist(),
+            "tension_N": self.tensions.tolist(),
+            "leg_fold_deg": self.fold.tolist(),
+        }
+
+
+def _point_weights(cp: CreasePattern, st, masses: tuple[PointMass, ...], g: float) -> np.ndarray:
+    """Node weights (n,), N, carrying each point mass by barycentric shares of its triangle."""
+    w = np.zeros(cp.n_vertices)
+    xy = cp.vertices
+    for m in masses:
+        p = np.asarray(m.at, float)
+        for tri in st.triangles:
+            a, b, c = xy[tri]
+            den = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1])
+            l1 = ((b[1] - c[1]) * (p[0] - c[0]) + (c[0] - b[0]) * (p[1] - c[1])) / den
+            l2 = ((c[1] - a[1]) * (p[0] - c[0]) + (a[0] - c[0]) * (p[1] - c[1])) / den
+            lam = np.array([l1, l2, 1 - l1 - l2])
+            if np.all(lam >= -1e-9):
+                w[tri] += lam * m.grams * 1e-6 * g  # g -> kg, mm/s^2 -> N (kg mm/s^2 / 1000)
+                break
+        else:
+            raise DesignError(f"mass {m.name!r} at {m.at} lies on no panel")
+    return w
+
+
+def _schedule(
+    robot: Robot, cycles: int, steps: int, reverse: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Times (N,) and fold ratios (N, legs) of the simulated states, ``steps`` per keyframe gap."""
+    t, p = robot.gait_t - robot.gait_t[0], robot.gait_p
+    if reverse:
+        t, p = t[-1] - t[::-1], p[::-1]
+    times, ratios = [np.array([0.0])], [p[:1]]
+    for c in range(cycles):
+        for k in range(len(t) - 1):
+            s = np.linspace(0, 1, steps + 1)[1:]
+            times.append(c * t[-1] + t[k] + s * (t[k + 1] - t[k]))
+            ratios.append(p[k] + s[:, None] * (p[k + 1] - p[k]))
+    return np.concatenate(times), np.concatenate(ratios)
+
+
+def _over_limit(robot: Robot, tensions: np.ndarray, torque: np.ndarray):
+    """(StopReason, reason) when a leg passes its route's max_tension or max_torque."""
+    for k, leg in enumerate(robot.legs):
+        if tensions[k].max() > leg.route.max_tension:
+            return StopReason.TENSION_LIMIT, (
+                f"{leg.name} (servo {leg.servo}): a string pulls {tensions[k].max():.3g} N, "
+                f"over its route's max_tension of {leg.route.max_tension:g} N"
+            )
+        if torque[k] > leg.route.max_torque:
+            return StopReason.TORQUE_LIMIT, (
+                f"{leg.name} (servo {leg.servo}): the TSA needs {torque[k]:.3g} N mm, over "
+                f"its route's max_torque of {leg.route.max_torque:g} N mm"
+            )
+    return None
+
+
+def _truncate(out: GaitResult, rows: int) -> None:
+    for name in ("t", "states", "body", "turns", "tensions", "torque", "fold", "blocked"):
+        setattr(out, name, getattr(out, name)[:rows])
+    out.converged = out.converged[:rows]
+    out.cycle_starts = [k for k in out.cycle_starts if k < rows]
+    if out.cycle_starts[-1] != rows - 1:
+        out.notes.append("the last cycle is incomplete")
+
+
+def simulate_gait(
+    robot: Robot,
+    *,
+    cycles: int = 1,
+    steps: int = 6,
+    reverse: bool = False,
+    params: SimulationParams | None = None,
+    friction: float | None = None,
+    prefold: float | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> GaitResult:
+    """Walk the robot through ``cycles`` gait cycles in the bar-and-hinge simulator.
+
+    Parameters
+    ----------
+    robot : Robot
+        The loaded robot file.
+    cycles : int
+        Gait cycles to run.
+    steps : int
+        Quasi-static steps between consecutive keyframes.
+    reverse : bool
+        Play the gait backwards (keyframes in reverse order).
+    params : SimulationParams, optional
+        Materials and loads (default: the printed sheet, gravity 9810 mm/s^2, the ground
+        at z = 0 and the robot's friction coefficient).
+    friction : float, optional
+        Override the robot's Coulomb coefficient.
+    prefold : float, optional
+        Leg creases start pre-folded by this much in their assignment's sense, deg
+        (default: the gait's first keyframe, at least 2 deg).
+    progress : callable, optional
+        ``progress(state, states)`` after each equilibrium.
+    """
+    mu = robot.friction if friction is None else friction
+    if params is None:
+        params = SimulationParams(gravity=9810.0, ground=0.0, friction=mu)
+    cp = robot.pattern
+    st = build_structure(cp, params, None, robot.blockers, free=True)
+    st.weight = st.weight + _point_weights(cp, st, robot.masses, params.gravity)
+    mass_g = float(st.weight.sum() / params.gravity * 1e6) if params.gravity > 0 else 0.0
+    leg_hinges = []
+    for leg in robot.legs:
+        h = np.flatnonzero(st.hinge_edge == leg.crease)
+        leg_hinges.append(int(h[0]))
+    blocked_hinges = np.flatnonzero(np.isin(st.hinge_edge, list(robot.blockers)))
+    if prefold is None:
+        prefold = max(2.0, 180.0 * float(robot.gait_p[0].max()))
+    # pose the robot on its legs, each folded rigidly by the prefold, feet on the ground:
+    # the strings then hold every leg on its mountain branch from the first step
+    posed = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    for leg in robot.legs:
+        folded = _folded_leg(cp, leg, math.radians(prefold))
+        ring = cp.faces[leg.face]
+        posed[ring] = folded[ring]
+    contact = params.ground + 0.5 * params.panel_thickness
+    posed[:, 2] += contact - posed[:, 2].min()
+    st.x0 = posed
+    ground = Ground(contact, params.ground_stiffness, mu, params.slip)
+    ground.start(st.x0)
+    x = st.x0.copy()
+    # all strings in one set at zero twist: an onboard TSA's share is x_dis plus the
+    # strands' contraction, so each TSA's twist shortens its own strings' free length
+    sims, owner = [], []
+    flat = np.column_stack([cp.vertices, np.full(cp.n_vertices, contact)])
+    for k, leg in enumerate(robot.legs):
+        for s in _sim_strings(cp, leg.route):
+            sims.append(s)
+            owner.append(k)
+    owner = np.asarray(owner)
+    thickness = robot.legs[0].route.thickness
+    strings = StringSet(sims, thickness / 2.0, robot.legs[0].route.tsa)
+    for s in strings.strings:
+        s.free_length = string_length(flat, s, strings)[0]
+        s.stiffness = params.string_axial_stiffness / s.free_length
+    base = np.array([s.free_length for s in strings.strings])
+    times, ratios = _schedule(robot, cycles, steps, reverse)
+    turns = gait_turns(robot, ratios)
+    n_legs = len(robot.legs)
+    per_leg = max(int(np.sum(owner == k)) for k in range(n_legs))
+    rows = len(times)
+    out = GaitResult(
+        t=times,
+        states=np.zeros((rows, cp.n_vertices, 3)),
+        body=np.zeros((rows, 3)),
+        turns=turns,
+        tensions=np.zeros((rows, n_legs, per_leg)),
+        torque=np.zeros((rows, n_legs)),
+        fold=np.zeros((rows, n_legs)),
+        blocked=np.zeros(rows),
+        converged=np.zeros(rows, dtype=bool),
+        friction=mu,
+        mass_g=mass_g,
+    )
+    body_nodes = cp.faces[cp.face_index(robot.body)]
+    per_cycle = (len(robot.gait_t) - 1) * steps
+    out.cycle_starts = list(range(0, rows, per_cycle))
+    previous = None
+    for r in range(rows):
+        theta = turns[r] * 2 * math.pi
+        contraction = np.zeros(n_legs)
+        for k, leg in enumerate(robot.legs):
+            tsa = leg.route.tsa
+            contraction[k] = float(
+                onboard_contraction(
+                    theta[k], tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
+                )
+            )
+        for s, b, k in zip(strings.strings, base, owner, strict=True):
+            s.free_length = b - contraction[k]
+        start = x
+        if previous is not None:
+            guess = 2.0 * x - previous
+            start = guess
+        try:
+            x_new, info = solve_equilibrium(start, st, strings, ground=ground)
+        except Exception:  # a poor predictor: start from the last equilibrium
+            x_new, info = solve_equilibrium(x, st, strings, ground=ground)
+        if not info.converged and start is not x:
+            x_new, info = solve_equilibrium(x, st, strings, ground=ground)
+        previous, x = x, x_new
+        ground.start(x)
+        out.states[r] = x
+        out.body[r] = x[body_nodes].mean(axis=0)
+        rho = fold_angles(x, st.hinges)
+        out.fold[r] = np.degrees(np.abs(rho[leg_hinges]))
+        out.blocked[r] = float(np.degrees(np.abs(rho[blocked_hinges])).max())
+        out.converged[r] = info.converged
+        tens = np.asarray(info.tensions)
+        for k, leg in enumerate(robot.legs):
+            tsa = leg.route.tsa
+            mine = tens[owner == k]
+            out.tensions[r, k, : len(mine)] = mine
+            ratio = float(
+                onboard_transmission(
+                    theta[k], tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
+                )
+            )
+            out.torque[r, k] = float(mine.sum()) * ratio
+        if progress is not None:
+            progress(r, rows)
+        stop = _over_limit(robot, out.tensions[r], out.torque[r])
+        if stop is not None:
+            out.stop, out.reason = stop
+            _truncate(out, r + 1)
+            break
+    if not out.converged.all():
+        out.notes.append(f"{int((~out.converged).sum())} of {rows} states did not fully converge")
+    return out

@@ -1,0 +1,67 @@
+"""Plots of a simulated gait: the body's path against time, TSA torques and string tensions."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from origami_cad.viz.figure import png_subplots
+
+__all__ = ["save_crawl_loads_png", "save_crawl_position_png"]
+
+
+def save_crawl_position_png(
+    t: np.ndarray,
+    body: np.ndarray,
+    cycle_starts: Sequence[int],
+    path: str | os.PathLike[str],
+    *,
+    reference: float | None = None,
+    cycle: float | None = None,
+) -> Path:
+    """The body's x (heading), y (drift) and z (height) against time, mm vs s.
+
+    ``reference`` (mm per cycle, e.g. the paper's 63) draws the line a robot moving
+    that much per ``cycle`` seconds would follow.
+    """
+    with png_subplots(path, 2, 1, figsize=(7.0, 5.5), sharex=True) as (_, (ax, az)):
+        x0 = body[0]
+        ax.plot(t, body[:, 0] - x0[0], label="x (forward)", color="C0")
+        ax.plot(t, body[:, 1] - x0[1], label="y (drift)", color="C2", lw=1)
+        if reference is not None and cycle:
+            ax.plot(t, reference * t / cycle, "k--", lw=0.8, label=f"{reference:g} mm per cycle")
+        for k in cycle_starts[1:-1]:
+            ax.axvline(t[k], color="0.8", lw=0.8)
+            az.axvline(t[k], color="0.8", lw=0.8)
+        ax.set_ylabel("body displacement (mm)")
+        ax.legend(loc="upper left", fontsize=8)
+        ax.grid(alpha=0.3)
+        az.plot(t, body[:, 2], color="C1")
+        az.set_ylabel("body height (mm)")
+        az.set_xlabel("time (s)")
+        az.grid(alpha=0.3)
+    return Path(path)
+
+
+def save_crawl_loads_png(
+    t: np.ndarray,
+    torque: np.ndarray,
+    tensions: np.ndarray,
+    names: Sequence[str],
+    path: str | os.PathLike[str],
+) -> Path:
+    """Each TSA's torque (N mm) and its largest string tension (N) against time (s)."""
+    with png_subplots(path, 2, 1, figsize=(7.0, 5.5), sharex=True) as (_, (at, af)):
+        for k, name in enumerate(names):
+            at.plot(t, torque[:, k], label=name)
+            af.plot(t, tensions[:, k, :].max(axis=1), label=name)
+        at.set_ylabel("TSA torque (N mm)")
+        af.set_ylabel("largest string tension (N)")
+        af.set_xlabel("time (s)")
+        at.legend(fontsize=8, ncol=2)
+        at.grid(alpha=0.3)
+        af.grid(alpha=0.3)
+    return Path(path)

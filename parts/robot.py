@@ -1,0 +1,233 @@
+"""A whole robot as one assembly: the printed sheet with its parts in place (Fig. 7a).
+
+:func:`robot_assembly` places, on a fabricated pattern, TSA modules on panels, blockers on
+creases (on the top face for a valley, mirrored onto the bottom face for a mountain: a
+mountain fold is a valley seen from below, and the printed sheet is symmetric about its
+mid-plane ``z = h/2``) and a free-standing part such as the driver adapter at a point of a
+panel's top face. :func:`write_robot_step` writes it as one STEP of named, coloured
+solids, and :func:`robot_report` gives each solid's volume, mass and bounding box as plain
+data. The placements come in as plain data (labels, edge indices, points, degrees);
+build123d objects stay in this module.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from build123d import Color, Compound, Location, Plane, export_step, export_stl
+
+from origami_cad._fileio import atomic_path
+from origami_cad.errors import DesignError
+from origami_cad.fabrication.build import Fabrication
+from origami_cad.fabrication.export import MATERIAL_COLORS
+from origami_cad.fabrication.params import DENSITY_G_CM3
+from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
+
+from .registry import build_part
+
+__all__ = [
+    "PART_COLORS",
+    "BlockerPlacement",
+    "FreePlacement",
+    "ModulePlacement",
+    "RobotAssembly",
+    "robot_assembly",
+    "robot_overlaps",
+    "robot_report",
+    "write_robot_step",
+    "write_robot_stls",
+]
+
+#: Display colours (sRGB hex) of the added parts: modules dark grey, blockers orange,
+#: adapter blue (the sheet keeps its materials' colours).
+PART_COLORS = {"tsa-module": "#404040", "blocker": "#FF7F0E", "driver-adapter": "#1F77B4"}
+
+
+@dataclass(frozen=True)
+class ModulePlacement:
+    """A TSA module on a panel: its name in the assembly, the panel label, its parameters."""
+
+    name: str
+    panel: str
+    values: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class BlockerPlacement:
+    """A blocker on crease ``crease`` (edge index) stopping it at ``angle`` degrees."""
+
+    name: str
+    crease: int
+    angle: float
+    values: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class FreePlacement:
+    """A free-standing part (``part``, e.g. ``driver-adapter``) centred at ``at`` (mm) on the
+    sheet's top face, its long side (the part's +y) turned to ``heading`` degrees from +x."""
+
+    name: str
+    part: str
+    at: tuple[float, float]
+    heading: float = 0.0
+    values: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class RobotAssembly:
+    """The robot's solids by name (build123d shapes; stay in ``parts``) and their materials."""
+
+    solids: dict[str, Any]
+    materials: dict[str, str]
+    kinds: dict[str, str]
+
+
+def robot_assembly(
+    fab: Fabrication,
+    modules: Sequence[ModulePlacement] = (),
+    blockers: Sequence[BlockerPlacement] = (),
+    free: Sequence[FreePlacement] = (),
+) -> RobotAssembly:
+    """Place parts on a fabricated sheet; names must be unique.
+
+    Parameters
+    ----------
+    fab : Fabrication
+        The printed sheet (its four parts keep their names: infills, midlayers, shells,
+        creases).
+    modules, blockers, free : sequences of placements
+        The TSA modules (on panels), blockers (on creases) and free-standing parts.
+    """
+    plan = fab.plan
+    cp = plan.pattern
+    h = plan.params.height
+    solids: dict[str, Any] = {}
+    materials: dict[str, str] = {}
+    kinds: dict[str, str] = {}
+
+    def add(name: str, shape: Any, material: str, kind: str) -> None:
+        if name in solids:
+            raise DesignError(f"two parts of the robot are named {name!r}")
+        solids[name] = shape
+        materials[name] = material
+        kinds[name] = kind
+
+    for part in PART_NAMES:
+        add(part, fab.parts.compound(part), PART_MATERIALS[part], "structure")
+    for m in modules:
+        shape = build_part("tsa-module", m.values, pattern=plan, panel=m.panel)
+        add(m.name, shape, "PLA", "tsa-module")
+    for b in blockers:
+        if cp.assignments[b.crease] not in ("M", "V"):
+            raise DesignError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
+        shape = build_part("blocker", {**b.values, "angle": b.angle}, pattern=plan, crease=b.crease)
+        if cp.assignments[b.crease] == "M":
+            shape = shape.mirror(Plane.XY.offset(h / 2.0))
+        add(b.name, shape, "PLA", "blocker")
+    for f in free:
+        shape = build_part(f.part, f.values)
+        box = shape.bounding_box()
+        centre = (box.min + box.max) * 0.5
+        shape = shape.moved(Location((-centre.X, -centre.Y, -box.min.Z)))
+        shape = shape.moved(Location((f.at[0], f.at[1], h), (0, 0, 1), f.heading - 90.0))
+        add(f.name, shape, "PLA", f.part)
+    return RobotAssembly(solids, materials, kinds)
+
+
+def robot_report(robot: RobotAssembly) -> dict[str, dict[str, Any]]:
+    """Per solid: kind, material, volume (mm^3), printed mass (g) and bounding box (mm).
+
+    ``printed_volume_mm3`` and ``mass_g`` leave out a TSA module's servo (a bought part,
+    modelled as its case): add its datasheet mass.
+    """
+    out = {}
+    for name, shape in robot.solids.items():
+        volume = float(sum(s.volume for s in shape.solids()))
+        box = shape.bounding_box()
+        material = robot.materials[name]
+        # a TSA module's servo is a stand-in box, not printed: its volume is reported apart
+        bought = sum(
+            float(sum(s.volume for s in c.solids()))
+            for c in getattr(shape, "children", ())
+            if getattr(c, "label", "") == "servo"
+        )
+        out[name] = {
+            "kind": robot.kinds[name],
+            "material": material,
+            "volume_mm3": volume,
+            "printed_volume_mm3": volume - bought,
+            "mass_g": (volume - bought) / 1000.0 * DENSITY_G_CM3[material],
+            "bbox_mm": [[box.min.X, box.min.Y, box.min.Z], [box.max.X, box.max.Y, box.max.Z]],
+        }
+    return out
+
+
+def robot_overlaps(robot: RobotAssembly, names: Sequence[str] | None = None) -> dict:
+    """Volume (mm^3) shared by each pair of the named solids (default: all), where > 0."""
+    keys = list(names or robot.solids)
+    out = {}
+    for i, a in enumerate(keys):
+        for b in keys[i + 1 :]:
+            sa, sb = robot.solids[a], robot.solids[b]
+            ba, bb = sa.bounding_box(), sb.bounding_box()
+            if (
+                ba.max.X < bb.min.X
+                or bb.max.X < ba.min.X
+                or ba.max.Y < bb.min.Y
+                or bb.max.Y < ba.min.Y
+                or ba.max.Z < bb.min.Z
+                or bb.max.Z < ba.min.Z
+            ):
+                continue
+            common = sa & sb
+            volume = float(sum(s.volume for s in common.solids())) if common else 0.0
+            if volume > 0:
+                out[(a, b)] = volume
+    return out
+
+
+def _color(hexa: str) -> Color:
+    hexa = hexa.lstrip("#")
+    return Color(*(int(hexa[i : i + 2], 16) / 255 for i in (0, 2, 4)))
+
+
+def write_robot_step(
+    robot: RobotAssembly, path: str | os.PathLike[str], label: str = "robot"
+) -> Path:
+    """Write the robot as one STEP assembly of named, coloured parts (atomic)."""
+    children = []
+    for name, shape in robot.solids.items():
+        kind = robot.kinds[name]
+        hexa = MATERIAL_COLORS[robot.materials[name]] if kind == "structure" else PART_COLORS[kind]
+        shape.label = name
+        shape.color = _color(hexa)
+        children.append(shape)
+    assembly = Compound(children=children)
+    assembly.label = label
+    with atomic_path(path) as tmp:
+        if export_step(assembly, str(tmp)) is False:
+            raise OSError(f"{path}: the STEP writer failed")
+    return Path(path)
+
+
+def write_robot_stls(
+    robot: RobotAssembly, folder: str | os.PathLike[str], kinds: Sequence[str] | None = None
+) -> dict[str, Path]:
+    """Write ``<name>.stl`` (binary, in place on the robot) of each solid of the given kinds
+    (default: every added part, not the sheet, which ``write_fabrication`` writes)."""
+    out = {}
+    for name, shape in robot.solids.items():
+        kind = robot.kinds[name]
+        if (kinds is None and kind == "structure") or (kinds is not None and kind not in kinds):
+            continue
+        path = Path(folder) / f"{name}.stl"
+        with atomic_path(path) as tmp:
+            if export_stl(shape, str(tmp), tolerance=0.01, angular_tolerance=0.1) is False:
+                raise OSError(f"{path}: the STL writer failed")
+        out[name] = path
+    return out
