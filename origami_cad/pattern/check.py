@@ -91,26 +91,10 @@ def kawasaki_residuals(cp: CreasePattern, vertices: np.ndarray) -> np.ndarray:
     return out
 
 
-def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Problem]:
-    """Every problem of ``cp`` with its location; an empty list when sound.
-
-    Parameters
-    ----------
-    cp : CreasePattern
-        The pattern to check (not modified).
-    angle_tolerance : float
-        Tolerance of Kawasaki's theorem, radians.
-
-    Returns
-    -------
-    list of Problem
-        Notes from normalisation first, then errors and warnings.
-    """
-    problems: list[Problem] = list(cp.notes)
+def _border_problems(cp: CreasePattern) -> list[Problem]:
+    """Problems of the outline: no border, open ends, crossings (border edges ``B``)."""
+    problems: list[Problem] = []
     border = cp.edge_mask("B")
-    ef = cp.edge_faces()
-    nfaces = (ef >= 0).sum(axis=1)
-    # ---- border
     bdeg = _degree(cp, border)
     if not border.any():
         problems.append(
@@ -128,6 +112,13 @@ def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Prob
                 _loc(cp, v),
             )
         )
+    return problems
+
+
+def _loose_crease_problems(cp: CreasePattern) -> list[Problem]:
+    """Creases ending at a free vertex, and creases that do not separate two panels."""
+    problems: list[Problem] = []
+    nfaces = (cp.edge_faces() >= 0).sum(axis=1)
     deg = _degree(cp, np.ones(cp.n_edges, bool))
     free_end = (deg[cp.edges[:, 0]] == 1) | (deg[cp.edges[:, 1]] == 1)
     fold = cp.edge_mask(*_FOLDS, "F")
@@ -145,7 +136,12 @@ def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Prob
         else:
             code, what = "dangling-crease", "does not separate two panels"
         problems.append(Problem(code, f"edge {e} ({cp.assignments[e]}) {what}", mid))
-    # ---- faces
+    return problems
+
+
+def _face_problems(cp: CreasePattern) -> list[Problem]:
+    """Panels that are not valid, simple polygons."""
+    problems: list[Problem] = []
     polys = cp.face_polygons()
     bad = np.flatnonzero(~shapely.is_valid(polys) | ~shapely.is_simple(polys)) if len(polys) else []
     for f in bad:
@@ -158,34 +154,65 @@ def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Prob
                 (float(c[0]), float(c[1])),
             )
         )
-    # ---- Maekawa and Kawasaki at interior vertices
+    return problems
+
+
+def _flat_fold_problems(cp: CreasePattern, angle_tolerance: float) -> list[Problem]:
+    """Maekawa and Kawasaki violations at interior vertices with creases.
+
+    ``angle_tolerance`` is the tolerance of Kawasaki's theorem, radians.
+    """
+    problems: list[Problem] = []
     inner = interior_vertices(cp)
-    if len(inner):
-        n_fold = _degree(cp, cp.edge_mask(*_FOLDS))[inner]
-        has = n_fold > 0
-        inner = inner[has]
-        m, v = maekawa_counts(cp, inner)
-        unassigned = _degree(cp, cp.edge_mask("U", "J"))[inner]
-        for k in np.flatnonzero((unassigned == 0) & (np.abs(m - v) != 2)):
-            vi = inner[k]
-            problems.append(
-                Problem(
-                    "maekawa",
-                    f"vertex {vi}: {m[k]} mountain and {v[k]} valley creases (|M - V| must be 2)",
-                    _loc(cp, vi),
-                )
+    if not len(inner):
+        return problems
+    n_fold = _degree(cp, cp.edge_mask(*_FOLDS))[inner]
+    inner = inner[n_fold > 0]
+    m, v = maekawa_counts(cp, inner)
+    unassigned = _degree(cp, cp.edge_mask("U", "J"))[inner]
+    for k in np.flatnonzero((unassigned == 0) & (np.abs(m - v) != 2)):
+        vi = inner[k]
+        problems.append(
+            Problem(
+                "maekawa",
+                f"vertex {vi}: {m[k]} mountain and {v[k]} valley creases (|M - V| must be 2)",
+                _loc(cp, vi),
             )
-        res = kawasaki_residuals(cp, inner)
-        for k in np.flatnonzero(~(np.abs(res) <= angle_tolerance)):
-            vi = inner[k]
-            if np.isnan(res[k]):
-                msg = f"vertex {vi}: an odd number of creases cannot fold flat"
-            else:
-                msg = (
-                    f"vertex {vi}: alternating sector angles differ from 180 deg by "
-                    f"{math.degrees(abs(res[k])) / 2:.4g} deg"
-                )
-            problems.append(Problem("kawasaki", msg, _loc(cp, vi)))
+        )
+    res = kawasaki_residuals(cp, inner)
+    for k in np.flatnonzero(~(np.abs(res) <= angle_tolerance)):
+        vi = inner[k]
+        if np.isnan(res[k]):
+            msg = f"vertex {vi}: an odd number of creases cannot fold flat"
+        else:
+            msg = (
+                f"vertex {vi}: alternating sector angles differ from 180 deg by "
+                f"{math.degrees(abs(res[k])) / 2:.4g} deg"
+            )
+        problems.append(Problem("kawasaki", msg, _loc(cp, vi)))
+    return problems
+
+
+def check_pattern(cp: CreasePattern, angle_tolerance: float = 1e-6) -> list[Problem]:
+    """Every problem of ``cp`` with its location; an empty list when sound.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        The pattern to check (not modified).
+    angle_tolerance : float
+        Tolerance of Kawasaki's theorem, radians.
+
+    Returns
+    -------
+    list of Problem
+        Notes from normalisation first, then errors and warnings.
+    """
+    problems: list[Problem] = list(cp.notes)
+    problems += _border_problems(cp)
+    problems += _loose_crease_problems(cp)
+    problems += _face_problems(cp)
+    problems += _flat_fold_problems(cp, angle_tolerance)
     order = {Severity.INFO: 0, Severity.WARNING: 1, Severity.ERROR: 2}
     problems.sort(key=lambda p: order[p.severity])
     return problems

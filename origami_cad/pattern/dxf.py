@@ -598,21 +598,33 @@ def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
         raise PatternError(f"{name}: {exc}") from None
 
 
-def _read(p: Path) -> CreasePattern:
+def _open_dxf(p: Path):
+    """The ezdxf document of ``p``; a PatternError when it cannot be read."""
     import ezdxf
 
     try:
-        doc = ezdxf.readfile(str(p))
+        return ezdxf.readfile(str(p))
     except Exception as exc:  # ezdxf raises OSError, DXFStructureError, StopIteration, ...
         problem = printable(str(exc) or type(exc).__name__, 200)
         if isinstance(exc, OSError) and str(p) in problem:
             problem = "not a DXF file"
         raise PatternError(f"not a readable DXF file ({problem})") from None
-    scale = _mm_per_unit(doc)
-    _expanded_count(doc.modelspace(), {})
+
+
+def _classify_entities(doc, scale: float):
+    """Pass 1: classify every entity of the model space.
+
+    Straight entities give their chains (drawing units) now, curved ones their
+    ``_Item`` (flattened later, as the chord tolerance depends on the drawing's
+    size). ``scale`` is millimetres per drawing unit.
+
+    Returns ``(chains, (x0, y0, x1, y1), holes, unknown, skipped)``: the
+    ``(letter, chains or item)`` list, the bounding box in drawing units, the
+    holes (mm), descriptions of unclassifiable entities and counts of skipped
+    entity types. Raises PatternError for a curved crease or an entity too far
+    from the origin.
+    """
     limit = MAX_COORDINATE / scale  # drawing units
-    # pass 1: classify every entity; straight ones give their chains now, curved ones
-    # their bounding box (the chord tolerance depends on the drawing's size)
     chains: list[tuple[str, list[list[tuple[float, float]]] | _Item]] = []
     x0 = y0 = math.inf
     x1 = y1 = -math.inf
@@ -656,9 +668,15 @@ def _read(p: Path) -> CreasePattern:
             )
         xs, ys = [q[0] for q in box], [q[1] for q in box]
         x0, x1, y0, y1 = min(x0, *xs), max(x1, *xs), min(y0, *ys), max(y1, *ys)
-    size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
-    flatten = max(_FLATTEN_MM / scale, _FLATTEN_RELATIVE * size)
-    # pass 2: flatten the curves, in the order of the entities
+    return chains, (x0, y0, x1, y1), holes, unknown, skipped
+
+
+def _flatten_chains(chains, flatten: float):
+    """Pass 2: ``(segments, letters)`` of the chains, curves flattened in entity order.
+
+    ``flatten`` is the chord tolerance in drawing units. Zero-length segments
+    are dropped; PatternError past MAX_SEGMENTS.
+    """
     segments: list[tuple[float, float, float, float]] = []
     letters: list[str] = []
     for letter, got in chains:
@@ -673,6 +691,11 @@ def _read(p: Path) -> CreasePattern:
                 f"more than {MAX_SEGMENTS:,} line segments (curves flattened); the drawing "
                 "is too large to read as a crease pattern"
             )
+    return segments, letters
+
+
+def _check_found(unknown: list[str], skipped: Counter[str], holes: list[Hole], segments) -> None:
+    """PatternError when some lines are unclassifiable or no crease line was found."""
     if unknown:
         shown = "; ".join(unknown[:3])
         if len(unknown) > 3:
@@ -688,14 +711,34 @@ def _read(p: Path) -> CreasePattern:
             f"no crease lines found (found {found}{' and holes' if holes else ''}; crease "
             "lines are LINE, LWPOLYLINE, POLYLINE, ARC, CIRCLE, ELLIPSE or SPLINE entities)"
         )
-    # shared end points become one vertex here (in order of first appearance), so the
-    # pattern's notes report only real repairs (near-coincident vertices, crossings, ...)
+
+
+def _merge_ends(segments, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(coords, edges)``: shared end points of ``segments`` as one vertex.
+
+    Vertices come in order of first appearance, in millimetres (``scale`` is mm
+    per drawing unit), so the pattern's notes report only real repairs
+    (near-coincident vertices, crossings, ...).
+    """
     ends = np.asarray(segments, dtype=float).reshape(-1, 2)
     uniq, first, inverse = np.unique(ends, axis=0, return_index=True, return_inverse=True)
     order = np.argsort(first)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
-    coords, edges = uniq[order] * scale, rank[inverse.reshape(-1)].reshape(-1, 2)
+    return uniq[order] * scale, rank[inverse.reshape(-1)].reshape(-1, 2)
+
+
+def _read(p: Path) -> CreasePattern:
+    """The crease pattern of the DXF file ``p`` (errors without the file name)."""
+    doc = _open_dxf(p)
+    scale = _mm_per_unit(doc)
+    _expanded_count(doc.modelspace(), {})
+    chains, (x0, y0, x1, y1), holes, unknown, skipped = _classify_entities(doc, scale)
+    size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
+    flatten = max(_FLATTEN_MM / scale, _FLATTEN_RELATIVE * size)
+    segments, letters = _flatten_chains(chains, flatten)
+    _check_found(unknown, skipped, holes, segments)
+    coords, edges = _merge_ends(segments, scale)
     title = p.stem
     cp = CreasePattern(coords, edges, letters, metadata={"title": title})
     cp = _outline_cuts_to_border(cp, title)

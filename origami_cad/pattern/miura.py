@@ -111,6 +111,36 @@ def miura_tessellation(
     l = np.asarray(lengths, dtype=float)
     beta_deg = np.asarray(shape_angles, dtype=float)
     n = len(l) - 1
+    rows = _checked_rows(l, beta_deg, entry_flag, row_height, rows, start)
+    h = float(row_height)
+    x_joint, offsets = _joint_positions(l, beta_deg, h, start)
+    nl = rows + 1  # horizontal lines
+    y0 = start[1] - h
+    ys = y0 + h * np.arange(nl)
+    is_main = (np.arange(nl) % 2) == 1
+    xs = np.where(is_main[:, None], x_joint[None, :], (x_joint + offsets)[None, :])
+    verts = np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
+    edges, assign = _grid_edges(beta_deg, entry_flag, rows)
+    cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
+    if cp.n_vertices != len(verts) or cp.notes:  # pragma: no cover - guarded by checks above
+        raise PatternError("internal error: the tessellation grid needed repair")
+    return cp.with_face_labels(_grid_labels(cp, n + 2))
+
+
+def _checked_rows(
+    l: np.ndarray,
+    beta_deg: np.ndarray,
+    entry_flag: int,
+    row_height: float,
+    rows: int,
+    start: tuple[float, float],
+) -> int:
+    """``rows`` as an int once every input of :func:`miura_tessellation` is valid.
+
+    ``l`` in mm, ``beta_deg`` in degrees, ``row_height`` in mm, ``start`` in mm;
+    PatternError naming the first bad input otherwise.
+    """
+    n = len(l) - 1
     if n < 0:
         raise PatternError("at least one transition vector (segment length) is needed")
     if beta_deg.shape != (n,):
@@ -137,7 +167,19 @@ def miura_tessellation(
         )
     if not all(math.isfinite(float(v)) for v in start):
         raise PatternError(f"start {tuple(start)} is not a finite point")
-    h = float(row_height)
+    return rows
+
+
+def _joint_positions(
+    l: np.ndarray, beta_deg: np.ndarray, h: float, start: tuple[float, float]
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(x_joint, offsets)``: x of the ``n + 2`` joints on the main crease, mm,
+    and the x shift of each leg's ends on the neighbouring lines, mm.
+
+    ``l`` in mm, ``beta_deg`` in degrees, ``h`` the row height in mm. PatternError
+    when two legs cross.
+    """
+    n = len(l) - 1
     x_joint = np.concatenate([[0.0], np.cumsum(l)]) + start[0]  # n + 2 joints incl. ends
     offsets = np.zeros(n + 2)
     if n:
@@ -151,13 +193,19 @@ def miura_tessellation(
             f"the legs of joints {k} and {k + 1} cross (vector {k}, l_{k} = {l[k]:g} mm, is too "
             f"short for shape angles near 0 or 180 deg at this unit width)"
         )
-    nl = rows + 1  # horizontal lines
-    y0 = start[1] - h
-    ys = y0 + h * np.arange(nl)
-    is_main = (np.arange(nl) % 2) == 1
+    return x_joint, offsets
+
+
+def _grid_edges(beta_deg: np.ndarray, entry_flag: int, rows: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(edges, assignments)`` of the tessellation grid, horizontal edges first.
+
+    Vertex ``r * (n + 2) + k`` is line ``r``, joint ``k``; ``beta_deg`` (degrees)
+    picks each leg's assignment, ``entry_flag`` the first main segment's.
+    """
+    n = len(beta_deg)
+    nl = rows + 1
     nj = n + 2
-    xs = np.where(is_main[:, None], x_joint[None, :], (x_joint + offsets)[None, :])
-    verts = np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
+    is_main = (np.arange(nl) % 2) == 1
 
     def vid(r: np.ndarray | int, k: np.ndarray | int) -> np.ndarray:
         return np.asarray(r) * nj + np.asarray(k)
@@ -181,10 +229,7 @@ def miura_tessellation(
     v_assign = np.broadcast_to(leg_type[None, :], (rows, nj))
     edges = np.vstack([h_edges, v_edges])
     assign = np.concatenate([h_assign.ravel(), v_assign.ravel()])
-    cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
-    if cp.n_vertices != len(verts) or cp.notes:  # pragma: no cover - guarded by checks above
-        raise PatternError("internal error: the tessellation grid needed repair")
-    return cp.with_face_labels(_grid_labels(cp, nj))
+    return edges, assign
 
 
 def _grid_labels(cp: CreasePattern, n_joints: int) -> list[str]:

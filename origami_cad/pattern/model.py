@@ -540,95 +540,78 @@ def _merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     return rep[labels]
 
 
-def _split_points(
-    verts: np.ndarray, edges: np.ndarray, tol: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Find where edges must be split.
+def _endpoint_splits(
+    verts: np.ndarray,
+    edges: np.ndarray,
+    tol: float,
+    a: np.ndarray,
+    b: np.ndarray,
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Endpoints of edges ``b`` lying inside edges ``a`` (pairwise), within ``tol`` mm.
 
-    Returns ``(edge, t, vertex, new_vertices)``: edge ``edge[k]`` is split at
-    parameter ``t[k]`` by vertex ``vertex[k]`` (indices >= len(verts) refer to
-    ``new_vertices``, the crossing points).
-
-    The candidate pairs (edges whose boxes overlap) are examined in chunks, so the
-    memory stays bounded; more than :data:`MAX_CANDIDATE_PAIRS` candidates or
-    :data:`MAX_CROSSINGS` crossings is a :class:`PatternError`.
+    One ``(edge, t, vertex)`` triple per end (column 0, then 1) of ``b``: edge
+    ``a[k]`` is split at parameter ``t`` by that end vertex.
     """
-    p0 = verts[edges[:, 0]]
-    p1 = verts[edges[:, 1]]
-    lo = np.minimum(p0, p1) - tol
-    hi = np.maximum(p0, p1) + tol
-    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
-    tree = shapely.STRtree(boxes)
-    d = p1 - p0
-    length = np.hypot(d[:, 0], d[:, 1])
-    # five kinds of split, each in the order of the candidate pairs
-    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], [], [], [], []]
-    crossings: list[np.ndarray] = []
-    n_pairs = n_cross = 0
+    p0 = verts[edges[a, 0]]
+    d = verts[edges[a, 1]] - p0
+    la = np.hypot(d[:, 0], d[:, 1])
+    out = []
+    for col in (0, 1):
+        q_idx = edges[b, col]
+        q = verts[q_idx]
+        rel = q - p0
+        t = np.einsum("ij,ij->i", rel, d) / (la * la)
+        foot = p0 + t[:, None] * d
+        dist = np.hypot(*(foot - q).T)
+        inside = (dist <= tol) & (t * la > tol) & ((1.0 - t) * la > tol)
+        inside &= (q_idx != edges[a, 0]) & (q_idx != edges[a, 1])
+        out.append((a[inside], t[inside], q_idx[inside]))
+    return out
 
-    def endpoint_on(a: np.ndarray, b: np.ndarray, kind: int) -> None:
-        # endpoints of edges b lying inside edges a
-        for col in (0, 1):
-            q_idx = edges[b, col]
-            q = verts[q_idx]
-            rel = q - p0[a]
-            la = length[a]
-            t = np.einsum("ij,ij->i", rel, d[a]) / (la * la)
-            foot = p0[a] + t[:, None] * d[a]
-            dist = np.hypot(*(foot - q).T)
-            inside = (dist <= tol) & (t * la > tol) & ((1.0 - t) * la > tol)
-            inside &= (q_idx != edges[a, 0]) & (q_idx != edges[a, 1])
-            parts[kind + col].append((a[inside], t[inside], q_idx[inside]))
 
-    step = max(1, _PAIR_CHUNK // max(len(edges), 1))
-    for first in range(0, len(edges), step):
-        i, j = tree.query(boxes[first : first + step])
-        i = i + first
-        keep = i < j
-        i, j = i[keep], j[keep]
-        n_pairs += len(i)
-        if n_pairs > MAX_CANDIDATE_PAIRS:
-            raise PatternError(
-                f"more than {MAX_CANDIDATE_PAIRS:,} pairs of edges overlap (by bounding box); "
-                "the pattern is too dense to normalise"
-            )
-        endpoint_on(i, j, 0)
-        endpoint_on(j, i, 2)
-        # proper crossings
-        shares = (
-            (edges[i, 0] == edges[j, 0])
-            | (edges[i, 0] == edges[j, 1])
-            | (edges[i, 1] == edges[j, 0])
-            | (edges[i, 1] == edges[j, 1])
-        )
-        ci, cj = i[~shares], j[~shares]
-        di, dj = d[ci], d[cj]
-        denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
-        w = p0[cj] - p0[ci]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
-            u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
-        li, lj = length[ci], length[cj]
-        sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
-        cross = (
-            (sin_angle > 1e-12)
-            & (t * li > tol)
-            & ((1 - t) * li > tol)
-            & (u * lj > tol)
-            & ((1 - u) * lj > tol)
-        )
-        n_cross += int(cross.sum())
-        if n_cross > MAX_CROSSINGS:
-            raise PatternError(
-                f"more than {MAX_CROSSINGS:,} points where edges cross; the pattern is too "
-                "tangled to normalise (are these really creases?)"
-            )
-        ci, cj, t, u = ci[cross], cj[cross], t[cross], u[cross]
-        crossings.append(p0[ci] + t[:, None] * d[ci])
-        parts[4].append((ci, t, cj))
-        parts[4].append((cj, u, ci))
-    new = np.concatenate(crossings) if crossings else np.zeros((0, 2))
-    new_idx = len(verts) + np.arange(len(new))
+def _proper_crossings(
+    verts: np.ndarray, edges: np.ndarray, tol: float, i: np.ndarray, j: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(ci, cj, t, u)``: the pairs ``(i, j)`` of edges sharing no vertex that cross
+    properly (more than ``tol`` mm inside both), at parameter ``t`` along ``ci`` and
+    ``u`` along ``cj``."""
+    shares = (
+        (edges[i, 0] == edges[j, 0])
+        | (edges[i, 0] == edges[j, 1])
+        | (edges[i, 1] == edges[j, 0])
+        | (edges[i, 1] == edges[j, 1])
+    )
+    ci, cj = i[~shares], j[~shares]
+    p0i, p0j = verts[edges[ci, 0]], verts[edges[cj, 0]]
+    di, dj = verts[edges[ci, 1]] - p0i, verts[edges[cj, 1]] - p0j
+    denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
+    w = p0j - p0i
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
+        u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
+    li, lj = np.hypot(di[:, 0], di[:, 1]), np.hypot(dj[:, 0], dj[:, 1])
+    sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
+    cross = (
+        (sin_angle > 1e-12)
+        & (t * li > tol)
+        & ((1 - t) * li > tol)
+        & (u * lj > tol)
+        & ((1 - u) * lj > tol)
+    )
+    return ci[cross], cj[cross], t[cross], u[cross]
+
+
+def _collect_splits(
+    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
+    new: np.ndarray,
+    n_verts: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The ``(edge, t, vertex, new_vertices)`` result of :func:`_split_points`.
+
+    ``parts`` holds the four endpoint kinds, then the crossings (alternately the
+    ``ci`` and ``cj`` splits); crossing ``k`` is vertex ``n_verts + k``.
+    """
+    new_idx = n_verts + np.arange(len(new))
     # crossings: all the "ci" splits first, then the "cj" splits, as one batch each
     cross_ci = [pc for k, pc in enumerate(parts[4]) if k % 2 == 0]
     cross_cj = [pc for k, pc in enumerate(parts[4]) if k % 2 == 1]
@@ -652,6 +635,59 @@ def _split_points(
         np.concatenate([*split_v, empty_i]).astype(np.int64),
         new,
     )
+
+
+def _split_points(
+    verts: np.ndarray, edges: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Find where edges must be split.
+
+    Returns ``(edge, t, vertex, new_vertices)``: edge ``edge[k]`` is split at
+    parameter ``t[k]`` by vertex ``vertex[k]`` (indices >= len(verts) refer to
+    ``new_vertices``, the crossing points).
+
+    The candidate pairs (edges whose boxes overlap) are examined in chunks, so the
+    memory stays bounded; more than :data:`MAX_CANDIDATE_PAIRS` candidates or
+    :data:`MAX_CROSSINGS` crossings is a :class:`PatternError`.
+    """
+    p0 = verts[edges[:, 0]]
+    p1 = verts[edges[:, 1]]
+    lo = np.minimum(p0, p1) - tol
+    hi = np.maximum(p0, p1) + tol
+    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    tree = shapely.STRtree(boxes)
+    d = p1 - p0
+    # five kinds of split, each in the order of the candidate pairs
+    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], [], [], [], []]
+    crossings: list[np.ndarray] = []
+    n_pairs = n_cross = 0
+    step = max(1, _PAIR_CHUNK // max(len(edges), 1))
+    for first in range(0, len(edges), step):
+        i, j = tree.query(boxes[first : first + step])
+        i = i + first
+        keep = i < j
+        i, j = i[keep], j[keep]
+        n_pairs += len(i)
+        if n_pairs > MAX_CANDIDATE_PAIRS:
+            raise PatternError(
+                f"more than {MAX_CANDIDATE_PAIRS:,} pairs of edges overlap (by bounding box); "
+                "the pattern is too dense to normalise"
+            )
+        for kind, (a, b) in ((0, (i, j)), (2, (j, i))):
+            for col, split in enumerate(_endpoint_splits(verts, edges, tol, a, b)):
+                parts[kind + col].append(split)
+        ci, cj, t, u = _proper_crossings(verts, edges, tol, i, j)
+        n_cross += len(ci)
+        if n_cross > MAX_CROSSINGS:
+            raise PatternError(
+                f"more than {MAX_CROSSINGS:,} points where edges cross; the pattern is too "
+                "tangled to normalise (are these really creases?)"
+            )
+        crossings.append(p0[ci] + t[:, None] * d[ci])
+        parts[4].append((ci, t, cj))
+        parts[4].append((cj, u, ci))
+    new = np.concatenate(crossings) if crossings else np.zeros((0, 2))
+    return _collect_splits(parts, new, len(verts))
 
 
 def _drop_duplicates(

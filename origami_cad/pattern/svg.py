@@ -399,6 +399,30 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
         malformed value.
     """
     p, name = input_file(path, PatternError)
+    root = _svg_root(p, name)
+    sx, sy = _scale(root, name)
+    segments, holes, title = _walk_svg(root, name, sx, sy)
+    if not segments:
+        raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
+    coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
+    coords[:, 0] *= sx
+    coords[:, 1] *= -sy
+    edges = np.arange(len(coords)).reshape(-1, 2)
+    try:
+        cp = CreasePattern(
+            coords,
+            edges,
+            [s[2] for s in segments],
+            [s[3] for s in segments],
+            metadata={"title": title or p.stem},
+        )
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
+    return cp.with_holes(holes) if holes else cp
+
+
+def _svg_root(p: Path, name: str) -> ET.Element:
+    """The ``<svg>`` root element of file ``p`` (``name`` starts every error)."""
     try:
         root = ET.parse(p).getroot()
     except ET.ParseError as exc:
@@ -409,12 +433,22 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
         raise PatternError(
             f"{name}: the root element is <{printable(_local(root.tag))}>, not <svg>"
         )
-    sx, sy = _scale(root, name)
+    return root
+
+
+def _walk_svg(
+    root: ET.Element, name: str, sx: float, sy: float
+) -> tuple[list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str]:
+    """``(segments, holes, title)`` of the document below ``root``.
+
+    Depth-first, in document order, without recursion (nesting depth is the
+    file's). Segments are ``(a, b, letter, angle)`` in user units (y down),
+    angle in degrees; holes in mm; ``sx, sy`` are mm per user unit.
+    """
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     holes: list[Hole] = []
     title = ""
     counter = 0
-    # depth-first, in document order, without recursion (nesting depth is the file's)
     stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float]] = [(root, np.eye(3), {}, 1.0)]
     while stack:
         el, matrix, inherited, opacity = stack.pop()
@@ -437,68 +471,93 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
         if "opacity" in own:
             opacity = opacity * _opacity(own["opacity"], where, "opacity")
         m = matrix @ _transform(el.attrib.get("transform", ""), where)
-        if tag == "circle":
-            stroke = material_color(style.get("stroke", "none"), where)
-            if stroke is None and material_color(style.get("fill", "black"), where) is not None:
-                cx = _num(el.attrib.get("cx", "0"), where, "cx")
-                cy = _num(el.attrib.get("cy", "0"), where, "cy")
-                r = _num(el.attrib.get("r", "0"), where, "r")
-                c = m @ np.array([cx, cy, 1.0])
-                r = r * math.sqrt(abs(np.linalg.det(m[:2, :2])))
-                try:
-                    holes.append(Hole(c[0] * sx, -c[1] * sy, 2 * r * math.sqrt(sx * sy)))
-                except PatternError as exc:
-                    raise PatternError(f"{where}: {exc}") from None
-                continue
-        if tag in ("circle", "ellipse") and material_color(style.get("stroke", "none"), where):
-            raise PatternError(
-                f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
-                "circle with a fill and no stroke)"
-            )
-        polylines = _polylines(el, tag, where)
-        if polylines:
-            stroke = material_color(style.get("stroke", "none"), where)
-            if stroke is not None:
-                letter = _BY_COLOR.get(stroke)
-                if letter is None:
-                    raise PatternError(
-                        f"{where} has stroke {stroke}, not a crease colour of the Origami "
-                        "Simulator convention (black border, red mountain, blue valley, green "
-                        "cut, yellow facet, magenta undriven)"
-                    )
-                alpha = opacity * _opacity(
-                    style.get("stroke-opacity", "1"), where, "stroke-opacity"
-                )
-                angle = {"M": -180.0 * alpha, "V": 180.0 * alpha}.get(letter, 0.0)
-                for pts in polylines:
-                    if not pts:
-                        continue
-                    with np.errstate(over="ignore", invalid="ignore"):
-                        arr = np.column_stack([np.array(pts, float), np.ones(len(pts))]) @ m.T
-                        mm = arr[:, :2] * (sx, sy)
-                    if not np.all(np.abs(mm) <= MAX_COORDINATE):
-                        raise PatternError(
-                            f"{where}: a point lies farther than {MAX_COORDINATE:g} mm from the "
-                            "origin (after transforms and units), or is not finite"
-                        )
-                    for a, b in itertools.pairwise(arr):
-                        if not np.allclose(a, b):
-                            segments.append((a[:2], b[:2], letter, angle))
+        hole = _svg_hole(el, tag, where, m, style, sx, sy)
+        if hole is not None:
+            holes.append(hole)
+            continue
+        segments += _element_segments(el, tag, where, m, style, opacity, sx, sy)
         stack.extend((child, m, style, opacity) for child in reversed(el))
-    if not segments:
-        raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
-    coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
-    coords[:, 0] *= sx
-    coords[:, 1] *= -sy
-    edges = np.arange(len(coords)).reshape(-1, 2)
-    try:
-        cp = CreasePattern(
-            coords,
-            edges,
-            [s[2] for s in segments],
-            [s[3] for s in segments],
-            metadata={"title": title or p.stem},
+    return segments, holes, title
+
+
+def _svg_hole(
+    el: ET.Element,
+    tag: str,
+    where: str,
+    m: np.ndarray,
+    style: dict[str, str],
+    sx: float,
+    sy: float,
+) -> Hole | None:
+    """The hole (mm) of a filled, unstroked ``<circle>``; None for any other element.
+
+    ``m`` is the element's transform, ``sx, sy`` mm per user unit; a stroked
+    circle or ellipse is a PatternError (crease lines must be straight).
+    """
+    if tag == "circle":
+        stroke = material_color(style.get("stroke", "none"), where)
+        if stroke is None and material_color(style.get("fill", "black"), where) is not None:
+            cx = _num(el.attrib.get("cx", "0"), where, "cx")
+            cy = _num(el.attrib.get("cy", "0"), where, "cy")
+            r = _num(el.attrib.get("r", "0"), where, "r")
+            c = m @ np.array([cx, cy, 1.0])
+            r = r * math.sqrt(abs(np.linalg.det(m[:2, :2])))
+            try:
+                return Hole(c[0] * sx, -c[1] * sy, 2 * r * math.sqrt(sx * sy))
+            except PatternError as exc:
+                raise PatternError(f"{where}: {exc}") from None
+    if tag in ("circle", "ellipse") and material_color(style.get("stroke", "none"), where):
+        raise PatternError(
+            f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
+            "circle with a fill and no stroke)"
         )
-    except PatternError as exc:
-        raise PatternError(f"{name}: {exc}") from None
-    return cp.with_holes(holes) if holes else cp
+    return None
+
+
+def _element_segments(
+    el: ET.Element,
+    tag: str,
+    where: str,
+    m: np.ndarray,
+    style: dict[str, str],
+    opacity: float,
+    sx: float,
+    sy: float,
+) -> list[tuple[np.ndarray, np.ndarray, str, float]]:
+    """The ``(a, b, letter, angle)`` segments of one stroked element (user units).
+
+    The stroke colour gives the letter, the opacities (times the inherited
+    ``opacity``) the fold angle in degrees; ``m`` is the element's transform and
+    ``sx, sy`` mm per user unit (for the coordinate limit).
+    """
+    segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
+    polylines = _polylines(el, tag, where)
+    if not polylines:
+        return segments
+    stroke = material_color(style.get("stroke", "none"), where)
+    if stroke is None:
+        return segments
+    letter = _BY_COLOR.get(stroke)
+    if letter is None:
+        raise PatternError(
+            f"{where} has stroke {stroke}, not a crease colour of the Origami "
+            "Simulator convention (black border, red mountain, blue valley, green "
+            "cut, yellow facet, magenta undriven)"
+        )
+    alpha = opacity * _opacity(style.get("stroke-opacity", "1"), where, "stroke-opacity")
+    angle = {"M": -180.0 * alpha, "V": 180.0 * alpha}.get(letter, 0.0)
+    for pts in polylines:
+        if not pts:
+            continue
+        with np.errstate(over="ignore", invalid="ignore"):
+            arr = np.column_stack([np.array(pts, float), np.ones(len(pts))]) @ m.T
+            mm = arr[:, :2] * (sx, sy)
+        if not np.all(np.abs(mm) <= MAX_COORDINATE):
+            raise PatternError(
+                f"{where}: a point lies farther than {MAX_COORDINATE:g} mm from the "
+                "origin (after transforms and units), or is not finite"
+            )
+        for a, b in itertools.pairwise(arr):
+            if not np.allclose(a, b):
+                segments.append((a[:2], b[:2], letter, angle))
+    return segments
