@@ -58,6 +58,19 @@ def _draw_areas(ax: Axes, task: ArmTask, view) -> None:
         )
 
 
+def _draw_points_and_frame(ax, task: ArmTask, view) -> None:
+    """The task's points (stars, P_start .. P_end) and the view's frame in mm, equal axes."""
+    names = ["$P_{start}$"] + [f"$P_{{{j}}}$" for j in range(1, len(task.points) - 1)]
+    for (x, y), name in zip(task.points, [*names, "$P_{end}$"], strict=True):
+        ax.plot(x, y, "*", color="#111111", ms=14)
+        ax.annotate(name, (x, y), textcoords="offset points", xytext=(6, 6))
+    ax.set_xlim(view.bounds[0], view.bounds[2])
+    ax.set_ylim(view.bounds[1], view.bounds[3])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+
+
 def plot_trajectories(
     results: Sequence[ArmDesign],
     task: ArmTask,
@@ -105,17 +118,7 @@ def plot_trajectories(
                 marker="." if rank == 0 else None,
             )
     ax.plot(*task.start, "ks", ms=8, label="$T_s$")
-    names = (
-        ["$P_{start}$"] + [f"$P_{{{j}}}$" for j in range(1, len(task.points) - 1)] + ["$P_{end}$"]
-    )
-    for (x, y), name in zip(task.points, names, strict=True):
-        ax.plot(x, y, "*", color="#111111", ms=14)
-        ax.annotate(name, (x, y), textcoords="offset points", xytext=(6, 6))
-    ax.set_xlim(view.bounds[0], view.bounds[2])
-    ax.set_ylim(view.bounds[1], view.bounds[3])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    _draw_points_and_frame(ax, task, view)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles, strict=True))
     ax.legend(
@@ -189,15 +192,7 @@ def plot_arm_scene(
     ax.plot(*designed[:, -1].T, "--", color="#111111", lw=2.0, label="designed tip path (rigid)")
     ax.plot(*simulated[:, -1].T, "-", color="#d62728", lw=1.6, label="simulated tip path (strings)")
     ax.plot(*task.start, "ks", ms=8, label="$T_s$")
-    names = ["$P_{start}$"] + [f"$P_{{{j}}}$" for j in range(1, len(task.points) - 1)]
-    for (x, y), name in zip(task.points, [*names, "$P_{end}$"], strict=True):
-        ax.plot(x, y, "*", color="#111111", ms=14)
-        ax.annotate(name, (x, y), textcoords="offset points", xytext=(6, 6))
-    ax.set_xlim(view.bounds[0], view.bounds[2])
-    ax.set_ylim(view.bounds[1], view.bounds[3])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    _draw_points_and_frame(ax, task, view)
     handles, labels = ax.get_legend_handles_labels()
     uniq = dict(zip(labels, handles, strict=True))
     ax.legend(uniq.values(), uniq.keys(), fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
