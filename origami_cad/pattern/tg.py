@@ -186,6 +186,33 @@ def design_from_vectors(
     PatternError
         Names the vector whose turn is too small or whose values are invalid.
     """
+    vec = _checked_vectors(vectors, min_turn)
+    # work on complex numbers: one per vector, merging adds them
+    items = [
+        complex(length * math.cos(math.radians(a)), length * math.sin(math.radians(a)))
+        for length, a in vec
+    ]
+    items, beta, notes = _resolve_small_turns(
+        items, fold_ratio, entry_flag, min_turn, merge_small_turns
+    )
+    lengths = tuple(float(abs(z)) for z in items)
+    return TGDesign(
+        lengths=lengths,
+        shape_angles=tuple(float(v) for v in np.degrees(beta)),
+        entry_flag=entry_flag,
+        unit_width=unit_width,
+        copies=copies,
+        start=(float(start[0]), float(start[1])),
+        hypar_base=hypar_base,
+        notes=tuple(notes),
+    )
+
+
+def _checked_vectors(vectors: Sequence[Sequence[float]], min_turn: float) -> np.ndarray:
+    """``vectors`` as an ``(n, 2)`` array of ``[length_mm, angle_deg]``, once valid.
+
+    ``min_turn`` (degrees) is checked too; PatternError naming the first bad value.
+    """
     vec = np.asarray(vectors, dtype=float)
     if vec.ndim != 2 or vec.shape[1] != 2 or len(vec) < 1:
         raise PatternError("vectors must be a list of [length_mm, angle_deg] pairs")
@@ -196,11 +223,24 @@ def design_from_vectors(
             raise PatternError(f"vectors[{k}]: angle must be a finite number of degrees")
     if not 0.0 < min_turn < 90.0:
         raise PatternError(f"min_turn must lie in (0, 90) deg, got {min_turn}")
-    # work on complex numbers: one per vector, merging adds them
-    items = [
-        complex(length * math.cos(math.radians(a)), length * math.sin(math.radians(a)))
-        for length, a in vec
-    ]
+    return vec
+
+
+def _resolve_small_turns(
+    items: list[complex],
+    fold_ratio: float,
+    entry_flag: int,
+    min_turn: float,
+    merge: bool,
+) -> tuple[list[complex], np.ndarray, list[str]]:
+    """``(items, beta, notes)`` once no turn gives a shape angle within ``min_turn``
+    degrees of the main crease.
+
+    ``items`` are the vectors as complex numbers (mm); ``beta`` the shape angles
+    (eq. 1), radians. Without ``merge`` the first such turn is a PatternError;
+    with it the two vectors around it become their sum, noted in ``notes``.
+    """
+    items = list(items)
     names = [str(k) for k in range(len(items))]
     notes: list[str] = []
     limit = math.radians(min_turn)
@@ -211,9 +251,9 @@ def design_from_vectors(
         beta = shape_angles_eq1(da, flags[:-1], fold_ratio) if len(da) else np.zeros(0)
         small = np.flatnonzero((beta < limit) | (beta > math.pi - limit))
         if not small.size:
-            break
+            return items, beta, notes
         j = int(small[0]) + 1  # joint between vector j-1 and j
-        if not merge_small_turns:
+        if not merge:
             raise PatternError(
                 f"vectors[{names[j]}]: the turn of {math.degrees(da[j - 1]):.3g} deg from "
                 f"vectors[{names[j - 1]}] gives a shape angle of "
@@ -231,17 +271,6 @@ def design_from_vectors(
         )
         items[j - 1 : j + 1] = [merged]
         names[j - 1 : j + 1] = [f"{names[j - 1]}+{names[j]}"]
-    lengths = tuple(float(abs(z)) for z in items)
-    return TGDesign(
-        lengths=lengths,
-        shape_angles=tuple(float(v) for v in np.degrees(beta)),
-        entry_flag=entry_flag,
-        unit_width=unit_width,
-        copies=copies,
-        start=(float(start[0]), float(start[1])),
-        hypar_base=hypar_base,
-        notes=tuple(notes),
-    )
 
 
 def tg_pattern(design: TGDesign, title: str = "") -> CreasePattern:
