@@ -152,6 +152,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("drive", "--baudrate", {"type": int, "help": "bits per second"}),
     ("drive", "--dry-run", {**_FLAG, "help": "start the emulator and drive it"}),
     ("drive", "--speed", {"type": _finite, "help": "dry-run time acceleration"}),
+    ("drive", "--load-scale", {"type": _finite, "help": "dry run: loads x this"}),
     ("drive", "--log", {"help": "CSV log, written as it runs"}),
     ("drive", "--plot", {"help": "also a PNG of commanded and measured turns"}),
     ("part", "name", {"nargs": "?", "help": "part name"}),

@@ -1179,6 +1179,70 @@ PAPER_CRAWL_MM = 63.0  # the paper's crawler: mm forward per 32 s gait cycle on 
 PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
 
 
+def _check_crawl_options(cycles: int, steps: int, friction: float | None) -> None:
+    if not 1 <= cycles <= 100:
+        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+    if not 1 <= steps <= 1000:
+        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+    if friction is not None and not friction >= 0:
+        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+
+
+def _crawl_command(robot, folder, cycles, steps, reverse, friction) -> str:
+    """The ``origami-cad crawl`` command line that reproduces a crawl job's outputs."""
+    args = ["origami-cad", "crawl", str(robot), "-o", str(folder)]
+    args += ["--cycles", str(cycles), "--steps", str(steps)]
+    args += ["--reverse"] * bool(reverse)
+    args += ["--friction", f"{friction:g}"] if friction is not None else []
+    return " ".join(args)
+
+
+def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
+    """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
+    from origami_cad.simulation.crawler import gait_sequence_text
+    from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
+    from origami_cad.viz.render3d import render_folding_gif
+
+    legs = [leg.name for leg in spec.legs]
+    data = result.to_dict()
+    data.update({k: v for k, v in info.items() if k != "command"})
+    data["legs"] = legs
+    with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    reference = -PAPER_CRAWL_MM if info["reverse"] else PAPER_CRAWL_MM
+    save_crawl_position_png(
+        result.t, result.body, result.cycle_starts, stage / names[1],
+        reference=reference, cycle=spec.cycle,
+    )  # fmt: skip
+    save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
+    every = max(1, len(result.states) // max(gif_frames, 1))
+    shown = [*result.states[::every], result.states[-1]]
+    render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
+    text = gait_sequence_text(
+        spec, repeat=info["cycles"], result=result, reverse=info["reverse"],
+        command=info["command"],
+    )  # fmt: skip
+    with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
+        fh.write(text)
+
+
+def _crawl_numbers(result, seconds: float) -> list[tuple[str, str]]:
+    per = result.displacement_per_cycle()
+    mean = float(per.mean()) if per.size else math.nan
+    return [
+        ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
+        ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
+        ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
+        ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
+        ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
+        ("largest string tension", f"{result.tensions.max():.1f} N"),
+        ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
+        ("simulated mass", f"{result.mass_g:.0f} g"),
+        ("simulation time", f"{seconds:.1f} s"),
+        ("how the gait ended", result.reason),
+    ]
+
+
 def run_crawl(
     robot: PathLike,
     folder: PathLike,
@@ -1200,18 +1264,12 @@ def run_crawl(
     backwards. Writes the body's path and per-TSA torque and tensions
     (``crawl.json``), the body's position against time (``crawl.png``), torques and
     tensions (``loads.png``), the crawl seen from the side (``crawl.gif``) and the
-    gait as a sequence for ``drive`` (``gait_sequence.toml``, mappings from the model).
+    gait as a sequence for ``drive`` (``gait_sequence.toml``: mappings from the string
+    model, and each servo's simulated load, which ``drive --dry-run`` applies).
     """
-    from origami_cad.simulation.crawler import gait_sequence_text, load_robot, simulate_gait
-    from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
-    from origami_cad.viz.render3d import render_folding_gif
+    from origami_cad.simulation.crawler import load_robot, simulate_gait
 
-    if not 1 <= cycles <= 100:
-        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
-    if not 1 <= steps <= 1000:
-        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
-    if friction is not None and not friction >= 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+    _check_crawl_options(cycles, steps, friction)
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     start = time.perf_counter()
@@ -1221,38 +1279,18 @@ def run_crawl(
     seconds = time.perf_counter() - start
     per = result.displacement_per_cycle()
     names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml")
-    legs = [leg.name for leg in spec.legs]
+    info = {
+        "robot": str(robot),
+        "cycles": cycles,
+        "reverse": reverse,
+        "cycle_s": spec.cycle,
+        "paper_mm_per_cycle": PAPER_CRAWL_MM,
+        "simulation_s": seconds,
+        "command": _crawl_command(robot, folder, cycles, steps, reverse, friction),
+    }
     inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
     with atomic_directory(folder, inputs=inputs) as stage:
-        data = result.to_dict()
-        data.update(
-            {
-                "robot": str(robot),
-                "cycles": cycles,
-                "reverse": reverse,
-                "cycle_s": spec.cycle,
-                "legs": legs,
-                "paper_mm_per_cycle": PAPER_CRAWL_MM,
-                "simulation_s": seconds,
-            }
-        )
-        with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
-            json.dump(data, fh, indent=1)
-        save_crawl_position_png(
-            result.t,
-            result.body,
-            result.cycle_starts,
-            stage / names[1],
-            reference=-PAPER_CRAWL_MM if reverse else PAPER_CRAWL_MM,
-            cycle=spec.cycle,
-        )
-        save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
-        every = max(1, len(result.states) // max(gif_frames, 1))
-        shown = [*result.states[::every], result.states[-1]]
-        render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
-        text = gait_sequence_text(spec, repeat=cycles)
-        with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
-            fh.write(text)
+        _write_crawl(stage, names, spec, result, info, gif_frames)
     files = [Path(folder) / n for n in names]
     mean = float(per.mean()) if per.size else math.nan
     return Outputs(
@@ -1262,18 +1300,7 @@ def run_crawl(
             (files[2], "TSA torque and string tension per leg"),
             (files[3], "The crawl seen from the side"),
         ],
-        numbers=[
-            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
-            ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
-            ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
-            ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
-            ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
-            ("largest string tension", f"{result.tensions.max():.1f} N"),
-            ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
-            ("simulated mass", f"{result.mass_g:.0f} g"),
-            ("simulation time", f"{seconds:.1f} s"),
-            ("how the gait ended", result.reason),
-        ],
+        numbers=_crawl_numbers(result, seconds),
         messages=[
             f"{cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
             f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
@@ -1283,6 +1310,45 @@ def run_crawl(
         ],
         result=result,
     )
+
+
+def _mass_budget(spec, fab, report: dict) -> dict[str, Any]:
+    """The robot's mass: the printed sheet, its printed parts and the bought parts, g."""
+    sheet = fab.report()["total_mass_g"]
+    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
+    bought = sum(m.grams for m in spec.masses)
+    total = sheet + printed + bought
+    return {
+        "sheet_g": sheet,
+        "printed_parts_g": printed,
+        "bought_parts_g": {m.name: m.grams for m in spec.masses},
+        "total_g": total,
+        "paper_g": PAPER_CRAWLER_G,
+        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
+    }
+
+
+def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -> list:
+    """The sheet's files, the parts' STLs, robot.step, robot.json and the pictures; images."""
+    from origami_cad.fabrication import write_fabrication
+    from origami_cad.parts.robot import write_robot_step, write_robot_stls
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    write_fabrication(fab, stage)
+    save_panels_png(fab, stage / "panels.png")
+    stls = write_robot_stls(assembly, stage)
+    write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
+    with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
+    if renders:
+        from origami_cad.viz.parts_render import render_parts
+
+        every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+        every.update(stls)
+        render_parts(every, stage / "robot.png", title=f"{Path(robot).stem}: printed robot")
+        images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
+    return images
 
 
 def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Outputs:
@@ -1297,16 +1363,9 @@ def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Out
     robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
     ``robot.png``.
     """
-    from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
-    from origami_cad.parts.robot import (
-        robot_assembly,
-        robot_overlaps,
-        robot_report,
-        write_robot_step,
-        write_robot_stls,
-    )
+    from origami_cad.fabrication import FabricationParams, fabricate
+    from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
     from origami_cad.simulation.crawler import load_robot, robot_placements
-    from origami_cad.viz.fabrication_plots import save_panels_png
 
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
@@ -1314,43 +1373,21 @@ def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Out
     assembly = robot_assembly(fab, **robot_placements(spec))
     report = robot_report(assembly)
     overlaps = robot_overlaps(assembly)
-    sheet = fab.report()["total_mass_g"]
-    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
-    bought = sum(m.grams for m in spec.masses)
-    total = sheet + printed + bought
-    budget = {
-        "sheet_g": sheet,
-        "printed_parts_g": printed,
-        "bought_parts_g": {m.name: m.grams for m in spec.masses},
-        "total_g": total,
-        "paper_g": PAPER_CRAWLER_G,
-        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
+    budget = _mass_budget(spec, fab, report)
+    data = {
+        "robot": str(robot),
+        "mass_budget": budget,
+        "solids": report,
+        "interpenetrating_mm3": {f"{a} / {b}": v for (a, b), v in overlaps.items()},
     }
     inputs = [robot, spec.pattern_path, *(leg.route_path for leg in spec.legs)]
     with atomic_directory(folder, inputs=inputs) as stage:
-        write_fabrication(fab, stage)
-        save_panels_png(fab, stage / "panels.png")
-        stls = write_robot_stls(assembly, stage)
-        write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
-        data = {
-            "robot": str(robot),
-            "mass_budget": budget,
-            "solids": report,
-            "interpenetrating_mm3": {f"{a} / {b}": v for (a, b), v in overlaps.items()},
-        }
-        with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
-            json.dump(data, fh, indent=1)
-        images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
-        if renders:
-            from origami_cad.viz.parts_render import render_parts
-
-            every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
-            every.update(stls)
-            render_parts(every, stage / "robot.png", title=f"{Path(robot).stem}: printed robot")
-            images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
+        images = _write_robot(stage, robot, fab, assembly, data, renders)
         staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))
     files = _moved(staged, stage, folder)
     kinds = [v["kind"] for v in report.values()]
+    sheet, printed, total = budget["sheet_g"], budget["printed_parts_g"], budget["total_g"]
+    bought = sum(budget["bought_parts_g"].values())
     return Outputs(
         files=files,
         images=[(Path(folder) / p.name, c) for p, c in images],
@@ -1407,13 +1444,18 @@ def run_emulate(
     return Outputs()
 
 
-def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, speed: float | None):
-    """The servo bus of a sequence: on ``port``, or on a new emulator when ``speed`` is given."""
+def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulate: dict | None):
+    """The servo bus of a sequence: on ``port``, or on a new emulator given ``emulate``
+    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
     from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
 
-    if speed is not None:
+    if emulate is not None:
         emu = (
-            DynamixelEmulator(seq.ids, time_scale=speed)
+            DynamixelEmulator(
+                seq.ids,
+                time_scale=emulate["time_scale"],
+                loads=seq.loads(emulate["load_scale"]),
+            )
             if protocol == "dynamixel"
             else SerialEmulator(seq.ids)
         )
@@ -1442,6 +1484,7 @@ def run_drive(
     port: str | None = None,
     dry_run: bool = False,
     speed: float = 8.0,
+    load_scale: float = 1.0,
     protocol: str = "dynamixel",
     baudrate: int = 57600,
     plot: PathLike | None = None,
@@ -1449,8 +1492,11 @@ def run_drive(
 ) -> Outputs:
     """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
 
-    ``speed`` is the time acceleration of a dry run; ``plot`` adds a PNG of the
-    commanded and measured turns. Torque goes off on exit, error and Ctrl-C.
+    ``speed`` is the time acceleration of a dry run; its emulated Dynamixel servos carry
+    each TSA's ``load`` (the torque a simulation predicts, N mm) times ``load_scale``, so
+    a load past a servo's stall torque or the sequence's ``current_limit`` stops that
+    servo by name. ``plot`` adds a PNG of the commanded and measured turns. Torque goes
+    off on exit, error and Ctrl-C.
     """
     import contextlib
 
@@ -1462,32 +1508,40 @@ def run_drive(
     check_outputs([sequence], files=[p for p in (log, plot) if p])
     if dry_run:
         speed = check_time_scale(speed, "speed")
+        if not (math.isfinite(load_scale) and 0 <= load_scale <= 1e6):
+            raise DesignError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
     seq = load_sequence(sequence)
     if not dry_run and not port:
         raise DesignError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
+    emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
     with contextlib.ExitStack() as stack:
-        bus = _open_bus(stack, seq, port, protocol, baudrate, scale if dry_run else None)
-        rows = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
+        bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+        done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
     names = {t.dxl_id: t.name for t in seq.tsas}
     files = [Path(log)]
     if plot:
-        save_drive_png(rows, plot, names)
+        save_drive_png(done, plot, names)
         files.append(Path(plot))
-    lag = max(abs(r["target_turns"] - r["measured_turns"]) for r in rows)
+    lag = float(done.lag.max())
     caption = "Commanded (dashed) and measured (solid) turns and current per TSA"
+    loads = seq.loads(load_scale if dry_run else 1.0)
+    peak = ", ".join(f"{names[i]} {c.peak:.1f}" for i, c in loads.items())
     return Outputs(
         files=files,
         images=[(Path(plot), caption)] if plot else [],
         numbers=[
-            ("cycle / readings", f"{seq.cycle:g} s / {len(rows)}"),
+            ("cycle / readings", f"{seq.cycle:g} s / {done.target.size}"),
             ("largest lag of a servo behind its command", f"{lag:.3f} turns"),
-            ("maximum commanded twist", f"{max(r['target_turns'] for r in rows):.2f} turns"),
+            ("maximum commanded twist", f"{done.target.max():.2f} turns"),
+            *([("peak load per servo (N mm)", peak)] if loads else []),
+            ("largest current", f"{abs(done.current).max():.0f} mA"),
         ],
         messages=[
             f"ran {seq.repeat} x {seq.cycle:g} s on servos {seq.ids}"
-            f"{' (dry run)' if dry_run else ''}: {len(rows)} readings, largest lag {lag:.3f} turns",
+            f"{' (dry run)' if dry_run else ''}: {done.target.size} readings, "
+            f"largest lag {lag:.3f} turns",
             *(f"wrote {p}" for p in files),
         ],
-        result=rows,
+        result=done,
     )

@@ -212,8 +212,9 @@ def test_sequence_checks(tmp_path):
         DynamixelEmulator([1], time_scale=40) as emu,
         DynamixelBus(emu.port, ids=[1], profile_velocity=0) as bus,
     ):
-        rows = run_sequence(seq, bus, time_scale=40)
-    assert max(r["target_turns"] for r in rows) == pytest.approx(
+        done = run_sequence(seq, bus, time_scale=40)
+    assert done.target.shape == (len(done.t), 1)
+    assert done.target.max() == pytest.approx(
         seq.tsas[0].turns(seq.tsas[0].contraction(seq.tsas[0].mapping[-1, 0]))
     )
 

@@ -19,10 +19,6 @@ ALLOWED = {
     "origami_cad.design.fitness:arm_fitness",  # issue 20: still to split (new, issue 16)
     "origami_cad.jobs:run_arm_scene",  # issue 20: still to split (new, issue 16)
     "origami_cad.jobs:run_sequence",  # issue 20: still to split (new, issue 16)
-    "origami_cad.jobs:run_crawl",  # issue 20: still to split (new, issue 17)
-    "origami_cad.jobs:run_robot",  # issue 20: still to split (new, issue 17)
-    "origami_cad.simulation.crawler:load_robot",  # issue 20: still to split (new, issue 17)
-    "origami_cad.simulation.crawler:simulate_gait",  # issue 20: still to split (new, issue 17)
 }
 
 

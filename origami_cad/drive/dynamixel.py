@@ -33,6 +33,7 @@ import math
 import time
 from collections.abc import Iterable
 
+from origami_cad.drive.bus import ServoBus
 from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
@@ -40,11 +41,9 @@ from origami_cad.drive.errors import (
     PortLostError,
     StallError,
     TorqueOffError,
-    describe_exit,
     hold_ctrl_c,
     port_error_text,
 )
-from origami_cad.drive.serial import check_turn_limit, turn_limits
 
 __all__ = [
     "ADDR",
@@ -123,7 +122,7 @@ def _servo_list(ids) -> str:
     return f"servo {ids[0]}" if len(ids) == 1 else f"servos {', '.join(map(str, ids))}"
 
 
-class DynamixelBus:
+class DynamixelBus(ServoBus):
     """A bus of Dynamixel X servos driving TSAs (context manager).
 
     Parameters
@@ -186,37 +185,23 @@ class DynamixelBus:
         stop_attempts: int = 3,
         reopen_timeout: float = 1.0,
     ) -> None:
-        self.port_name = port
-        self.baudrate = baudrate
-        self.ids = [int(i) for i in ids]
-        if not self.ids:
-            raise DriveError("a Dynamixel bus needs at least one servo ID")
-        if len(set(self.ids)) != len(self.ids):
-            raise DriveError(f"servo IDs {self.ids} repeat an ID")
-        bad = [i for i in self.ids if not 0 <= i <= 252]
-        if bad:
-            raise DriveError(f"servo IDs {bad} are outside 0..252")
-        if isinstance(baudrate, bool) or not isinstance(baudrate, int) or baudrate <= 0:
-            raise DriveError(f"baud rate must be a positive whole number, got {baudrate!r}")
-        limits = turn_limits(self.ids, max_turns)
-        self.max_turns = {i: min(v, EXTENDED_TURNS) for i, v in limits.items()}
-        if current_limit_ma is not None and not (
-            math.isfinite(current_limit_ma) and current_limit_ma > 0
-        ):
-            raise DriveError(f"current limit must be finite and > 0 mA, got {current_limit_ma}")
-        self.current_limit_ma = current_limit_ma
+        super().__init__(
+            port,
+            baudrate,
+            ids,
+            max_turns=max_turns,
+            current_limit_ma=current_limit_ma,
+            stop_attempts=stop_attempts,
+            reopen_timeout=reopen_timeout,
+        )
+        self.max_turns = {i: min(v, EXTENDED_TURNS) for i, v in self.max_turns.items()}
         self.profile_velocity = profile_velocity
         self.profile_acceleration = profile_acceleration
         self.retries = retries
-        self.stop_attempts = max(1, int(stop_attempts))
-        self.reopen_timeout = reopen_timeout
         self.current_unit = CURRENT_UNIT_MA
-        self.models: dict[int, int] = {}
         self._sdk = None
-        self._port = None
         self._ph = None
         self._reached: list[int] = []  # servos that answered: the ones stop() switches off
-        self._powered = False  # torque may be on somewhere: close() must stop
         self._dirty = False  # a transaction was interrupted: drain the port first
 
     # ------------------------------------------------------------------ set-up
@@ -287,38 +272,8 @@ class DynamixelBus:
             )
         raise DriveError("; ".join(str(e) for e in missing.values()) + "; no torque was enabled")
 
-    def close(self) -> None:
-        """Switch torque off on every servo (see :meth:`stop`), then close the port."""
-        self._shutdown(None)
-
-    def __enter__(self) -> DynamixelBus:
-        return self.open()
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        self._shutdown(exc)
-
-    def _shutdown(self, exc: BaseException | None) -> None:
-        """Stop every servo and close the port; never hide a servo left on.
-
-        ``exc`` is the exception ending the run, if any: a torque-off failure is
-        then raised as a :class:`TorqueOffError` that names both.
-        """
-        if self._port is None:
-            return
-        try:
-            if self._powered:
-                with hold_ctrl_c():
-                    self.stop()
-        except TorqueOffError as stop_exc:
-            if exc is None:
-                raise
-            if isinstance(exc, TorqueOffError):
-                return  # already names the servos left on; the caller raises it
-            raise TorqueOffError(f"{describe_exit(exc)}; {stop_exc}", stop_exc.servos) from exc
-        finally:
-            port, self._port = self._port, None
-            with contextlib.suppress(*PORT_ERRORS, AttributeError):
-                port.closePort()
+    def _close_port(self, port) -> None:
+        port.closePort()
 
     # ------------------------------------------------------------------ low level
     def _io(self, fn):
@@ -440,10 +395,7 @@ class DynamixelBus:
 
         Raises :class:`DriveError` (nothing sent) if a goal exceeds a servo's limit.
         """
-        for i, turns in targets.items():
-            if i not in self.max_turns:
-                raise DriveError(f"servo {i} is not on this bus (ids {self.ids})")
-            check_turn_limit(i, turns, self.max_turns)
+        self.check_goals(targets)
         params: list[int] = []
         for i, turns in targets.items():
             params += [i, *turns_to_ticks(turns).to_bytes(4, "little", signed=True)]
@@ -522,15 +474,10 @@ class DynamixelBus:
             current = int.from_bytes(raw[0:2], "little", signed=True)
             ticks = int.from_bytes(raw[6:10], "little", signed=True)
             out[i] = (ticks_to_turns(ticks), current * self.current_unit)
-        if self.current_limit_ma is not None:
-            for i, (turns, current) in out.items():
-                if abs(current) > self.current_limit_ma:
-                    self.stop_servo(i)
-                    raise StallError(
-                        f"servo {i}: current {abs(current):.0f} mA exceeds the limit of "
-                        f"{self.current_limit_ma:g} mA at {turns:.3f} turns (string tension "
-                        "too high); the servo was stopped"
-                    )
+        stall = self.over_current(out)
+        if stall is not None:
+            self.stop_servo(stall[0])
+            raise StallError(f"{stall[1]}; the servo was stopped")
         return out
 
     def _fail(self, exc: DriveError) -> None:

@@ -4,7 +4,10 @@
 servos do (PING, READ, WRITE, SYNC_READ, SYNC_WRITE, CLEAR, REBOOT) from a
 control-table subset, with a motion model: the position moves toward the goal
 at the profile velocity, and the current rises when the string load is
-exceeded (the motor stalls where the string is taut). :class:`SerialEmulator`
+exceeded (the motor stalls where the string is taut). A servo may also carry a
+:class:`~origami_cad.drive.load.LoadCurve` (a sequence's simulated ``load``): the motor
+then slows in proportion to the torque, draws current in proportion to it and stalls
+beyond its model's stall torque (:data:`STALL_TORQUE`). :class:`SerialEmulator`
 speaks the package's generic line protocol (``docs/serial-protocol.md``).
 
 Faults can be injected for tests: drop the next status packets of a servo,
@@ -33,6 +36,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 from origami_cad.drive.errors import DriveError
+from origami_cad.drive.load import LoadCurve
 from origami_cad.drive.protocol2 import (
     BROADCAST,
     CLEAR,
@@ -46,10 +50,19 @@ from origami_cad.drive.protocol2 import (
     status_packet,
 )
 
-__all__ = ["MODELS", "DynamixelEmulator", "EmulatedServo", "SerialEmulator"]
+__all__ = ["MODELS", "STALL_TORQUE", "DynamixelEmulator", "EmulatedServo", "SerialEmulator"]
 
 #: Model numbers of the servos the emulator can be (X series).
 MODELS = {"XL330-M288": 1200, "XL330-M077": 1190, "XL430-W250": 1060, "XM430-W350": 1020}
+#: Stall torque of each model at its rated voltage, N mm (ROBOTIS e-manual: 0.52 N m at
+#: 5 V for the XL330-M288, 0.228 for the M077, 1.4 at 11.1 V for the XL430-W250, 4.1 at
+#: 12 V for the XM430-W350). With ``stall_current`` it sets the torque constant.
+STALL_TORQUE = {
+    "XL330-M288": 520.0,
+    "XL330-M077": 228.0,
+    "XL430-W250": 1400.0,
+    "XM430-W350": 4100.0,
+}
 
 TICKS_PER_TURN = 4096
 #: One unit of Profile Velocity, rev/min.
@@ -104,6 +117,9 @@ class EmulatedServo:
     stall_current: int = 1500  # mA when stalled against the string
     moving_current: int = 60  # mA while moving freely
     last_update: float = 0.0
+    load: LoadCurve | None = None  # torque on the shaft against sequence time, N mm
+    stall_torque: float = STALL_TORQUE["XL330-M288"]  # N mm
+    load_start: float | None = None  # servo time of the first goal: the load's t = 0
     # injected faults (counts of status packets to drop / corrupt)
     drop: int = 0
     corrupt: int = 0
@@ -138,27 +154,48 @@ class EmulatedServo:
     def torque(self) -> bool:
         return self.table[64] == 1
 
+    def load_torque(self, now: float) -> float:
+        """Torque the load asks of the motor at servo time ``now``, N mm (0 before the
+        first goal, whose arrival starts the load's clock)."""
+        if self.load is None or self.load_start is None:
+            return 0.0
+        return self.load.at(now - self.load_start)
+
     def update(self, now: float | None = None) -> None:
-        """Advance the motion model to ``now`` (monotonic seconds, scaled)."""
+        """Advance the motion model to ``now`` (monotonic seconds, scaled).
+
+        The motor moves toward its goal at the profile velocity, slowed in proportion
+        to the load's torque (a DC motor's torque-speed line); it cannot wind against a
+        load at or beyond its stall torque, nor past ``load_turns`` (a taut string).
+        Its current is the free-running (or idle) current plus the load's torque over
+        the torque constant ``stall_torque / stall_current``, or ``stall_current`` when
+        stalled.
+        """
         now = time.monotonic() * self.time_scale if now is None else now
         dt = max(0.0, now - self.last_update) if self.last_update else 0.0
         self.last_update = now
         goal = float(self.value(116))
         velocity = self.value(112) or 1023  # 0 means the maximum speed
         speed = velocity * VELOCITY_UNIT_RPM / 60.0 * TICKS_PER_TURN  # ticks/s
+        load = self.load_torque(now) if self.torque else 0.0
+        free = max(0.0, 1.0 - load / self.stall_torque)  # share of the no-load speed
         limit = math.inf if self.load_turns is None else self.load_turns * TICKS_PER_TURN
         if self.torque and dt > 0:
-            step = max(-speed * dt, min(speed * dt, goal - self.position))
+            up = speed * free * dt  # winding: against the load
+            step = max(-speed * dt, min(up, goal - self.position))
             target = self.position + step
             if target > limit and step > 0:  # the taut string stops the motor
                 target = max(self.position, limit)
             self.position = target
-        stalled = self.torque and goal > limit and self.position >= limit - 1
+        taut = goal > limit and self.position >= limit - 1
+        stalled = self.torque and (taut or free == 0.0)
         moving = self.torque and abs(goal - self.position) > 1 and not stalled
-        current = self.stall_current if stalled else (self.moving_current if moving else 5)
+        held = load * self.stall_current / self.stall_torque
+        idle = self.moving_current if moving else 5
+        current = self.stall_current if stalled else min(idle + held, self.stall_current)
         self.write(126, struct.pack("<h", int(current / CURRENT_UNIT_MA)))
         self.write(
-            128, struct.pack("<i", int(speed / TICKS_PER_TURN * 60 / 0.229) if moving else 0)
+            128, struct.pack("<i", int(speed * free / TICKS_PER_TURN * 60 / 0.229) if moving else 0)
         )
         self.write(132, struct.pack("<i", round(self.position)))
         self.table[122] = 1 if moving else 0
@@ -175,6 +212,8 @@ class EmulatedServo:
                 return _ERR_DATA_RANGE
         self.update()
         self.write(addr, data)
+        if addr == 116 and self.load_start is None and self.torque:
+            self.load_start = self.last_update
         if addr == 64 and data[0] == 0:
             self.write(116, struct.pack("<i", round(self.position)))
         return 0
@@ -294,6 +333,10 @@ class DynamixelEmulator(_PtyDevice):
     load_turns : dict, optional
         Per servo ID, the motor turns at which its string becomes taut: beyond
         it the motor stalls and its current rises to ``stall_current``.
+    loads : dict, optional
+        Per servo ID, a :class:`~origami_cad.drive.load.LoadCurve`: the torque its
+        load asks of it (N mm) against time since its first goal position, in servo
+        time (a sequence's ``load``). Beyond the model's :data:`STALL_TORQUE` it stalls.
     time_scale : float
         Servo time runs this many times faster than real time (for dry runs of
         long sequences run with the same ``time_scale``).
@@ -305,6 +348,7 @@ class DynamixelEmulator(_PtyDevice):
         model: str = "XL330-M288",
         load_turns: dict | None = None,
         time_scale: float = 1.0,
+        loads: dict[int, LoadCurve] | None = None,
     ) -> None:
         ids = [int(i) for i in ids]
         _check_ids(ids)
@@ -315,7 +359,12 @@ class DynamixelEmulator(_PtyDevice):
         super().__init__()
         self.servos = {
             i: EmulatedServo(
-                i, MODELS[model], load_turns=(load_turns or {}).get(i), time_scale=time_scale
+                i,
+                MODELS[model],
+                load_turns=(load_turns or {}).get(i),
+                time_scale=time_scale,
+                load=(loads or {}).get(i),
+                stall_torque=STALL_TORQUE[model],
             )
             for i in ids
         }

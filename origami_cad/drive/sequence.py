@@ -14,13 +14,17 @@ Sequence file (TOML)::
     max_helix_angle = 80.0      # deg
     mapping = [[0.0, 0.0], [0.5, 6.0], [1.0, 14.0]]   # [p, contraction mm] ...
     # or: mapping = "out/route/dcqc.json"  (fold ratio against string taken by the TSA)
+    load = [[0.0, 1.2], [8.0, 4.5], [16.0, 2.0]]      # optional: [t s, N mm] over a cycle
     [[keyframe]]
     t = 0.0                     # s
     p = [0.0, 0.0]              # one value per TSA (or contraction = [...] mm, turns = [...])
 
 Targets are interpolated linearly between keyframes; fold ratios become
 contractions through each TSA's mapping and contractions become motor turns
-through the TSA model (never beyond its maximum twist).
+through the TSA model (never beyond its maximum twist). A TSA's optional ``load``
+is the torque its strings put on the servo over one cycle (``crawl`` writes it from the
+simulated gait); a dry run's emulated servo carries it (:mod:`origami_cad.drive.load`).
+The run's log is columnar (:class:`DriveLog`) and streamed to CSV row by row.
 """
 
 from __future__ import annotations
@@ -41,12 +45,14 @@ import numpy as np
 
 from origami_cad._toml import Table, load_toml
 from origami_cad.drive.errors import DriveError
+from origami_cad.drive.load import LoadCurve
 from origami_cad.errors import DesignError
 from origami_cad.strings.tsa import TSAParams, onboard_angle
 
 __all__ = [
     "LOG_FIELDS",
     "MAX_STEPS",
+    "DriveLog",
     "Keyframe",
     "Sequence",
     "SequenceTSA",
@@ -64,6 +70,7 @@ class SequenceTSA:
     name: str
     tsa: TSAParams
     mapping: np.ndarray  # (k, 2): fold ratio, contraction mm (increasing)
+    load: np.ndarray | None = None  # (k, 2): time s over one cycle, torque N mm
 
     def contraction(self, p: float) -> float:
         """String contraction (mm) that brings the structure to fold ratio ``p``."""
@@ -121,6 +128,14 @@ class Sequence:
     @property
     def ids(self) -> list[int]:
         return [t.dxl_id for t in self.tsas]
+
+    def loads(self, scale: float = 1.0) -> dict[int, LoadCurve]:
+        """Each loaded TSA's torque curve (N mm, repeating every cycle), times ``scale``."""
+        return {
+            t.dxl_id: LoadCurve(t.load[:, 0], t.load[:, 1] * scale, self.cycle)
+            for t in self.tsas
+            if t.load is not None
+        }
 
     def turns_at(self, t: float) -> dict[int, float]:
         """Commanded motor turns of every TSA at time ``t`` (s) since the start."""
@@ -214,6 +229,17 @@ def _mapping(t: Table, base: Path, length: float) -> np.ndarray:
     return arr
 
 
+def _load(t: Table) -> np.ndarray:
+    """The ``load`` key: ``[[t_s, torque_Nmm], ...]``, times from 0 and increasing."""
+    arr = np.array(t.pairs("load", min_length=2))
+    if arr[0, 0] != 0 or np.any(np.diff(arr[:, 0]) <= 0):
+        raise t.error("load", "times must start at 0 s and increase")
+    if np.any(arr[:, 1] < 0):
+        k = int(np.argmax(arr[:, 1] < 0))
+        raise t.error("load", f"item {k}: torque {arr[k, 1]:g} N mm is negative")
+    return arr
+
+
 def _name(t: Table, default: str) -> str:
     name = t.string("name", default)
     if not name.strip() or len(name) > 100 or any(ord(c) < 32 or ord(c) == 127 for c in name):
@@ -275,6 +301,12 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
             f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
         )
     _check_reachable(p, tsas, frames)
+    for k, tsa in enumerate(tsas):
+        if tsa.load is not None and tsa.load[-1, 0] > sequence.cycle + 1e-9:
+            raise DesignError(
+                f"{p} [[tsa]] #{k + 1}: key 'load': it runs to {tsa.load[-1, 0]:g} s, "
+                f"past the cycle's {sequence.cycle:g} s"
+            )
     return sequence
 
 
@@ -306,6 +338,7 @@ def _read_tsas(raw_tsas: list, p: Path) -> list[SequenceTSA]:
                 ),
             ),
             mapping=_mapping(t, p.parent, length),
+            load=_load(t) if t.has("load") else None,
         )
         t.finish()
         tsas.append(tsa)
@@ -358,6 +391,74 @@ def _check_reachable(p: Path, tsas: list[SequenceTSA], frames: list[Keyframe]) -
 LOG_FIELDS = ("t_s", "id", "target_turns", "measured_turns", "current_mA")
 
 
+@dataclass
+class DriveLog:
+    """A driven sequence, columnar: one row per command cycle, one column per servo.
+
+    Attributes
+    ----------
+    ids : tuple of int
+        Servo IDs, the columns' order.
+    t : ndarray (S,)
+        Sequence time of each command cycle, s.
+    target, measured : ndarray (S, n)
+        Commanded and read-back motor positions, turns.
+    current : ndarray (S, n)
+        Present current, mA.
+    """
+
+    ids: tuple[int, ...]
+    t: np.ndarray
+    target: np.ndarray
+    measured: np.ndarray
+    current: np.ndarray
+
+    @classmethod
+    def empty(cls, ids, steps: int) -> DriveLog:
+        """A log of ``steps`` command cycles, filled as they run (:meth:`record`)."""
+        n = len(ids)
+        return cls(tuple(ids), np.zeros(steps), *(np.full((steps, n), np.nan) for _ in range(3)))
+
+    def record(self, k: int, t: float, targets: dict, state: dict) -> list[dict[str, Any]]:
+        """Fill cycle ``k`` (time ``t`` s) from the bus; its CSV rows."""
+        self.t[k] = t
+        for j, i in enumerate(self.ids):
+            self.target[k, j] = targets[i]
+            self.measured[k, j], self.current[k, j] = state[i]
+        return self.rows(k, k + 1)
+
+    @property
+    def lag(self) -> np.ndarray:
+        """How far each servo is behind its command, turns (S, n)."""
+        return np.abs(self.target - self.measured)
+
+    def rows(self, start: int = 0, stop: int | None = None) -> list[dict[str, Any]]:
+        """The log as CSV rows (:data:`LOG_FIELDS`), one per servo per command cycle."""
+        out = []
+        for k in range(start, len(self.t) if stop is None else stop):
+            for j, i in enumerate(self.ids):
+                out.append(
+                    {
+                        "t_s": round(float(self.t[k]), 6),
+                        "id": i,
+                        "target_turns": float(self.target[k, j]),
+                        "measured_turns": float(self.measured[k, j]),
+                        "current_mA": float(self.current[k, j]),
+                    }
+                )
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain lists, for JSON."""
+        return {
+            "ids": list(self.ids),
+            "t_s": self.t.tolist(),
+            "target_turns": self.target.tolist(),
+            "measured_turns": self.measured.tolist(),
+            "current_mA": self.current.tolist(),
+        }
+
+
 @contextlib.contextmanager
 def _open_log(log, sequence: Sequence):
     """The CSV log, opened before anything moves; None without ``log``."""
@@ -388,13 +489,13 @@ def run_sequence(
     time_scale: float = 1.0,
     progress: Callable[[float, dict[int, float], dict[int, tuple[float, float]]], None]
     | None = None,
-) -> list[dict[str, Any]]:
+) -> DriveLog:
     """Run a sequence on an open bus; every command and reading goes to the CSV ``log``.
 
     ``time_scale`` > 1 runs faster than real time (dry runs); it must be
-    finite and in (0, 1000]. Returns the log rows.
+    finite and in (0, 1000]. Returns the columnar log (:class:`DriveLog`).
 
-    The log is written as the run goes, one flushed row per reading (columns
+    The CSV log is written as the run goes, one flushed row per reading (columns
     :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
     hardware error or a lost port leaves a valid CSV up to its last reading.
     It is opened (and checked) before the first command; a log path that is
@@ -403,7 +504,10 @@ def run_sequence(
     time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
     period = 1.0 / sequence.rate
-    rows: list[dict[str, Any]] = []
+    steps = math.floor((total + 1e-9) / period) + 1
+    while steps > 1 and (steps - 1) * period > total + 1e-9:
+        steps -= 1
+    out = DriveLog.empty(sequence.ids, steps)
     with _open_log(log, sequence) as fh:
         writer = None
         if fh is not None:
@@ -411,33 +515,18 @@ def run_sequence(
             writer.writeheader()
             fh.flush()
         start = time.monotonic()
-        k = 0
-        while True:
+        for k in range(steps):
             t = k * period
-            if t > total + 1e-9:
-                break
-            wake = start + t / time_scale
-            delay = wake - time.monotonic()
+            delay = start + t / time_scale - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
             targets = sequence.turns_at(t)
             bus.set_turns(targets)
             state = bus.read()
-            new = [
-                {
-                    "t_s": round(t, 6),
-                    "id": i,
-                    "target_turns": targets[i],
-                    "measured_turns": state[i][0],
-                    "current_mA": state[i][1],
-                }
-                for i in sequence.ids
-            ]
-            rows.extend(new)
+            new = out.record(k, round(t, 6), targets, state)
             if writer is not None:
                 writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
                 fh.flush()
             if progress is not None:
                 progress(t, targets, state)
-            k += 1
-    return rows
+    return out

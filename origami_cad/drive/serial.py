@@ -31,13 +31,13 @@ import contextlib
 import math
 import time
 
+from origami_cad.drive.bus import ServoBus
 from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
     PortLostError,
     StallError,
     TorqueOffError,
-    describe_exit,
     hold_ctrl_c,
     port_error_text,
 )
@@ -45,10 +45,8 @@ from origami_cad.drive.errors import (
 __all__ = [
     "LineDevice",
     "SerialBus",
-    "check_turn_limit",
     "crc8",
     "frame",
-    "turn_limits",
     "unframe",
 ]
 
@@ -155,7 +153,7 @@ class LineDevice:
         return self._reply(f"ERR 5 syntax {text}")
 
 
-class SerialBus:
+class SerialBus(ServoBus):
     """Host side of the line protocol, with the same interface as ``DynamixelBus``.
 
     Parameters
@@ -190,6 +188,8 @@ class SerialBus:
     that is never confirmed raises :class:`TorqueOffError` naming the motors.
     """
 
+    unit = "motor"
+
     def __init__(
         self,
         port: str,
@@ -202,27 +202,18 @@ class SerialBus:
         stop_attempts: int = 3,
         reopen_timeout: float = 1.0,
     ) -> None:
-        self.port_name = port
-        self.baudrate = baudrate
-        self.ids = [int(i) for i in ids]
-        if not self.ids or len(set(self.ids)) != len(self.ids):
-            raise DriveError(f"motor IDs {self.ids}: give at least one, each once")
-        if isinstance(baudrate, bool) or not isinstance(baudrate, int) or baudrate <= 0:
-            raise DriveError(f"baud rate must be a positive whole number, got {baudrate!r}")
+        super().__init__(
+            port,
+            baudrate,
+            ids,
+            max_turns=max_turns,
+            current_limit_ma=current_limit_ma,
+            stop_attempts=stop_attempts,
+            reopen_timeout=reopen_timeout,
+        )
         if not (math.isfinite(timeout) and timeout > 0):
             raise DriveError(f"reply timeout must be finite and > 0 s, got {timeout}")
-        if current_limit_ma is not None and not (
-            math.isfinite(current_limit_ma) and current_limit_ma > 0
-        ):
-            raise DriveError(f"current limit must be finite and > 0 mA, got {current_limit_ma}")
         self.timeout = timeout
-        self.max_turns = turn_limits(self.ids, max_turns)
-        self.current_limit_ma = current_limit_ma
-        self.stop_attempts = max(1, int(stop_attempts))
-        self.reopen_timeout = reopen_timeout
-        self.models: dict[int, int] = {}
-        self._ser = None
-        self._powered = False
 
     def open(self) -> SerialBus:
         """Open the port and ping every motor (nothing is enabled until the first goal).
@@ -230,9 +221,9 @@ class SerialBus:
         On any failure (a missing motor, Ctrl-C) the board is sent ``S`` and the
         port closed before the error is raised.
         """
-        if self._ser is not None:
+        if self._port is not None:
             raise DriveError(f"port {self.port_name} is already open")
-        self._ser = self._open_port()
+        self._port = self._open_port()
         self._powered = True  # a previous run may have left motors enabled
         try:
             missing = {}
@@ -260,47 +251,22 @@ class SerialBus:
         except (serial.SerialException, OSError, ValueError) as exc:
             raise DriveError(f"port {self.port_name} cannot be opened: {exc}") from None
 
-    def close(self) -> None:
-        """Stop every motor (``S``, see :meth:`stop`), then close the port."""
-        self._shutdown(None)
-
-    def __enter__(self) -> SerialBus:
-        return self.open()
-
-    def __exit__(self, exc_type, exc, tb) -> None:
-        self._shutdown(exc)
-
-    def _shutdown(self, exc: BaseException | None) -> None:
-        if self._ser is None:
-            return
-        try:
-            if self._powered:
-                with hold_ctrl_c():
-                    self.stop()
-        except TorqueOffError as stop_exc:
-            if exc is None:
-                raise
-            if isinstance(exc, TorqueOffError):
-                return
-            raise TorqueOffError(f"{describe_exit(exc)}; {stop_exc}", stop_exc.servos) from exc
-        finally:
-            ser, self._ser = self._ser, None
-            with contextlib.suppress(*PORT_ERRORS):
-                ser.close()
+    def _close_port(self, port) -> None:
+        port.close()
 
     def _ask(self, text: str, dxl_id: int | None = None) -> str:
         """Send one command; its reply, skipping stale replies to earlier commands."""
         who = f"motor {dxl_id}" if dxl_id is not None else "the board"
-        if self._ser is None:
+        if self._port is None:
             raise DriveError(f"port {self.port_name} is not open (open the bus first)")
         parts = text.split()
         expect = " ".join(["OK", *parts[:2]]) if parts[0] != "S" else "OK S"
         try:
-            self._ser.reset_input_buffer()
-            self._ser.write((frame(text) + "\n").encode("ascii"))
+            self._port.reset_input_buffer()
+            self._port.write((frame(text) + "\n").encode("ascii"))
             deadline = time.monotonic() + self.timeout
             while True:
-                raw = self._ser.readline()
+                raw = self._port.readline()
                 if not raw:
                     raise DriveError(f"{who}: no reply to {text!r} (timeout)")
                 try:
@@ -321,10 +287,7 @@ class SerialBus:
 
     def set_turns(self, targets: dict[int, float]) -> None:
         """Command motor positions, turns (every goal is checked before any is sent)."""
-        for i, turns in targets.items():
-            if i not in self.max_turns:
-                raise DriveError(f"motor {i} is not on this bus (ids {self.ids})")
-            check_turn_limit(i, turns, self.max_turns)
+        self.check_goals(targets)
         for i, turns in targets.items():
             self._ask(f"G {i} {turns:.4f}", i)
 
@@ -344,16 +307,11 @@ class SerialBus:
             if not (math.isfinite(turns) and math.isfinite(current)):
                 raise DriveError(f"motor {i}: non-finite reading in {reply!r}")
             out[i] = (turns, current)
-        if self.current_limit_ma is not None:
-            for i, (turns, current) in out.items():
-                if abs(current) > self.current_limit_ma:
-                    with hold_ctrl_c():
-                        self.stop()
-                    raise StallError(
-                        f"motor {i}: current {abs(current):.0f} mA exceeds the limit of "
-                        f"{self.current_limit_ma:g} mA at {turns:.3f} turns (string tension "
-                        "too high); every motor was stopped"
-                    )
+        stall = self.over_current(out)
+        if stall is not None:
+            with hold_ctrl_c():
+                self.stop()
+            raise StallError(f"{stall[1]}; every motor was stopped")
         return out
 
     def _reopen(self) -> str | None:
@@ -361,11 +319,11 @@ class SerialBus:
         import serial
 
         with contextlib.suppress(*PORT_ERRORS):
-            self._ser.close()
+            self._port.close()
         deadline = time.monotonic() + self.reopen_timeout
         while True:
             try:
-                self._ser = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
+                self._port = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
                 return None
             except (OSError, ValueError) as exc:
                 if time.monotonic() > deadline:
@@ -379,7 +337,7 @@ class SerialBus:
         is confirmed or given up, then raised. Raises :class:`TorqueOffError`
         naming the motors if the board never confirmed.
         """
-        if self._ser is None:
+        if self._port is None:
             return
         interrupt: KeyboardInterrupt | None = None
         cause = ""
@@ -411,22 +369,3 @@ class SerialBus:
         self._powered = False
         if interrupt is not None:
             raise interrupt
-
-
-def turn_limits(ids, max_turns) -> dict[int, float]:
-    """Each servo's twist limit, turns: ``max_turns`` is one number, a dict by ID or ``None``."""
-    if max_turns is None:
-        return {i: math.inf for i in ids}
-    if isinstance(max_turns, dict):
-        return {i: float(max_turns.get(i, math.inf)) for i in ids}
-    return {i: float(max_turns) for i in ids}
-
-
-def check_turn_limit(dxl_id: int, turns: float, limits: dict[int, float]) -> None:
-    """Raise :class:`DriveError` if ``turns`` is not finite or exceeds the servo's limit (turns)."""
-    limit = limits.get(dxl_id, math.inf)
-    if not math.isfinite(turns) or abs(turns) > limit:
-        raise DriveError(
-            f"servo {dxl_id}: {turns:g} turns exceeds its limit of {limit:g} turns "
-            "(the TSA would overtwist)"
-        )

@@ -21,6 +21,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -52,6 +53,7 @@ __all__ = [
     "Leg",
     "PointMass",
     "Robot",
+    "gait_loads",
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
@@ -124,18 +126,8 @@ def _shared_crease(cp: CreasePattern, a: int, b: int) -> int | None:
     return hit[0] if len(hit) == 1 else None
 
 
-def load_robot(path: str | os.PathLike[str]) -> Robot:
-    """Read a robot file; errors name the file, table and key (:class:`DesignError`)."""
-    p = Path(path)
-    top = Table(load_toml(p), str(p))
-    robot = top.table("robot")
-    fab = top.table("fabrication", {})
-    adapter = top.table("adapter", {})
-    gait = top.table("gait")
-    legs_raw = top.data.get("leg")
-    masses_raw = top.data.get("mass", [])
-    top.used.update(("leg", "mass"))
-    top.finish()
+def _robot_pattern(p: Path, robot: Table) -> tuple[CreasePattern, Path, str]:
+    """The ``[robot] pattern`` file, read: (pattern, its path, the name as given)."""
     rel = robot.string("pattern")
     pattern_path = (p.parent / rel).resolve()
     if not pattern_path.is_file():
@@ -144,17 +136,14 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         cp = read_pattern(pattern_path)
     except PatternError as exc:
         raise DesignError(f"{p}: [robot] pattern: {exc}") from None
-    body = robot.string("body")
-    if body not in cp.face_labels:
-        raise robot.error("body", f"no panel labelled {body!r} in {rel}")
-    body_face = cp.face_index(body)
-    blocker = robot.number("blocker_angle", 60.0, low=0, high=180, low_open=True, high_open=True)
-    friction = robot.number("friction", 0.6, low=0)
-    robot.finish()
-    given = fab.pairs("holes", None, min_length=1) if fab.has("holes") else None
-    fab.finish()
+    return cp, pattern_path, rel
+
+
+def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -> list[Leg]:
+    """The ``[[leg]]`` tables: a panel sharing one crease with ``body``, an onboard route."""
     if not isinstance(legs_raw, list) or not legs_raw:
         raise DesignError(f"{p}: expected at least one [[leg]] table")
+    body_face = cp.face_index(body)
     legs = []
     for i, item in enumerate(legs_raw):
         t = Table(item, f"{p} [[leg]] #{i + 1}")
@@ -178,14 +167,14 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         name = t.string("name", panel)
         t.finish()
         legs.append(Leg(panel, face, crease, route, servo, name, route_path))
-    if given is None:  # the holes the strings run through, in route order
-        routed = [p for leg in legs for s in leg.route.strings for p in s.points]
-        holes = tuple(dict.fromkeys(routed))
-    else:
-        holes = tuple((float(x), float(y)) for x, y in given)
     ids = [leg.servo for leg in legs]
     if len(set(ids)) != len(ids):
         raise DesignError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+    return legs
+
+
+def _read_masses(p: Path, masses_raw: Any, cp: CreasePattern, rel: str) -> list[PointMass]:
+    """The ``[[mass]]`` tables: grams at a point (mm) of a named panel."""
     masses = []
     for i, item in enumerate(masses_raw if isinstance(masses_raw, list) else [masses_raw]):
         t = Table(item, f"{p} [[mass]] #{i + 1}")
@@ -199,9 +188,12 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         grams = t.number("grams", low=0)
         t.finish()
         masses.append(PointMass(name, panel, at, grams))
-    adapter_at = adapter.point("at", (0.0, 0.0))
-    heading = adapter.number("heading", 0.0)
-    adapter.finish()
+    return masses
+
+
+def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndarray, np.ndarray]:
+    """The ``[[gait.keyframe]]`` tables: times (K,) s and fold ratios (K, legs) within the
+    blockers' ``blocker`` deg."""
     frames = gait.data.get("keyframe")
     gait.used.add("keyframe")
     gait.finish()
@@ -212,7 +204,7 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}")
         times.append(t.number("t", low=0))
         ratios.append(
-            t.numbers("p", length=len(legs), check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
+            t.numbers("p", length=legs, check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
         )
         t.finish()
     if np.any(np.diff(times) <= 0):
@@ -224,6 +216,41 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
             f"{p}: [[gait.keyframe]] p = {worst:g} folds a leg past its blocker "
             f"({blocker:g} deg = p {limit:.3f})"
         )
+    return np.asarray(times), np.asarray(ratios)
+
+
+def load_robot(path: str | os.PathLike[str]) -> Robot:
+    """Read a robot file; errors name the file, table and key (:class:`DesignError`)."""
+    p = Path(path)
+    top = Table(load_toml(p), str(p))
+    robot = top.table("robot")
+    fab = top.table("fabrication", {})
+    adapter = top.table("adapter", {})
+    gait = top.table("gait")
+    legs_raw = top.data.get("leg")
+    masses_raw = top.data.get("mass", [])
+    top.used.update(("leg", "mass"))
+    top.finish()
+    cp, pattern_path, rel = _robot_pattern(p, robot)
+    body = robot.string("body")
+    if body not in cp.face_labels:
+        raise robot.error("body", f"no panel labelled {body!r} in {rel}")
+    blocker = robot.number("blocker_angle", 60.0, low=0, high=180, low_open=True, high_open=True)
+    friction = robot.number("friction", 0.6, low=0)
+    robot.finish()
+    given = fab.pairs("holes", None, min_length=1) if fab.has("holes") else None
+    fab.finish()
+    legs = _read_legs(p, legs_raw, cp, body, rel)
+    if given is None:  # the holes the strings run through, in route order
+        routed = [p for leg in legs for s in leg.route.strings for p in s.points]
+        holes = tuple(dict.fromkeys(routed))
+    else:
+        holes = tuple((float(x), float(y)) for x, y in given)
+    masses = _read_masses(p, masses_raw, cp, rel)
+    adapter_at = adapter.point("at", (0.0, 0.0))
+    heading = adapter.number("heading", 0.0)
+    adapter.finish()
+    times, ratios = _read_gait(p, gait, len(legs), blocker)
     return Robot(
         cp,
         body,
@@ -234,8 +261,8 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         tuple(masses),
         adapter_at,
         heading,
-        np.asarray(times),
-        np.asarray(ratios),
+        times,
+        ratios,
         p,
         pattern_path,
     )
@@ -389,15 +416,42 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
     return out
 
 
+def gait_loads(robot: Robot, result: GaitResult) -> tuple[np.ndarray, np.ndarray]:
+    """Each TSA's torque over one gait cycle: times (k,) s and torques (k, legs) N mm.
+
+    The simulated states are folded onto one cycle (time modulo the cycle) and, where
+    several cycles give a state at the same time of the cycle, the largest torque is kept
+    (an envelope: a servo must give the most any cycle asks). The curve is closed: its
+    value at the cycle's end is its value at 0.
+    """
+    cycle = robot.cycle
+    local = np.round(np.mod(result.t, cycle), 6)
+    local[np.isclose(local, cycle)] = 0.0
+    times = np.unique(local)
+    torque = np.array([result.torque[local == t].max(axis=0) for t in times])
+    return np.r_[times, cycle], np.vstack([torque, torque[:1]])
+
+
 def gait_sequence_text(
-    robot: Robot, *, repeat: int = 1, rate: float = 10.0, current_limit: float | None = 1200.0
+    robot: Robot,
+    *,
+    repeat: int = 1,
+    rate: float = 10.0,
+    current_limit: float | None = 1200.0,
+    result: GaitResult | None = None,
+    reverse: bool = False,
+    command: str | None = None,
 ) -> str:
     """The gait as a sequence file for ``origami-cad drive`` (TOML text).
 
     Each TSA's ``mapping`` (fold ratio to contraction, mm) is :func:`leg_contraction`
     sampled every 0.02 up to the blockers' fold ratio, so ``drive`` turns the gait's
     fold-ratio keyframes into the same turns as :func:`gait_turns` (between samples,
-    linearly). ``current_limit`` (mA) stops a stalling servo.
+    linearly). With a simulated ``result``, each TSA also gets its ``load``: the torque
+    the simulation needs of its servo over one cycle, N mm (:func:`gait_loads`), which a
+    dry run's emulated servo carries. ``reverse`` writes the keyframes backwards (as
+    ``simulate_gait(reverse=True)`` plays them); ``command`` is the command line that
+    wrote the file, quoted in its header. ``current_limit`` (mA) stops a stalling servo.
     """
     p_max = robot.blocker_angle / 180.0
     samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
@@ -405,14 +459,18 @@ def gait_sequence_text(
     lines = [
         f"# The gait of {source} as TSA commands, written by origami-cad crawl: each",
         "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
-        "# strings measured through their holes), so fold ratios become motor turns.",
+        "# strings measured through their holes), so fold ratios become motor turns;",
+        "# each load is the TSA's torque in the simulated crawl (N mm, one cycle, the most",
+        "# any simulated cycle needed), carried by the emulated servos of a dry run.",
+        *([f"#   {command}"] if command else []),
         "[sequence]",
         f"repeat = {repeat}",
         f"rate = {rate:g}              # Hz",
     ]
     if current_limit is not None:
         lines.append(f"current_limit = {current_limit:g}   # mA: a stalling TSA is stopped")
-    for leg in robot.legs:
+    loads = gait_loads(robot, result) if result is not None else None
+    for k, leg in enumerate(robot.legs):
         tsa = leg.route.tsa
         c = leg_contraction(robot.pattern, leg, samples)
         pairs = ", ".join(f"[{p:.4f}, {v:.4f}]" for p, v in zip(samples, c, strict=True))
@@ -426,10 +484,17 @@ def gait_sequence_text(
             f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",
             f"mapping = [{pairs}]  # [p, mm]",
         ]
-    t0 = float(robot.gait_t[0])
-    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
+        if loads is not None:
+            curve = ", ".join(
+                f"[{t:g}, {v:.3f}]" for t, v in zip(loads[0], loads[1][:, k], strict=True)
+            )
+            lines.append(f"load = [{curve}]  # [t s, N mm]")
+    t, ratios = robot.gait_t - robot.gait_t[0], robot.gait_p
+    if reverse:
+        t, ratios = t[-1] - t[::-1], ratios[::-1]
+    for when, p in zip(t, ratios, strict=True):
         values = ", ".join(f"{v:g}" for v in p)
-        lines += ["", "[[keyframe]]", f"t = {t - t0:g}", f"p = [{values}]"]
+        lines += ["", "[[keyframe]]", f"t = {when:g}", f"p = [{values}]"]
     return "\n".join(lines) + "\n"
 
 
@@ -575,6 +640,125 @@ def _truncate(out: GaitResult, rows: int) -> None:
         out.notes.append("the last cycle is incomplete")
 
 
+def _pose(robot: Robot, params: SimulationParams, prefold: float) -> tuple[np.ndarray, float]:
+    """The robot on its legs, each folded rigidly by ``prefold`` deg, feet on the ground:
+    node positions (n, 3) mm and the contact height of the mid-surface, mm.
+
+    The strings then hold every leg on its mountain branch from the first step.
+    """
+    cp = robot.pattern
+    posed = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    for leg in robot.legs:
+        folded = _folded_leg(cp, leg, math.radians(prefold))
+        ring = cp.faces[leg.face]
+        posed[ring] = folded[ring]
+    contact = params.ground + 0.5 * params.panel_thickness
+    posed[:, 2] += contact - posed[:, 2].min()
+    return posed, contact
+
+
+def _gait_strings(
+    robot: Robot, params: SimulationParams, contact: float
+) -> tuple[StringSet, np.ndarray, np.ndarray]:
+    """Every leg's strings in one set at zero twist: (set, owning leg (s,), free lengths (s,) mm).
+
+    An onboard TSA's share is x_dis plus the strands' contraction, so each TSA's twist
+    shortens its own strings' free length from the flat sheet's.
+    """
+    cp = robot.pattern
+    sims, owner = [], []
+    flat = np.column_stack([cp.vertices, np.full(cp.n_vertices, contact)])
+    for k, leg in enumerate(robot.legs):
+        for s in _sim_strings(cp, leg.route):
+            sims.append(s)
+            owner.append(k)
+    thickness = robot.legs[0].route.thickness
+    strings = StringSet(sims, thickness / 2.0, robot.legs[0].route.tsa)
+    for s in strings.strings:
+        s.free_length = string_length(flat, s, strings)[0]
+        s.stiffness = params.string_axial_stiffness / s.free_length
+    base = np.array([s.free_length for s in strings.strings])
+    return strings, np.asarray(owner), base
+
+
+def _tsa_values(robot: Robot, theta: np.ndarray, fn: Callable) -> np.ndarray:
+    """``fn(theta, length, radius, max helix)`` of every leg's onboard TSA at twist ``theta``
+    (rad, one per leg): its contraction (mm) or transmission ratio (mm)."""
+    return np.array(
+        [
+            float(fn(th, leg.route.tsa.length, leg.route.tsa.radius,
+                     math.radians(leg.route.tsa.max_helix_angle)))
+            for th, leg in zip(theta, robot.legs, strict=True)
+        ]
+    )  # fmt: skip
+
+
+def _equilibrium(x, previous, st, strings, ground):
+    """The next equilibrium from ``x``: a linear predictor first, the last state if it fails."""
+    start = x if previous is None else 2.0 * x - previous
+    try:
+        x_new, info = solve_equilibrium(start, st, strings, ground=ground)
+    except Exception:  # a poor predictor: start from the last equilibrium
+        x_new, info = solve_equilibrium(x, st, strings, ground=ground)
+    if not info.converged and start is not x:
+        x_new, info = solve_equilibrium(x, st, strings, ground=ground)
+    return x_new, info
+
+
+@dataclass
+class _Walk:
+    """What one simulated gait needs at every step besides the state."""
+
+    st: Any
+    strings: StringSet
+    owner: np.ndarray
+    base: np.ndarray
+    ground: Ground
+    body_nodes: np.ndarray
+    leg_hinges: list[int]
+    blocked_hinges: np.ndarray
+
+
+def _record(out: GaitResult, r: int, x: np.ndarray, info, walk: _Walk, ratio: np.ndarray):
+    """Row ``r`` of ``out``: the state, the body, fold angles, tensions and TSA torques."""
+    out.states[r] = x
+    out.body[r] = x[walk.body_nodes].mean(axis=0)
+    rho = fold_angles(x, walk.st.hinges)
+    out.fold[r] = np.degrees(np.abs(rho[walk.leg_hinges]))
+    out.blocked[r] = float(np.degrees(np.abs(rho[walk.blocked_hinges])).max())
+    out.converged[r] = info.converged
+    tens = np.asarray(info.tensions)
+    for k in range(len(ratio)):
+        mine = tens[walk.owner == k]
+        out.tensions[r, k, : len(mine)] = mine
+        out.torque[r, k] = float(mine.sum()) * ratio[k]
+
+
+def _start_walk(robot: Robot, params: SimulationParams, mu: float, prefold: float | None):
+    """The structure on the ground with its strings; the start state and the mass, g."""
+    cp = robot.pattern
+    st = build_structure(cp, params, None, robot.blockers, free=True)
+    st.weight = st.weight + _point_weights(cp, st, robot.masses, params.gravity)
+    mass_g = float(st.weight.sum() / params.gravity * 1e6) if params.gravity > 0 else 0.0
+    if prefold is None:
+        prefold = max(2.0, 180.0 * float(robot.gait_p[0].max()))
+    st.x0, contact = _pose(robot, params, prefold)
+    ground = Ground(contact, params.ground_stiffness, mu, params.slip)
+    ground.start(st.x0)
+    strings, owner, base = _gait_strings(robot, params, contact)
+    walk = _Walk(
+        st,
+        strings,
+        owner,
+        base,
+        ground,
+        cp.faces[cp.face_index(robot.body)],
+        [int(np.flatnonzero(st.hinge_edge == leg.crease)[0]) for leg in robot.legs],
+        np.flatnonzero(np.isin(st.hinge_edge, list(robot.blockers))),
+    )
+    return walk, mass_g
+
+
 def simulate_gait(
     robot: Robot,
     *,
@@ -612,53 +796,15 @@ def simulate_gait(
     mu = robot.friction if friction is None else friction
     if params is None:
         params = SimulationParams(gravity=9810.0, ground=0.0, friction=mu)
-    cp = robot.pattern
-    st = build_structure(cp, params, None, robot.blockers, free=True)
-    st.weight = st.weight + _point_weights(cp, st, robot.masses, params.gravity)
-    mass_g = float(st.weight.sum() / params.gravity * 1e6) if params.gravity > 0 else 0.0
-    leg_hinges = []
-    for leg in robot.legs:
-        h = np.flatnonzero(st.hinge_edge == leg.crease)
-        leg_hinges.append(int(h[0]))
-    blocked_hinges = np.flatnonzero(np.isin(st.hinge_edge, list(robot.blockers)))
-    if prefold is None:
-        prefold = max(2.0, 180.0 * float(robot.gait_p[0].max()))
-    # pose the robot on its legs, each folded rigidly by the prefold, feet on the ground:
-    # the strings then hold every leg on its mountain branch from the first step
-    posed = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-    for leg in robot.legs:
-        folded = _folded_leg(cp, leg, math.radians(prefold))
-        ring = cp.faces[leg.face]
-        posed[ring] = folded[ring]
-    contact = params.ground + 0.5 * params.panel_thickness
-    posed[:, 2] += contact - posed[:, 2].min()
-    st.x0 = posed
-    ground = Ground(contact, params.ground_stiffness, mu, params.slip)
-    ground.start(st.x0)
-    x = st.x0.copy()
-    # all strings in one set at zero twist: an onboard TSA's share is x_dis plus the
-    # strands' contraction, so each TSA's twist shortens its own strings' free length
-    sims, owner = [], []
-    flat = np.column_stack([cp.vertices, np.full(cp.n_vertices, contact)])
-    for k, leg in enumerate(robot.legs):
-        for s in _sim_strings(cp, leg.route):
-            sims.append(s)
-            owner.append(k)
-    owner = np.asarray(owner)
-    thickness = robot.legs[0].route.thickness
-    strings = StringSet(sims, thickness / 2.0, robot.legs[0].route.tsa)
-    for s in strings.strings:
-        s.free_length = string_length(flat, s, strings)[0]
-        s.stiffness = params.string_axial_stiffness / s.free_length
-    base = np.array([s.free_length for s in strings.strings])
+    walk, mass_g = _start_walk(robot, params, mu, prefold)
     times, ratios = _schedule(robot, cycles, steps, reverse)
     turns = gait_turns(robot, ratios)
-    n_legs = len(robot.legs)
-    per_leg = max(int(np.sum(owner == k)) for k in range(n_legs))
-    rows = len(times)
+    n_legs, rows = len(robot.legs), len(times)
+    per_leg = max(int(np.sum(walk.owner == k)) for k in range(n_legs))
+    n = robot.pattern.n_vertices
     out = GaitResult(
         t=times,
-        states=np.zeros((rows, cp.n_vertices, 3)),
+        states=np.zeros((rows, n, 3)),
         body=np.zeros((rows, 3)),
         turns=turns,
         tensions=np.zeros((rows, n_legs, per_leg)),
@@ -668,52 +814,18 @@ def simulate_gait(
         converged=np.zeros(rows, dtype=bool),
         friction=mu,
         mass_g=mass_g,
+        cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),
     )
-    body_nodes = cp.faces[cp.face_index(robot.body)]
-    per_cycle = (len(robot.gait_t) - 1) * steps
-    out.cycle_starts = list(range(0, rows, per_cycle))
-    previous = None
+    x, previous = walk.st.x0.copy(), None
     for r in range(rows):
         theta = turns[r] * 2 * math.pi
-        contraction = np.zeros(n_legs)
-        for k, leg in enumerate(robot.legs):
-            tsa = leg.route.tsa
-            contraction[k] = float(
-                onboard_contraction(
-                    theta[k], tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
-                )
-            )
-        for s, b, k in zip(strings.strings, base, owner, strict=True):
+        contraction = _tsa_values(robot, theta, onboard_contraction)
+        for s, b, k in zip(walk.strings.strings, walk.base, walk.owner, strict=True):
             s.free_length = b - contraction[k]
-        start = x
-        if previous is not None:
-            guess = 2.0 * x - previous
-            start = guess
-        try:
-            x_new, info = solve_equilibrium(start, st, strings, ground=ground)
-        except Exception:  # a poor predictor: start from the last equilibrium
-            x_new, info = solve_equilibrium(x, st, strings, ground=ground)
-        if not info.converged and start is not x:
-            x_new, info = solve_equilibrium(x, st, strings, ground=ground)
+        x_new, info = _equilibrium(x, previous, walk.st, walk.strings, walk.ground)
         previous, x = x, x_new
-        ground.start(x)
-        out.states[r] = x
-        out.body[r] = x[body_nodes].mean(axis=0)
-        rho = fold_angles(x, st.hinges)
-        out.fold[r] = np.degrees(np.abs(rho[leg_hinges]))
-        out.blocked[r] = float(np.degrees(np.abs(rho[blocked_hinges])).max())
-        out.converged[r] = info.converged
-        tens = np.asarray(info.tensions)
-        for k, leg in enumerate(robot.legs):
-            tsa = leg.route.tsa
-            mine = tens[owner == k]
-            out.tensions[r, k, : len(mine)] = mine
-            ratio = float(
-                onboard_transmission(
-                    theta[k], tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
-                )
-            )
-            out.torque[r, k] = float(mine.sum()) * ratio
+        walk.ground.start(x)
+        _record(out, r, x, info, walk, _tsa_values(robot, theta, onboard_transmission))
         if progress is not None:
             progress(r, rows)
         stop = _over_limit(robot, out.tensions[r], out.torque[r])

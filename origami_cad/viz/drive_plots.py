@@ -3,11 +3,8 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from origami_cad.viz.figure import png_subplots
 
@@ -15,26 +12,28 @@ __all__ = ["save_drive_png"]
 
 
 def save_drive_png(
-    rows: Sequence[dict[str, Any]],
+    log: Any,
     path: str | os.PathLike[str],
     names: dict[int, str] | None = None,
 ) -> Path:
-    """One panel per TSA: commanded (dashed) and measured (solid) motor turns, and current."""
-    ids = sorted({r["id"] for r in rows})
+    """One panel per TSA: commanded (dashed) and measured (solid) motor turns, and current.
+
+    ``log`` is a columnar drive log (:class:`origami_cad.drive.sequence.DriveLog`:
+    ``ids``, ``t`` (S,) s, ``target`` and ``measured`` (S, n) turns, ``current`` (S, n) mA).
+    """
+    ids = list(log.ids)
     with png_subplots(
         path, len(ids), 1, figsize=(9, 1.9 * len(ids) + 0.8), sharex=True, squeeze=False, dpi=140
     ) as (_, axes):
-        for ax, i in zip(axes[:, 0], ids, strict=True):
-            sel = [r for r in rows if r["id"] == i]
-            t = np.array([r["t_s"] for r in sel])
-            ax.plot(t, [r["target_turns"] for r in sel], "--", color="#555555", label="commanded")
-            ax.plot(t, [r["measured_turns"] for r in sel], "-", color="#1f4fd6", label="measured")
+        for j, (ax, i) in enumerate(zip(axes[:, 0], ids, strict=True)):
+            ax.plot(log.t, log.target[:, j], "--", color="#555555", label="commanded")
+            ax.plot(log.t, log.measured[:, j], "-", color="#1f4fd6", label="measured")
             ax.set_ylabel("turns")
             label = (names or {}).get(i, "")
             ax.set_title(f"servo {i} {label}".strip(), fontsize=9, loc="left")
             ax.grid(True, alpha=0.3)
             twin = ax.twinx()
-            twin.plot(t, [r["current_mA"] for r in sel], ":", color="#d62728", lw=1)
+            twin.plot(log.t, log.current[:, j], ":", color="#d62728", lw=1)
             twin.set_ylabel("mA", color="#d62728", fontsize=8)
         axes[0, 0].legend(fontsize=8, loc="upper right")
         axes[-1, 0].set_xlabel("time (s)")
