@@ -1500,6 +1500,7 @@ def run_drive(
     """
     import contextlib
 
+    from origami_cad.drive import StallError
     from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
@@ -1515,10 +1516,14 @@ def run_drive(
         raise DesignError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
-    with contextlib.ExitStack() as stack:
-        bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
-        done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
     names = {t.dxl_id: t.name for t in seq.tsas}
+    try:
+        with contextlib.ExitStack() as stack:
+            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+            done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
+    except StallError as exc:  # name the TSA, not only its servo ID
+        name = names.get(exc.servo)
+        raise StallError(f"{name}: {exc}" if name else str(exc), exc.servo) from None
     files = [Path(log)]
     if plot:
         save_drive_png(done, plot, names)

@@ -477,7 +477,7 @@ class DynamixelBus(ServoBus):
         stall = self.over_current(out)
         if stall is not None:
             self.stop_servo(stall[0])
-            raise StallError(f"{stall[1]}; the servo was stopped")
+            raise StallError(f"{stall[1]}; the servo was stopped", stall[0])
         return out
 
     def _fail(self, exc: DriveError) -> None:

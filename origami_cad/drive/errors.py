@@ -17,7 +17,14 @@ class DriveError(OrigamiCadError, RuntimeError):
 
 
 class StallError(DriveError):
-    """A TSA stalled: its current exceeded the limit (string tension too high)."""
+    """A TSA stalled: its current exceeded the limit (string tension too high).
+
+    ``servo`` is the ID of the servo that stalled (None if unknown).
+    """
+
+    def __init__(self, message: str, servo: int | None = None) -> None:
+        super().__init__(message)
+        self.servo = servo
 
 
 class HardwareError(DriveError):

@@ -311,7 +311,7 @@ class SerialBus(ServoBus):
         if stall is not None:
             with hold_ctrl_c():
                 self.stop()
-            raise StallError(f"{stall[1]}; every motor was stopped")
+            raise StallError(f"{stall[1]}; every motor was stopped", stall[0])
         return out
 
     def _reopen(self) -> str | None:
