@@ -80,8 +80,9 @@ def fig7(out: Path, quick: bool) -> list[Outputs]:
     walk = {"cycles": 1, "steps": 3} if quick else {"cycles": 3, "steps": 6}
     crawl = jobs.run_crawl(robot, out / "crawl", **walk)
     chained.append(crawl)
-    # the servo logs: examples/crawler_gait.toml, whose numbers are the demo's baseline
-    # (issue 16 regenerates it); crawl/gait_sequence.toml is the robot's own gait
+    # the servo logs: examples/crawler_gait.toml is the crawl job's gait_sequence.toml (the
+    # model's mappings and the simulated load per servo, which the emulated servos carry);
+    # its header says how it was made
     speed = 32.0 if quick else 8.0
     done = jobs.run_drive(
         EXAMPLES / "crawler_gait.toml",
@@ -160,10 +161,11 @@ STEPS: list[Step] = [
          "driver adapter, printed as one sheet with its parts in place. Its 32 s gait (fold "
          "ratios turned into TSA turns through the string model) runs in the bar-and-hinge "
          "simulator with the robot free on the ground (gravity, Coulomb friction 0.6); the "
-         "paper's robot moved 63 mm per cycle; crawl/gait_sequence.toml is that gait as a "
-         "drive sequence whose mappings come from the string model. The servo logs: "
-         "examples/crawler_gait.toml's cycle on four emulated servos (Dynamixel Protocol "
-         "2.0 over a pseudo-terminal).",
+         "paper's robot moved 63 mm per cycle. crawl/gait_sequence.toml is that gait as a "
+         "drive sequence: mappings from the string model, and each servo's load, the TSA "
+         "torque of the simulated crawl. The servo logs: examples/crawler_gait.toml (that "
+         "file, made by the crawl job) on four emulated XL330 servos (Dynamixel Protocol "
+         "2.0 over a pseudo-terminal), each carrying its simulated load.",
          fig7),
     Step("fig8", "Fig. 8 - the designed arm, printed and folded by its strings",
          "The winner of Fig. 3 with the string route design-arm wrote for it: one onboard TSA "

@@ -1200,7 +1200,11 @@ def _crawl_command(robot, folder, cycles, steps, reverse, friction) -> str:
 def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
     """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
     from origami_cad.simulation.crawler import gait_sequence_text
-    from origami_cad.viz.crawl_plots import save_crawl_loads_png, save_crawl_position_png
+    from origami_cad.viz.crawl_plots import (
+        save_crawl_gait_png,
+        save_crawl_loads_png,
+        save_crawl_position_png,
+    )
     from origami_cad.viz.render3d import render_folding_gif
 
     legs = [leg.name for leg in spec.legs]
@@ -1215,6 +1219,9 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
         reference=reference, cycle=spec.cycle,
     )  # fmt: skip
     save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
+    save_crawl_gait_png(
+        result.t, result.fold, result.turns, legs, stage / names[5], commanded=result.commanded
+    )
     every = max(1, len(result.states) // max(gif_frames, 1))
     shown = [*result.states[::every], result.states[-1]]
     render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
@@ -1263,7 +1270,8 @@ def run_crawl(
     of ``steps`` quasi-static steps between keyframes; ``reverse`` plays the gait
     backwards. Writes the body's path and per-TSA torque and tensions
     (``crawl.json``), the body's position against time (``crawl.png``), torques and
-    tensions (``loads.png``), the crawl seen from the side (``crawl.gif``) and the
+    tensions (``loads.png``), the legs' fold angles and TSA twist (``gait.png``), the
+    crawl seen from the side (``crawl.gif``) and the
     gait as a sequence for ``drive`` (``gait_sequence.toml``: mappings from the string
     model, and each servo's simulated load, which ``drive --dry-run`` applies).
     """
@@ -1278,7 +1286,7 @@ def run_crawl(
     )
     seconds = time.perf_counter() - start
     per = result.displacement_per_cycle()
-    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml")
+    names = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml", "gait.png")
     info = {
         "robot": str(robot),
         "cycles": cycles,
@@ -1296,6 +1304,7 @@ def run_crawl(
     return Outputs(
         files=files,
         images=[
+            (files[5], "The gait: leg fold angles (simulated and keyframed) and TSA twist"),
             (files[1], "Body position against time (paper: 63 mm per 32 s cycle)"),
             (files[2], "TSA torque and string tension per leg"),
             (files[3], "The crawl seen from the side"),

@@ -17,7 +17,14 @@ from origami_cad.errors import DesignError
 from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.check import check_pattern
-from origami_cad.simulation.crawler import gait_turns, leg_contraction, load_robot, simulate_gait
+from origami_cad.simulation.crawler import (
+    gait_loads,
+    gait_sequence_text,
+    gait_turns,
+    leg_contraction,
+    load_robot,
+    simulate_gait,
+)
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 ROBOT = HERE / "crawler.toml"
@@ -130,11 +137,18 @@ def test_crawl_command(tmp_path, capsys):
     assert data["paper_mm_per_cycle"] == 63.0
     assert (out / "crawl.gif").read_bytes()[:3] == b"GIF"
     assert (out / "crawl.png").read_bytes()[:4] == b"\x89PNG"
+    assert (out / "gait.png").read_bytes()[:4] == b"\x89PNG"
+    # the sequence says how it was made and carries each servo's simulated load
+    text = (out / "gait_sequence.toml").read_text()
+    assert f"origami-cad crawl {ROBOT} -o {out} --cycles 1 --steps 2" in text
     # the same gait, as TSA turns from the model, drives emulated servos to the end
     seq = load_sequence(out / "gait_sequence.toml")
     assert [t.name for t in seq.tsas] == ["front left", "front right", "rear left", "rear right"]
     robot = load_robot(ROBOT)
     assert list(seq.turns_at(11.0).values()) == pytest.approx(gait_turns(robot)[2], rel=1e-3)
+    torque = np.array(data["torque_Nmm"])
+    for k, tsa in enumerate(seq.tsas):
+        assert tsa.load[:, 1].max() == pytest.approx(torque[:, k].max(), abs=1e-3)
     log = tmp_path / "drive.csv"
     args = ["drive", str(out / "gait_sequence.toml"), "--dry-run", "--speed", "32"]
     assert main([*args, "--log", str(log), "--baudrate", "1000000"]) == 0
@@ -280,3 +294,34 @@ def test_bad_robot_files_are_refused_naming_file_and_key(tmp_path, capsys):
         err = capsys.readouterr().err
         assert message in err and f"bad{k}.toml" in err and err.count("\n") == 1, err
         assert not out.exists()
+
+
+def test_the_example_gait_is_the_crawl_jobs_sequence(tmp_path, robot, forward):
+    """examples/crawler_gait.toml is what `crawl --cycles 1 --steps 6` writes (its header)."""
+    example = HERE.parent / "crawler_gait.toml"
+    text = example.read_text(encoding="utf-8")
+    assert (
+        "origami-cad crawl examples/crawler/crawler.toml -o out/crawl --cycles 1 --steps 6" in text
+    )
+    seq = load_sequence(example)
+    (tmp_path / "now.toml").write_text(gait_sequence_text(robot, result=forward))
+    now = load_sequence(tmp_path / "now.toml")
+    assert [k.values for k in seq.keyframes] == [k.values for k in now.keyframes]
+    assert [k.t for k in seq.keyframes] == [k.t for k in now.keyframes]
+    assert (seq.repeat, seq.rate, seq.current_limit) == (now.repeat, now.rate, now.current_limit)
+    for a, b in zip(seq.tsas, now.tsas, strict=True):
+        assert (a.dxl_id, a.name, a.tsa) == (b.dxl_id, b.name, b.tsa)
+        assert np.array_equal(a.mapping, b.mapping)
+    # the loads: 6 steps between keyframes there, 3 here; the same equilibria where they meet
+    times, torque = gait_loads(robot, forward)
+    for k, tsa in enumerate(seq.tsas):
+        there = np.interp(times, tsa.load[:, 0], tsa.load[:, 1])
+        assert np.abs(there - torque[:, k]).max() < 0.03 * torque[:, k].max() + 0.02
+
+
+def test_gait_loads_fold_the_simulation_onto_one_cycle(robot, forward):
+    times, torque = gait_loads(robot, forward)
+    assert times[0] == 0.0 and times[-1] == robot.cycle and np.all(np.diff(times) > 0)
+    assert torque.shape == (len(times), 4)
+    assert np.array_equal(torque[0], torque[-1])  # closed: the cycle repeats
+    assert torque.max(axis=0) == pytest.approx(forward.torque.max(axis=0))

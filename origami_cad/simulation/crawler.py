@@ -524,6 +524,8 @@ class GaitResult:
     blocked : ndarray (N,)
         Largest fold angle over every blocked crease, deg.
     converged : ndarray (N,) bool
+    commanded : ndarray (N, legs)
+        The gait's fold ratios at each state (the keyframes, linearly between).
     cycle_starts : list of int
         Row index where each cycle starts (the last one: the final state).
     notes : list of str
@@ -541,6 +543,7 @@ class GaitResult:
     fold: np.ndarray
     blocked: np.ndarray
     converged: np.ndarray
+    commanded: np.ndarray | None = None
     cycle_starts: list[int] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     friction: float = 0.0
@@ -632,7 +635,8 @@ def _over_limit(robot: Robot, tensions: np.ndarray, torque: np.ndarray):
 
 
 def _truncate(out: GaitResult, rows: int) -> None:
-    for name in ("t", "states", "body", "turns", "tensions", "torque", "fold", "blocked"):
+    names = ("t", "states", "body", "turns", "tensions", "torque", "fold", "blocked", "commanded")
+    for name in names:
         setattr(out, name, getattr(out, name)[:rows])
     out.converged = out.converged[:rows]
     out.cycle_starts = [k for k in out.cycle_starts if k < rows]
@@ -812,6 +816,7 @@ def simulate_gait(
         fold=np.zeros((rows, n_legs)),
         blocked=np.zeros(rows),
         converged=np.zeros(rows, dtype=bool),
+        commanded=ratios,
         friction=mu,
         mass_g=mass_g,
         cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),

@@ -10,7 +10,7 @@ import numpy as np
 
 from origami_cad.viz.figure import png_subplots
 
-__all__ = ["save_crawl_loads_png", "save_crawl_position_png"]
+__all__ = ["save_crawl_gait_png", "save_crawl_loads_png", "save_crawl_position_png"]
 
 
 def save_crawl_position_png(
@@ -64,4 +64,34 @@ def save_crawl_loads_png(
         at.legend(fontsize=8, ncol=2)
         at.grid(alpha=0.3)
         af.grid(alpha=0.3)
+    return Path(path)
+
+
+def save_crawl_gait_png(
+    t: np.ndarray,
+    fold: np.ndarray,
+    turns: np.ndarray,
+    names: Sequence[str],
+    path: str | os.PathLike[str],
+    *,
+    commanded: np.ndarray | None = None,
+) -> Path:
+    """The gait: each leg's fold angle (deg) and its TSA's twist (turns) against time (s).
+
+    ``fold`` (N, legs) is the simulated leg crease's fold angle; ``commanded`` (N, legs),
+    if given, the gait's fold ratios at the same times, drawn dashed as angles (p x 180).
+    """
+    with png_subplots(path, 2, 1, figsize=(7.0, 5.5), sharex=True) as (_, (af, at)):
+        for k, name in enumerate(names):
+            (line,) = af.plot(t, fold[:, k], label=name)
+            if commanded is not None:
+                af.plot(t, 180.0 * commanded[:, k], "--", color=line.get_color(), lw=0.8)
+            at.plot(t, turns[:, k], label=name)
+        af.set_ylabel("leg fold angle (deg)")
+        af.set_title("solid: simulated, dashed: the gait's keyframes", fontsize=8, loc="left")
+        at.set_ylabel("TSA twist (turns)")
+        at.set_xlabel("time (s)")
+        af.legend(fontsize=8, ncol=2)
+        af.grid(alpha=0.3)
+        at.grid(alpha=0.3)
     return Path(path)
