@@ -177,23 +177,13 @@ class DynamixelBus(ServoBus):
         baudrate: int = 57600,
         ids: Iterable[int] = (1,),
         *,
-        max_turns: dict | float | None = None,
-        current_limit_ma: float | None = None,
         profile_velocity: int = 200,
         profile_acceleration: int = 50,
         retries: int = 2,
-        stop_attempts: int = 3,
-        reopen_timeout: float = 1.0,
+        **limits,
     ) -> None:
-        super().__init__(
-            port,
-            baudrate,
-            ids,
-            max_turns=max_turns,
-            current_limit_ma=current_limit_ma,
-            stop_attempts=stop_attempts,
-            reopen_timeout=reopen_timeout,
-        )
+        # limits: max_turns, current_limit_ma, stop_attempts, reopen_timeout (ServoBus)
+        super().__init__(port, baudrate, ids, **limits)
         self.max_turns = {i: min(v, EXTENDED_TURNS) for i, v in self.max_turns.items()}
         self.profile_velocity = profile_velocity
         self.profile_acceleration = profile_acceleration

@@ -197,20 +197,10 @@ class SerialBus(ServoBus):
         ids=(1,),
         *,
         timeout: float = 0.5,
-        max_turns: dict | float | None = None,
-        current_limit_ma: float | None = None,
-        stop_attempts: int = 3,
-        reopen_timeout: float = 1.0,
+        **limits,
     ) -> None:
-        super().__init__(
-            port,
-            baudrate,
-            ids,
-            max_turns=max_turns,
-            current_limit_ma=current_limit_ma,
-            stop_attempts=stop_attempts,
-            reopen_timeout=reopen_timeout,
-        )
+        # limits: max_turns, current_limit_ma, stop_attempts, reopen_timeout (ServoBus)
+        super().__init__(port, baudrate, ids, **limits)
         if not (math.isfinite(timeout) and timeout > 0):
             raise DriveError(f"reply timeout must be finite and > 0 s, got {timeout}")
         self.timeout = timeout

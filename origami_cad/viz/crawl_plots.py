@@ -13,6 +13,16 @@ from origami_cad.viz.figure import png_subplots
 __all__ = ["save_crawl_gait_png", "save_crawl_loads_png", "save_crawl_position_png"]
 
 
+def _label(top, bottom, top_label: str, bottom_label: str, legend: dict) -> None:
+    """Y labels of two stacked panels over time (s), the top one's legend, light grids."""
+    top.set_ylabel(top_label)
+    bottom.set_ylabel(bottom_label)
+    bottom.set_xlabel("time (s)")
+    top.legend(fontsize=8, **legend)
+    top.grid(alpha=0.3)
+    bottom.grid(alpha=0.3)
+
+
 def save_crawl_position_png(
     t: np.ndarray,
     body: np.ndarray,
@@ -36,13 +46,8 @@ def save_crawl_position_png(
         for k in cycle_starts[1:-1]:
             ax.axvline(t[k], color="0.8", lw=0.8)
             az.axvline(t[k], color="0.8", lw=0.8)
-        ax.set_ylabel("body displacement (mm)")
-        ax.legend(loc="upper left", fontsize=8)
-        ax.grid(alpha=0.3)
         az.plot(t, body[:, 2], color="C1")
-        az.set_ylabel("body height (mm)")
-        az.set_xlabel("time (s)")
-        az.grid(alpha=0.3)
+        _label(ax, az, "body displacement (mm)", "body height (mm)", {"loc": "upper left"})
     return Path(path)
 
 
@@ -58,12 +63,7 @@ def save_crawl_loads_png(
         for k, name in enumerate(names):
             at.plot(t, torque[:, k], label=name)
             af.plot(t, tensions[:, k, :].max(axis=1), label=name)
-        at.set_ylabel("TSA torque (N mm)")
-        af.set_ylabel("largest string tension (N)")
-        af.set_xlabel("time (s)")
-        at.legend(fontsize=8, ncol=2)
-        at.grid(alpha=0.3)
-        af.grid(alpha=0.3)
+        _label(at, af, "TSA torque (N mm)", "largest string tension (N)", {"ncol": 2})
     return Path(path)
 
 
@@ -87,11 +87,6 @@ def save_crawl_gait_png(
             if commanded is not None:
                 af.plot(t, 180.0 * commanded[:, k], "--", color=line.get_color(), lw=0.8)
             at.plot(t, turns[:, k], label=name)
-        af.set_ylabel("leg fold angle (deg)")
         af.set_title("solid: simulated, dashed: the gait's keyframes", fontsize=8, loc="left")
-        at.set_ylabel("TSA twist (turns)")
-        at.set_xlabel("time (s)")
-        af.legend(fontsize=8, ncol=2)
-        af.grid(alpha=0.3)
-        at.grid(alpha=0.3)
+        _label(af, at, "leg fold angle (deg)", "TSA twist (turns)", {"ncol": 2})
     return Path(path)
