@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from origami_cad.cli import main
+from origami_cad.drive.errors import StallError
 from origami_cad.drive.sequence import load_sequence
 from origami_cad.errors import DesignError
 from origami_cad.fabrication import FabricationParams, plan_panels
@@ -325,3 +326,41 @@ def test_gait_loads_fold_the_simulation_onto_one_cycle(robot, forward):
     assert torque.shape == (len(times), 4)
     assert np.array_equal(torque[0], torque[-1])  # closed: the cycle repeats
     assert torque.max(axis=0) == pytest.approx(forward.torque.max(axis=0))
+
+
+def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robot, forward):
+    """Issue 17: the emulator's load comes from the simulation. The same gait on the crawler
+    with five times the hardware mass (servos, driver module) needs more torque; on servos
+    1/40 as strong as an XL330 (13 N mm: ``--load-scale 40``) the designed robot's gait runs
+    and the heavy one stalls a servo, named."""
+    from origami_cad.jobs import run_drive
+
+    for name in ("crawler.fold", *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr"))):
+        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    text = ROBOT.read_text(encoding="utf-8")
+    text = text.replace("grams = 109.71", "grams = 548.55").replace("grams = 18.0", "grams = 90.0")
+    (tmp_path / "heavy.toml").write_text(text, encoding="utf-8")
+    heavy = load_robot(tmp_path / "heavy.toml")
+    walked = simulate_gait(heavy, cycles=1, steps=3)
+    assert walked.mass_g > 2.5 * forward.mass_g
+    light_peak = gait_loads(robot, forward)[1].max(axis=0)
+    heavy_peak = gait_loads(heavy, walked)[1].max(axis=0)
+    assert heavy_peak.sum() > 2.0 * light_peak.sum()  # N mm: the torque follows the weight
+    runs = {}
+    for key, spec, result in (("light", robot, forward), ("heavy", heavy, walked)):
+        path = tmp_path / f"{key}.toml"
+        path.write_text(gait_sequence_text(spec, result=result), encoding="utf-8")
+        try:
+            run_drive(path, tmp_path / f"{key}.csv", dry_run=True, speed=16.0, load_scale=40.0)
+            runs[key] = "ran"
+        except StallError as exc:
+            runs[key] = str(exc)
+    assert runs["light"] == "ran"
+    # the first servo whose load passes 1200 mA (5 mA idle + torque x 40 / (520 / 1500))
+    times, torque = gait_loads(heavy, walked)
+    over = 5.0 + 40.0 * torque * 1500.0 / 520.0 > 1200.0
+    assert over.any() and not (gait_loads(robot, forward)[1] * 40.0 * 1500.0 / 520.0 > 1140).any()
+    first = np.array([np.argmax(col) if col.any() else len(times) for col in over.T])
+    assert np.sum(first == first.min()) == 1  # one servo crosses first (at the samples)
+    leg = heavy.legs[int(np.argmin(first))]
+    assert runs["heavy"].startswith(f"{leg.name}: servo {leg.servo}: current"), runs["heavy"]
