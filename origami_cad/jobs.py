@@ -70,7 +70,7 @@ class Outputs:
     files : list of Path
         Every file written, in order.
     images : list of (Path, str)
-        The pictures among them, with a caption.
+        The pictures among them (.png, .gif, and .glb 3D views), with a caption.
     numbers : list of (str, str)
         Key results, name and value with its unit.
     messages : list of str
@@ -286,7 +286,7 @@ def run_fold(
     plural = "s" if len(states) > 1 else ""
     return Outputs(
         files=[out],
-        images=[(out, caption)] if suffix in (".png", ".gif") else [],
+        images=[(out, caption)] if suffix != ".fold" else [],
         messages=[f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})"],
         result=states,
     )
@@ -650,7 +650,8 @@ def run_fabricate(
         write_fabrication(fab, stage)
         write_parts_glb(stage, stage / "parts.glb")
         save_panels_png(fab, stage / "panels.png")
-        images = [(stage / "panels.png", f"{label}: panels, operation regions and holes")]
+        images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
+        images.append((stage / "panels.png", f"{label}: panels, operation regions and holes"))
         if renders:
             images += _render_fabrication(loaded.pattern, fab, stage, label)
         staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))
