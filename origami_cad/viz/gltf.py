@@ -5,6 +5,8 @@ origami_cad's (mm, z up) in the meshes; one root node turns them into glTF's
 convention (metres, y up) by a scale of 0.001 and a rotation of -90 deg about x,
 so that every client shows the structure the right size and the right way up.
 
+Importing this module does not import build123d: the parts are plain arrays.
+
 A folding is one mesh per kind of line (panels as triangles, mountain, valley,
 border and cut creases as lines) whose morph targets are the folded states; one
 animation plays them through the ``weights`` of each node (linear between two
@@ -25,8 +27,6 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._fileio import atomic_write
-from origami_cad.fabrication.export import MATERIAL_COLORS, read_binary_stl
-from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.model import CreasePattern
 
 __all__ = [
@@ -291,6 +291,9 @@ def parts_meshes(meshes: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> list[Gl
         part) to its vertices (mm) and triangles. A part not in the dual-material
         structure is printed in PLA.
     """
+    from origami_cad.fabrication.export import MATERIAL_COLORS
+    from origami_cad.fabrication.solids import PART_MATERIALS
+
     out = []
     for name, (v, t) in meshes.items():
         material = PART_MATERIALS.get(name, "PLA")
@@ -305,5 +308,8 @@ def write_parts_glb(folder: str | os.PathLike[str], path: str | os.PathLike[str]
     (as :func:`~origami_cad.fabrication.write_fabrication` writes them, in
     assembly position) and writes ``path`` (atomic).
     """
+    from origami_cad.fabrication.export import read_binary_stl
+    from origami_cad.fabrication.solids import PART_NAMES
+
     stls = {n: read_binary_stl(Path(folder) / f"{n}.stl") for n in PART_NAMES}
     return write_glb(path, parts_meshes(stls))
