@@ -80,6 +80,21 @@ def test_a_route_draws_each_string_from_its_anchor(examples):
         assert path.n_points >= len(route.faces) + 1
 
 
+def test_a_dcqc_result_shows_its_final_state_with_its_strings(examples):
+    from origami_cad.strings import simulate_dcqc
+
+    design = load_pattern_source(examples / "miura_6x4.toml")
+    spec = load_route(examples / "miura_route.toml", design.pattern)
+    result = simulate_dcqc(design, spec)
+    last = to_pyvista(result, design)
+    np.testing.assert_allclose(last["panels"].points, result.final_coords)
+    for k, path in enumerate(result.final_strings):
+        np.testing.assert_allclose(last[f"string {k}"].points, path)
+    first = to_pyvista(result, design, frame=0)  # refolded at its fold ratio, no strings
+    assert not [k for k in first.keys() if k.startswith("string")]
+    assert np.isclose(first["panels"].triangulate().area, design.pattern.face_areas().sum())
+
+
 def test_show_renders_off_screen_without_touching_pyvista_globals(tmp_path, design):
     (state,) = fold_sequence(design, [0.4])
     shot = tmp_path / "folded.png"
