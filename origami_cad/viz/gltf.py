@@ -149,6 +149,7 @@ def glb_bytes(meshes: Sequence[GlbMesh], times: Sequence[float] | None = None) -
     target), one animation ``folding`` plays the states of every mesh that has
     morph targets: at ``times[k]`` the weight of target ``k - 1`` is 1, the others 0.
     """
+    meshes = [m for m in meshes if len(m.indices)]  # glTF has no empty primitive
     buf, materials, gmeshes, nodes = _Buffer(), [], [], []
     names: dict[str, int] = {}
     for m in meshes:
