@@ -130,3 +130,17 @@ def test_importing_the_viz_api_loads_neither_pyvista_nor_build123d():
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+def test_show_in_a_notebook_gives_pyvista_notebook_viewer(design):
+    """Without trame, pyvista's notebook viewer is a static picture of the blocks."""
+    import importlib.util
+
+    if importlib.util.find_spec("trame") is not None:
+        pytest.skip("trame is installed: the notebook viewer is a widget, not a picture")
+    with pytest.warns(UserWarning, match="static image"):
+        shown = show(design, mode="notebook", window_size=(200, 150))
+    image = np.asarray(shown)[..., :3]
+    assert image.shape == (150, 200, 3)
+    assert 0.05 < np.any(image < 230, axis=-1).mean() < 0.9
+    assert not pv.OFF_SCREEN

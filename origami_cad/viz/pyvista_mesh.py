@@ -230,7 +230,8 @@ def show(
     -------
     ndarray or object
         Off-screen: the picture (height, width, 3) uint8. In a notebook: pyvista's
-        widget. In a window: ``None`` once it is closed.
+        viewer (an interactive widget with ``trame`` installed, else a static
+        picture). In a window: ``None`` once it is closed.
     """
     from origami_cad.viz.render3d import offscreen_plotter
 
@@ -250,7 +251,9 @@ def show(
         return image
     import pyvista as pv
 
-    plotter = pv.Plotter(window_size=list(window_size), notebook=mode == "notebook")
+    # a notebook's picture or widget is drawn off-screen, by the kernel
+    notebook = mode == "notebook"
+    plotter = pv.Plotter(window_size=list(window_size), notebook=notebook, off_screen=notebook)
     plotter.set_background("white")
     _add_blocks(plotter, blocks)
     plotter.view_isometric()
