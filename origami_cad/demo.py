@@ -33,6 +33,7 @@ def fig2(out: Path, quick: bool) -> list[Outputs]:
     frames = 12 if quick else 40
     chained.append(jobs.run_fold(design, out / "folding.gif", ratio=0.98, frames=frames, view=view))
     chained.append(jobs.run_fold(design, out / "folding.fold", ratio=0.98, frames=frames))
+    chained.append(jobs.run_fold(design, out / "folding.glb", ratio=0.98, frames=frames))
     return chained
 
 
@@ -186,7 +187,9 @@ def run_step(step: Step, root: Path, quick: bool = False) -> StepReport:
         for out in step.run(root / step.key, quick):
             done.extend(out)
         rep = StepReport(step.key, step.title, summary=step.summary, numbers=done.numbers)
-        rep.images = [(p.relative_to(root).as_posix(), caption) for p, caption in done.images]
+        shown = [(p.relative_to(root).as_posix(), caption) for p, caption in done.images]
+        rep.images = [(p, c) for p, c in shown if not p.endswith(".glb")]
+        rep.views = [(p, c) for p, c in shown if p.endswith(".glb")]
         rep.files = [p.relative_to(root).as_posix() for p in dict.fromkeys(done.files)]
     except Exception as exc:  # reported in the page; run_demo raises at the end
         rep = StepReport(step.key, step.title, error=f"{type(exc).__name__}: {exc}")

@@ -56,7 +56,7 @@ __all__ = [
 
 PathLike = str | os.PathLike[str]
 PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
-FOLD_SUFFIXES = (".fold", ".png", ".gif")
+FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb")
 MAX_FRAMES = 10_000  # folded states in one file or animation
 GIF_FRAMES = 30  # frames of a simulation's animation
 
@@ -70,7 +70,7 @@ class Outputs:
     files : list of Path
         Every file written, in order.
     images : list of (Path, str)
-        The pictures among them, with a caption.
+        The pictures among them (.png, .gif, and .glb 3D views), with a caption.
     numbers : list of (str, str)
         Key results, name and value with its unit.
     messages : list of str
@@ -245,9 +245,10 @@ def run_fold(
     frames: int = 1,
     view: Sequence[float] | str = "iso",
 ) -> Outputs:
-    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end or a .gif.
+    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif or .glb.
 
-    ``frames`` states are written (1: only ``ratio``; a .gif of 1 frame gets 30).
+    ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30);
+    a .glb holds them as morph targets played by an animation (:mod:`origami_cad.viz.gltf`).
     ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
     """
     import numpy as np
@@ -266,7 +267,7 @@ def run_fold(
     _check_suffix(out, FOLD_SUFFIXES, "the folded state")
     check_outputs([design], files=[out])
     loaded = load_pattern_source(design)
-    frames = frames if frames > 1 or suffix != ".gif" else 30
+    frames = frames if frames > 1 or suffix not in (".gif", ".glb") else 30
     states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
     cp = loaded.pattern
     if suffix == ".fold":
@@ -274,6 +275,11 @@ def run_fold(
         write_fold(cp, out, frames=labelled)
     elif suffix == ".png":
         render_folded(cp, states[-1].coords, out, title=f"p = {ratio:g}", view=view)
+    elif suffix == ".glb":
+        from origami_cad.viz.gltf import FOLDING_SECONDS, folding_meshes, write_glb
+
+        meshes = folding_meshes(cp, [s.coords for s in states])
+        write_glb(out, meshes, times=np.linspace(0.0, FOLDING_SECONDS, len(states)))
     else:
         render_folding_gif(cp, [s.coords for s in states], out, view=view)
     caption = f"Folded at p = {ratio:g}" if suffix == ".png" else f"Folding from p = 0 to {ratio:g}"
@@ -616,7 +622,7 @@ def run_fabricate(
     hole: Sequence[Sequence[float]] | None = None,
     **overrides: Any,
 ) -> Outputs:
-    """Dual-material printable structure: four STLs, STEP, 3MF, fabrication.json, panels.png.
+    """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
 
     ``params`` is a ``FabricationParams`` (default: the paper's b = 3, h = 2.2,
     t = 0.4 mm); instead, keywords of :func:`fabrication_params` (``bias``,
@@ -628,6 +634,7 @@ def run_fabricate(
     from origami_cad.fabrication import fabricate, write_fabrication
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.viz.fabrication_plots import save_panels_png
+    from origami_cad.viz.gltf import write_parts_glb
 
     check_outputs([design], folders=[folder])
     if hole:
@@ -641,8 +648,10 @@ def run_fabricate(
     label = name or Path(design).stem
     with atomic_directory(folder, inputs=_sources(design, loaded)) as stage:
         write_fabrication(fab, stage)
+        write_parts_glb(stage, stage / "parts.glb")
         save_panels_png(fab, stage / "panels.png")
-        images = [(stage / "panels.png", f"{label}: panels, operation regions and holes")]
+        images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
+        images.append((stage / "panels.png", f"{label}: panels, operation regions and holes"))
         if renders:
             images += _render_fabrication(loaded.pattern, fab, stage, label)
         staged = sorted(p for p in stage.iterdir() if not p.name.startswith("."))

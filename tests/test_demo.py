@@ -40,6 +40,9 @@ def test_quick_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
     for step in STEPS:
         assert f"id='{step.key}'" in page
     assert "FAILED" not in printed and "This step failed" not in page
+    # issue 18: 3D views (fig. 2's folding, the printed parts) embedded, the page still small
+    assert page.count("<figure class='oc-view'>") >= 2
+    assert (out / "index.html").stat().st_size < 5_000_000
     check_against_before(out)
 
 

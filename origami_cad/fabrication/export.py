@@ -41,6 +41,7 @@ __all__ = [
     "layer_height",
     "material_color",
     "part_meshes",
+    "parts_tessellation",
     "read_binary_stl",
     "slicer_settings",
     "solid_mesh",
@@ -142,6 +143,24 @@ def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
 def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
     """The meshes of every solid of a part (see :func:`solid_mesh`)."""
     return [solid_mesh(s) for s in parts.solids[name]]
+
+
+def parts_tessellation(parts: Parts) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each part as one plain mesh: vertices (mm, assembly position) and triangles.
+
+    The solids of a part are stacked (:func:`part_meshes`, no vertex shared between
+    solids); this is what other stages draw, as NumPy arrays rather than build123d
+    shapes.
+    """
+    out = {}
+    for name in PART_NAMES:
+        verts, tris, offset = [np.zeros((0, 3))], [np.zeros((0, 3), dtype=np.int64)], 0
+        for v, t in part_meshes(parts, name):
+            verts.append(v)
+            tris.append(t + offset)
+            offset += len(v)
+        out[name] = (np.vstack(verts), np.vstack(tris))
+    return out
 
 
 def layer_height(params: FabricationParams, largest: float = 0.2) -> float:

@@ -1,8 +1,15 @@
-"""The HTML report of the demo: one self-contained page, a section per step."""
+"""The HTML report of the demo: one self-contained page, a section per step.
+
+3D views (``StepReport.views``: glb files written by :mod:`origami_cad.viz.gltf`) are
+embedded in the page as base64 and drawn by a small WebGL viewer shipped with the
+package (``glb_viewer.js``, inlined): the page needs no network and no server.
+"""
 
 from __future__ import annotations
 
+import base64
 import html
+import importlib.resources
 import os
 import re
 from collections.abc import Sequence
@@ -11,7 +18,10 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 
-__all__ = ["StepReport", "write_report"]
+__all__ = ["MAX_EMBEDDED_BYTES", "StepReport", "view_figure", "viewer_script", "write_report"]
+
+#: The glb bytes a page embeds at most, all views together; further views are linked.
+MAX_EMBEDDED_BYTES = 3_000_000
 
 
 @dataclass
@@ -27,6 +37,7 @@ class StepReport:
     images: list[tuple[str, str]] = field(default_factory=list)  # (path, caption)
     numbers: list[tuple[str, str]] = field(default_factory=list)  # (name, value with unit)
     files: list[str] = field(default_factory=list)
+    views: list[tuple[str, str]] = field(default_factory=list)  # (glb path, caption)
     seconds: float = 0.0
     error: str = ""
 
@@ -65,7 +76,50 @@ table{border-collapse:collapse;margin:12px 0} td{padding:3px 14px 3px 0;font-siz
 td.v{font-weight:600;font-variant-numeric:tabular-nums}
 .files{font-size:13px;columns:3} .files a{color:#1f4fd6}
 .err{color:#b00020;font-weight:600}
+figure.oc-view canvas{width:100%;aspect-ratio:4/3;border:1px solid #ddd;border-radius:4px;
+background:#fff;touch-action:none;cursor:grab}
+.oc-controls{display:flex;gap:8px;align-items:center;font-size:13px}
+.oc-controls input{flex:1}
 """
+
+
+def viewer_script() -> str:
+    """The JavaScript of the offline glb viewer (``origami_cad/viz/glb_viewer.js``)."""
+    return importlib.resources.files("origami_cad.viz").joinpath("glb_viewer.js").read_text()
+
+
+def view_figure(glb: bytes, caption: str, link: str = "") -> str:
+    """A ``<figure class="oc-view">`` holding a glb (base64) for :func:`viewer_script`.
+
+    ``link`` (a relative path) adds a link to the glb file under the caption.
+    """
+    data = base64.b64encode(glb).decode("ascii")
+    lines = [data[i : i + 76] for i in range(0, len(data), 76)]
+    more = f" (<a href='{_href(link)}'>{_text(link)}</a>)" if link else ""
+    return (
+        "<figure class='oc-view'><canvas width='560' height='420'></canvas>"
+        "<script type='application/octet-stream' class='oc-glb'>\n"
+        + "\n".join(lines)
+        + f"\n</script><figcaption>{_text(caption)}: drag to turn, wheel to zoom{more}"
+        "</figcaption></figure>"
+    )
+
+
+def _views(folder: Path, step: StepReport, budget: list[int]) -> list[str]:
+    """The 3D views of a step; a view over the remaining ``budget`` (bytes) is a link."""
+    parts = []
+    for src, cap in step.views:
+        glb = (folder / src).read_bytes()
+        if len(glb) <= budget[0]:
+            budget[0] -= len(glb)
+            parts.append(view_figure(glb, cap, src))
+        else:
+            parts.append(
+                f"<figure><p><a href='{_href(src)}'>{_text(src)}</a></p>"
+                f"<figcaption>{_text(cap)} (glb, for Blender or a glTF viewer)</figcaption>"
+                "</figure>"
+            )
+    return parts
 
 
 def write_report(
@@ -77,6 +131,7 @@ def write_report(
 ) -> Path:
     """Write the report page (atomic). Images and files are linked relatively."""
     e = _text
+    budget = [MAX_EMBEDDED_BYTES]
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
         f"<title>{e(title)}</title><style>{_CSS}</style></head><body>",
@@ -95,8 +150,9 @@ def write_report(
             parts.append("<table>")
             parts += [f"<tr><td>{e(k)}</td><td class='v'>{e(v)}</td></tr>" for k, v in s.numbers]
             parts.append("</table>")
-        if s.images:
+        if s.images or s.views:
             parts.append("<div class='imgs'>")
+            parts += _views(Path(path).parent, s, budget)
             for src, cap in s.images:
                 parts.append(
                     f"<figure><a href='{_href(src)}'><img src='{_href(src)}' alt='{e(cap)}'></a>"
@@ -108,6 +164,8 @@ def write_report(
             parts += [f"<div><a href='{_href(f)}'>{e(f)}</a></div>" for f in s.files]
             parts.append("</div>")
         parts.append("</section>")
+    if any(s.views for s in steps):
+        parts.append(f"<script>\n{viewer_script()}</script>")
     parts.append("</body></html>\n")
     with atomic_write(path, "w", encoding="utf-8") as fh:
         fh.write("\n".join(parts))
