@@ -543,3 +543,19 @@ def test_infeasible_designs_rank_by_violations_alone():
     good = res.feasible
     assert np.array_equal(res.improper[good], unlimited.improper[good])
     assert np.array_equal(res.fitness[good], unlimited.fitness[good])
+
+
+def test_unit_box_is_cmas_bound_transformation_on_whole_populations():
+    from cma.transformations import BoxConstraintsLinQuadTransformation
+
+    from origami_cad.design.search import UnitBox
+
+    rng = np.random.default_rng(2)
+    genotypes = rng.normal(0.5, 1.5, size=(300, 11))  # inside, near and far beyond [0, 1]
+    got = UnitBox(11)(genotypes)
+    tf = BoxConstraintsLinQuadTransformation([[0.0, 1.0]])
+    want = np.array([tf(row.copy()) for row in genotypes])
+    assert np.array_equal(got, want)
+    assert got.min() >= 0.0 and got.max() <= 1.0
+    inside = (genotypes > 0.05) & (genotypes < 0.95)
+    assert np.array_equal(got[inside], genotypes[inside]) and inside.mean() < 0.5
