@@ -559,3 +559,14 @@ def test_unit_box_is_cmas_bound_transformation_on_whole_populations():
     assert got.min() >= 0.0 and got.max() <= 1.0
     inside = (genotypes > 0.05) & (genotypes < 0.95)
     assert np.array_equal(got[inside], genotypes[inside]) and inside.mean() < 0.5
+
+
+def test_one_row_of_shape_angles_broadcasts_over_many_designs():
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3)
+    lengths = np.array([[100.0, 80.0, 70.0], [90.0, 80.0, 70.0]])
+    beta = np.radians([[40.0, 140.0]])
+    both = arm_fitness(task, lengths, beta, [1])
+    for k in range(2):
+        one = arm_fitness(task, lengths[k : k + 1], beta, [1])
+        assert np.array_equal(both.tips[k], one.tips[0]) and both.fitness[k] == one.fitness[0]
+    assert both.d_end[0] != both.d_end[1]

@@ -285,6 +285,7 @@ def arm_fitness(
     beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
     n_designs = max(lengths.shape[0], beta.shape[0])
     lengths = np.ascontiguousarray(np.broadcast_to(lengths, (n_designs, lengths.shape[1])))
+    beta = np.broadcast_to(beta, (n_designs, beta.shape[1]))
     b, limit, theta_end = _fold_ranges(task, beta, n_designs, bias)
     legs, panels = _build_violations(task, lengths, beta, b)
     t, a0 = _sampled_turns(task, theta_end, beta, entry_flags)
