@@ -969,6 +969,63 @@ def _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
     return header
 
 
+def _check_sequence_options(output, model: str, points: int, rate: float, repeat: int) -> None:
+    """Clear errors for the options of ``sequence`` (before any model runs)."""
+    _check_suffix(output, (".toml",), "a sequence")
+    if model not in SEQUENCE_MODELS:
+        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+    if not 2 <= points <= 1000:
+        raise DesignError(f"points must lie in 2..1000, got {points}")
+    if not (math.isfinite(rate) and 0 < rate <= 1000):
+        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+    if not 1 <= repeat <= 1_000_000:
+        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+
+
+def _route_tsa(loaded, path, model: str, fixed_panel, servo: int, at, points: int):
+    """Fold ``loaded`` by one route: its TSA entry of the sequence, its numbers, the model result.
+
+    ``at`` are the keyframes' fold ratios for this TSA; the mapping samples the
+    model's fold curve at ``points`` even fold ratios and at each of them.
+    """
+    import numpy as np
+
+    from origami_cad.drive.from_model import (
+        fold_curve,
+        model_mapping,
+        state_fold_ratios,
+        turns_at,
+    )
+    from origami_cad.strings import load_route
+
+    spec = load_route(path, loaded.pattern)
+    result = _string_model(loaded, spec, model, fixed_panel=fixed_panel)
+    where = f"{path} ({model})"
+    creases = np.flatnonzero(loaded.pattern.edge_mask("M", "V"))
+    ratios = state_fold_ratios(result.p, result.fold_angles, creases)
+    mapping = model_mapping(ratios, result.turns, spec.tsa, at, points, where)
+    p, turns = fold_curve(ratios, result.turns)
+    torque = np.asarray(result.torque, dtype=float)
+    peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+    tsa = {
+        "id": servo,
+        "name": Path(path).stem.removesuffix("_route").removeprefix("route_"),
+        "tsa": spec.tsa,
+        "mapping": mapping,
+        "comment": (
+            f"servo {servo}: {Path(path).name}, {model} model: p = {p[0]:.3f} .. "
+            f"{p[-1]:.3f} in {turns[-1]:.2f} turns ({result.reason})"
+        ),
+    }
+    need = ", ".join(f"{v:.2f}" for v in turns_at(p, turns, at))
+    numbers = [
+        (f"servo {servo}: fold range of its strings", f"p = {p[0]:.3f} .. {p[-1]:.3f}"),
+        (f"servo {servo}: turns at the keyframes", need),
+        (f"servo {servo}: largest TSA torque", f"{peak:.3g} N mm"),
+    ]
+    return tsa, numbers, result
+
+
 def run_sequence(
     design: PathLike,
     route: PathLike,
@@ -996,31 +1053,13 @@ def run_sequence(
     (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
     (e.g. a robot's body while one leg folds), instead of each route's own setting.
     """
-    import numpy as np
-
-    from origami_cad.drive.from_model import (
-        fold_curve,
-        model_mapping,
-        parse_keyframes,
-        sequence_toml,
-        state_fold_ratios,
-        turns_at,
-    )
+    from origami_cad.drive.from_model import parse_keyframes, sequence_toml
     from origami_cad.drive.sequence import load_sequence
     from origami_cad.pattern.design import load_pattern_source
-    from origami_cad.strings import load_route
 
     routes = [route, *(more_routes or [])]
     check_outputs([design, *routes], files=[output])
-    _check_suffix(output, (".toml",), "a sequence")
-    if model not in SEQUENCE_MODELS:
-        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
-    if not 2 <= points <= 1000:
-        raise DesignError(f"points must lie in 2..1000, got {points}")
-    if not (math.isfinite(rate) and 0 < rate <= 1000):
-        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
-    if not 1 <= repeat <= 1_000_000:
-        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+    _check_sequence_options(output, model, points, rate, repeat)
     ids = list(ids) if ids else list(range(1, len(routes) + 1))
     if len(ids) != len(routes):
         raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
@@ -1028,35 +1067,11 @@ def run_sequence(
     loaded = load_pattern_source(design)
     tsas, numbers, results = [], [], []
     for k, path in enumerate(routes):
-        spec = load_route(path, loaded.pattern)
-        result = _string_model(loaded, spec, model, fixed_panel=fixed_panel)
-        results.append(result)
-        where = f"{path} ({model})"
         at = [values[k] for _, values in frames]
-        creases = np.flatnonzero(loaded.pattern.edge_mask("M", "V"))
-        ratios = state_fold_ratios(result.p, result.fold_angles, creases)
-        mapping = model_mapping(ratios, result.turns, spec.tsa, at, points, where)
-        p, turns = fold_curve(ratios, result.turns)
-        torque = np.asarray(result.torque, dtype=float)
-        peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
-        tsas.append(
-            {
-                "id": ids[k],
-                "name": Path(path).stem.removesuffix("_route").removeprefix("route_"),
-                "tsa": spec.tsa,
-                "mapping": mapping,
-                "comment": (
-                    f"servo {ids[k]}: {Path(path).name}, {model} model: p = {p[0]:.3f} .. "
-                    f"{p[-1]:.3f} in {turns[-1]:.2f} turns ({result.reason})"
-                ),
-            }
-        )
-        need = ", ".join(f"{v:.2f}" for v in turns_at(p, turns, at))
-        numbers += [
-            (f"servo {ids[k]}: fold range of its strings", f"p = {p[0]:.3f} .. {p[-1]:.3f}"),
-            (f"servo {ids[k]}: turns at the keyframes", need),
-            (f"servo {ids[k]}: largest TSA torque", f"{peak:.3g} N mm"),
-        ]
+        tsa, more, result = _route_tsa(loaded, path, model, fixed_panel, ids[k], at, points)
+        tsas.append(tsa)
+        numbers += more
+        results.append(result)
     header = _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
     text = sequence_toml(tsas, frames, rate=rate, repeat=repeat, header=header)
     with atomic_path(output) as tmp:
@@ -1068,6 +1083,93 @@ def run_sequence(
         messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {output}"],
         result=results,
     )
+
+
+def _designed_arm_path(arm_task, tg, spec):
+    """The designed chain over the printed arm's fold range: (p_e, joints (S, n + 2, 2) mm).
+
+    The range ends where eq. 6's limit (at the route's bias, else the task's) stops
+    the first crease, legs included.
+    """
+    import numpy as np
+
+    from origami_cad.design import reachable_fold_angle
+    from origami_cad.kinematics.chain import chain_points
+
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    bias = spec.fabrication.bias if spec.fabrication is not None else arm_task.bias
+    limit = arm_task.crease_limit(bias if arm_task.fold_limit is None else None)
+    p_e = float(reachable_fold_angle(beta, limit)[0] / math.pi)
+    designed = chain_points(
+        np.linspace(0.0, p_e * math.pi, arm_task.samples),
+        tg.lengths,
+        beta,
+        tg.entry_flag,
+        tg.hypar_base,
+        tg.start,
+    )[0]
+    return p_e, designed
+
+
+def _arm_scene_summary(arm_task, tg, result, simulated, designed, p_e) -> dict[str, Any]:
+    """arm_scene.json: the simulated tip against P_end, the designed path and the areas."""
+    import numpy as np
+
+    from origami_cad.design.fitness import area_edges
+    from origami_cad.design.predicates import touches_area
+    from origami_cad.kinematics.chain import chain_points
+
+    ratios = np.asarray(result.p, dtype=float)
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    tips = simulated[:, -1]
+    d_end = np.linalg.norm(tips - arm_task.points[-1], axis=1)
+    known = np.isfinite(ratios)
+    rigid = chain_points(  # the designed tip at each state's fold ratio
+        ratios[known] * math.pi, tg.lengths, beta, tg.entry_flag, tg.hypar_base, tg.start
+    )[0, :, -1]
+    deviation = float(np.linalg.norm(tips[known] - rigid, axis=1).max()) if known.any() else 0.0
+    z = simulated[..., 0] + 1j * simulated[..., 1]
+    hits = np.zeros(len(z), dtype=bool)
+    for edges in area_edges(arm_task.prohibited):
+        hits |= touches_area(z, edges)
+    torque = np.asarray(result.torque, dtype=float)
+    return {
+        "designed_fold_ratio_end": p_e,
+        "simulated_fold_ratio_end": float(np.nanmax(ratios)) if np.isfinite(ratios).any() else None,
+        "final_tip_mm": tips[-1].tolist(),
+        "final_distance_from_P_end_mm": float(d_end[-1]),
+        "closest_distance_from_P_end_mm": float(d_end.min()),
+        "first_state_fold_ratio": float(ratios[0]),
+        "max_distance_from_designed_tip_mm": deviation,
+        "states_touching_prohibited_area": int(hits.sum()),
+        "tsa_turns": float(result.turns[-1]),
+        "max_tsa_torque_Nmm": float(np.nanmax(torque))
+        if np.isfinite(torque).any()
+        else float("nan"),
+        "stop": str(result.stop),
+        "reason": result.reason,
+        "simulated_tip_mm": tips.tolist(),
+        "designed_tip_mm": designed[:, -1].tolist(),
+    }
+
+
+def _arm_scene_numbers(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """The key numbers of ``arm-scene`` from its summary."""
+    return [
+        ("designed fold range", f"p = 0 .. {summary['designed_fold_ratio_end']:.3f}"),
+        (
+            "simulated tip: distance from P_end at the end",
+            f"{summary['final_distance_from_P_end_mm']:.2f} mm",
+        ),
+        (
+            "simulated tip: largest distance from the designed tip",
+            f"{summary['max_distance_from_designed_tip_mm']:.2f} mm",
+        ),
+        ("states touching the prohibited area", str(summary["states_touching_prohibited_area"])),
+        ("TSA turns to fold it", f"{summary['tsa_turns']:.1f}"),
+        ("largest TSA torque", f"{summary['max_tsa_torque_Nmm']:.3g} N mm"),
+        ("why the folding stops", summary["reason"]),
+    ]
 
 
 def run_arm_scene(
@@ -1090,11 +1192,8 @@ def run_arm_scene(
     """
     import numpy as np
 
-    from origami_cad.design import load_task, reachable_fold_angle
+    from origami_cad.design import load_task
     from origami_cad.design.arm_route import arm_chain_path
-    from origami_cad.design.fitness import area_edges
-    from origami_cad.design.predicates import touches_area
-    from origami_cad.kinematics.chain import chain_points
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings import load_route
     from origami_cad.viz.design_plots import save_arm_scene_png
@@ -1106,55 +1205,15 @@ def run_arm_scene(
         raise DesignError(f"{design}: an arm is a transition-graph design")
     spec = load_route(route, loaded.pattern)
     result = _string_model(loaded, spec, "simulation", steps)
-    ratios = np.asarray(result.p, dtype=float)
-    simulated = arm_chain_path(loaded.tg, result.states, ratios)
-    tg = loaded.tg
-    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
-    bias = spec.fabrication.bias if spec.fabrication is not None else arm_task.bias
-    limit = arm_task.crease_limit(bias if arm_task.fold_limit is None else None)
-    p_e = float(reachable_fold_angle(beta, limit)[0] / math.pi)
-    designed = chain_points(
-        np.linspace(0.0, p_e * math.pi, arm_task.samples),
-        tg.lengths,
-        beta,
-        tg.entry_flag,
-        tg.hypar_base,
-        tg.start,
-    )[0]
-    tips = simulated[:, -1]
-    d_end = np.linalg.norm(tips - arm_task.points[-1], axis=1)
-    known = np.isfinite(ratios)
-    rigid = chain_points(  # the designed tip at each state's fold ratio
-        ratios[known] * math.pi, tg.lengths, beta, tg.entry_flag, tg.hypar_base, tg.start
-    )[0, :, -1]
-    deviation = float(np.linalg.norm(tips[known] - rigid, axis=1).max()) if known.any() else 0.0
-    z = simulated[..., 0] + 1j * simulated[..., 1]
-    hits = np.zeros(len(z), dtype=bool)
-    for edges in area_edges(arm_task.prohibited):
-        hits |= touches_area(z, edges)
-    torque = np.asarray(result.torque, dtype=float)
-    peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
-    turns = float(result.turns[-1])
-    summary = {
-        "designed_fold_ratio_end": p_e,
-        "simulated_fold_ratio_end": float(np.nanmax(ratios)) if np.isfinite(ratios).any() else None,
-        "final_tip_mm": tips[-1].tolist(),
-        "final_distance_from_P_end_mm": float(d_end[-1]),
-        "closest_distance_from_P_end_mm": float(d_end.min()),
-        "first_state_fold_ratio": float(ratios[0]),
-        "max_distance_from_designed_tip_mm": deviation,
-        "states_touching_prohibited_area": int(hits.sum()),
-        "tsa_turns": turns,
-        "max_tsa_torque_Nmm": peak,
-        "stop": str(result.stop),
-        "reason": result.reason,
-        "simulated_tip_mm": tips.tolist(),
-        "designed_tip_mm": designed[:, -1].tolist(),
-    }
+    simulated = arm_chain_path(loaded.tg, result.states, np.asarray(result.p, dtype=float))
+    p_e, designed = _designed_arm_path(arm_task, loaded.tg, spec)
+    summary = _arm_scene_summary(arm_task, loaded.tg, result, simulated, designed, p_e)
+    d_end, turns = summary["final_distance_from_P_end_mm"], summary["tsa_turns"]
+    peak = summary["max_tsa_torque_Nmm"]
     names = ("fig8.png", "arm_scene.json")
     with atomic_directory(folder, inputs=_sources(task, design, route, loaded)) as stage:
         title = (
-            f"tip {d_end[-1]:.1f} mm from P_end after {turns:.1f} TSA turns, "
+            f"tip {d_end:.1f} mm from P_end after {turns:.1f} TSA turns, "
             f"peak torque {peak:.3g} N mm"
         )
         save_arm_scene_png(arm_task, designed, simulated, stage / names[0], title)
@@ -1164,17 +1223,9 @@ def run_arm_scene(
     return Outputs(
         files=files,
         images=[(files[0], "Designed tip path and the printed arm's, folded by its strings")],
-        numbers=[
-            ("designed fold range", f"p = 0 .. {p_e:.3f}"),
-            ("simulated tip: distance from P_end at the end", f"{d_end[-1]:.2f} mm"),
-            ("simulated tip: largest distance from the designed tip", f"{deviation:.2f} mm"),
-            ("states touching the prohibited area", str(int(hits.sum()))),
-            ("TSA turns to fold it", f"{turns:.1f}"),
-            ("largest TSA torque", f"{peak:.3g} N mm"),
-            ("why the folding stops", result.reason),
-        ],
+        numbers=_arm_scene_numbers(summary),
         messages=[
-            f"the printed arm's tip ends {d_end[-1]:.2f} mm from P_end after {turns:.1f} TSA "
+            f"the printed arm's tip ends {d_end:.2f} mm from P_end after {turns:.1f} TSA "
             f"turns (peak torque {peak:.3g} N mm); {result.reason}",
             f"wrote {folder}/: " + " ".join(names),
         ],

@@ -509,3 +509,64 @@ def test_codesign_reaches_what_the_fixed_structure_cannot_and_the_panels_hold_it
     # a bias the panels cannot hold is infeasible
     thin = arm_fitness(task, [[110.0, 110.0]], np.radians([[78.0]]), [1], np.array([6.6]))
     assert thin.panel_violations[0] > 0 and not thin.feasible[0]
+
+
+def test_compiled_fitness_tips_match_the_kinematics_chain():
+    """The fitness builds its chains in compiled code: the same T_e as eqs. 2-4 of kinematics."""
+    from origami_cad.kinematics.chain import chain_joints
+
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=7, samples=15, unit_width=0)
+    lengths, beta = _random_designs(task, 60, seed=21)
+    flags = np.arange(60) % 2
+    res = arm_fitness(task, lengths, beta, flags)
+    theta = (res.fold_ratio_end * math.pi)[:, None] * np.linspace(0.0, 1.0, 15)[None, :]
+    z = chain_joints(theta, lengths, beta, flags, True, task.start)[:, :, -1]
+    assert np.abs(res.tips[..., 0] + 1j * res.tips[..., 1] - z).max() < 1e-9  # mm, rounding
+    assert np.allclose(res.d_end, np.abs(z[:, -1] - complex(*task.points[-1])), rtol=0, atol=1e-9)
+    assert np.ptp(z.real) > 100  # the chains really fold
+
+
+def test_infeasible_designs_rank_by_violations_alone():
+    """N is counted for feasible designs only; an infeasible design's cost is its violations."""
+    box = shapely.box(150, 40, 2000, 2000)
+    task = ArmTask(
+        points=[[250.0, 0.0], [50.0, 133.3]], vectors=6, samples=20, unit_width=0, prohibited=(box,)
+    )
+    lengths, beta = _random_designs(task, 200, seed=8)
+    res = arm_fitness(task, lengths, beta, np.ones(200, int))
+    bad = ~res.feasible
+    assert 0 < bad.sum() < 200
+    assert np.all(res.improper[bad] == 0) and np.all(np.isneginf(res.fitness[bad]))
+    assert np.array_equal(res.cost()[bad], 1.0e4 + res.prohibited_hits[bad])
+    free = ArmTask(points=task.points, vectors=6, samples=20, unit_width=0)
+    unlimited = arm_fitness(free, lengths, beta, np.ones(200, int))
+    good = res.feasible
+    assert np.array_equal(res.improper[good], unlimited.improper[good])
+    assert np.array_equal(res.fitness[good], unlimited.fitness[good])
+
+
+def test_unit_box_is_cmas_bound_transformation_on_whole_populations():
+    from cma.transformations import BoxConstraintsLinQuadTransformation
+
+    from origami_cad.design.search import UnitBox
+
+    rng = np.random.default_rng(2)
+    genotypes = rng.normal(0.5, 1.5, size=(300, 11))  # inside, near and far beyond [0, 1]
+    got = UnitBox(11)(genotypes)
+    tf = BoxConstraintsLinQuadTransformation([[0.0, 1.0]])
+    want = np.array([tf(row.copy()) for row in genotypes])
+    assert np.array_equal(got, want)
+    assert got.min() >= 0.0 and got.max() <= 1.0
+    inside = (genotypes > 0.05) & (genotypes < 0.95)
+    assert np.array_equal(got[inside], genotypes[inside]) and inside.mean() < 0.5
+
+
+def test_one_row_of_shape_angles_broadcasts_over_many_designs():
+    task = ArmTask(points=[[250.0, 0.0], [50.0, 133.3]], vectors=3)
+    lengths = np.array([[100.0, 80.0, 70.0], [90.0, 80.0, 70.0]])
+    beta = np.radians([[40.0, 140.0]])
+    both = arm_fitness(task, lengths, beta, [1])
+    for k in range(2):
+        one = arm_fitness(task, lengths[k : k + 1], beta, [1])
+        assert np.array_equal(both.tips[k], one.tips[0]) and both.fitness[k] == one.fitness[0]
+    assert both.d_end[0] != both.d_end[1]

@@ -80,36 +80,14 @@ def arm_route_toml(
     cp = tg_pattern(tg)
     copy = int(tg.copies) // 2
     base = f"c{copy}r0s0"
-    face = cp.faces[cp.face_index(base)]
-    # the TSA sits in the middle of the base panel's main-crease edge, a quarter of the
-    # row height inside the panel (both strings leave it towards their rows)
-    corners = cp.vertices[face]
-    top_y = corners[:, 1].max()
-    on_crease = corners[np.isclose(corners[:, 1], top_y)]
-    x = float(on_crease[:, 0].mean())
-    y = float(top_y - tg.row_height / 4.0)
-    if cp.face_of_point(x, y) != cp.face_index(base):
-        x, y = (float(v) for v in corners.mean(axis=0))
+    x, y = _tsa_position(cp, tg, base)
     if max_turns is None:
         twist = tsa_length * np.sin(np.radians(max_helix_angle)) / tsa_radius
         max_turns = float(np.ceil(twist / (2 * np.pi)))
     lines = [header.rstrip("\n")] if header else []
-    lines += [
-        "[tsa]",
-        'model = "onboard"',
-        f"length = {tsa_length:g}          # mm, twisted strands",
-        f"radius = {tsa_radius:g}           # mm",
-        f"max_helix_angle = {max_helix_angle:g}   # deg",
-        "",
-    ]
+    lines += _tsa_lines(tsa_length, tsa_radius, max_helix_angle)
     if bias is not None:
-        lines += [
-            "[fabrication]                # the printed arm: eq. 6 stops its creases",
-            f"bias = {bias:.6g}",
-            f"height = {height:g}",
-            f"thickness = {thickness:g}",
-            "",
-        ]
+        lines += _fabrication_lines(bias, height, thickness)
     lines += [
         "[route]",
         f"thickness = {height:g}              # mm: hole exits sit half of it off the sheet",
@@ -118,16 +96,65 @@ def arm_route_toml(
         "",
     ]
     for row in (0, 1):
-        holes = ", ".join(f'"c{copy}r{row}s{k}"' for k in range(1, n + 1))
-        lines += [
-            f"[[route.strings]]            # along panel row r{row} of copy {copy}",
-            f'anchor_panel = "{base}"     # the onboard TSA on the base panel',
-            f"anchor = [{x:.4f}, {y:.4f}, {mount_height:g}]",
-            f"holes = [{holes}]",
-            'sides = "auto"               # DCQC: above valleys, below mountains',
-            "",
-        ]
+        lines += _string_lines(copy, row, n, base, (x, y, mount_height))
     return "\n".join(lines)
+
+
+def _tsa_position(cp, tg: TGDesign, base: str) -> tuple[float, float]:
+    """Where the TSA sits on the base panel, mm.
+
+    In the middle of the panel's main-crease edge, a quarter of the row height
+    inside the panel (both strings leave it towards their rows); the panel's
+    centroid if that point falls outside it.
+    """
+    face = cp.faces[cp.face_index(base)]
+    corners = cp.vertices[face]
+    top_y = corners[:, 1].max()
+    on_crease = corners[np.isclose(corners[:, 1], top_y)]
+    x = float(on_crease[:, 0].mean())
+    y = float(top_y - tg.row_height / 4.0)
+    if cp.face_of_point(x, y) != cp.face_index(base):
+        x, y = (float(v) for v in corners.mean(axis=0))
+    return x, y
+
+
+def _tsa_lines(tsa_length: float, tsa_radius: float, max_helix_angle: float) -> list[str]:
+    """The route file's ``[tsa]`` table: an onboard TSA (mm, degrees)."""
+    return [
+        "[tsa]",
+        'model = "onboard"',
+        f"length = {tsa_length:g}          # mm, twisted strands",
+        f"radius = {tsa_radius:g}           # mm",
+        f"max_helix_angle = {max_helix_angle:g}   # deg",
+        "",
+    ]
+
+
+def _fabrication_lines(bias: float, height: float, thickness: float) -> list[str]:
+    """The route file's ``[fabrication]`` table: b, h, t of eq. 6, mm."""
+    return [
+        "[fabrication]                # the printed arm: eq. 6 stops its creases",
+        f"bias = {bias:.6g}",
+        f"height = {height:g}",
+        f"thickness = {thickness:g}",
+        "",
+    ]
+
+
+def _string_lines(
+    copy: int, row: int, n: int, base: str, anchor: tuple[float, float, float]
+) -> list[str]:
+    """One ``[[route.strings]]`` table: from the TSA through panels ``s1 .. sn`` of a row."""
+    x, y, mount_height = anchor
+    holes = ", ".join(f'"c{copy}r{row}s{k}"' for k in range(1, n + 1))
+    return [
+        f"[[route.strings]]            # along panel row r{row} of copy {copy}",
+        f'anchor_panel = "{base}"     # the onboard TSA on the base panel',
+        f"anchor = [{x:.4f}, {y:.4f}, {mount_height:g}]",
+        f"holes = [{holes}]",
+        'sides = "auto"               # DCQC: above valleys, below mountains',
+        "",
+    ]
 
 
 def _rigid_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

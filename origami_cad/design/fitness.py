@@ -43,12 +43,12 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import shapely
 
+from origami_cad.design.kernel import population_terms
 from origami_cad.design.limits import panel_bias_violations, reachable_fold_angle
-from origami_cad.design.predicates import points_inside, self_intersections, touches_area
+from origami_cad.design.predicates import area_edges
 from origami_cad.design.task import ArmTask
-from origami_cad.kinematics.chain import chain_joints
+from origami_cad.kinematics.chain import half_turn_tangents, hypar_alpha0
 from origami_cad.pattern.miura import leg_gaps
 
 __all__ = [
@@ -210,17 +210,44 @@ def sample_angles(samples: int) -> np.ndarray:
     return np.linspace(0.0, math.pi, samples)
 
 
-def area_edges(areas: tuple[Any, ...]) -> list[np.ndarray]:
-    """The boundary segments of each shapely polygon (exterior and holes), shape (E, 2, 2)."""
-    out = []
-    for poly in areas:
-        rings = [poly.exterior, *poly.interiors]
-        segs = []
-        for ring in rings:
-            c = shapely.get_coordinates(ring)
-            segs.append(np.stack([c[:-1], c[1:]], axis=1))
-        out.append(np.concatenate(segs))
-    return out
+def _distance(points: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Euclidean distance of each point (D, 2) from ``target`` (2,), mm."""
+    dx, dy = points[:, 0] - target[0], points[:, 1] - target[1]
+    return np.sqrt(dx * dx + dy * dy)
+
+
+def _fold_ranges(
+    task: ArmTask, beta: np.ndarray, n_designs: int, bias: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each design's bias (mm), crease limit and end of its reachable fold range (radians)."""
+    b = np.broadcast_to(np.asarray(task.bias if bias is None else bias, float), (n_designs,))
+    limit = np.broadcast_to(task.crease_limit(None if bias is None else b), (n_designs,))
+    return b, limit, reachable_fold_angle(beta, limit)
+
+
+def _build_violations(
+    task: ArmTask, lengths: np.ndarray, beta: np.ndarray, b: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per design: segments with legs closer than ``min_leg_gap``, panels too small for ``b``."""
+    n_designs = len(b)
+    if task.unit_width <= 0:
+        zero = np.zeros(n_designs, dtype=np.int64)
+        return zero, zero.copy()
+    half = task.unit_width / 2.0
+    gaps = leg_gaps(lengths, beta, half)
+    legs = (gaps < max(task.min_leg_gap, 1e-9)).sum(axis=1)
+    panels = panel_bias_violations(lengths, beta, half, b, task.min_panel_face)
+    return legs.astype(np.int64), panels.astype(np.int64)
+
+
+def _sampled_turns(
+    task: ArmTask, theta_end: np.ndarray, beta: np.ndarray, entry_flags: Any
+) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. 2's half-turn tangents (D, S, n) and eq. 3's ``alpha_0`` (D, S) over each range."""
+    theta = theta_end[:, None] * np.linspace(0.0, 1.0, task.samples)[None, :]
+    t = half_turn_tangents(theta, beta, entry_flags)
+    a0 = hypar_alpha0(theta) if task.hypar_base else np.zeros_like(theta)
+    return np.ascontiguousarray(t), np.ascontiguousarray(a0)
 
 
 def arm_fitness(
@@ -231,6 +258,10 @@ def arm_fitness(
     bias: np.ndarray | None = None,
 ) -> FitnessResult:
     """Eq. 5 for a population of arm designs, over the fold range each can reach.
+
+    The improper states ``N`` are counted for designs that are feasible so far
+    (no prohibited area touched, buildable); an infeasible design's ``N`` is 0,
+    since only its violations enter its cost.
 
     Parameters
     ----------
@@ -253,61 +284,25 @@ def arm_fitness(
     lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
     beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
     n_designs = max(lengths.shape[0], beta.shape[0])
-    given = bias is not None
-    b = np.broadcast_to(np.asarray(task.bias if bias is None else bias, float), (n_designs,))
-    limit = np.broadcast_to(task.crease_limit(b if given else None), (n_designs,))
-    theta_end = reachable_fold_angle(beta, limit)
-    theta = theta_end[:, None] * np.linspace(0.0, 1.0, task.samples)[None, :]
-    z = chain_joints(theta, lengths, beta, entry_flags, task.hypar_base, task.start)
-    tips = np.stack([z[:, :, -1].real, z[:, :, -1].imag], axis=-1)
-    d_start = np.linalg.norm(tips[:, 0] - task.points[0], axis=-1)
-    d_end = np.linalg.norm(tips[:, -1] - task.points[-1], axis=-1)
+    lengths = np.ascontiguousarray(np.broadcast_to(lengths, (n_designs, lengths.shape[1])))
+    beta = np.broadcast_to(beta, (n_designs, beta.shape[1]))
+    b, limit, theta_end = _fold_ranges(task, beta, n_designs, bias)
+    legs, panels = _build_violations(task, lengths, beta, b)
+    t, a0 = _sampled_turns(task, theta_end, beta, entry_flags)
+    warn, pro = task.packed_areas
+    tips, d_mid, mid_index, n_improper, n_hits = population_terms(
+        t, a0, lengths, np.asarray(task.start, dtype=float), task.points[1:-1],
+        (legs > 0) | (panels > 0), warn.edges, warn.offsets, warn.boxes,
+        pro.edges, pro.offsets, pro.boxes,
+    )  # fmt: skip
+    d_start = _distance(tips[:, 0], task.points[0])
+    d_end = _distance(tips[:, -1], task.points[-1])
     f = task.alpha / (10.0 + d_start) + (600.0 - task.alpha) / (10.0 + d_end)
-    n_samples = tips.shape[1]
-    mids = task.points[1:-1]
-    d_mid = np.zeros((n_designs, len(mids)))
-    mid_index = np.zeros((n_designs, len(mids)), dtype=np.int64)
-    lowest = np.zeros(n_designs, dtype=np.int64)
-    sample_idx = np.arange(n_samples)
-    for j, point in enumerate(mids):
-        dist = np.linalg.norm(tips - point, axis=-1)
-        dist = np.where(sample_idx[None, :] >= lowest[:, None], dist, np.inf)
-        k = np.argmin(dist, axis=1)
-        d_mid[:, j] = dist[np.arange(n_designs), k]
-        mid_index[:, j] = k
-        lowest = k
+    for j in range(d_mid.shape[1]):
         f = f + task.weights[j] / (10.0 + d_mid[:, j])
-    improper = self_intersections(z)
-    for edges in area_edges(task.warning):
-        improper |= points_inside(tips, edges)
-    n_improper = improper.sum(axis=1)
     f = f - 4.0 * n_improper
-    hits = np.zeros((n_designs, n_samples), dtype=bool)
-    for edges in area_edges(task.prohibited):
-        hits |= touches_area(z, edges)
-    n_hits = hits.sum(axis=1)
-    legs = np.zeros(n_designs, dtype=np.int64)
-    if task.unit_width > 0:
-        gaps = leg_gaps(lengths, beta, task.unit_width / 2.0)
-        legs = (gaps < max(task.min_leg_gap, 1e-9)).sum(axis=1)
-    panels = np.zeros(n_designs, dtype=np.int64)
-    if task.unit_width > 0:
-        panels = panel_bias_violations(
-            lengths, beta, task.unit_width / 2.0, b, task.min_panel_face
-        ).astype(np.int64)
     f = np.where((n_hits > 0) | (legs > 0) | (panels > 0), -np.inf, f)
     return FitnessResult(
-        f,
-        d_start,
-        d_end,
-        d_mid,
-        mid_index,
-        n_improper,
-        n_hits,
-        legs,
-        tips,
-        theta_end / math.pi,
-        np.array(b, dtype=float),
-        np.array(limit, dtype=float),
-        panels,
-    )
+        f, d_start, d_end, d_mid, mid_index, n_improper, n_hits, legs, tips,
+        theta_end / math.pi, np.array(b, dtype=float), np.array(limit, dtype=float), panels,
+    )  # fmt: skip

@@ -24,6 +24,18 @@ pattern families (their panels differ, their kinematics can match).
 
 Runs are independent and reproducible bit for bit: run ``k`` seeds both its
 start point and CMA-ES with ``seed + k``; no ``outcmaes/`` files are written.
+:func:`run_one` is one such run, a module-level function of picklable
+arguments, so the runs can be mapped over any executor.
+
+Bounds
+------
+The genome is kept in [0, 1] by ``cma``'s own boundary transformation
+(``BoxConstraintsLinQuadTransformation``: the identity inside, quadratic near
+the bounds, periodic beyond), applied here to the whole population at once
+(:class:`UnitBox`) instead of one solution at a time inside ``cma``: the same
+numbers, with CMA-ES told the genotypes it sampled, as ``cma`` does with
+``bounds``, and its largest step capped at a third of the range, as ``cma``
+caps it for bounds.
 """
 
 from __future__ import annotations
@@ -42,7 +54,50 @@ from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
 from origami_cad.design.task import ArmTask, SearchSettings
 from origami_cad.pattern.tg import TGDesign
 
-__all__ = ["ArmDesign", "RunResult", "decode", "decode_bias", "design_arm", "run_one"]
+__all__ = ["ArmDesign", "RunResult", "UnitBox", "decode", "decode_bias", "design_arm", "run_one"]
+
+
+class UnitBox:
+    """``cma``'s bound transformation into [0, 1]^N, vectorised over a population.
+
+    The same operations, in the same order, as
+    ``cma.transformations.BoxConstraintsLinQuadTransformation.__call__`` with
+    bounds ``[0, 1]``, one row per solution (a test checks them against ``cma``).
+
+    Parameters
+    ----------
+    dimension : int
+        Number of variables ``N``.
+    """
+
+    def __init__(self, dimension: int) -> None:
+        from cma.transformations import BoxConstraintsLinQuadTransformation
+
+        tf = BoxConstraintsLinQuadTransformation([[0.0, 1.0]])
+        tf.initialize(dimension)
+        self.lb, self.ub, self.al, self.au = tf._lb, tf._ub, tf._al, tf._au
+
+    def __call__(self, genotypes: np.ndarray) -> np.ndarray:
+        """Phenotypes in [0, 1] of genotypes ``(P, N)`` (a new array)."""
+        y = np.array(genotypes, dtype=float)
+        lb = np.broadcast_to(self.lb, y.shape)
+        ub = np.broadcast_to(self.ub, y.shape)
+        al = np.broadcast_to(self.al, y.shape)
+        au = np.broadcast_to(self.au, y.shape)
+        idx = (y < lb - 2 * al - (ub - lb) / 2.0) | (y > ub + 2 * au + (ub - lb) / 2.0)
+        if idx.any():
+            r = 2 * (ub[idx] - lb[idx] + al[idx] + au[idx])  # period
+            s = lb[idx] - 2 * al[idx] - (ub[idx] - lb[idx]) / 2.0  # start
+            y[idx] -= r * ((y[idx] - s) // r)  # shift
+        idx = y > ub + au
+        y[idx] -= 2 * (y[idx] - ub[idx] - au[idx])
+        idx = y < lb - al
+        y[idx] += 2 * (lb[idx] - al[idx] - y[idx])
+        idx = y < lb + al
+        y[idx] = lb[idx] + (y[idx] - (lb[idx] - al[idx])) ** 2 / 4 / al[idx]
+        idx = y > ub - au
+        y[idx] = ub[idx] - (y[idx] - (ub[idx] + au[idx])) ** 2 / 4 / au[idx]
+        return y
 
 
 def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -156,7 +211,9 @@ def run_one(
     rng = np.random.default_rng(seed)
     x0 = rng.uniform(0.15, 0.85, task.dimension)
     opts = {
-        "bounds": [0.0, 1.0],
+        # [0, 1] by UnitBox, for the whole population at once; the step cap that
+        # cma would derive from these bounds (a third of their range)
+        "maxstd": 1.0 / 3.0,
         "seed": seed,
         "verbose": -9,
         "verb_log": 0,
@@ -171,16 +228,18 @@ def run_one(
     if settings.popsize:
         opts["popsize"] = settings.popsize
     es = cma.CMAEvolutionStrategy(x0, settings.sigma0, opts)
+    box = UnitBox(task.dimension)
     history: list[float] = []
     best_x, best_cost = x0, math.inf
     flags = None
     while not es.stop():
-        pop = np.asarray(es.ask())
+        genotypes = es.ask()
+        pop = box(genotypes)
         if flags is None or len(flags) != len(pop):
             flags = np.full(len(pop), flag)
         lengths, beta = decode(task, pop)
         cost = arm_fitness(task, lengths, beta, flags, decode_bias(task, pop)).cost()
-        es.tell(list(pop), cost.tolist())
+        es.tell(genotypes, cost.tolist())
         k = int(np.argmin(cost))
         if cost[k] < best_cost:
             best_cost, best_x = float(cost[k]), pop[k].copy()

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +52,7 @@ import shapely
 
 from origami_cad._toml import Table, load_toml
 from origami_cad.design.limits import crease_fold_limit
+from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
 
 __all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
@@ -198,6 +200,11 @@ class ArmTask:
     def dimension(self) -> int:
         """Search variables: n + 1 lengths, n shape angles (and the bias when co-designing)."""
         return 2 * self.vectors - 1 + int(self.codesign)
+
+    @cached_property
+    def packed_areas(self) -> tuple[PackedAreas, PackedAreas]:
+        """The warning and prohibited areas packed for the compiled fitness (computed once)."""
+        return pack_areas(self.warning), pack_areas(self.prohibited)
 
     def crease_limit(self, bias: Any = None) -> Any:
         """The fold limit of every crease, radians: ``fold_limit``, else eq. 6 at ``bias`` (mm).
