@@ -83,7 +83,16 @@ def installed(tmp_path_factory):
     # appended after the venv's own site-packages: the wheel's package wins
     Path(purelib, "zz_dependencies.pth").write_text("\n".join(_dependency_paths()) + "\n")
     subprocess.run(
-        [*pip, "--python", str(python), "install", "--no-deps", "--no-index", "--no-compile", str(wheel)],
+        [
+            *pip,
+            "--python",
+            str(python),
+            "install",
+            "--no-deps",
+            "--no-index",
+            "--no-compile",
+            str(wheel),
+        ],
         check=True,
         capture_output=True,
         env=_clean_env(),
