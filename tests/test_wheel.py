@@ -80,8 +80,6 @@ def installed(tmp_path_factory):
         capture_output=True,
         text=True,
     ).stdout.strip()
-    # appended after the venv's own site-packages: the wheel's package wins
-    Path(purelib, "zz_dependencies.pth").write_text("\n".join(_dependency_paths()) + "\n")
     subprocess.run(
         [
             *pip,
@@ -97,6 +95,10 @@ def installed(tmp_path_factory):
         capture_output=True,
         env=_clean_env(),
     )
+    # only then the dependencies (so that pip never sees, nor tries to replace, the current
+    # environment's origami-cad), appended after the venv's own site-packages: the wheel's
+    # package wins
+    Path(purelib, "zz_dependencies.pth").write_text("\n".join(_dependency_paths()) + "\n")
     return wheel, venv, Path(purelib)
 
 
