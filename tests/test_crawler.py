@@ -251,6 +251,14 @@ def test_robot_mass_estimate_against_the_paper(printed):
     assert 0.8 * 361.45 < budget["total_g"] < 1.3 * 361.45
     # the printed sheet alone (PLA and TPU): the paper's robot is 361 g with its hardware
     assert 150 < budget["sheet_g"] < 300
+    # a module's mount plate holds its servo, hub and guide, not the whole leg: it lies
+    # within the leg's outer half, beyond the string holes 12 mm from the hinge (|x| = 90)
+    solids = data["solids"]
+    for k in ("front_left", "front_right", "rear_left", "rear_right"):
+        module = solids[f"tsa_module_{k}"]
+        (x0, y0, _), (x1, y1, _) = module["bbox_mm"]
+        assert min(abs(x0), abs(x1)) > 90.0 + 12.0 and (x1 - x0) * (y1 - y0) < 0.4 * 90 * 140
+        assert module["mass_g"] < 8.0  # g; with the whole leg face as its mount: 13.6 g
     for name in ("infills.stl", "shells.stl", "print.3mf", "assembly.step", "robot.step"):
         assert (out / name).stat().st_size > 0
     assert (out / "tsa_module_front_left.stl").read_bytes()[:5] != b"solid"  # binary STL

@@ -806,6 +806,28 @@ def _stuck_legs(robot: Robot, out: GaitResult) -> list[str]:
     return notes
 
 
+def _empty_result(
+    robot: Robot, walk: _Walk, times: np.ndarray, ratios: np.ndarray, steps: int
+) -> GaitResult:
+    """The result's arrays for the scheduled states (``times``, ``ratios``), zero-filled."""
+    n_legs, rows = len(robot.legs), len(times)
+    per_leg = max(int(np.sum(walk.owner == k)) for k in range(n_legs))
+    n = robot.pattern.n_vertices
+    return GaitResult(
+        t=times,
+        states=np.zeros((rows, n, 3)),
+        body=np.zeros((rows, 3)),
+        turns=gait_turns(robot, ratios),
+        tensions=np.zeros((rows, n_legs, per_leg)),
+        torque=np.zeros((rows, n_legs)),
+        fold=np.zeros((rows, n_legs)),
+        blocked=np.zeros(rows),
+        converged=np.zeros(rows, dtype=bool),
+        commanded=ratios,
+        cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),
+    )
+
+
 def simulate_gait(
     robot: Robot,
     *,
@@ -851,25 +873,9 @@ def simulate_gait(
         params = SimulationParams(gravity=9810.0, ground=0.0, friction=mu)
     walk, mass_g = _start_walk(robot, params, mu, prefold)
     times, ratios = _schedule(robot, cycles, steps, reverse)
-    turns = gait_turns(robot, ratios)
-    n_legs, rows = len(robot.legs), len(times)
-    per_leg = max(int(np.sum(walk.owner == k)) for k in range(n_legs))
-    n = robot.pattern.n_vertices
-    out = GaitResult(
-        t=times,
-        states=np.zeros((rows, n, 3)),
-        body=np.zeros((rows, 3)),
-        turns=turns,
-        tensions=np.zeros((rows, n_legs, per_leg)),
-        torque=np.zeros((rows, n_legs)),
-        fold=np.zeros((rows, n_legs)),
-        blocked=np.zeros(rows),
-        converged=np.zeros(rows, dtype=bool),
-        commanded=ratios,
-        friction=mu,
-        mass_g=mass_g,
-        cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),
-    )
+    out = _empty_result(robot, walk, times, ratios, steps)
+    out.friction, out.mass_g = mu, mass_g
+    turns, rows = out.turns, len(times)
     x, previous = walk.st.x0.copy(), None
     for r in range(rows):
         theta = turns[r] * 2 * math.pi
