@@ -2,13 +2,16 @@
 
 ``origami-cad demo -o out/`` (what ``make demo`` runs) runs each step below,
 writes its files into ``out/<step>/`` and the report to ``out/index.html``.
-Each step uses the same public functions and example files a user would.
+Each step uses the same public functions and example files a user would: the
+``examples/`` folder, which a wheel installs as ``origami_cad/examples`` (see
+:func:`examples_dir`), so the demo runs from an installed package outside the source tree.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from importlib import resources
 from pathlib import Path
 from typing import NamedTuple
 
@@ -16,14 +19,37 @@ from origami_cad import __version__, jobs
 from origami_cad.jobs import Outputs
 from origami_cad.viz.report import StepReport, write_report
 
-__all__ = ["STEPS", "Step", "run_demo", "run_step"]
+__all__ = ["STEPS", "Step", "examples_dir", "run_demo", "run_step"]
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+def examples_dir() -> Path:
+    """The folder of example files the demo reads.
+
+    An installed wheel ships the top-level ``examples/`` as the package data
+    ``origami_cad/examples`` (found through :mod:`importlib.resources`); an editable
+    install or a source checkout reads ``examples/`` beside the package.
+
+    Raises
+    ------
+    OrigamiCadError
+        When neither folder holds the examples (a broken install).
+    """
+    packaged = resources.files("origami_cad") / "examples"
+    tree = Path(__file__).resolve().parent.parent / "examples"
+    for folder in (packaged, tree):
+        if isinstance(folder, Path) and (folder / "crawler" / "crawler.toml").is_file():
+            return folder
+    from origami_cad.errors import OrigamiCadError
+
+    raise OrigamiCadError(
+        f"the demo's example files are missing: neither {packaged} (installed package "
+        f"data) nor {tree} (source tree) holds crawler/crawler.toml; reinstall origami-cad"
+    )
 
 
 def fig2(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 2: a TG of five vectors becomes a crease pattern and folds to p = 0, 0.5, 0.98."""
-    design, view = EXAMPLES / "fig2_tg.toml", (1, -2, 1.5)
+    design, view = examples_dir() / "fig2_tg.toml", (1, -2, 1.5)
     names = ("pattern.png", "pattern.fold", "pattern.svg", "pattern.dxf")
     chained = [jobs.run_pattern(design, [out / n for n in names], labels=True)]
     chained.append(jobs.run_tg(design, out / "tg.png"))
@@ -40,12 +66,12 @@ def fig2(out: Path, quick: bool) -> list[Outputs]:
 def fig3(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 3: ten CMA-ES runs design a robotic arm around warning and prohibited areas."""
     budget = {"runs": 4, "max_generations": 60} if quick else {}
-    return [jobs.run_design_arm(EXAMPLES / "arm_task.toml", out, **budget)]
+    return [jobs.run_design_arm(examples_dir() / "arm_task.toml", out, **budget)]
 
 
 def fig4(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 4: the arm winner and the 6 x 4 Miura as dual-material printable parts."""
-    miura = EXAMPLES / "miura_6x4.toml"
+    miura = examples_dir() / "miura_6x4.toml"
     chained = [jobs.run_fabricate(miura, out / "miura", renders=True, name="6 x 4 Miura")]
     winner = out.parent / "fig3" / "best.toml"
     if winner.exists():
@@ -55,7 +81,7 @@ def fig4(out: Path, quick: bool) -> list[Outputs]:
 
 def fig5(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 5: a ring TSA folds the 6 x 4 Miura through DCQC-routed strings."""
-    design, route = EXAMPLES / "miura_6x4.toml", EXAMPLES / "miura_route.toml"
+    design, route = examples_dir() / "miura_6x4.toml", examples_dir() / "miura_route.toml"
     return [
         jobs.run_route(design, route, out),
         jobs.run_string_models(design, route, out / "models"),
@@ -64,7 +90,7 @@ def fig5(out: Path, quick: bool) -> list[Outputs]:
 
 def fig6(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 6: the boat-like pattern read from DXF: panels, holes, parts, TSA folding."""
-    boat, route = EXAMPLES / "data" / "boat.dxf", EXAMPLES / "boat_route.toml"
+    boat, route = examples_dir() / "data" / "boat.dxf", examples_dir() / "boat_route.toml"
     return [
         jobs.run_check(boat),
         jobs.run_pattern(boat, [out / "pattern.png"], labels=True),
@@ -76,7 +102,7 @@ def fig6(out: Path, quick: bool) -> list[Outputs]:
 
 def fig7(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 7: the crawler printed with its parts, walking in simulation, and driven (dry run)."""
-    robot = EXAMPLES / "crawler" / "crawler.toml"
+    robot = examples_dir() / "crawler" / "crawler.toml"
     chained = [jobs.run_robot(robot, out / "robot", renders=True)]
     walk = {"cycles": 1, "steps": 3} if quick else {"cycles": 3, "steps": 6}
     crawl = jobs.run_crawl(robot, out / "crawl", **walk)
@@ -86,7 +112,7 @@ def fig7(out: Path, quick: bool) -> list[Outputs]:
     # its header says how it was made
     speed = 32.0 if quick else 8.0
     done = jobs.run_drive(
-        EXAMPLES / "crawler_gait.toml",
+        examples_dir() / "crawler_gait.toml",
         out / "crawler_log.csv",
         dry_run=True,
         speed=speed,
@@ -102,10 +128,10 @@ def fig8(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 8: the fig. 3 winner folded by its route's strings, against its designed tip path."""
     import json
 
-    task = EXAMPLES / "arm_task.toml"
+    task = examples_dir() / "arm_task.toml"
     design, route = out.parent / "fig3" / "best.toml", out.parent / "fig3" / "route.toml"
     if not (design.exists() and route.exists()):
-        design, route = EXAMPLES / "arm_design.toml", EXAMPLES / "arm_route.toml"
+        design, route = examples_dir() / "arm_design.toml", examples_dir() / "arm_route.toml"
     chained = [jobs.run_arm_scene(task, design, route, out, steps=60 if quick else None)]
     p_e = json.loads((out / "arm_scene.json").read_text())["designed_fold_ratio_end"]
     frames = ["0:0", f"20:{p_e:.4f}", f"30:{p_e:.4f}", "40:0"]

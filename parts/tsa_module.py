@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import shapely
+import shapely.affinity
 from build123d import Box, Compound, Cylinder, Location, Part, Plane, Polyline, extrude, make_face
 
 from origami_cad.errors import DesignError
@@ -73,6 +74,15 @@ class TSAModuleParams:
     mount_thickness: float = field(
         default=3.0, metadata=spec("mm", "thickness of the mount plate", low=0.0)
     )
+    mount_margin: float | None = field(
+        default=None,
+        metadata=spec(
+            "mm",
+            "on a panel: the mount reaches this far around the servo, hub and guide "
+            "(default: the panel's whole outer face, inset by 1 mm)",
+            low=0.0,
+        ),
+    )
     heading: float = field(
         default=0.0, metadata=spec("deg", "direction of the twist axis, from +x")
     )
@@ -122,7 +132,8 @@ def tsa_module(
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
         raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
-    mount, cx, cy, z_base = _mount(p, plan, panel, length, w)
+    reach = _reach(p, tsa, horn_d, horn_offset, length, h)
+    mount, cx, cy, z_base = _mount(p, plan, panel, length, w, reach)
     # the servo lies on its side: its height runs along the twist axis (local x, horn face
     # at x = 0), its length across (local y, horn axis horn_offset from the front end)
     z0 = z_base + p.mount_thickness
@@ -142,13 +153,29 @@ def tsa_module(
     return assembly
 
 
+def _reach(
+    p: TSAModuleParams, tsa: TSAParams, horn_d: float, horn_offset: float, length: float, h: float
+) -> tuple[float, float, float, float]:
+    """The servo, hub and guide's footprint in the module's frame: (x0, y0, x1, y1), mm."""
+    hub_r = max(tsa.d1 / 2 + max(3.0, p.anchor_hole * 2), horn_d / 2)
+    gx = 1.0 + p.hub_thickness + p.guide_distance
+    return (-h, min(-horn_offset, -hub_r), gx + 3.0, max(length - horn_offset, hub_r))
+
+
 def _mount(
-    p: TSAModuleParams, plan: PanelPlan | None, panel: str | None, length: float, w: float
+    p: TSAModuleParams,
+    plan: PanelPlan | None,
+    panel: str | None,
+    length: float,
+    w: float,
+    reach: tuple[float, float, float, float],
 ) -> tuple[Part, float, float, float]:
     """The mount plate and where the module stands: ``(mount, cx, cy, z_base)``, mm.
 
     On a planned panel: the panel's outer face inset by 1 mm with the panel's holes, at
-    z = h; otherwise a plate 4 mm larger than the servo around ``p.centre``.
+    z = h (with ``mount_margin``: only the part of it within that margin of the module's
+    ``reach``, its footprint); otherwise a plate 4 mm larger than the servo around
+    ``p.centre``.
     """
     z_base = 0.0
     holes: list[tuple[float, float, float]] = []
@@ -160,6 +187,16 @@ def _mount(
         holes = [(h.x, h.y, h.diameter) for h in plan.holes_of(outline.index)]
         z_base = plan.params.height
         cx, cy = foot.centroid.x, foot.centroid.y
+        if p.mount_margin is not None:
+            x0, y0, x1, y1 = reach
+            m = p.mount_margin
+            box = shapely.box(x0 - m, y0 - m, x1 + m, y1 + m)
+            box = shapely.affinity.translate(
+                shapely.affinity.rotate(box, p.heading, (0, 0)), cx, cy
+            )
+            foot = foot.intersection(box)
+            if not isinstance(foot, shapely.Polygon) or foot.is_empty:
+                raise DesignError(f"the TSA module's mount does not fit panel {panel!r}")
     else:
         cx, cy = p.centre
         foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)

@@ -19,6 +19,7 @@ from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.check import check_pattern
 from origami_cad.simulation.crawler import (
+    STUCK_DEG,
     gait_loads,
     gait_sequence_text,
     gait_turns,
@@ -112,6 +113,26 @@ def test_the_gait_played_backwards_crawls_backwards(robot):
     back = simulate_gait(robot, cycles=1, steps=3, reverse=True)
     (per,) = back.displacement_per_cycle()
     assert per < -10.0
+
+
+def test_at_high_friction_the_legs_jam_and_the_notes_name_them(robot, forward):
+    """docs/crawler.md, friction: the strings only pull, so a leg unfolds only if its foot
+    slides outward; at friction 1 the feet grip, the legs stay folded and the stride
+    collapses (the stride at friction 0.6 is the designed one, with no leg stuck)."""
+    assert not [n for n in forward.notes if "stayed folded" in n]
+    sticky = simulate_gait(robot, cycles=1, steps=3, friction=1.0)
+    (per,) = sticky.displacement_per_cycle()
+    assert per < 0.5 * forward.displacement_per_cycle()[0]
+    stuck = [n for n in sticky.notes if "stayed folded" in n]
+    assert [n.split(" stayed")[0] for n in stuck] == [
+        f"{leg.name} (servo {leg.servo})" for leg in robot.legs
+    ]
+    assert stuck[2].startswith("rear left (servo 3) stayed folded at 60 deg")  # its blocker
+    # the cycle ends with every leg still folded far past the 20 deg it is laid down at
+    assert (sticky.fold[-1] > 180.0 * robot.gait_p[-1] + STUCK_DEG).all()
+    # from the jam on the body stands still
+    jam = int(np.argmax(sticky.fold[:, 2] > 59.0))
+    assert np.ptp(sticky.body[jam + 2 :, 0]) < 1.0
 
 
 def test_a_gait_past_the_blockers_is_refused(tmp_path):
@@ -230,6 +251,14 @@ def test_robot_mass_estimate_against_the_paper(printed):
     assert 0.8 * 361.45 < budget["total_g"] < 1.3 * 361.45
     # the printed sheet alone (PLA and TPU): the paper's robot is 361 g with its hardware
     assert 150 < budget["sheet_g"] < 300
+    # a module's mount plate holds its servo, hub and guide, not the whole leg: it lies
+    # within the leg's outer half, beyond the string holes 12 mm from the hinge (|x| = 90)
+    solids = data["solids"]
+    for k in ("front_left", "front_right", "rear_left", "rear_right"):
+        module = solids[f"tsa_module_{k}"]
+        (x0, y0, _), (x1, y1, _) = module["bbox_mm"]
+        assert min(abs(x0), abs(x1)) > 90.0 + 12.0 and (x1 - x0) * (y1 - y0) < 0.4 * 90 * 140
+        assert module["mass_g"] < 8.0  # g; with the whole leg face as its mount: 13.6 g
     for name in ("infills.stl", "shells.stl", "print.3mf", "assembly.step", "robot.step"):
         assert (out / name).stat().st_size > 0
     assert (out / "tsa_module_front_left.stl").read_bytes()[:5] != b"solid"  # binary STL

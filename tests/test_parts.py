@@ -290,12 +290,15 @@ def test_parts_are_installed_inside_the_package():
     root = Path(__file__).resolve().parents[1]
     assert Path(origami_cad.parts.__file__).parent == root / "parts"
     setup = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
-    assert setup["package-dir"] == {"origami_cad.parts": "parts"}
+    assert setup["package-dir"] == {
+        "origami_cad.parts": "parts",
+        "origami_cad.examples": "examples",
+    }
     found = {
         ".".join(p.parent.relative_to(root).parts)
         for p in (root / "origami_cad").rglob("__init__.py")
     }
-    assert set(setup["packages"]) == found | {"origami_cad.parts"}
+    assert set(setup["packages"]) == found | {"origami_cad.parts", "origami_cad.examples"}
 
 
 @pytest.mark.parametrize(

@@ -49,6 +49,7 @@ from origami_cad.strings.tsa import (
 
 __all__ = [
     "SERVO",
+    "STUCK_DEG",
     "GaitResult",
     "Leg",
     "PointMass",
@@ -272,6 +273,10 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
 SERVO = "XL330"
 #: Thickness of a leg module's mount plate, mm (thin: the leg panel carries the load).
 MOUNT_THICKNESS = 1.0
+#: How far a leg module's mount plate reaches around its servo, hub and guide, mm: a plate
+#: that size holds the module; the rest of the leg needs none (the whole leg face as the
+#: mount weighed 11.7 g a leg, docs/crawler.md, mass budget).
+MOUNT_MARGIN = 3.0
 
 
 def leg_heading(robot: Robot, leg: Leg) -> float:
@@ -307,6 +312,7 @@ def robot_placements(robot: Robot) -> dict[str, list]:
                 "servo": SERVO,
                 "guide_distance": leg.route.tsa.length,
                 "mount_thickness": MOUNT_THICKNESS,
+                "mount_margin": MOUNT_MARGIN,
                 "heading": leg_heading(robot, leg),
                 "tsa": leg.route.tsa,
             },
@@ -763,6 +769,65 @@ def _start_walk(robot: Robot, params: SimulationParams, mu: float, prefold: floa
     return walk, mass_g
 
 
+#: deg: a leg folded this much past its command is reported as stuck (simulate_gait's notes)
+STUCK_DEG = 10.0
+
+
+def _inclination(x: np.ndarray, ring: np.ndarray) -> float:
+    """Angle between a panel (its nodes ``x[ring]``, mm) and the ground plane, deg."""
+    p = x[ring] - x[ring].mean(axis=0)
+    normal = np.linalg.svd(p)[2][2]
+    return math.degrees(math.acos(min(1.0, abs(float(normal[2])))))
+
+
+def _stuck_legs(robot: Robot, out: GaitResult) -> list[str]:
+    """Notes on the legs that stayed folded well past the gait's command.
+
+    The strings only pull: they fold a leg, and its crease (plus the robot's weight,
+    pushing the foot outward) unfolds it, which needs the foot to slide. A foot whose leg
+    stands at ``alpha`` to the ground self-locks when ``friction >= cot(alpha)`` (the
+    leg as a strut; the other feet's grip shifts that bound, docs/crawler.md, "friction").
+    """
+    notes = []
+    lag = out.fold - 180.0 * out.commanded[: len(out.fold)]
+    for k, leg in enumerate(robot.legs):
+        r = int(np.argmax(lag[:, k]))
+        if lag[r, k] <= STUCK_DEG:
+            continue
+        alpha = _inclination(out.states[r], robot.pattern.faces[leg.face])
+        notes.append(
+            f"{leg.name} (servo {leg.servo}) stayed folded at {out.fold[r, k]:.0f} deg where "
+            f"the gait commands {180.0 * out.commanded[r, k]:.0f} deg (t = {out.t[r]:.1f} s), "
+            f"standing at {alpha:.0f} deg to the ground: the strings only pull, and a leg "
+            f"unfolds only while the robot's weight can slide its foot outward (a strut at "
+            f"alpha to the ground slides while friction < about cot alpha; here friction "
+            f"{out.friction:g}, cot {alpha:.0f} deg = {1.0 / math.tan(math.radians(alpha)):.2f})"
+        )
+    return notes
+
+
+def _empty_result(
+    robot: Robot, walk: _Walk, times: np.ndarray, ratios: np.ndarray, steps: int
+) -> GaitResult:
+    """The result's arrays for the scheduled states (``times``, ``ratios``), zero-filled."""
+    n_legs, rows = len(robot.legs), len(times)
+    per_leg = max(int(np.sum(walk.owner == k)) for k in range(n_legs))
+    n = robot.pattern.n_vertices
+    return GaitResult(
+        t=times,
+        states=np.zeros((rows, n, 3)),
+        body=np.zeros((rows, 3)),
+        turns=gait_turns(robot, ratios),
+        tensions=np.zeros((rows, n_legs, per_leg)),
+        torque=np.zeros((rows, n_legs)),
+        fold=np.zeros((rows, n_legs)),
+        blocked=np.zeros(rows),
+        converged=np.zeros(rows, dtype=bool),
+        commanded=ratios,
+        cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),
+    )
+
+
 def simulate_gait(
     robot: Robot,
     *,
@@ -796,31 +861,21 @@ def simulate_gait(
         (default: the gait's first keyframe, at least 2 deg).
     progress : callable, optional
         ``progress(state, states)`` after each equilibrium.
+
+    Returns
+    -------
+    GaitResult
+        Its ``notes`` name each leg that stayed folded more than ``STUCK_DEG`` past the
+        gait's command (a foot that cannot slide: at high friction the gait jams).
     """
     mu = robot.friction if friction is None else friction
     if params is None:
         params = SimulationParams(gravity=9810.0, ground=0.0, friction=mu)
     walk, mass_g = _start_walk(robot, params, mu, prefold)
     times, ratios = _schedule(robot, cycles, steps, reverse)
-    turns = gait_turns(robot, ratios)
-    n_legs, rows = len(robot.legs), len(times)
-    per_leg = max(int(np.sum(walk.owner == k)) for k in range(n_legs))
-    n = robot.pattern.n_vertices
-    out = GaitResult(
-        t=times,
-        states=np.zeros((rows, n, 3)),
-        body=np.zeros((rows, 3)),
-        turns=turns,
-        tensions=np.zeros((rows, n_legs, per_leg)),
-        torque=np.zeros((rows, n_legs)),
-        fold=np.zeros((rows, n_legs)),
-        blocked=np.zeros(rows),
-        converged=np.zeros(rows, dtype=bool),
-        commanded=ratios,
-        friction=mu,
-        mass_g=mass_g,
-        cycle_starts=list(range(0, rows, (len(robot.gait_t) - 1) * steps)),
-    )
+    out = _empty_result(robot, walk, times, ratios, steps)
+    out.friction, out.mass_g = mu, mass_g
+    turns, rows = out.turns, len(times)
     x, previous = walk.st.x0.copy(), None
     for r in range(rows):
         theta = turns[r] * 2 * math.pi
@@ -840,4 +895,5 @@ def simulate_gait(
             break
     if not out.converged.all():
         out.notes.append(f"{int((~out.converged).sum())} of {rows} states did not fully converge")
+    out.notes += _stuck_legs(robot, out)
     return out
