@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from origami_cad import __version__, jobs
+from origami_cad.errors import OrigamiCadError
 from origami_cad.jobs import Outputs
 from origami_cad.viz.report import StepReport, write_report
 
@@ -205,6 +206,15 @@ STEPS: list[Step] = [
 ]  # fmt: skip
 
 
+def _error_line(exc: Exception) -> str:
+    """What the report says of a failed step: the message of a user-facing error, else
+    the exception's public type and message."""
+    if isinstance(exc, OrigamiCadError):
+        return str(exc)
+    kind = next(c.__name__ for c in type(exc).__mro__ if not c.__name__.startswith("_"))
+    return f"{kind}: {exc}"
+
+
 def run_step(step: Step, root: Path, quick: bool = False) -> StepReport:
     """Run one step into ``root/<key>/``; its report section, or the error it ended with."""
     t0 = time.perf_counter()
@@ -218,7 +228,7 @@ def run_step(step: Step, root: Path, quick: bool = False) -> StepReport:
         rep.views = [(p, c) for p, c in shown if p.endswith(".glb")]
         rep.files = [p.relative_to(root).as_posix() for p in dict.fromkeys(done.files)]
     except Exception as exc:  # reported in the page; run_demo raises at the end
-        rep = StepReport(step.key, step.title, error=f"{type(exc).__name__}: {exc}")
+        rep = StepReport(step.key, step.title, error=_error_line(exc))
     rep.seconds = time.perf_counter() - t0
     return rep
 

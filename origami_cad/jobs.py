@@ -1538,6 +1538,7 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulat
             max_turns=limits,
             current_limit_ma=seq.current_limit,
             profile_velocity=0,
+            reply_slack=0.5 if emulate is not None else 0.0,
         )
     else:
         bus = SerialBus(

@@ -126,6 +126,24 @@ def test_dropped_status_is_retried_then_fails_with_the_servo_named(emulator):
             bus.read()
 
 
+def test_a_late_status_packet_is_a_timeout_unless_the_bus_allows_slack():
+    """A status packet 150 ms late (a loaded machine running the emulator) is a missing
+    servo for the SDK's 34 ms timeout, and is read when the bus allows 0.5 s of slack."""
+    for slack, ok in ((0.0, False), (0.5, True)):
+        with (
+            DynamixelEmulator([1]) as emu,
+            DynamixelBus(emu.port, ids=[1], retries=0, reply_slack=slack) as bus,
+        ):
+            emu.at_packet(emu.received + 1, lambda: time.sleep(0.15))
+            if ok:
+                assert bus.read_value(1, 11, 1) == 4  # extended position mode
+            else:
+                with pytest.raises(DriveError, match=r"servo 1: no status packet"):
+                    bus.read_value(1, 11, 1)
+    with pytest.raises(DriveError, match="reply slack"):
+        DynamixelBus("/dev/null", ids=[1], reply_slack=-1.0)
+
+
 def test_corrupted_crc_and_hardware_error_are_reported(emulator):
     with DynamixelBus(emulator.port, ids=IDS) as bus:
         emulator.corrupt_status(1, 1)

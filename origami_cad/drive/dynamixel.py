@@ -122,6 +122,17 @@ def _servo_list(ids) -> str:
     return f"servo {ids[0]}" if len(ids) == 1 else f"servos {', '.join(map(str, ids))}"
 
 
+def _add_reply_slack(port, slack_ms: float) -> None:
+    """Make ``port`` (a ``dynamixel_sdk.PortHandler``) wait ``slack_ms`` longer for replies."""
+    base = port.setPacketTimeout
+
+    def set_packet_timeout(packet_length):
+        base(packet_length)
+        port.packet_timeout += slack_ms
+
+    port.setPacketTimeout = set_packet_timeout
+
+
 class DynamixelBus(ServoBus):
     """A bus of Dynamixel X servos driving TSAs (context manager).
 
@@ -142,6 +153,11 @@ class DynamixelBus(ServoBus):
         Written to every servo on open (X-series units: 0.229 rpm, 214.577 rev/min^2).
     retries : int
         Further attempts after a missing status packet before failing.
+    reply_slack : float
+        Extra time to wait for a status packet beyond ``dynamixel_sdk``'s own
+        timeout (about 34 ms), s. 0 on real hardware; a dry run against the
+        emulator, which shares this process and its cores, gives it more so that a
+        loaded machine is not taken for a missing servo.
     stop_attempts : int
         Attempts per servo to switch its torque off (and read it back as off)
         before :meth:`stop` reports it.
@@ -180,6 +196,7 @@ class DynamixelBus(ServoBus):
         profile_velocity: int = 200,
         profile_acceleration: int = 50,
         retries: int = 2,
+        reply_slack: float = 0.0,
         **limits,
     ) -> None:
         # limits: max_turns, current_limit_ma, stop_attempts, reopen_timeout (ServoBus)
@@ -188,6 +205,9 @@ class DynamixelBus(ServoBus):
         self.profile_velocity = profile_velocity
         self.profile_acceleration = profile_acceleration
         self.retries = retries
+        if not (math.isfinite(reply_slack) and 0 <= reply_slack <= 10):
+            raise DriveError(f"reply slack must be within 0..10 s, got {reply_slack}")
+        self.reply_slack = float(reply_slack)
         self.current_unit = CURRENT_UNIT_MA
         self._sdk = None
         self._ph = None
@@ -234,6 +254,8 @@ class DynamixelBus(ServoBus):
             raise DriveError(f"port {self.port_name} cannot be opened: {exc}") from None
         if not opened:
             raise DriveError(f"port {self.port_name} cannot be opened at {self.baudrate} bps")
+        if self.reply_slack:
+            _add_reply_slack(port, 1000.0 * self.reply_slack)
         return port
 
     def _ping_all(self) -> None:
