@@ -1,20 +1,25 @@
 """DXF reader and writer (ezdxf).
 
-Writing (:func:`write_dxf`): one LINE per edge, colour BYLAYER, on the layers
+Writing (:func:`write_dxf`): one LINE per edge on the layers
 
-==============  ===  =========  ===========
-layer           ACI  linetype   assignment
-==============  ===  =========  ===========
-``Mountain``    1    CONTINUOUS M (red)
-``Valley``      5    DASHED     V (blue)
-``Cut``         3    CONTINUOUS C (green)
-``Border``      7    CONTINUOUS B (black/white)
-``Flat``        8    CONTINUOUS F (grey)
-``Unassigned``  9    CONTINUOUS U (light grey)
-``Join``        9    CONTINUOUS J
-==============  ===  =========  ===========
+==============  =========  =========  ==========  ===========
+layer           layer ACI  line ACI   linetype    assignment
+==============  =========  =========  ==========  ===========
+``Mountain``    1          1          CONTINUOUS  M (red)
+``Valley``      5          5          DASHED      V (blue)
+``Cut``         3          3          CONTINUOUS  C (green)
+``Border``      7          3          CONTINUOUS  B (black/white layer, green lines)
+``Flat``        8          8          CONTINUOUS  F (grey)
+``Unassigned``  9          9          CONTINUOUS  U (light grey)
+``Join``        9          9          CONTINUOUS  J
+==============  =========  =========  ==========  ===========
 
-holes as CIRCLEs on layer ``Holes`` (ACI 4); ``$INSUNITS`` = 4 (mm),
+Every line carries its own ACI colour (group 62), not BYLAYER: ORIPA's DXF
+loader reads only an entity's own colour (1 mountain, 5 valley, 3 cut, anything
+else auxiliary) and never its layer, and, like ORIPA's writer, the sheet outline
+is drawn in the cut colour (ORIPA's boundary is a cut line). Readers that go by
+layer name (ours, most CAD programs) still see ``Border``.
+Holes are CIRCLEs on layer ``Holes`` (ACI 4); ``$INSUNITS`` = 4 (mm),
 ``$MEASUREMENT`` = 1 (metric), the title in ``$PROJECTNAME``.
 
 Reading (:func:`read_dxf`): LINE, LWPOLYLINE and POLYLINE (every segment is an
@@ -107,6 +112,8 @@ _LAYERS = {
     "J": ("Join", 9, "CONTINUOUS"),
 }
 _HOLE_LAYER = ("Holes", 4)
+#: assignment -> the ACI colour of each LINE (ORIPA reads these, not the layers')
+_LINE_ACI = {"M": 1, "V": 5, "C": 3, "B": 3, "F": 8, "U": 9, "J": 9}
 
 #: layer-name words (lower case, substrings) and the assignment they mean, in order
 _LAYER_WORDS = (
@@ -197,10 +204,11 @@ def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
         msp.add_line(
             (float(xa), float(ya)),
             (float(xb), float(yb)),
-            dxfattribs={"layer": _LAYERS[letter][0]},
+            dxfattribs={"layer": _LAYERS[letter][0], "color": _LINE_ACI[letter]},
         )
     for h in cp.holes:
-        msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs={"layer": _HOLE_LAYER[0]})
+        attribs = {"layer": _HOLE_LAYER[0], "color": _HOLE_LAYER[1]}
+        msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs=attribs)
     x0, y0, x1, y1 = cp.bounds
     doc.set_modelspace_vport(
         height=1.1 * max(y1 - y0, (x1 - x0) * 0.75, 1.0), center=((x0 + x1) / 2, (y0 + y1) / 2)
