@@ -247,12 +247,17 @@ def run_fold(
 ) -> Outputs:
     """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end or a .gif.
 
-    ``frames`` states are written (1: only ``ratio``; a .gif of 1 frame gets 30).
+    ``frames`` states are written (1: only ``ratio``; a .gif of 1 frame gets 30),
+    each lying on the table, centred on the flat sheet
+    (:mod:`origami_cad.kinematics.placement`).
     ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
     """
+    import dataclasses
+
     import numpy as np
 
     from origami_cad.kinematics.folding import fold_sequence
+    from origami_cad.kinematics.placement import place_sequence
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.viz.render3d import render_folded, render_folding_gif
@@ -269,6 +274,8 @@ def run_fold(
     frames = frames if frames > 1 or suffix != ".gif" else 30
     states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
     cp = loaded.pattern
+    placed = place_sequence(cp, [s.coords for s in states])
+    states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
     if suffix == ".fold":
         labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
         write_fold(cp, out, frames=labelled)
