@@ -75,6 +75,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import os
@@ -575,21 +576,27 @@ def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
 
 
 # ------------------------------------------------------------------- reading
-def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
+def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
     """Read a crease pattern from a DXF file, converted to millimetres.
 
     Parameters
     ----------
     path : path-like
         A ``.dxf`` file (any DXF version ezdxf reads; ASCII or binary).
+    mm_per_unit : float, optional
+        Millimetres per drawing unit, replacing what ``$INSUNITS`` declares
+        (default: the declared unit; mm when the file declares none).
 
     Returns
     -------
     CreasePattern
         Vertices in mm, edges classified as described in the module
         documentation, holes from circles on a ``Holes`` layer, and
-        ``metadata["title"]`` the file name's stem. Fold angles are the
-        defaults (+-180 degrees for mountains and valleys, 0 otherwise).
+        ``metadata["title"]`` the file name's stem, ``metadata["source_unit"]``
+        the unit it was read in. Fold angles are the defaults (+-180 degrees
+        for mountains and valleys, 0 otherwise). A file in ORIPA's layers that
+        declares no unit gets a ``size`` warning note: ORIPA writes every
+        pattern 6 inches wide, whatever its paper size.
 
     Raises
     ------
@@ -601,9 +608,14 @@ def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
     """
     p, name = input_file(path, PatternError)
     try:
-        return _read(p)
+        cp = _read(p, mm_per_unit)
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
+    cp.notes = tuple(
+        dataclasses.replace(n, message=f"{name}: {n.message}") if n.code == "size" else n
+        for n in cp.notes
+    )
+    return cp
 
 
 def _open_dxf(p: Path):
@@ -736,10 +748,36 @@ def _merge_ends(segments, scale: float) -> tuple[np.ndarray, np.ndarray]:
     return uniq[order] * scale, rank[inverse.reshape(-1)].reshape(-1, 2)
 
 
-def _read(p: Path) -> CreasePattern:
+#: the layers ORIPA's DXF writer puts its lines on
+_ORIPA_LAYERS = frozenset({"CutLine", "MountainLine", "ValleyLine"})
+
+
+def _unit_notes(doc: Any, given: float | None) -> tuple[str, list[Problem]]:
+    """What unit the drawing was read in (for messages) and a note on ORIPA's size."""
+    declared = "$INSUNITS" in doc.header
+    code = int(doc.header.get("$INSUNITS", 0))
+    if given is not None:
+        return f"{given:g} mm per drawing unit (given)", []
+    if not declared or code == 0:
+        text = "mm (the file declares no unit)"
+    else:
+        text = f"{_mm_per_unit(doc):g} mm per drawing unit ($INSUNITS = {code})"
+    if declared or not any(e.dxf.get("layer") in _ORIPA_LAYERS for e in doc.modelspace()):
+        return text, []
+    note = Problem(
+        "size",
+        "the file is in ORIPA's layers and declares no unit: ORIPA writes every pattern "
+        "6 inches wide whatever its paper size, so give the size you mean (--width MM)",
+        severity=Severity.WARNING,
+    )
+    return text, [note]
+
+
+def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
     """The crease pattern of the DXF file ``p`` (errors without the file name)."""
     doc = _open_dxf(p)
-    scale = _mm_per_unit(doc)
+    scale = _mm_per_unit(doc) if mm_per_unit is None else float(mm_per_unit)
+    unit_text, unit_notes = _unit_notes(doc, mm_per_unit)
     _expanded_count(doc.modelspace(), {})
     chains, (x0, y0, x1, y1), holes, unknown, skipped = _classify_entities(doc, scale)
     size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
@@ -749,5 +787,6 @@ def _read(p: Path) -> CreasePattern:
     coords, edges = _merge_ends(segments, scale)
     title = p.stem
     cp = CreasePattern(coords, edges, letters, metadata={"title": title})
-    cp = _outline_cuts_to_border(cp, title)
+    cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
+    cp.notes = (*cp.notes, *unit_notes)
     return cp.with_holes(holes) if holes else cp

@@ -444,12 +444,16 @@ def _polylines(el: ET.Element, tag: str, where: str) -> list[list[tuple[float, f
     return []
 
 
-def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
+def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
     """Read a crease pattern from an SVG in Origami Simulator's convention (mm).
 
     Every number, transform, colour and opacity is checked: malformed path
     data, a transform that is not one of SVG's six, an opacity outside [0, 1]
     or a non-finite coordinate is an error naming the element.
+
+    ``mm_per_unit`` (millimetres per user unit) replaces what the root's
+    ``viewBox`` and ``width``/``height`` declare (see the module notes);
+    ``metadata["source_unit"]`` says which was used.
 
     Raises
     ------
@@ -459,7 +463,14 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
     """
     p, name = input_file(path, PatternError)
     root = _svg_root(p, name)
-    sx, sy = _scale(root, name)
+    if mm_per_unit is None:
+        sx, sy = _scale(root, name)
+        unit = f"{sx:.6g} mm per user unit (width, height and viewBox)"
+        if (sx, sy) == (1.0, 1.0):
+            unit = "mm (1 user unit = 1 mm)"
+    else:
+        sx = sy = float(mm_per_unit)
+        unit = f"{sx:g} mm per user unit (given)"
     segments, holes, title = _walk_svg(root, name, sx, sy)
     if not segments:
         raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
@@ -473,7 +484,7 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
             edges,
             [s[2] for s in segments],
             [s[3] for s in segments],
-            metadata={"title": title or p.stem},
+            metadata={"title": title or p.stem, "source_unit": unit},
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
