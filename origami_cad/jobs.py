@@ -236,14 +236,12 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
 
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
-    from origami_cad.pattern.design import load_pattern_source
-
     for out in outputs:
         _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
     check_outputs([design], files=outputs)
-    loaded = load_pattern_source(design)
+    loaded, warned = _sized_source(design)
     cp = loaded.pattern
-    result = Outputs(result=loaded, numbers=_pattern_numbers(cp))
+    result = Outputs(result=loaded, numbers=_pattern_numbers(cp), messages=warned)
     for out in map(Path, outputs):
         _write_pattern_file(cp, out, labels)
         result.files.append(out)

@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from origami_cad.pattern import CreasePattern, miura_pattern, read_pattern, write_pattern
+from origami_cad.pattern import CreasePattern, Hole, miura_pattern, read_pattern, write_pattern
 from origami_cad.pattern.design import load_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -244,6 +244,8 @@ def _os_graph(path: Path) -> tuple[np.ndarray, np.ndarray, list[str]]:
 def test_origami_simulator_keeps_every_vertex_of_the_fig2_pattern(tmp_path):
     cp = load_design(EXAMPLES / "fig2_tg.toml").pattern
     assert (cp.n_vertices, cp.n_edges) == (42, 71)
+    centre = cp.face_centroids()[3]
+    cp = cp.with_holes([Hole(float(centre[0]), float(centre[1]), 2.0)])
     lengths = cp.edge_lengths()
     assert lengths.min() < 1.0  # the 0.734 mm edges that used to merge at 1 unit per mm
     path = write_pattern(cp, tmp_path / "fig2.svg")
@@ -257,6 +259,8 @@ def test_origami_simulator_keeps_every_vertex_of_the_fig2_pattern(tmp_path):
     # the physical size is still right: our reader, and the root's width/height in mm
     back = read_pattern(path)
     assert back.same_graph(cp, tolerance=1e-6)
+    (hole,) = back.holes
+    assert (hole.x, hole.y, hole.diameter) == pytest.approx((*centre, 2.0))
     root = ET.parse(path).getroot()
     x0, y0, x1, y1 = cp.bounds
     assert float(root.attrib["width"].removesuffix("mm")) == pytest.approx(x1 - x0)
