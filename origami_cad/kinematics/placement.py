@@ -1,9 +1,10 @@
 """Where a folded state is shown: lying on the table, centred on the flat sheet.
 
-The folders keep one panel where it lies in the flat pattern (a TG tessellation
-its first corner panel, the degree-4 folder the panel next to its driving
-crease), so the rest of the sheet swings up around it: a Miura folding to
-p = 0.15 climbs 61.5 mm above the table. That frame is what the string models
+The folders keep their own reference where it lies in the flat pattern (a TG
+tessellation the start T_s of its first main crease, from which the chain
+rises; the degree-4 folder the panel next to its driving crease), so the rest of
+the sheet swings up around it: the 6 x 4 Miura folding to p = 0.15 climbs 57 mm
+above the table. That frame is what the string models
 and the simulation work in; for showing a folded state to a user
 (:func:`origami_cad.jobs.run_fold`'s FOLD frames, pictures and animations) it is
 moved rigidly, without changing its shape:

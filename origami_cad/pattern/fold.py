@@ -461,7 +461,9 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
         scale = _unit_scale(frame, where) if mm_per_unit is None else float(mm_per_unit)
         verts = _coords(frame, where, scale)
         if _is_flat(verts):
-            unit = f"frame_unit {frame.get('frame_unit', 'mm (none declared)')!r}"
+            unit = "mm (no frame_unit)"
+            if "frame_unit" in frame:
+                unit = f"frame_unit {frame['frame_unit']!r}"
             if mm_per_unit is not None:
                 unit = f"{scale:g} mm per unit (given)"
             cp = _frame_to_pattern(frame, where, title, verts)
