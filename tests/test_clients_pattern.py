@@ -290,3 +290,54 @@ def test_origami_simulator_samples_still_read_at_their_size(name, width_px):
     x0, _, x1, _ = cp.bounds
     assert x1 - x0 <= width_px * 25.4 / 96 + 1e-6  # px at 96 per inch, within the page
     assert x1 - x0 > 0.5 * width_px * 25.4 / 96
+
+
+_FOLD_JS = """
+const FOLD = require("fold");
+const fold = JSON.parse(require("fs").readFileSync(0, "utf8"));
+FOLD.filter.collapseNearbyVertices(fold, 3);  // Origami Simulator's vertTol
+FOLD.filter.removeLoopEdges(fold);
+FOLD.filter.removeDuplicateEdges_vertices(fold);
+console.log(JSON.stringify([new Set(fold.edges_vertices.flat()).size, fold.edges_vertices.length]));
+"""
+
+
+def _node_with_fold() -> tuple[list[str], dict[str, str]] | None:
+    """``node`` and the environment that finds the npm ``fold`` package, if both exist."""
+    import os
+    import shutil
+    import subprocess
+
+    node, npm = shutil.which("node"), shutil.which("npm")
+    if node is None or npm is None:
+        return None
+    root = subprocess.run([npm, "root", "-g"], capture_output=True, text=True, timeout=60)
+    env = {**os.environ, "NODE_PATH": os.environ.get("NODE_PATH") or root.stdout.strip()}
+    probe = subprocess.run(
+        [node, "-e", "require('fold')"], capture_output=True, env=env, timeout=60
+    )
+    return ([node, "-e", _FOLD_JS], env) if probe.returncode == 0 else None
+
+
+def test_the_fold_library_origami_simulator_uses_keeps_every_vertex(tmp_path):
+    """The real npm ``fold`` package (``npm install -g fold``), which Origami Simulator
+    requires, collapses our Fig. 2 SVG's vertices with its 3-unit tolerance."""
+    import json
+    import subprocess
+
+    found = _node_with_fold()
+    if found is None:
+        pytest.skip("node with the npm package 'fold' is not installed (npm install -g fold)")
+    cp = load_design(EXAMPLES / "fig2_tg.toml").pattern
+    segments = os_line_segments(write_pattern(cp, tmp_path / "fig2.svg"))
+    fold = {
+        "vertices_coords": [p.tolist() for _, a, b in segments for p in (a, b)],
+        "edges_vertices": [[2 * i, 2 * i + 1] for i in range(len(segments))],
+        "edges_assignment": [kind for kind, _, _ in segments],
+    }
+    command, env = found
+    run = subprocess.run(
+        command, input=json.dumps(fold), capture_output=True, text=True, env=env, timeout=120
+    )
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout) == [cp.n_vertices, cp.n_edges]  # 42 and 71, not 38 and 67
