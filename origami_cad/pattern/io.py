@@ -134,17 +134,17 @@ def read_pattern(
     per_unit = None if unit is None else mm_per_unit(unit)
     p, name = input_file(p, PatternError)
     cp = _read_file(p, suffix, per_unit)
-    if width is not None:
-        x0, _, x1, _ = cp.bounds
-        if not x1 > x0:
-            raise PatternError(f"{name}: the pattern has no width to scale to {width:g} mm")
-        cp = cp.scaled(width / (x1 - x0))
-        cp.notes = tuple(n for n in cp.notes if n.code != "size")  # the size is given
-    elif scale is not None:
-        try:
+    x0, _, x1, _ = cp.bounds
+    if width is not None and not x1 > x0:
+        raise PatternError(f"{name}: the pattern has no width to scale to {width:g} mm")
+    try:
+        if width is not None:
+            cp = cp.scaled(width / (x1 - x0))
+            cp.notes = tuple(n for n in cp.notes if n.code != "size")  # the size is given
+        elif scale is not None:
             cp = cp.scaled(scale)
-        except PatternError as exc:
-            raise PatternError(f"{name}: {exc}") from None
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
     return _check_size(cp, name)
 
 
