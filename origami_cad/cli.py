@@ -95,14 +95,16 @@ def _demo(folder: str = "out", quick: bool = False) -> jobs.Outputs:
 
 
 _FOLDER = "output folder; only this command's files are written into it, all else is kept"
-_PROTOCOL = {"choices": ("dynamixel", "serial")}
-_FLAG = {"action": "store_true"}
+_FLAG, _SIZED = {"action": "store_true"}, "convert fold fabricate route simulate"  # read files
 
 # (commands, option, argparse keywords): every option of every command
 _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("convert pattern", "--labels", {**_FLAG, "help": "panel labels on a .png"}),
     ("check", "--angle-tolerance", {"type": _finite, "help": "Kawasaki's theorem, rad"}),
     ("check", "--verbose", {**_FLAG, "help": "also list what was normalised"}),
+    (_SIZED, "--unit", {"help": "unit of an imported file: mm, cm, m, in, ft, pt, px or MM"}),
+    (_SIZED, "--scale", {"type": _finite, "help": "multiply an imported pattern's size"}),
+    (_SIZED, "--width", {"type": _finite, "help": "scale an imported pattern to this width, mm"}),
     ("fold", "--ratio", {"type": _finite, "help": "fold ratio p in [0, 1]"}),
     ("fold", "--frames", {"type": int, "help": "states from p = 0 to --ratio"}),
     ("design-arm", "--runs", {"type": int, "help": "override the task's [search] runs"}),
@@ -123,8 +125,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
     ("simulate", "--steps", {"type": int, "help": "actuation steps over the route's turns"}),
     ("simulate", "--blocker", {"action": "append", "metavar": "EDGE:DEG", "type": _blocker,
-                               "dest": "blockers",
-                               "help": "stop crease EDGE at DEG degrees (repeat)"}),
+                               "dest": "blockers", "help": "stop crease EDGE at DEG (repeat)"}),
     ("simulate", "--gravity", {"type": _finite, "help": "gravity along -z, mm/s^2"}),
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
     ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
@@ -139,13 +140,12 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
     ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
-    ("robot", "--no-renders", {"action": "store_false", "dest": "renders",
-                                "help": "skip the render"}),
+    ("robot", "--no-renders", {"action": "store_false", "dest": "renders", "help": "no render"}),
     ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
     ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
-    ("emulate drive", "--protocol", _PROTOCOL),
+    ("emulate drive", "--protocol", {"choices": ("dynamixel", "serial")}),
     ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),

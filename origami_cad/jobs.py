@@ -179,19 +179,41 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
         write_pattern(cp, out)
 
 
+def _sized_source(design: PathLike, unit=None, scale=None, width=None):
+    """``(Design, warnings)``: a design or pattern file, an imported pattern sized by
+    ``unit``/``scale``/``width``; the warnings name an implausible size."""
+    from origami_cad.pattern import size_warnings
+    from origami_cad.pattern.design import load_pattern_source
+
+    loaded = load_pattern_source(design, unit=unit, scale=scale, width=width)
+    return loaded, [f"warning: {w}" for w in size_warnings(loaded.pattern)]
+
+
 # --------------------------------------------------------------------------- patterns
 
 
-def run_convert(source: PathLike, output: PathLike, *, labels: bool = False) -> Outputs:
-    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture."""
-    from origami_cad.pattern import read_pattern
+def run_convert(
+    source: PathLike,
+    output: PathLike,
+    *,
+    labels: bool = False,
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
+) -> Outputs:
+    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture.
+
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    """
+    from origami_cad.pattern import read_pattern, size_warnings
 
     _check_suffix(output, PATTERN_SUFFIXES, "a pattern")
     check_outputs([source], files=[output])
-    cp = read_pattern(source)
+    cp = read_pattern(source, unit=unit, scale=scale, width=width)
     _write_pattern_file(cp, Path(output), labels)
     msg = f"wrote {output} ({cp.n_vertices} vertices, {cp.n_edges} edges, {len(cp.faces)} panels)"
-    return Outputs(files=[Path(output)], messages=[msg], result=cp)
+    warned = [f"warning: {w}" for w in size_warnings(cp)]
+    return Outputs(files=[Path(output)], messages=[*warned, msg], result=cp)
 
 
 def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool = False) -> Outputs:
@@ -214,14 +236,12 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
 
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
-    from origami_cad.pattern.design import load_pattern_source
-
     for out in outputs:
         _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
     check_outputs([design], files=outputs)
-    loaded = load_pattern_source(design)
+    loaded, warned = _sized_source(design)
     cp = loaded.pattern
-    result = Outputs(result=loaded, numbers=_pattern_numbers(cp))
+    result = Outputs(result=loaded, numbers=_pattern_numbers(cp), messages=warned)
     for out in map(Path, outputs):
         _write_pattern_file(cp, out, labels)
         result.files.append(out)
@@ -244,18 +264,26 @@ def run_fold(
     ratio: float = 0.5,
     frames: int = 1,
     view: Sequence[float] | str = "iso",
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
 ) -> Outputs:
     """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif or .glb.
 
-    ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30);
-    a .glb holds them as morph targets played by an animation (:mod:`origami_cad.viz.gltf`).
+    ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30),
+    each lying on the table, centred on the flat sheet
+    (:mod:`origami_cad.kinematics.placement`); a .glb holds them as morph targets played
+    by an animation (:mod:`origami_cad.viz.gltf`).
     ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
+    import dataclasses
+
     import numpy as np
 
     from origami_cad.kinematics.folding import fold_sequence
+    from origami_cad.kinematics.placement import place_sequence
     from origami_cad.pattern import folded_frame, write_fold
-    from origami_cad.pattern.design import load_pattern_source
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
     if not 0.0 <= ratio <= 1.0:
@@ -266,10 +294,12 @@ def run_fold(
     suffix = out.suffix.lower()
     _check_suffix(out, FOLD_SUFFIXES, "the folded state")
     check_outputs([design], files=[out])
-    loaded = load_pattern_source(design)
+    loaded, warned = _sized_source(design, unit, scale, width)
     frames = frames if frames > 1 or suffix not in (".gif", ".glb") else 30
     states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
     cp = loaded.pattern
+    placed = place_sequence(cp, [s.coords for s in states])
+    states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
     if suffix == ".fold":
         labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
         write_fold(cp, out, frames=labelled)
@@ -287,7 +317,7 @@ def run_fold(
     return Outputs(
         files=[out],
         images=[(out, caption)] if suffix != ".fold" else [],
-        messages=[f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})"],
+        messages=[*warned, f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})"],
         result=states,
     )
 
@@ -620,6 +650,9 @@ def run_fabricate(
     renders: bool = False,
     name: str = "",
     hole: Sequence[Sequence[float]] | None = None,
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
     **overrides: Any,
 ) -> Outputs:
     """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
@@ -630,9 +663,9 @@ def run_fabricate(
     (x, y in mm) that replace the automatic ones. ``renders`` adds assembled,
     exploded and section pictures; ``name`` prefixes the key numbers (for
     reports holding several structures).
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
     from origami_cad.fabrication import fabricate, write_fabrication
-    from origami_cad.pattern.design import load_pattern_source
     from origami_cad.viz.fabrication_plots import save_panels_png
     from origami_cad.viz.gltf import write_parts_glb
 
@@ -643,7 +676,7 @@ def run_fabricate(
         params = fabrication_params(**overrides)
     elif any(v is not None for v in overrides.values()):
         raise DesignError("give either fabrication parameters or their keywords, not both")
-    loaded = load_pattern_source(design)
+    loaded, warned = _sized_source(design, unit, scale, width)
     fab = fabricate(loaded, params)
     label = name or Path(design).stem
     with atomic_directory(folder, inputs=_sources(design, loaded)) as stage:
@@ -667,6 +700,7 @@ def run_fabricate(
         images=[(Path(folder) / p.name, c) for p, c in images],
         numbers=_fabrication_numbers(fab, label),
         messages=[
+            *warned,
             summary,
             *(f"warning: {w}" for w in fab.warnings),
             f"wrote {folder}/: " + " ".join(p.name for p in files),
@@ -709,18 +743,26 @@ def run_part(
 # --------------------------------------------------------------------------- strings
 
 
-def run_route(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
+def run_route(
+    design: PathLike,
+    route: PathLike,
+    folder: PathLike,
+    *,
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
+) -> Outputs:
     """DCQC folding by a TSA: dcqc.json, dcqc.png, route.png, route_folded.png into ``folder``.
 
     ``status`` is 1 when the routing never folds the structure.
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
-    from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings import load_route, simulate_dcqc
     from origami_cad.viz.render3d import render_folded
     from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
 
     check_outputs([design, route], folders=[folder])
-    loaded = load_pattern_source(design)
+    loaded, warned = _sized_source(design, unit, scale, width)
     cp = loaded.pattern
     spec = load_route(route, cp)
     result = simulate_dcqc(loaded, spec, crease_stiffness=_sim_params(spec).crease_stiffness)
@@ -753,6 +795,7 @@ def run_route(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
             ("segments cutting through panels", str(len(result.cutting))),
         ],
         messages=[
+            *warned,
             *(f"warning: {v}" for v in result.violations + result.cutting),
             f"{state}: p = {p:.4f} after {turns:.2f} turns; {result.reason}",
             f"wrote {folder}/: " + " ".join(names),
@@ -863,6 +906,9 @@ def run_simulate(
     friction: float | None = None,
     gif_frames: int = GIF_FRAMES,
     progress: Callable[[int, int], None] | None = None,
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
 ) -> Outputs:
     """Bar-and-hinge folding by strings and TSA: states.fold, simulation.json, fold.gif, folded.png.
 
@@ -871,8 +917,8 @@ def run_simulate(
     coefficient). ``blockers`` maps crease index to its limit in degrees;
     ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
     the number of frames of the animation.
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
-    from origami_cad.pattern.design import load_pattern_source
     from origami_cad.simulation import simulate
     from origami_cad.strings import load_route
 
@@ -882,7 +928,7 @@ def run_simulate(
     if friction is not None and friction < 0:
         raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
-    loaded = load_pattern_source(pattern)
+    loaded, warned = _sized_source(pattern, unit, scale, width)
     cp = loaded.pattern
     spec = load_route(route, cp)
     if params is None:
@@ -909,6 +955,7 @@ def run_simulate(
             ("why it stops", result.reason),
         ],
         messages=[
+            *warned,
             f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; "
             f"{result.reason}",
             f"string tensions {tensions} N, TSA torque {result.torque[-1]:.3g} N mm",

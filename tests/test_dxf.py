@@ -73,7 +73,12 @@ def test_miura_round_trip_and_file_contents(tmp_path):
     assert "DASHED" in doc.linetypes
     lines = doc.modelspace().query("LINE")
     assert len(lines) == cp.n_edges == len(doc.modelspace())
-    assert {e.dxf.color for e in lines} == {256}  # BYLAYER
+    # each line's own ACI colour (ORIPA reads no layers); the outline in the cut colour
+    assert {(e.dxf.layer, e.dxf.color) for e in lines} == {
+        ("Mountain", 1),
+        ("Valley", 5),
+        ("Border", 3),
+    }
     per_layer = {name: len(lines.query(f'*[layer=="{name}"]')) for name in expected}
     assert per_layer["Mountain"] == int((cp.assignments == "M").sum())
     assert per_layer["Valley"] == int((cp.assignments == "V").sum())

@@ -13,6 +13,7 @@ from origami_cad.kinematics.fold3d import (
     fold_tessellation,
     tessellation_vertices,
 )
+from origami_cad.kinematics.placement import place_on_table, place_sequence, vector_area
 
 __all__ = [
     "chain_angles",
@@ -21,7 +22,10 @@ __all__ = [
     "fold_angles_from_coords",
     "fold_tessellation",
     "hypar_alpha0",
+    "place_on_table",
+    "place_sequence",
     "tessellation_vertices",
     "tip_positions",
     "turning_angles",
+    "vector_area",
 ]

@@ -11,12 +11,20 @@ Examples
 from origami_cad.errors import PatternError
 from origami_cad.pattern.check import check_pattern
 from origami_cad.pattern.fold import folded_frame, read_fold, read_fold_frames, write_fold
-from origami_cad.pattern.io import READ_FORMATS, WRITE_FORMATS, read_pattern, write_pattern
+from origami_cad.pattern.io import (
+    READ_FORMATS,
+    UNITS,
+    WRITE_FORMATS,
+    read_pattern,
+    size_warnings,
+    write_pattern,
+)
 from origami_cad.pattern.miura import miura_pattern
 from origami_cad.pattern.model import Assignment, CreasePattern, Hole, Problem, Severity
 
 __all__ = [
     "READ_FORMATS",
+    "UNITS",
     "WRITE_FORMATS",
     "Assignment",
     "CreasePattern",
@@ -30,6 +38,7 @@ __all__ = [
     "read_fold",
     "read_fold_frames",
     "read_pattern",
+    "size_warnings",
     "write_fold",
     "write_pattern",
 ]

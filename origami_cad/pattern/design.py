@@ -17,7 +17,10 @@
 
 ``kind = "miura"`` takes ``rows``, ``columns``, ``panel_length``, ``panel_width``
 (mm), ``sector_angle`` (deg) and optionally ``entry_flag``; ``kind = "file"``
-takes ``path`` (relative to the design file) of a ``.fold``, ``.dxf`` or ``.svg``.
+takes ``path`` (relative to the design file) of a ``.fold``, ``.dxf`` or ``.svg``
+and optionally its size: ``unit`` (``"mm"``, ``"cm"``, ``"m"``, ``"in"``, ...,
+replacing the unit the file declares) and/or ``scale`` (a factor), or ``width``
+(mm), as :func:`~origami_cad.pattern.io.read_pattern` takes them.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from origami_cad._toml import Table, input_file, load_toml, printable
 from origami_cad.errors import DesignError, PatternError
@@ -33,7 +37,14 @@ from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
 
-__all__ = ["KINDS", "Design", "load_design", "load_pattern_source", "miura_design"]
+__all__ = [
+    "KINDS",
+    "SIZE_OPTIONS",
+    "Design",
+    "load_design",
+    "load_pattern_source",
+    "miura_design",
+]
 
 KINDS = ("transition-graph", "miura", "file")
 
@@ -83,14 +94,53 @@ def miura_design(
     return Design(cp, tg, "miura")
 
 
-def load_design(path: str | os.PathLike[str]) -> Design:
+#: the size options of an imported pattern (keywords of read_pattern)
+SIZE_OPTIONS = ("unit", "scale", "width")
+
+
+def _sized(size: dict[str, Any], where: str, kind: str) -> None:
+    """A DesignError when size options are given for a design that is not imported."""
+    given = [k for k in SIZE_OPTIONS if size.get(k) is not None]
+    if given and kind != "file":
+        raise DesignError(
+            f"{where}: the {'/'.join(given)} "
+            f"{'options size' if len(given) > 1 else 'option sizes'} only "
+            f'imported patterns (.fold, .dxf, .svg, or kind = "file"); a {kind!r} design is '
+            "sized by its own keys"
+        )
+
+
+def _file_size(table: Table, size: dict[str, Any]) -> dict[str, Any]:
+    """The size options of a ``kind = "file"`` table; ``size`` given by the caller wins."""
+    own = {
+        "unit": table.string("unit") if table.has("unit") else None,
+        "scale": table.number("scale", low=0, low_open=True) if table.has("scale") else None,
+        "width": table.number("width", low=0, low_open=True) if table.has("width") else None,
+    }
+    if any(size.get(k) is not None for k in SIZE_OPTIONS):
+        return {k: size.get(k) for k in SIZE_OPTIONS}
+    return own
+
+
+def load_design(
+    path: str | os.PathLike[str],
+    *,
+    unit: str | float | None = None,
+    scale: float | None = None,
+    width: float | None = None,
+) -> Design:
     """Read a design file (TOML).
+
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``kind =
+    "file"``; any of them replaces the table's own), as
+    :func:`~origami_cad.pattern.io.read_pattern` takes them.
 
     Raises
     ------
     DesignError
         Naming the file, the table and the key, for unknown, missing, mistyped
-        or out-of-range keys.
+        or out-of-range keys, and for size options of a design that is not
+        imported.
     """
     p = Path(path)
     data = load_toml(p)
@@ -98,6 +148,8 @@ def load_design(path: str | os.PathLike[str]) -> Design:
     table = top.table("pattern")
     top.finish()
     kind = table.string("kind", choices=KINDS)
+    size = {"unit": unit, "scale": scale, "width": width}
+    _sized(size, str(p), kind)
     try:
         if kind == "transition-graph":
             design = _tg_design(table)
@@ -120,6 +172,7 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             d = miura_design(rows, columns, length, width, angle, flag)
             return Design(d.pattern.with_metadata(title=p.stem), d.tg, kind, p)
         rel = table.string("path")
+        options = _file_size(table, size)
         table.finish()
         shown = printable(rel, 300)
         try:
@@ -132,7 +185,7 @@ def load_design(path: str | os.PathLike[str]) -> Design:
             input_file(target, PatternError)
         except PatternError as exc:
             raise table.error("path", str(exc)) from None
-        return Design(read_pattern(target), None, kind, p)
+        return Design(read_pattern(target, **options), None, kind, p)
     except PatternError as exc:
         raise DesignError(f"{p}: {exc}") from None
 
@@ -190,9 +243,19 @@ def _tg_design(table: Table) -> TGDesign:
     return TGDesign(tuple(lengths), tuple(angles), flag, unit_width, copies, start, hypar)
 
 
-def load_pattern_source(path: str | os.PathLike[str]) -> Design:
-    """A design file (``.toml``) or a pattern file (``.fold``/``.dxf``/``.svg``) as a Design."""
+def load_pattern_source(
+    path: str | os.PathLike[str],
+    *,
+    unit: str | float | None = None,
+    scale: float | None = None,
+    width: float | None = None,
+) -> Design:
+    """A design file (``.toml``) or a pattern file (``.fold``/``.dxf``/``.svg``) as a Design.
+
+    ``unit``, ``scale`` and ``width`` size an imported pattern (see
+    :func:`~origami_cad.pattern.io.read_pattern`).
+    """
     p = Path(path)
     if p.suffix.lower() == ".toml":
-        return load_design(p)
-    return Design(read_pattern(p), None, "file", p)
+        return load_design(p, unit=unit, scale=scale, width=width)
+    return Design(read_pattern(p, unit=unit, scale=scale, width=width), None, "file", p)

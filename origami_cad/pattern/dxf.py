@@ -1,20 +1,25 @@
 """DXF reader and writer (ezdxf).
 
-Writing (:func:`write_dxf`): one LINE per edge, colour BYLAYER, on the layers
+Writing (:func:`write_dxf`): one LINE per edge on the layers
 
-==============  ===  =========  ===========
-layer           ACI  linetype   assignment
-==============  ===  =========  ===========
-``Mountain``    1    CONTINUOUS M (red)
-``Valley``      5    DASHED     V (blue)
-``Cut``         3    CONTINUOUS C (green)
-``Border``      7    CONTINUOUS B (black/white)
-``Flat``        8    CONTINUOUS F (grey)
-``Unassigned``  9    CONTINUOUS U (light grey)
-``Join``        9    CONTINUOUS J
-==============  ===  =========  ===========
+==============  =========  =========  ==========  ===========
+layer           layer ACI  line ACI   linetype    assignment
+==============  =========  =========  ==========  ===========
+``Mountain``    1          1          CONTINUOUS  M (red)
+``Valley``      5          5          DASHED      V (blue)
+``Cut``         3          3          CONTINUOUS  C (green)
+``Border``      7          3          CONTINUOUS  B (black/white layer, green lines)
+``Flat``        8          8          CONTINUOUS  F (grey)
+``Unassigned``  9          9          CONTINUOUS  U (light grey)
+``Join``        9          9          CONTINUOUS  J
+==============  =========  =========  ==========  ===========
 
-holes as CIRCLEs on layer ``Holes`` (ACI 4); ``$INSUNITS`` = 4 (mm),
+Every line carries its own ACI colour (group 62), not BYLAYER: ORIPA's DXF
+loader reads only an entity's own colour (1 mountain, 5 valley, 3 cut, anything
+else auxiliary) and never its layer, and, like ORIPA's writer, the sheet outline
+is drawn in the cut colour (ORIPA's boundary is a cut line). Readers that go by
+layer name (ours, most CAD programs) still see ``Border``.
+Holes are CIRCLEs on layer ``Holes`` (ACI 4); ``$INSUNITS`` = 4 (mm),
 ``$MEASUREMENT`` = 1 (metric), the title in ``$PROJECTNAME``.
 
 Reading (:func:`read_dxf`): LINE, LWPOLYLINE and POLYLINE (every segment is an
@@ -70,6 +75,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import os
@@ -107,6 +113,8 @@ _LAYERS = {
     "J": ("Join", 9, "CONTINUOUS"),
 }
 _HOLE_LAYER = ("Holes", 4)
+#: assignment -> the ACI colour of each LINE (ORIPA reads these, not the layers')
+_LINE_ACI = {"M": 1, "V": 5, "C": 3, "B": 3, "F": 8, "U": 9, "J": 9}
 
 #: layer-name words (lower case, substrings) and the assignment they mean, in order
 _LAYER_WORDS = (
@@ -197,10 +205,11 @@ def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
         msp.add_line(
             (float(xa), float(ya)),
             (float(xb), float(yb)),
-            dxfattribs={"layer": _LAYERS[letter][0]},
+            dxfattribs={"layer": _LAYERS[letter][0], "color": _LINE_ACI[letter]},
         )
     for h in cp.holes:
-        msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs={"layer": _HOLE_LAYER[0]})
+        attribs = {"layer": _HOLE_LAYER[0], "color": _HOLE_LAYER[1]}
+        msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs=attribs)
     x0, y0, x1, y1 = cp.bounds
     doc.set_modelspace_vport(
         height=1.1 * max(y1 - y0, (x1 - x0) * 0.75, 1.0), center=((x0 + x1) / 2, (y0 + y1) / 2)
@@ -567,21 +576,27 @@ def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
 
 
 # ------------------------------------------------------------------- reading
-def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
+def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
     """Read a crease pattern from a DXF file, converted to millimetres.
 
     Parameters
     ----------
     path : path-like
         A ``.dxf`` file (any DXF version ezdxf reads; ASCII or binary).
+    mm_per_unit : float, optional
+        Millimetres per drawing unit, replacing what ``$INSUNITS`` declares
+        (default: the declared unit; mm when the file declares none).
 
     Returns
     -------
     CreasePattern
         Vertices in mm, edges classified as described in the module
         documentation, holes from circles on a ``Holes`` layer, and
-        ``metadata["title"]`` the file name's stem. Fold angles are the
-        defaults (+-180 degrees for mountains and valleys, 0 otherwise).
+        ``metadata["title"]`` the file name's stem, ``metadata["source_unit"]``
+        the unit it was read in. Fold angles are the defaults (+-180 degrees
+        for mountains and valleys, 0 otherwise). A file in ORIPA's layers that
+        declares no unit gets a ``size`` warning note: ORIPA writes every
+        pattern 6 inches wide, whatever its paper size.
 
     Raises
     ------
@@ -593,9 +608,14 @@ def read_dxf(path: str | os.PathLike[str]) -> CreasePattern:
     """
     p, name = input_file(path, PatternError)
     try:
-        return _read(p)
+        cp = _read(p, mm_per_unit)
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
+    cp.notes = tuple(
+        dataclasses.replace(n, message=f"{name}: {n.message}") if n.code == "size" else n
+        for n in cp.notes
+    )
+    return cp
 
 
 def _open_dxf(p: Path):
@@ -728,10 +748,36 @@ def _merge_ends(segments, scale: float) -> tuple[np.ndarray, np.ndarray]:
     return uniq[order] * scale, rank[inverse.reshape(-1)].reshape(-1, 2)
 
 
-def _read(p: Path) -> CreasePattern:
+#: the layers ORIPA's DXF writer puts its lines on
+_ORIPA_LAYERS = frozenset({"CutLine", "MountainLine", "ValleyLine"})
+
+
+def _unit_notes(doc: Any, given: float | None) -> tuple[str, list[Problem]]:
+    """What unit the drawing was read in (for messages) and a note on ORIPA's size."""
+    declared = "$INSUNITS" in doc.header
+    code = int(doc.header.get("$INSUNITS", 0))
+    if given is not None:
+        return f"{given:g} mm per drawing unit (given)", []
+    if not declared or code == 0:
+        text = "mm (the file declares no unit)"
+    else:
+        text = f"{_mm_per_unit(doc):g} mm per drawing unit ($INSUNITS = {code})"
+    if declared or not any(e.dxf.get("layer") in _ORIPA_LAYERS for e in doc.modelspace()):
+        return text, []
+    note = Problem(
+        "size",
+        "the file is in ORIPA's layers and declares no unit: ORIPA writes every pattern "
+        "6 inches wide whatever its paper size, so give the size you mean (--width MM)",
+        severity=Severity.WARNING,
+    )
+    return text, [note]
+
+
+def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
     """The crease pattern of the DXF file ``p`` (errors without the file name)."""
     doc = _open_dxf(p)
-    scale = _mm_per_unit(doc)
+    scale = _mm_per_unit(doc) if mm_per_unit is None else float(mm_per_unit)
+    unit_text, unit_notes = _unit_notes(doc, mm_per_unit)
     _expanded_count(doc.modelspace(), {})
     chains, (x0, y0, x1, y1), holes, unknown, skipped = _classify_entities(doc, scale)
     size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
@@ -741,5 +787,6 @@ def _read(p: Path) -> CreasePattern:
     coords, edges = _merge_ends(segments, scale)
     title = p.stem
     cp = CreasePattern(coords, edges, letters, metadata={"title": title})
-    cp = _outline_cuts_to_border(cp, title)
+    cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
+    cp.notes = (*cp.notes, *unit_notes)
     return cp.with_holes(holes) if holes else cp

@@ -424,8 +424,12 @@ def _is_flat(verts: np.ndarray) -> bool:
     return bool(np.ptp(z) <= 1e-9 * max(1.0, float(np.abs(verts).max())))
 
 
-def read_fold(path: str | os.PathLike[str]) -> CreasePattern:
+def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
     """Read the crease pattern of a FOLD file.
+
+    ``mm_per_unit`` (millimetres per coordinate unit) replaces what the frame's
+    ``frame_unit`` declares (default: the declared unit; mm when none, one mm per
+    unit for ``"unit"``); ``metadata["source_unit"]`` says which was used.
 
     The key frame is used when it is flat; otherwise the first flat frame of
     ``file_frames`` (a file holding only a folded form is an error, since its
@@ -454,9 +458,16 @@ def read_fold(path: str | os.PathLike[str]) -> CreasePattern:
         if i == 0 and "edges_vertices" not in frame and "edges_foldAngles" not in frame:
             raise PatternError(f"{name}: missing key 'edges_vertices' (the file has no edges)")
         _key(frame, "vertices_coords", where)
-        verts = _coords(frame, where, _unit_scale(frame, where))
+        scale = _unit_scale(frame, where) if mm_per_unit is None else float(mm_per_unit)
+        verts = _coords(frame, where, scale)
         if _is_flat(verts):
-            return _frame_to_pattern(frame, where, title, verts)
+            unit = "mm (no frame_unit)"
+            if "frame_unit" in frame:
+                unit = f"frame_unit {frame['frame_unit']!r}"
+            if mm_per_unit is not None:
+                unit = f"{scale:g} mm per unit (given)"
+            cp = _frame_to_pattern(frame, where, title, verts)
+            return cp.with_metadata(source_unit=printable(unit, 80))
     raise PatternError(
         f"{name}: no frame is flat: the file holds a folded form only, not a crease pattern"
     )

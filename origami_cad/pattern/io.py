@@ -13,27 +13,111 @@ PNG pictures of a pattern are drawn by :func:`origami_cad.viz.plot_pattern`.
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
 from origami_cad._toml import input_file, printable
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.model import CreasePattern, Problem, Severity
 
-__all__ = ["READ_FORMATS", "WRITE_FORMATS", "read_pattern", "write_pattern"]
+__all__ = [
+    "PLAUSIBLE_SIZE",
+    "READ_FORMATS",
+    "UNITS",
+    "WRITE_FORMATS",
+    "mm_per_unit",
+    "read_pattern",
+    "size_warnings",
+    "write_pattern",
+]
 
 READ_FORMATS = (".fold", ".dxf", ".svg")
 WRITE_FORMATS = (".fold", ".dxf", ".svg")
 
 
-def read_pattern(path: str | os.PathLike[str]) -> CreasePattern:
+#: units a file's coordinates may be declared in: millimetres per unit
+UNITS = {
+    "mm": 1.0,
+    "cm": 10.0,
+    "m": 1000.0,
+    "in": 25.4,
+    "ft": 304.8,
+    "pt": 25.4 / 72,
+    "px": 25.4 / 96,
+}
+#: a pattern larger or smaller than this across (mm) gets a ``size`` warning note
+PLAUSIBLE_SIZE = (1.0, 5000.0)
+#: how a user sets the size (named in the warning)
+SIZE_HINT = "--unit mm|cm|m|in|ft|pt|px, --scale FACTOR or --width MM"
+
+
+def mm_per_unit(unit: str | float) -> float:
+    """Millimetres per unit of ``unit``: a name of :data:`UNITS` or a number of mm."""
+    if isinstance(unit, str) and unit.strip().lower() in UNITS:
+        return UNITS[unit.strip().lower()]
+    try:
+        value = float(unit)
+    except (TypeError, ValueError):
+        raise PatternError(
+            f"unit {printable(str(unit), 40)!r} is not one of {', '.join(UNITS)} "
+            "or a number of millimetres"
+        ) from None
+    if not (math.isfinite(value) and value > 0):
+        raise PatternError(f"a unit must be a length > 0 mm, got {value:g}")
+    return value
+
+
+def _read_file(p: Path, suffix: str, per_unit: float | None) -> CreasePattern:
+    if suffix == ".fold":
+        from origami_cad.pattern.fold import read_fold
+
+        return read_fold(p, per_unit)
+    if suffix == ".dxf":
+        from origami_cad.pattern.dxf import read_dxf
+
+        return read_dxf(p, per_unit)
+    from origami_cad.pattern.svg import read_svg
+
+    return read_svg(p, per_unit)
+
+
+def read_pattern(
+    path: str | os.PathLike[str],
+    *,
+    unit: str | float | None = None,
+    scale: float | None = None,
+    width: float | None = None,
+) -> CreasePattern:
     """Read a crease pattern from a ``.fold``, ``.dxf`` or ``.svg`` file (mm).
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    unit : str or float, optional
+        The unit of the file's coordinates, replacing the one it declares
+        (DXF ``$INSUNITS``, FOLD ``frame_unit``, SVG ``width``/``height`` against
+        the ``viewBox``): a name of :data:`UNITS` or millimetres per unit.
+        Default: the declared unit, mm when the file declares none.
+    scale : float, optional
+        Then multiply the size by this factor (> 0).
+    width : float, optional
+        Instead, scale the pattern so that it is this wide (x extent), mm;
+        excludes ``unit`` and ``scale``.
+
+    Returns
+    -------
+    CreasePattern
+        In mm. A pattern over 5 m or under 1 mm across (its larger extent)
+        carries a ``size`` warning in its ``notes``, naming the unit it was read
+        in and the options that set the size (see :func:`size_warnings`).
 
     Raises
     ------
     PatternError
-        If the file does not exist, has another extension, or is malformed; the
-        message names the file and what is wrong.
+        If the file does not exist, has another extension, or is malformed, or
+        an option is not a length; the message names the file and what is wrong.
     """
     p = Path(path)
     suffix = p.suffix.lower()
@@ -42,18 +126,51 @@ def read_pattern(path: str | os.PathLike[str]) -> CreasePattern:
             f"{printable(str(p), 300)}: unknown crease-pattern format "
             f"{suffix or '(no extension)'!r} (readable: {', '.join(READ_FORMATS)})"
         )
-    p, _ = input_file(p, PatternError)
-    if suffix == ".fold":
-        from origami_cad.pattern.fold import read_fold
+    if width is not None and (unit is not None or scale is not None):
+        raise PatternError("give the width alone, or the unit and/or the scale, not both")
+    for name, value in (("scale", scale), ("width", width)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise PatternError(f"the {name} must be a number > 0, got {value:g}")
+    per_unit = None if unit is None else mm_per_unit(unit)
+    p, name = input_file(p, PatternError)
+    cp = _read_file(p, suffix, per_unit)
+    x0, _, x1, _ = cp.bounds
+    if width is not None and not x1 > x0:
+        raise PatternError(f"{name}: the pattern has no width to scale to {width:g} mm")
+    try:
+        if width is not None:
+            cp = cp.scaled(width / (x1 - x0))
+            cp.notes = tuple(n for n in cp.notes if n.code != "size")  # the size is given
+        elif scale is not None:
+            cp = cp.scaled(scale)
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
+    return _check_size(cp, name)
 
-        return read_fold(p)
-    if suffix == ".dxf":
-        from origami_cad.pattern.dxf import read_dxf
 
-        return read_dxf(p)
-    from origami_cad.pattern.svg import read_svg
+def _check_size(cp: CreasePattern, name: str) -> CreasePattern:
+    """``cp`` with a ``size`` warning note when it is implausibly large or small."""
+    x0, y0, x1, y1 = cp.bounds
+    across = max(x1 - x0, y1 - y0)
+    low, high = PLAUSIBLE_SIZE
+    if low <= across <= high:
+        return cp
+    read_in = cp.metadata.get("source_unit", "mm")
+    what = "over 5 m" if across > high else "under 1 mm"
+    note = Problem(
+        "size",
+        f"{name}: the pattern measures {x1 - x0:.4g} x {y1 - y0:.4g} mm, {what} across "
+        f"(read in {read_in}); if that is not its size, set it with {SIZE_HINT}",
+        severity=Severity.WARNING,
+    )
+    out = cp.with_metadata()
+    out.notes = (*cp.notes, note)
+    return out
 
-    return read_svg(p)
+
+def size_warnings(cp: CreasePattern) -> list[str]:
+    """The ``size`` warning notes of a pattern read by :func:`read_pattern`, as text."""
+    return [n.message for n in cp.notes if n.code == "size" and n.severity == Severity.WARNING]
 
 
 def write_pattern(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:

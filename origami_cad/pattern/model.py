@@ -420,6 +420,38 @@ class CreasePattern:
         out.metadata = {**self.metadata, **metadata}
         return out
 
+    def scaled(self, factor: float) -> CreasePattern:
+        """A copy ``factor`` times as large (vertices, holes and tolerance), about the origin.
+
+        Edges, assignments, fold angles (degrees), faces and their labels are kept;
+        a :class:`PatternError` if ``factor`` is not a finite number > 0 or the
+        result leaves :data:`MAX_COORDINATE`. What was done is added to ``notes``.
+        """
+        factor = float(factor)
+        if not (math.isfinite(factor) and factor > 0):
+            raise PatternError(f"a scale factor must be a finite number > 0, got {factor:g}")
+        if factor == 1.0:
+            return self
+        if float(np.abs(self.vertices).max()) * factor > MAX_COORDINATE:
+            raise PatternError(
+                f"scaled by {factor:g} the pattern would lie farther than {MAX_COORDINATE:g} mm "
+                "from the origin"
+            )
+        out = CreasePattern(
+            self.vertices * factor,
+            self.edges,
+            self.assignments,
+            self.fold_angles,
+            faces=self._faces,
+            face_labels=self.face_labels,
+            holes=[Hole(h.x * factor, h.y * factor, h.diameter * factor) for h in self.holes],
+            metadata=self.metadata,
+            tolerance=self.tolerance * factor,
+        )
+        note = Problem("scaled", f"scaled by {factor:.6g}", severity=Severity.INFO)
+        out.notes = (*self.notes, *out.notes, note)
+        return out
+
     def _copy(self) -> CreasePattern:
         out = object.__new__(CreasePattern)
         for name in CreasePattern.__slots__:

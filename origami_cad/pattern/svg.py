@@ -19,7 +19,13 @@ escaped). The writer escapes the title (``&``, ``<``, control characters).
 Units: with a ``viewBox`` and ``width``/``height`` in absolute units (mm, cm, in,
 pt, px at 96 per inch) user units are converted to mm; otherwise one user unit is
 one millimetre. SVG's y axis points down: the pattern's y is the SVG's -y, so the
-pattern is not mirrored (the writer writes -y, so files round-trip exactly).
+pattern is not mirrored (the writer writes -y, so files round-trip within 1e-12 of
+the pattern's size).
+
+The writer gives ``width`` and ``height`` in mm and draws in user units at
+:func:`units_per_mm` units per mm: 1, or 10, 100, ... when the pattern has
+features under 4 mm, because Origami Simulator reads user units only and merges
+vertices closer than 3 of them (its ``vertTol``).
 """
 
 from __future__ import annotations
@@ -39,7 +45,7 @@ from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
-__all__ = ["read_svg", "write_svg"]
+__all__ = ["MIN_FEATURE_UNITS", "OS_MERGE_UNITS", "read_svg", "units_per_mm", "write_svg"]
 
 COLORS = {
     "B": "#000000",
@@ -92,20 +98,73 @@ def _fmt(v: float) -> str:
     return repr(round(float(v), 12) + 0.0)
 
 
+#: Origami Simulator merges vertices closer than this many user units (``vertTol``)
+OS_MERGE_UNITS = 3.0
+#: the writer keeps distinct vertices (and a vertex and a line it is not on) at
+#: least this many user units apart: Origami Simulator's tolerance, with a margin
+MIN_FEATURE_UNITS = 4.0
+
+
+def _min_feature(cp: CreasePattern, within: float) -> float:
+    """The smallest distance (mm) between two distinct vertices, or between a vertex and
+    an edge it is not on, if below ``within`` mm; else ``inf``. O(n log n)."""
+    import shapely
+    from scipy.spatial import cKDTree
+
+    gaps, _ = cKDTree(cp.vertices).query(cp.vertices, k=2, distance_upper_bound=within)
+    best = float(gaps[:, 1].min()) if cp.n_vertices > 1 else math.inf
+    lines = shapely.linestrings(cp.vertices[cp.edges])
+    points = shapely.points(cp.vertices)
+    v, e = shapely.STRtree(lines).query(points, predicate="dwithin", distance=within)
+    other = (cp.edges[e, 0] != v) & (cp.edges[e, 1] != v)
+    if other.any():
+        best = min(best, float(shapely.distance(points[v[other]], lines[e[other]]).min()))
+    return best
+
+
+def units_per_mm(cp: CreasePattern) -> float:
+    """User units per millimetre of :func:`write_svg`: 1, or the smallest power of ten
+    that keeps every feature of ``cp`` at least :data:`MIN_FEATURE_UNITS` units wide.
+
+    Origami Simulator reads coordinates in user units (it ignores the viewBox and the
+    width and height) and merges vertices closer than :data:`OS_MERGE_UNITS` units;
+    at 1 unit per mm it would merge the 0.734 mm edges of the paper's Fig. 2.
+    Coordinates stay within :data:`~origami_cad.pattern.model.MAX_COORDINATE` units.
+    """
+    feature = _min_feature(cp, MIN_FEATURE_UNITS)
+    if not math.isfinite(feature) or feature <= 0:
+        return 1.0
+    k = 10.0 ** max(0, math.ceil(math.log10(MIN_FEATURE_UNITS / feature) - 1e-12))
+    reach = float(np.abs(cp.vertices).max(initial=1.0))
+    while k > 1 and k * reach > MAX_COORDINATE:
+        k /= 10
+    return k
+
+
 def write_svg(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
-    """Write ``cp`` as an SVG at true size (mm), atomically."""
+    """Write ``cp`` as an SVG at true size, atomically.
+
+    ``width`` and ``height`` are in mm and the ``viewBox`` in user units, at
+    :func:`units_per_mm` units per mm (1 unless the pattern has features under
+    4 mm), so a browser, Inkscape and our reader see the true size and Origami
+    Simulator, which works in user units and merges vertices closer than 3 of
+    them, keeps every vertex.
+    """
+    k = units_per_mm(cp)
     x0, y0, x1, y1 = cp.bounds
     w, h = max(x1 - x0, 1e-9), max(y1 - y0, 1e-9)
     lines = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{_fmt(w)}mm" '
-        f'height="{_fmt(h)}mm" viewBox="{_fmt(x0)} {_fmt(-y1)} {_fmt(w)} {_fmt(h)}">',
+        f'height="{_fmt(h)}mm" viewBox="{_fmt(k * x0)} {_fmt(-k * y1)} {_fmt(k * w)} '
+        f'{_fmt(k * h)}">',
     ]
     if cp.title:
         lines.append(f"<title>{_xml_text(cp.title)}</title>")
-    width = 0.002 * max(w, h)
+    width = 0.002 * max(w, h) * k
+    v = cp.vertices * k
     for (a, b), letter, angle in zip(cp.edges, cp.assignments, cp.fold_angles, strict=True):
-        pa, pb = cp.vertices[a], cp.vertices[b]
+        pa, pb = v[a], v[b]
         opacity = ""
         if letter in ("M", "V") and abs(abs(angle) - 180.0) > 1e-9:
             opacity = f' stroke-opacity="{_fmt(abs(angle) / 180.0)}"'
@@ -116,8 +175,8 @@ def write_svg(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
         )
     for hole in cp.holes:
         lines.append(
-            f'<circle cx="{_fmt(hole.x)}" cy="{_fmt(-hole.y)}" '
-            f'r="{_fmt(hole.diameter / 2)}" fill="#888888" stroke="none"/>'
+            f'<circle cx="{_fmt(k * hole.x)}" cy="{_fmt(-k * hole.y)}" '
+            f'r="{_fmt(k * hole.diameter / 2)}" fill="#888888" stroke="none"/>'
         )
     lines.append("</svg>")
     with atomic_write(path, "w", encoding="utf-8") as fh:
@@ -385,12 +444,16 @@ def _polylines(el: ET.Element, tag: str, where: str) -> list[list[tuple[float, f
     return []
 
 
-def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
+def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
     """Read a crease pattern from an SVG in Origami Simulator's convention (mm).
 
     Every number, transform, colour and opacity is checked: malformed path
     data, a transform that is not one of SVG's six, an opacity outside [0, 1]
     or a non-finite coordinate is an error naming the element.
+
+    ``mm_per_unit`` (millimetres per user unit) replaces what the root's
+    ``viewBox`` and ``width``/``height`` declare (see the module notes);
+    ``metadata["source_unit"]`` says which was used.
 
     Raises
     ------
@@ -400,7 +463,14 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
     """
     p, name = input_file(path, PatternError)
     root = _svg_root(p, name)
-    sx, sy = _scale(root, name)
+    if mm_per_unit is None:
+        sx, sy = _scale(root, name)
+        unit = f"{sx:.6g} mm per user unit (width, height and viewBox)"
+        if (sx, sy) == (1.0, 1.0):
+            unit = "mm (1 user unit = 1 mm)"
+    else:
+        sx = sy = float(mm_per_unit)
+        unit = f"{sx:g} mm per user unit (given)"
     segments, holes, title = _walk_svg(root, name, sx, sy)
     if not segments:
         raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
@@ -414,7 +484,7 @@ def read_svg(path: str | os.PathLike[str]) -> CreasePattern:
             edges,
             [s[2] for s in segments],
             [s[3] for s in segments],
-            metadata={"title": title or p.stem},
+            metadata={"title": title or p.stem, "source_unit": unit},
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
