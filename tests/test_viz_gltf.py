@@ -20,6 +20,7 @@ import trimesh
 from origami_cad.cli import main
 from origami_cad.fabrication.export import MATERIAL_COLORS, read_binary_stl
 from origami_cad.kinematics.folding import fold_sequence
+from origami_cad.kinematics.placement import place_sequence
 from origami_cad.pattern.design import load_pattern_source
 from origami_cad.viz.gltf import CREASE_COLORS
 
@@ -92,6 +93,7 @@ def test_fold_writes_an_animated_glb_of_the_folding(design_file, folding_glb):
     design = load_pattern_source(design_file)
     cp = design.pattern
     states = fold_sequence(design, np.linspace(0.0, 0.7, 30))  # one frame asked: 30, as a gif
+    placed = place_sequence(cp, [s.coords for s in states])  # as `fold` lays them on the table
 
     scene = trimesh.load(out)  # the base pose, the flat sheet: mm -> m, z up -> y up
     assert set(scene.geometry) == {"panels", "mountain", "valley", "border"}
@@ -115,7 +117,7 @@ def test_fold_writes_an_animated_glb_of_the_folding(design_file, folding_glb):
     for k in (12, 29):  # the state the animation shows at times[k]
         (target,) = np.flatnonzero(weights[k])
         moved = base + _accessor(gltf, prim.targets[target]["POSITION"])
-        np.testing.assert_allclose(moved, states[k].coords, atol=1e-3)
+        np.testing.assert_allclose(moved, placed[k], atol=1e-3)
     colours = {m.name: _srgb_hex(m.pbrMetallicRoughness.baseColorFactor) for m in gltf.materials}
     assert colours["mountain"] == CREASE_COLORS["M"] and colours["valley"] == CREASE_COLORS["V"]
 
