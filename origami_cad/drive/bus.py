@@ -17,9 +17,11 @@ from typing import Any
 from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
+    PortLostError,
     TorqueOffError,
     describe_exit,
     hold_ctrl_c,
+    port_error_text,
 )
 
 __all__ = ["ServoBus", "check_turn_limit", "turn_limits"]
@@ -67,6 +69,8 @@ class ServoBus:
 
     #: What the bus calls the things it drives, in messages.
     unit = "servo"
+    #: What the port connects to, in messages.
+    device = "the servo bus"
 
     def __init__(
         self,
@@ -104,7 +108,14 @@ class ServoBus:
         self._powered = False  # torque may be on somewhere: close() must stop
 
     # -- what a subclass provides
-    def open(self) -> ServoBus:  # pragma: no cover - overridden
+    def _prepare(self) -> None:
+        """Set up what opening the port needs (called before the port is opened)."""
+
+    def _open_port(self) -> Any:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def _start(self) -> None:  # pragma: no cover - overridden
+        """Ping every servo (and enable it); raise on any failure."""
         raise NotImplementedError
 
     def stop(self) -> None:  # pragma: no cover - overridden
@@ -114,6 +125,37 @@ class ServoBus:
         raise NotImplementedError
 
     # -- shared
+    def open(self) -> ServoBus:
+        """Open the port and start every servo (``_start``).
+
+        On any failure (a missing servo, Ctrl-C) every servo is stopped and the
+        port closed before the error is raised.
+        """
+        if self._port is not None:
+            raise DriveError(f"port {self.port_name} is already open")
+        self._prepare()
+        self._port = self._open_port()
+        self._powered = True  # a previous run may have left servos powered
+        try:
+            self._start()
+        except BaseException as exc:
+            self._shutdown(exc)
+            raise
+        return self
+
+    def _open(self) -> Any:
+        """The open port; :class:`DriveError` if the bus was not opened."""
+        if self._port is None:
+            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        return self._port
+
+    def _lost(self, exc: BaseException) -> PortLostError:
+        """The error of a port that stopped working (``exc``: the port's error)."""
+        return PortLostError(
+            f"port {self.port_name} was lost ({port_error_text(exc)}): "
+            f"{self.device} was unplugged, lost power or its emulator stopped"
+        )
+
     def close(self) -> None:
         """Switch every servo off (see :meth:`stop`), then close the port."""
         self._shutdown(None)

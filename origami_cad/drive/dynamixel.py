@@ -202,29 +202,25 @@ class DynamixelBus(ServoBus):
         (a missing servo, a hardware error, Ctrl-C) torque is switched off on
         every servo that answered, the port is closed and the error raised.
         """
+        return super().open()
+
+    def _prepare(self) -> None:
         import dynamixel_sdk as sdk
 
-        if self._port is not None:
-            raise DriveError(f"port {self.port_name} is already open")
         self._sdk = sdk
         self._ph = sdk.PacketHandler(2.0)
         self._reached = []
         self._dirty = False
-        self._port = self._open_port()
-        self._powered = True  # a previous run may have left torque on
-        try:
-            self._ping_all()
-            for i in self.ids:
-                self._write(i, ADDR["torque"], 1, 0)
-                self._write(i, ADDR["operating_mode"], 1, EXTENDED_POSITION_MODE)
-                self._write(i, ADDR["profile_acceleration"], 4, self.profile_acceleration)
-                self._write(i, ADDR["profile_velocity"], 4, self.profile_velocity)
-            for i in self.ids:
-                self._write(i, ADDR["torque"], 1, 1)
-        except BaseException as exc:
-            self._shutdown(exc)
-            raise
-        return self
+
+    def _start(self) -> None:
+        self._ping_all()
+        for i in self.ids:
+            self._write(i, ADDR["torque"], 1, 0)
+            self._write(i, ADDR["operating_mode"], 1, EXTENDED_POSITION_MODE)
+            self._write(i, ADDR["profile_acceleration"], 4, self.profile_acceleration)
+            self._write(i, ADDR["profile_velocity"], 4, self.profile_velocity)
+        for i in self.ids:
+            self._write(i, ADDR["torque"], 1, 1)
 
     def _open_port(self):
         port = self._sdk.PortHandler(self.port_name)
@@ -273,18 +269,13 @@ class DynamixelBus(ServoBus):
         leaves ``is_using`` set and a late status packet on its way: both are
         cleared before the next transaction.
         """
-        port = self._port
-        if port is None:
-            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        port = self._open()
         try:
             if self._dirty or port.is_using:
                 self._recover(port)
             return fn()
         except PORT_ERRORS as exc:
-            raise PortLostError(
-                f"port {self.port_name} was lost ({port_error_text(exc)}): "
-                "the servo bus was unplugged, lost power or its emulator stopped"
-            ) from exc
+            raise self._lost(exc) from exc
         except BaseException:
             port.is_using = False
             self._dirty = True

@@ -189,6 +189,7 @@ class SerialBus(ServoBus):
     """
 
     unit = "motor"
+    device = "the board"
 
     def __init__(
         self,
@@ -211,27 +212,19 @@ class SerialBus(ServoBus):
         On any failure (a missing motor, Ctrl-C) the board is sent ``S`` and the
         port closed before the error is raised.
         """
-        if self._port is not None:
-            raise DriveError(f"port {self.port_name} is already open")
-        self._port = self._open_port()
-        self._powered = True  # a previous run may have left motors enabled
-        try:
-            missing = {}
-            for i in self.ids:
-                try:
-                    self.models[i] = int(self._ask(f"P {i}", i).split()[3])
-                except PortLostError:
-                    raise
-                except (DriveError, ValueError, IndexError) as exc:
-                    missing[i] = (
-                        str(exc) if isinstance(exc, DriveError) else f"motor {i}: bad reply"
-                    )
-            if missing:
-                raise DriveError("; ".join(missing.values()) + "; no motor was enabled")
-        except BaseException as exc:
-            self._shutdown(exc)
-            raise
-        return self
+        return super().open()
+
+    def _start(self) -> None:
+        missing = {}
+        for i in self.ids:
+            try:
+                self.models[i] = int(self._ask(f"P {i}", i).split()[3])
+            except PortLostError:
+                raise
+            except (DriveError, ValueError, IndexError) as exc:
+                missing[i] = str(exc) if isinstance(exc, DriveError) else f"motor {i}: bad reply"
+        if missing:
+            raise DriveError("; ".join(missing.values()) + "; no motor was enabled")
 
     def _open_port(self):
         import serial
@@ -247,16 +240,15 @@ class SerialBus(ServoBus):
     def _ask(self, text: str, dxl_id: int | None = None) -> str:
         """Send one command; its reply, skipping stale replies to earlier commands."""
         who = f"motor {dxl_id}" if dxl_id is not None else "the board"
-        if self._port is None:
-            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        port = self._open()
         parts = text.split()
         expect = " ".join(["OK", *parts[:2]]) if parts[0] != "S" else "OK S"
         try:
-            self._port.reset_input_buffer()
-            self._port.write((frame(text) + "\n").encode("ascii"))
+            port.reset_input_buffer()
+            port.write((frame(text) + "\n").encode("ascii"))
             deadline = time.monotonic() + self.timeout
             while True:
-                raw = self._port.readline()
+                raw = port.readline()
                 if not raw:
                     raise DriveError(f"{who}: no reply to {text!r} (timeout)")
                 try:
@@ -270,10 +262,7 @@ class SerialBus(ServoBus):
                 if time.monotonic() > deadline:  # only stale replies: give up
                     raise DriveError(f"{who}: no reply to {text!r} (got {reply!r})")
         except PORT_ERRORS as exc:
-            raise PortLostError(
-                f"port {self.port_name} was lost ({port_error_text(exc)}): "
-                "the board was unplugged, lost power or its emulator stopped"
-            ) from exc
+            raise self._lost(exc) from exc
 
     def set_turns(self, targets: dict[int, float]) -> None:
         """Command motor positions, turns (every goal is checked before any is sent)."""
