@@ -28,7 +28,6 @@ be confirmed. ``docs/driving.md`` lists what happens on each fault.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 from collections.abc import Iterable
@@ -39,7 +38,6 @@ from origami_cad.drive.errors import (
     DriveError,
     HardwareError,
     PortLostError,
-    StallError,
     TorqueOffError,
     hold_ctrl_c,
     port_error_text,
@@ -455,11 +453,12 @@ class DynamixelBus(ServoBus):
             current = int.from_bytes(raw[0:2], "little", signed=True)
             ticks = int.from_bytes(raw[6:10], "little", signed=True)
             out[i] = (ticks_to_turns(ticks), current * self.current_unit)
-        stall = self.over_current(out)
-        if stall is not None:
-            self.stop_servo(stall[0])
-            raise StallError(f"{stall[1]}; the servo was stopped", stall[0])
+        self.stop_on_stall(out)
         return out
+
+    def _stop_stalled(self, dxl_id: int) -> str:
+        self.stop_servo(dxl_id)
+        return "the servo was stopped"
 
     def _fail(self, exc: DriveError) -> None:
         """Switch every servo off, then raise ``exc`` (with any torque-off failure)."""
@@ -532,29 +531,15 @@ class DynamixelBus(ServoBus):
         self._write(dxl_id, ADDR["torque"], 1, 0, tolerate_alert=True)
         return self.read_value(dxl_id, ADDR["torque"], 1, tolerate_alert=True) == 0
 
-    def _reopen(self) -> str | None:
-        """Reopen the port after it was lost, trying for ``reopen_timeout`` seconds.
-
-        Returns why that failed, or None. (A USB adapter that glitched comes back
-        within a second, often under a stable ``/dev/serial/by-id/`` link.)
-        """
-        with contextlib.suppress(*PORT_ERRORS, AttributeError):
-            self._port.closePort()
-        deadline = time.monotonic() + self.reopen_timeout
-        while True:
-            port = self._sdk.PortHandler(self.port_name)
-            try:
-                if port.openPort() and port.setBaudRate(self.baudrate):
-                    break
-                reason = f"the baud rate {self.baudrate} cannot be set"
-            except PORT_ERRORS as exc:
-                reason = port_error_text(exc)
-            if time.monotonic() > deadline:
-                return reason
-            time.sleep(0.05)
-        self._port = port
-        self._dirty = False
-        return None
+    def _try_open(self):
+        port = self._sdk.PortHandler(self.port_name)
+        try:
+            if port.openPort() and port.setBaudRate(self.baudrate):
+                self._dirty = False
+                return port, ""
+            return None, f"the baud rate {self.baudrate} cannot be set"
+        except PORT_ERRORS as exc:
+            return None, port_error_text(exc)
 
     def stop(self) -> None:
         """Switch torque off on every servo, confirmed by reading Torque Enable back.

@@ -27,7 +27,6 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 
@@ -36,7 +35,6 @@ from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
     PortLostError,
-    StallError,
     TorqueOffError,
     hold_ctrl_c,
     port_error_text,
@@ -286,28 +284,21 @@ class SerialBus(ServoBus):
             if not (math.isfinite(turns) and math.isfinite(current)):
                 raise DriveError(f"motor {i}: non-finite reading in {reply!r}")
             out[i] = (turns, current)
-        stall = self.over_current(out)
-        if stall is not None:
-            with hold_ctrl_c():
-                self.stop()
-            raise StallError(f"{stall[1]}; every motor was stopped", stall[0])
+        self.stop_on_stall(out)
         return out
 
-    def _reopen(self) -> str | None:
-        """Reopen a lost port, trying for ``reopen_timeout`` s; why that failed, or None."""
+    def _stop_stalled(self, dxl_id: int) -> str:
+        with hold_ctrl_c():
+            self.stop()
+        return "every motor was stopped"
+
+    def _try_open(self):
         import serial
 
-        with contextlib.suppress(*PORT_ERRORS):
-            self._port.close()
-        deadline = time.monotonic() + self.reopen_timeout
-        while True:
-            try:
-                self._port = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
-                return None
-            except (OSError, ValueError) as exc:
-                if time.monotonic() > deadline:
-                    return port_error_text(exc)
-            time.sleep(0.05)
+        try:
+            return serial.Serial(self.port_name, self.baudrate, timeout=self.timeout), ""
+        except (OSError, ValueError) as exc:
+            return None, port_error_text(exc)
 
     def stop(self) -> None:
         """Turn every motor off: ``S`` until the board confirms it (``stop_attempts`` times).
