@@ -82,3 +82,14 @@ def colour_pixels(path: Path | bytes, colour: str, tol: float = 0.08) -> tuple[n
     rgb = np.asarray(Image.open(source).convert("RGB"), dtype=float) / 255.0
     want = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)]) / 255.0
     return np.nonzero(np.all(np.abs(rgb - want) < tol, axis=-1))
+
+
+def gif_motion(path: Path) -> tuple[int, float]:
+    """What an animation shows: its number of frames, and the largest fraction of pixels
+    whose grey level differs by more than 0.1 from the first frame (0: nothing moves)."""
+    import imageio.v3 as iio
+
+    frames = np.asarray(iio.imread(path, index=None, plugin="pillow"), dtype=float) / 255.0
+    gray = frames[..., :3].mean(axis=-1) if frames.ndim == 4 else frames
+    changed = (np.abs(gray - gray[0]) > 0.1).mean(axis=(1, 2))
+    return len(frames), float(changed.max())

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ink, panel_frames
+from conftest import gif_motion, ink, panel_frames
 
 from origami_cad.cli import main
 from origami_cad.drive.errors import StallError
@@ -146,7 +146,8 @@ def test_crawl_command(tmp_path, capsys):
     data = json.loads((out / "crawl.json").read_text())
     assert len(data["displacement_per_cycle_mm"]) == 1
     assert data["paper_mm_per_cycle"] == 63.0
-    assert (out / "crawl.gif").read_bytes()[:3] == b"GIF"
+    frames, moved = gif_motion(out / "crawl.gif")
+    assert frames >= 3 and 0.005 < moved < 0.5  # the robot moves; the view stays put
     for name in ("crawl.png", "gait.png"):  # displacement over height; fold angle over twist
         covered, _ = ink(out / name)
         assert 0.02 < covered < 0.3, name  # curves, axes and labels: not blank, not black
