@@ -93,3 +93,19 @@ def gif_motion(path: Path) -> tuple[int, float]:
     gray = frames[..., :3].mean(axis=-1) if frames.ndim == 4 else frames
     changed = (np.abs(gray - gray[0]) > 0.1).mean(axis=(1, 2))
     return len(frames), float(changed.max())
+
+
+def three_hole_string(rng: np.random.Generator):
+    """The small string the derivative tests use: anchored at (0, 0, 30) mm, through a hole
+    in each of three panel frames of nodes 0..7 (random affine coordinates from ``rng``),
+    top, bottom, bottom (so it crosses the sheet once: 2.2 mm)."""
+    from origami_cad.simulation.cables import SimString
+
+    return SimString(
+        np.array([0.0, 0, 30]),
+        np.array([[0, 1, 2], [3, 4, 5], [5, 6, 7]]),
+        rng.uniform(0.1, 0.4, (3, 2)),
+        np.array([1.0, -1, 1]),
+        np.array([1.0, -1, -1]),
+        2.2,
+    )
