@@ -109,3 +109,15 @@ def three_hole_string(rng: np.random.Generator):
         np.array([1.0, -1, -1]),
         2.2,
     )
+
+
+def refused(read, path: Path, *fragments: str, error: type[Exception] = Exception) -> str:
+    """``read(path)`` fails with ``error`` in one printable line (no escape sequences for the
+    terminal) that starts with the file's name and contains every fragment; the message."""
+    with pytest.raises(error) as info:
+        read(path)
+    msg = str(info.value)
+    assert msg.startswith(str(path)) and msg.isprintable(), msg
+    for f in fragments:
+        assert f in msg, (f, msg)
+    return msg
