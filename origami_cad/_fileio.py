@@ -28,7 +28,7 @@ import signal
 import stat
 import tempfile
 import threading
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
@@ -204,6 +204,16 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         src.unlink()
 
 
+def _make_temp(make: Callable[[], Path], created: list[Path], where: str) -> Path:
+    """``make()``: a temporary file or folder; if that fails, the folders ``created``
+    for it are removed and :class:`OutputError` says ``where: why``."""
+    try:
+        return make()
+    except OSError as exc:
+        _remove_created(created)
+        raise OutputError(f"{where}: {exc.strerror}") from None
+
+
 @contextlib.contextmanager
 def atomic_path(path: PathLike) -> Iterator[Path]:
     """Yield a temporary path; on success its file replaces ``path``.
@@ -224,11 +234,11 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
         tmp_dir = Path(tempfile.gettempdir())  # a device's folder (/dev) is no place for it
     else:
         tmp_dir = dest.parent
-    try:
-        tmp = _temp_file(tmp_dir, Path(path).suffix or ".tmp")
-    except OSError as exc:
-        _remove_created(created)
-        raise OutputError(f"{path}: cannot write in {tmp_dir}: {exc.strerror}") from None
+    tmp = _make_temp(
+        lambda: _temp_file(tmp_dir, Path(path).suffix or ".tmp"),
+        created,
+        f"{path}: cannot write in {tmp_dir}",
+    )
     try:
         yield tmp
         _raise_if_interrupted()
@@ -278,11 +288,11 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
     if folder.exists() and not folder.is_dir():
         raise OutputError(f"{shown}: exists and is not a folder; give a folder for the outputs")
     created = _ensure_folder(folder, shown)
-    try:
-        stage = Path(tempfile.mkdtemp(prefix=".oc-", dir=folder))
-    except OSError as exc:
-        _remove_created(created)
-        raise OutputError(f"{shown}: cannot write in this folder: {exc.strerror}") from None
+    stage = _make_temp(
+        lambda: Path(tempfile.mkdtemp(prefix=".oc-", dir=folder)),
+        created,
+        f"{shown}: cannot write in this folder",
+    )
     try:
         yield stage
         _raise_if_interrupted()

@@ -3,11 +3,13 @@
 Every file format of the package (designs, arm tasks, routes, sequences) is a
 TOML file read through :class:`Table`, so unknown keys, missing keys, wrong
 types and out-of-range values all give the same kind of message, naming the
-file, the table and the key.
+file, the table and the key. :func:`parse_file` reads any input file (TOML, the
+FOLD format's JSON) with the same messages for a file that cannot be read.
 """
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import tomllib
@@ -17,7 +19,15 @@ from typing import Any
 
 from origami_cad.errors import DesignError
 
-__all__ = ["MAX_INTEGER", "MAX_MAGNITUDE", "Table", "input_file", "load_toml", "printable"]
+__all__ = [
+    "MAX_INTEGER",
+    "MAX_MAGNITUDE",
+    "Table",
+    "input_file",
+    "load_toml",
+    "parse_file",
+    "printable",
+]
 
 _MISSING = object()
 #: Largest magnitude of any number in an input file (mm, degrees, seconds, ...): no
@@ -60,22 +70,50 @@ def input_file(
     raise error(f"{name}: {'not a regular file' if exists else 'no such file'}")
 
 
+def parse_file(
+    path: str | os.PathLike[str],
+    parse: Callable[[Path], Any],
+    *,
+    fmt: str,
+    error: type[Exception] = DesignError,
+    not_text: str = "not a text file",
+    too_deep: str | None = None,
+) -> tuple[Any, str]:
+    """``parse(path)`` of an input file, and its name for messages.
+
+    Every way the reading can fail is ``error`` naming the file: not a regular
+    file (see :func:`input_file`), not UTF-8 text (``not_text``), nested too
+    deeply (``too_deep``, default ``not valid <fmt> (nested too deeply)``), a
+    syntax error or a value Python cannot convert (``not valid <fmt> (...)``,
+    with line and column for JSON), or an OS error.
+    """
+    p, name = input_file(path, error)
+    try:
+        return parse(p), name
+    except UnicodeDecodeError:
+        raise error(f"{name}: {not_text}") from None
+    except RecursionError:
+        raise error(f"{name}: {too_deep or f'not valid {fmt} (nested too deeply)'}") from None
+    except ValueError as exc:  # a syntax error, or e.g. an integer with too many digits
+        detail = (
+            f"line {exc.lineno}, column {exc.colno}: {exc.msg}"
+            if isinstance(exc, json.JSONDecodeError)
+            else exc
+        )
+        raise error(f"{name}: not valid {fmt} ({detail})") from None
+    except OSError as exc:
+        raise error(f"{name}: cannot be read ({exc.strerror or exc})") from None
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    with open(path, "rb") as fh:
+        return tomllib.load(fh)
+
+
 def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
-    p, name = input_file(path)
-    try:
-        with open(p, "rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise DesignError(f"{name}: not valid TOML ({exc})") from None
-    except UnicodeDecodeError:
-        raise DesignError(f"{name}: not a text file") from None
-    except RecursionError:
-        raise DesignError(f"{name}: not valid TOML (arrays or tables nested too deeply)") from None
-    except ValueError as exc:  # e.g. an integer with more digits than Python converts
-        raise DesignError(f"{name}: not valid TOML ({exc})") from None
-    except OSError as exc:
-        raise DesignError(f"{name}: cannot be read ({exc.strerror or exc})") from None
+    too_deep = "not valid TOML (arrays or tables nested too deeply)"
+    return parse_file(path, _read_toml, fmt="TOML", too_deep=too_deep)[0]
 
 
 def _finite_number(v: Any) -> bool:

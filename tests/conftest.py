@@ -3,6 +3,7 @@ helper that says what a picture shows."""
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -37,14 +38,86 @@ def emulator():
         yield emu
 
 
-def ink(path: Path, background: float = 0.97) -> tuple[float, tuple[int, int, int, int]]:
-    """What a picture shows: the fraction of pixels that are not background (white), and
-    the bounding box (left, top, right, bottom) of those pixels, in pixels."""
+def _gray(picture: Path | bytes) -> np.ndarray:
+    """A PNG file (or its bytes) as grey levels in [0, 1], one row per pixel row."""
     from PIL import Image
 
-    image = np.asarray(Image.open(path).convert("L"), dtype=float) / 255.0
+    source = io.BytesIO(picture) if isinstance(picture, bytes) else picture
+    return np.asarray(Image.open(source).convert("L"), dtype=float) / 255.0
+
+
+def ink(path: Path | bytes, background: float = 0.97) -> tuple[float, tuple[int, int, int, int]]:
+    """What a picture shows: the fraction of pixels that are not background (white), and
+    the bounding box (left, top, right, bottom) of those pixels, in pixels. ``path`` is
+    a PNG file or its bytes."""
+    image = _gray(path)
     drawn = image < background
     rows, cols = np.flatnonzero(drawn.any(axis=1)), np.flatnonzero(drawn.any(axis=0))
     if not rows.size:
         return 0.0, (0, 0, 0, 0)
     return float(drawn.mean()), (int(cols[0]), int(rows[0]), int(cols[-1]), int(rows[-1]))
+
+
+def frame_lines(path: Path | bytes, vertical: bool = False) -> list[int]:
+    """The first pixel row (column, if ``vertical``) of each dark line across more than
+    half the picture: the spines of plot panels."""
+    gray = _gray(path)
+    lines = (gray < 0.5).mean(axis=0 if vertical else 1) > 0.5
+    return [int(i) for i in np.flatnonzero(np.diff(np.r_[0, lines.astype(int)]) == 1)]
+
+
+def panel_frames(path: Path | bytes) -> list[tuple[int, int]]:
+    """The plot panels of a figure stacked from top to bottom: the pixel rows (top,
+    bottom) of each panel's frame (its top and bottom spines, see :func:`frame_lines`)."""
+    starts = frame_lines(path)
+    return list(zip(starts[::2], starts[1::2], strict=False))
+
+
+def colour_pixels(path: Path | bytes, colour: str, tol: float = 0.08) -> tuple[np.ndarray, ...]:
+    """Where a colour is drawn: the rows and columns of the pixels within ``tol`` of
+    ``colour`` (``"#rrggbb"``) in every channel."""
+    from PIL import Image
+
+    source = io.BytesIO(path) if isinstance(path, bytes) else path
+    rgb = np.asarray(Image.open(source).convert("RGB"), dtype=float) / 255.0
+    want = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)]) / 255.0
+    return np.nonzero(np.all(np.abs(rgb - want) < tol, axis=-1))
+
+
+def gif_motion(path: Path) -> tuple[int, float]:
+    """What an animation shows: its number of frames, and the largest fraction of pixels
+    whose grey level differs by more than 0.1 from the first frame (0: nothing moves)."""
+    import imageio.v3 as iio
+
+    frames = np.asarray(iio.imread(path, index=None, plugin="pillow"), dtype=float) / 255.0
+    gray = frames[..., :3].mean(axis=-1) if frames.ndim == 4 else frames
+    changed = (np.abs(gray - gray[0]) > 0.1).mean(axis=(1, 2))
+    return len(frames), float(changed.max())
+
+
+def three_hole_string(rng: np.random.Generator):
+    """The small string the derivative tests use: anchored at (0, 0, 30) mm, through a hole
+    in each of three panel frames of nodes 0..7 (random affine coordinates from ``rng``),
+    top, bottom, bottom (so it crosses the sheet once: 2.2 mm)."""
+    from origami_cad.simulation.cables import SimString
+
+    return SimString(
+        np.array([0.0, 0, 30]),
+        np.array([[0, 1, 2], [3, 4, 5], [5, 6, 7]]),
+        rng.uniform(0.1, 0.4, (3, 2)),
+        np.array([1.0, -1, 1]),
+        np.array([1.0, -1, -1]),
+        2.2,
+    )
+
+
+def refused(read, path: Path, *fragments: str, error: type[Exception] = Exception) -> str:
+    """``read(path)`` fails with ``error`` in one printable line (no escape sequences for the
+    terminal) that starts with the file's name and contains every fragment; the message."""
+    with pytest.raises(error) as info:
+        read(path)
+    msg = str(info.value)
+    assert msg.startswith(str(path)) and msg.isprintable(), msg
+    for f in fragments:
+        assert f in msg, (f, msg)
+    return msg

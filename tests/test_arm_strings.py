@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from conftest import colour_pixels, frame_lines
 
 from origami_cad.cli import main
 from origami_cad.design import load_task
@@ -96,7 +97,13 @@ def test_arm_scene_strings_bring_the_printed_tip_to_p_end_outside_the_prohibited
     assert not shapely.intersects(shapely.LineString(tips), area)
     assert data["stop"] == "fold_limit" and 10 < data["tsa_turns"] < 60
     assert data["max_tsa_torque_Nmm"] > 0
-    assert (out / "fig8.png").read_bytes()[:4] == b"\x89PNG"
+    # fig8.png, equal axes: the simulated tip path (red) has the proportions of the data
+    left, right = frame_lines(out / "fig8.png", vertical=True)
+    rows, cols = colour_pixels(out / "fig8.png", "#d62728")
+    inside = (cols > left) & (cols < right)  # not the legend's line
+    assert inside.sum() > 500
+    drawn = np.ptp(cols[inside]) / np.ptp(rows[inside])
+    assert drawn == pytest.approx(np.ptp(tips[:, 0]) / np.ptp(tips[:, 1]), rel=0.03)
 
 
 def test_sequence_reproduces_the_dcqc_curve_and_drives_the_emulator(arm, tmp_path, capsys):

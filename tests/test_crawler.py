@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import gif_motion, ink, panel_frames
 
 from origami_cad.cli import main
 from origami_cad.drive.errors import StallError
@@ -30,6 +31,22 @@ from origami_cad.simulation.crawler import (
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 ROBOT = HERE / "crawler.toml"
+CRAWLER_FILES = (
+    "crawler.toml",
+    "crawler.fold",
+    "route_fl.toml",
+    "route_fr.toml",
+    "route_rl.toml",
+    "route_rr.toml",
+)
+
+
+def copy_crawler(folder: Path, *, leave_out: tuple[str, ...] = ()) -> None:
+    """The crawler example's files (robot, pattern, the four routes) copied into ``folder``,
+    but for those in ``leave_out`` (the test writes its own)."""
+    for name in CRAWLER_FILES:
+        if name not in leave_out:
+            (folder / name).write_bytes((HERE / name).read_bytes())
 
 
 def _generator():
@@ -137,14 +154,7 @@ def test_at_high_friction_the_legs_jam_and_the_notes_name_them(robot, forward):
 
 def test_a_gait_past_the_blockers_is_refused(tmp_path):
     text = ROBOT.read_text(encoding="utf-8").replace("0.306, 0.306, 0.167", "0.4, 0.306, 0.167")
-    for name in (
-        "crawler.fold",
-        "route_fl.toml",
-        "route_fr.toml",
-        "route_rl.toml",
-        "route_rr.toml",
-    ):
-        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    copy_crawler(tmp_path, leave_out=("crawler.toml",))
     bad = tmp_path / "crawler.toml"
     bad.write_text(text, encoding="utf-8")
     with pytest.raises(DesignError, match="past its blocker"):
@@ -157,9 +167,12 @@ def test_crawl_command(tmp_path, capsys):
     data = json.loads((out / "crawl.json").read_text())
     assert len(data["displacement_per_cycle_mm"]) == 1
     assert data["paper_mm_per_cycle"] == 63.0
-    assert (out / "crawl.gif").read_bytes()[:3] == b"GIF"
-    assert (out / "crawl.png").read_bytes()[:4] == b"\x89PNG"
-    assert (out / "gait.png").read_bytes()[:4] == b"\x89PNG"
+    frames, moved = gif_motion(out / "crawl.gif")
+    assert frames >= 3 and 0.005 < moved < 0.5  # the robot moves; the view stays put
+    for name in ("crawl.png", "gait.png"):  # displacement over height; fold angle over twist
+        covered, _ = ink(out / name)
+        assert 0.02 < covered < 0.3, name  # curves, axes and labels: not blank, not black
+        assert len(panel_frames(out / name)) == 2, name
     # the sequence says how it was made and carries each servo's simulated load
     text = (out / "gait_sequence.toml").read_text()
     assert f"origami-cad crawl {ROBOT} -o {out} --cycles 1 --steps 2" in text
@@ -285,8 +298,7 @@ def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
 
 
 def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
-    for name in ("crawler.toml", "crawler.fold", "route_fl.toml", "route_fr.toml", "route_rr.toml"):
-        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    copy_crawler(tmp_path, leave_out=("route_rl.toml",))
     text = (HERE / "route_rl.toml").read_text(encoding="utf-8")
     text = text.replace("max_turns = 8\n", "max_turns = 8\nmax_torque = 2.0   # N mm\n")
     (tmp_path / "route_rl.toml").write_text(text, encoding="utf-8")
@@ -299,14 +311,7 @@ def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
 
 
 def test_bad_robot_files_are_refused_naming_file_and_key(tmp_path, capsys):
-    for name in (
-        "crawler.fold",
-        "route_fl.toml",
-        "route_fr.toml",
-        "route_rl.toml",
-        "route_rr.toml",
-    ):
-        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    copy_crawler(tmp_path, leave_out=("crawler.toml",))
     good = ROBOT.read_text(encoding="utf-8")
     cases = [
         (good.replace('panel = "leg_rl"', 'panel = "leg_xx"'), "[[leg]] #3: key 'panel'"),
@@ -364,8 +369,7 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
     and the heavy one stalls a servo, named."""
     from origami_cad.jobs import run_drive
 
-    for name in ("crawler.fold", *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr"))):
-        (tmp_path / name).write_bytes((HERE / name).read_bytes())
+    copy_crawler(tmp_path, leave_out=("crawler.toml",))
     text = ROBOT.read_text(encoding="utf-8")
     text = text.replace("grams = 109.71", "grams = 548.55").replace("grams = 18.0", "grams = 90.0")
     (tmp_path / "heavy.toml").write_text(text, encoding="utf-8")

@@ -22,3 +22,93 @@ def test_code_blocks_run(page, tmp_path, monkeypatch):
     namespace: dict = {}
     for code in blocks(page):  # blocks of one page share a namespace, in order
         exec(compile(code, str(page), "exec"), namespace)
+
+
+# ------------------------------------------------------------------ names the docs cite
+
+IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*(\(\))?")
+
+
+def _defined_names() -> tuple[dict[str, set[str]], set[str]]:
+    """Each module of the package (dotted name) with the names it defines or imports, and
+    every name defined anywhere (modules, functions, classes, methods, constants, fields;
+    not imports: ``Sequence`` must be the drive's class, not ``collections.abc``'s)."""
+    import ast
+
+    modules: dict[str, set[str]] = {}
+    everywhere: set[str] = set()
+    for top in ("origami_cad", "parts"):
+        for path in sorted((ROOT / top).rglob("*.py")):
+            rel = path.relative_to(ROOT).with_suffix("").parts
+            dotted = ".".join(("origami_cad", *rel) if top == "parts" else rel)
+            dotted = dotted.removesuffix(".__init__")
+            names, imported = set(), set()
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef):
+                    names.add(node.name)
+                elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+                    names.add(node.id)
+                elif isinstance(node, ast.ImportFrom | ast.Import):
+                    imported.update((a.asname or a.name).split(".")[0] for a in node.names)
+            modules[dotted] = names | imported  # a module re-exports what it imports
+            everywhere |= names | {dotted.rsplit(".", 1)[-1]}
+    return modules, everywhere
+
+
+def _resolves(name: str, modules: dict[str, set[str]], everywhere: set[str]) -> bool:
+    """A dotted ``origami_cad...`` name is a module or a name in its module; a file name
+    (``x.py``, ``a/b``) exists in the repository or the package; an identifier is defined
+    somewhere in the package."""
+    if name.endswith((".py", ".md", "/")) or "/" in name:
+        base = name.rstrip("/")
+        return (
+            (ROOT / base).exists()
+            or (ROOT / "origami_cad" / base).exists()
+            or any(
+                next((ROOT / top).rglob(base), None) is not None
+                for top in ("origami_cad", "parts", "docs")
+            )
+        )
+    name = name.removesuffix("()")
+    if name.startswith("origami_cad."):
+        if name in modules:
+            return True
+        module, _, attr = name.rpartition(".")
+        return attr in modules.get(module, set())
+    return all(part in everywhere for part in name.split(".") if part != "self")
+
+
+def cited_names(page: Path) -> list[str]:
+    """The code names a page cites: backticked identifiers (a call's name without its
+    arguments) that are dotted, capitalised or contain an underscore (so ``p`` or
+    ``load`` are left alone), and the file names in backticks and in diagrams."""
+    text = page.read_text(encoding="utf-8")
+    out = []
+    for token in re.findall(r"`([^`\n]+)`", text):
+        call = re.match(r"([A-Za-z_][\w.]*)\(", token)
+        token = call.group(1) if call else token
+        if re.fullmatch(r"[\w./-]+\.(py|md)|[\w.-]+(/[\w.-]+)*/", token):
+            out.append(token)
+        elif (
+            IDENT.fullmatch(token)
+            and ("." in token or "_" in token or token[0].isupper())
+            and token not in {"None", "True", "False"}
+            and not re.fullmatch(r"[A-Za-z]_\w{1,2}", token)  # maths: v_0, T_s, T_e
+        ):
+            out.append(token)
+    for block in re.findall(r"```\n(.*?)```", text, flags=re.S):
+        out += re.findall(r"\b\w+\.py\b", block)
+    return out
+
+
+def test_the_architecture_page_cites_only_names_that_exist():
+    """docs/architecture.md is read by a newcomer: every module, file, class and function
+    it names must still be there (a rename or a removal fails here)."""
+    page = ROOT / "docs" / "architecture.md"
+    modules, everywhere = _defined_names()
+    names = cited_names(page)
+    assert len(names) > 40  # the test reads the page's names, not nothing
+    missing = sorted({n for n in names if not _resolves(n, modules, everywhere)})
+    assert not missing, f"docs/architecture.md names what does not exist: {missing}"
+    links = re.findall(r"\]\(([^)#]+)\)", page.read_text(encoding="utf-8"))
+    assert all((page.parent / link).exists() for link in links), links

@@ -96,6 +96,20 @@ def assert_all_off(emu: DynamixelEmulator) -> None:
     assert [emu.servos[i].table[64] for i in ids] == [0] * len(ids)
 
 
+def replug_at(emu, link: Path, packet: int) -> None:
+    """``link`` points at the emulator's port; at ``packet`` the port is unplugged and
+    plugged back, and ``link`` follows it (a udev link such as /dev/serial/by-id/...)."""
+    link.symlink_to(emu.port)
+
+    def replug():
+        emu.unplug()
+        emu.plug()
+        link.unlink()
+        link.symlink_to(emu.port)
+
+    emu.at_packet(packet, replug)
+
+
 def assert_valid_log(path: Path, ids) -> list[dict[str, str]]:
     """The CSV log reads back whole: header, complete rows, one row per servo per cycle."""
     with path.open(newline="") as fh:
@@ -359,15 +373,7 @@ def test_a_port_that_comes_back_is_reopened_to_switch_every_servo_off(tmp_path):
     seq = load_sequence(write_sequence(tmp_path, IDS))
     link = tmp_path / "ttyUSB-servos"
     with DynamixelEmulator(IDS, time_scale=SCALE) as emu:
-        link.symlink_to(emu.port)
-
-        def replug():
-            emu.unplug()
-            emu.plug()
-            link.unlink()
-            link.symlink_to(emu.port)
-
-        emu.at_packet(OPEN_PACKETS + 11, replug)
+        replug_at(emu, link, OPEN_PACKETS + 11)
         with pytest.raises(PortLostError, match=f"port {link} was lost"):
             with DynamixelBus(str(link), ids=IDS, profile_velocity=0) as bus:
                 run_sequence(seq, bus, time_scale=SCALE)
@@ -542,15 +548,7 @@ def test_serial_port_that_comes_back_is_reopened(tmp_path):
     seq = load_sequence(write_sequence(tmp_path, IDS))
     link = tmp_path / "ttyACM-board"
     with SerialEmulator(IDS) as emu:
-        link.symlink_to(emu.port)
-
-        def replug():
-            emu.unplug()
-            emu.plug()
-            link.unlink()
-            link.symlink_to(emu.port)
-
-        emu.at_packet(SERIAL_OPEN_LINES + 8, replug)
+        replug_at(emu, link, SERIAL_OPEN_LINES + 8)
         with pytest.raises(PortLostError, match=f"port {link} was lost"):
             with SerialBus(str(link), ids=IDS) as bus:
                 run_sequence(seq, bus, time_scale=SCALE)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import ezdxf
 import numpy as np
 import pytest
+from conftest import refused as refused_by
 
 from origami_cad.errors import PatternError
 from origami_cad.pattern import miura_pattern, read_pattern, write_pattern
@@ -24,13 +25,7 @@ def new_doc(units=4):
 
 
 def refused(path, *fragments):
-    with pytest.raises(PatternError) as info:
-        read_dxf(path)
-    msg = str(info.value)
-    assert msg.startswith(str(path)) and msg.isprintable(), msg
-    for f in fragments:
-        assert f in msg, (f, msg)
-    return msg
+    return refused_by(read_dxf, path, *fragments, error=PatternError)
 
 
 def test_a_3000_by_3000_minsert_is_refused_before_expanding(tmp_path):

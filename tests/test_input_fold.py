@@ -11,6 +11,7 @@ import json
 
 import numpy as np
 import pytest
+from conftest import refused as refused_by
 
 from origami_cad.cli import main
 from origami_cad.errors import PatternError
@@ -37,14 +38,7 @@ def write(tmp_path, data, name="bad.fold"):
 
 def refused(path, *fragments, reader=read_fold):
     """Read ``path`` expecting a one-line PatternError naming the file and ``fragments``."""
-    with pytest.raises(PatternError) as info:
-        reader(path)
-    msg = str(info.value)
-    assert msg.startswith(str(path)), msg
-    assert "\n" not in msg and "\r" not in msg, msg
-    for f in fragments:
-        assert f in msg, (f, msg)
-    return msg
+    return refused_by(reader, path, *fragments, error=PatternError)
 
 
 def with_(**changes):

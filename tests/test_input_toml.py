@@ -8,6 +8,7 @@ is computed first.
 from __future__ import annotations
 
 import pytest
+from conftest import refused as refused_by
 
 from origami_cad.design.task import load_task
 from origami_cad.errors import DesignError
@@ -59,13 +60,7 @@ def write(tmp_path, text, name="bad.toml"):
 
 
 def refused(load, path, *fragments):
-    with pytest.raises(DesignError) as info:
-        load(path)
-    msg = str(info.value)
-    assert msg.startswith(str(path)) and msg.isprintable(), msg
-    for f in fragments:
-        assert f in msg, (f, msg)
-    return msg
+    return refused_by(load, path, *fragments, error=DesignError)
 
 
 def miura(**kw):

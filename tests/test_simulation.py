@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import gif_motion, three_hole_string
 from scipy.optimize import minimize_scalar
 
 from origami_cad.cli import main
@@ -18,7 +19,7 @@ from origami_cad.pattern import CreasePattern, read_fold_frames
 from origami_cad.pattern.design import Design, load_design
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.simulation import SimulationParams, fold_angles, hinge_gradients, simulate
-from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
+from origami_cad.simulation.cables import StringSet, string_derivatives, string_length
 from origami_cad.strings import TOP, TSAParams, load_route, simulate_dcqc
 from origami_cad.strings.dcqc import StopReason
 from origami_cad.strings.route import RouteSpec, StringRoute, auto_holes
@@ -42,14 +43,7 @@ def test_hinge_and_string_gradients_match_finite_differences():
                 xm[node, c] -= h
                 num = (fold_angles(xp, hinges)[k] - fold_angles(xm, hinges)[k]) / (2 * h)
                 assert grad[k, a, c] == pytest.approx(num, abs=1e-6)
-    s = SimString(
-        np.array([0.0, 0, 30]),
-        np.array([[0, 1, 2], [3, 4, 5], [5, 6, 7]]),
-        rng.uniform(0.1, 0.4, (3, 2)),
-        np.array([1.0, -1, 1]),
-        np.array([1.0, -1, -1]),
-        2.2,
-    )
+    s = three_hole_string(rng)
     for model in ("ring", "onboard"):
         strings = StringSet([s], 1.1, TSAParams(model=model), theta=4.0)
         nodes, g, _ = string_derivatives(x, s, strings, hessian=False)
@@ -227,7 +221,8 @@ def test_cli_simulate_writes_states_json_and_gif(tmp_path):
     )
     assert len(frames) == 1 + len(states["turns"]) > 4 and frames[-1][:, 2].max() > 1.0
     assert data["stop"] in {r.value for r in StopReason}
-    assert (out / "fold.gif").read_bytes()[:3] == b"GIF"
+    frames, moved = gif_motion(out / "fold.gif")
+    assert frames >= 3 and 0.005 < moved < 0.5  # the leg folds; the view stays put
 
 
 def _one_design():

@@ -8,11 +8,12 @@ import math
 
 import numpy as np
 import pytest
+from conftest import three_hole_string
 
 from origami_cad.errors import DesignError, SimulationError
 from origami_cad.pattern import CreasePattern
 from origami_cad.simulation import SimulationParams, simulate
-from origami_cad.simulation.cables import SimString, StringSet, string_derivatives
+from origami_cad.simulation.cables import StringSet, string_derivatives
 from origami_cad.simulation.mechanics import (
     bar_hessians,
     bar_lengths,
@@ -59,14 +60,7 @@ def test_hessians_match_finite_differences_of_the_gradients():
         num = _fd_jacobian(lambda y, b=b: bar_grad(y, b), x, bar)
         np.testing.assert_allclose(hb[b], num, atol=1e-6 * np.abs(num).max())
     # a string through three holes; its anchor fixed in space, then riding on a panel
-    s = SimString(
-        np.array([0.0, 0, 30]),
-        np.array([[0, 1, 2], [3, 4, 5], [5, 6, 7]]),
-        rng.uniform(0.1, 0.4, (3, 2)),
-        np.array([1.0, -1, 1]),
-        np.array([1.0, -1, -1]),
-        2.2,
-    )
+    s = three_hole_string(rng)
     for mounted in (False, True):
         if mounted:
             s.anchor_tri, s.anchor_ab = np.array([6, 8, 1]), np.array([0.3, 0.2])

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import colour_pixels, ink, panel_frames
 from scipy.optimize import brentq
 
 from origami_cad.cli import main
@@ -202,4 +203,10 @@ def test_cli_route_writes_its_outputs(tmp_path):
     assert {"theta_s_deg", "p", "routed_length_mm", "tensions_N", "taut"} <= set(states)
     assert len(states["p"]) == len(states["turns"]) > 10
     for name in ("dcqc.png", "route.png", "route_folded.png"):
-        assert (out / name).read_bytes()[:4] == b"\x89PNG"
+        covered, _ = ink(out / name)
+        assert 0.01 < covered < 0.3, name  # creases, strings, the sheet: not blank, not black
+    # dcqc.png: p (axis 0 to 1) against turns in one panel, its end marked at the final p
+    ((top, bottom),) = panel_frames(out / "dcqc.png")
+    rows, _ = colour_pixels(out / "dcqc.png", "#d62728")
+    assert rows.size > 20
+    assert (bottom - rows.mean()) / (bottom - top) == pytest.approx(data["final"]["p"], abs=0.01)

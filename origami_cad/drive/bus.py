@@ -1,25 +1,32 @@
 """What every servo bus shares: argument checks, the ``with`` block and a safe shutdown.
 
 :class:`ServoBus` is the base of :class:`~origami_cad.drive.DynamixelBus` and
-:class:`~origami_cad.drive.SerialBus`. A subclass opens its port in ``open()``
-(setting ``_port`` and ``_powered``), closes it in ``_close_port`` and switches
-every servo off in ``stop()``; the base makes ``close()`` and leaving the ``with``
-block call ``stop()`` whatever ended the run, and never hides a servo left on.
+:class:`~origami_cad.drive.SerialBus`. A subclass opens its port in
+``_open_port`` (``_try_open`` once more after it was lost, and ``_prepare`` before
+the first time), pings its servos in ``_start``, closes the port in
+``_close_port``, switches every servo off in ``stop()`` and stops a stalled one in
+``_stop_stalled``. The base runs ``open()``, the reopening of a lost port and the
+stall check, and makes ``close()`` and leaving the ``with`` block call ``stop()``
+whatever ended the run, never hiding a servo left on.
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
+import time
 from collections.abc import Iterable
 from typing import Any
 
 from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
+    PortLostError,
+    StallError,
     TorqueOffError,
     describe_exit,
     hold_ctrl_c,
+    port_error_text,
 )
 
 __all__ = ["ServoBus", "check_turn_limit", "turn_limits"]
@@ -67,6 +74,8 @@ class ServoBus:
 
     #: What the bus calls the things it drives, in messages.
     unit = "servo"
+    #: What the port connects to, in messages.
+    device = "the servo bus"
 
     def __init__(
         self,
@@ -104,7 +113,18 @@ class ServoBus:
         self._powered = False  # torque may be on somewhere: close() must stop
 
     # -- what a subclass provides
-    def open(self) -> ServoBus:  # pragma: no cover - overridden
+    def _prepare(self) -> None:
+        """Set up what opening the port needs (called before the port is opened)."""
+
+    def _open_port(self) -> Any:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def _try_open(self) -> tuple[Any, str]:  # pragma: no cover - overridden
+        """One attempt to reopen the port: ``(port, "")``, or ``(None, why not)``."""
+        raise NotImplementedError
+
+    def _start(self) -> None:  # pragma: no cover - overridden
+        """Ping every servo (and enable it); raise on any failure."""
         raise NotImplementedError
 
     def stop(self) -> None:  # pragma: no cover - overridden
@@ -114,6 +134,55 @@ class ServoBus:
         raise NotImplementedError
 
     # -- shared
+    def open(self) -> ServoBus:
+        """Open the port and start every servo (``_start``).
+
+        On any failure (a missing servo, Ctrl-C) every servo is stopped and the
+        port closed before the error is raised.
+        """
+        if self._port is not None:
+            raise DriveError(f"port {self.port_name} is already open")
+        self._prepare()
+        self._port = self._open_port()
+        self._powered = True  # a previous run may have left servos powered
+        try:
+            self._start()
+        except BaseException as exc:
+            self._shutdown(exc)
+            raise
+        return self
+
+    def _open(self) -> Any:
+        """The open port; :class:`DriveError` if the bus was not opened."""
+        if self._port is None:
+            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        return self._port
+
+    def _lost(self, exc: BaseException) -> PortLostError:
+        """The error of a port that stopped working (``exc``: the port's error)."""
+        return PortLostError(
+            f"port {self.port_name} was lost ({port_error_text(exc)}): "
+            f"{self.device} was unplugged, lost power or its emulator stopped"
+        )
+
+    def _reopen(self) -> str | None:
+        """Reopen the port after it was lost, trying for ``reopen_timeout`` seconds.
+
+        Returns why that failed, or None. (A USB adapter that glitched comes back
+        within a second, often under a stable ``/dev/serial/by-id/`` link.)
+        """
+        with contextlib.suppress(*PORT_ERRORS, AttributeError):
+            self._close_port(self._port)
+        deadline = time.monotonic() + self.reopen_timeout
+        while True:
+            port, reason = self._try_open()
+            if port is not None:
+                self._port = port
+                return None
+            if time.monotonic() > deadline:
+                return reason
+            time.sleep(0.05)
+
     def close(self) -> None:
         """Switch every servo off (see :meth:`stop`), then close the port."""
         self._shutdown(None)
@@ -170,3 +239,14 @@ class ServoBus:
                     "high)"
                 )
         return None
+
+    def stop_on_stall(self, state: dict[int, tuple[float, float]]) -> None:
+        """Stop a servo whose current passes ``current_limit_ma`` (see ``_stop_stalled``)
+        and raise :class:`StallError` naming it; ``state`` as for :meth:`over_current`."""
+        stall = self.over_current(state)
+        if stall is not None:
+            raise StallError(f"{stall[1]}; {self._stop_stalled(stall[0])}", stall[0])
+
+    def _stop_stalled(self, dxl_id: int) -> str:  # pragma: no cover - overridden
+        """Stop what a stall of ``dxl_id`` needs stopped; say what was stopped."""
+        raise NotImplementedError

@@ -28,7 +28,6 @@ be confirmed. ``docs/driving.md`` lists what happens on each fault.
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 from collections.abc import Iterable
@@ -39,7 +38,6 @@ from origami_cad.drive.errors import (
     DriveError,
     HardwareError,
     PortLostError,
-    StallError,
     TorqueOffError,
     hold_ctrl_c,
     port_error_text,
@@ -222,29 +220,25 @@ class DynamixelBus(ServoBus):
         (a missing servo, a hardware error, Ctrl-C) torque is switched off on
         every servo that answered, the port is closed and the error raised.
         """
+        return super().open()
+
+    def _prepare(self) -> None:
         import dynamixel_sdk as sdk
 
-        if self._port is not None:
-            raise DriveError(f"port {self.port_name} is already open")
         self._sdk = sdk
         self._ph = sdk.PacketHandler(2.0)
         self._reached = []
         self._dirty = False
-        self._port = self._open_port()
-        self._powered = True  # a previous run may have left torque on
-        try:
-            self._ping_all()
-            for i in self.ids:
-                self._write(i, ADDR["torque"], 1, 0)
-                self._write(i, ADDR["operating_mode"], 1, EXTENDED_POSITION_MODE)
-                self._write(i, ADDR["profile_acceleration"], 4, self.profile_acceleration)
-                self._write(i, ADDR["profile_velocity"], 4, self.profile_velocity)
-            for i in self.ids:
-                self._write(i, ADDR["torque"], 1, 1)
-        except BaseException as exc:
-            self._shutdown(exc)
-            raise
-        return self
+
+    def _start(self) -> None:
+        self._ping_all()
+        for i in self.ids:
+            self._write(i, ADDR["torque"], 1, 0)
+            self._write(i, ADDR["operating_mode"], 1, EXTENDED_POSITION_MODE)
+            self._write(i, ADDR["profile_acceleration"], 4, self.profile_acceleration)
+            self._write(i, ADDR["profile_velocity"], 4, self.profile_velocity)
+        for i in self.ids:
+            self._write(i, ADDR["torque"], 1, 1)
 
     def _open_port(self):
         port = self._sdk.PortHandler(self.port_name)
@@ -295,18 +289,13 @@ class DynamixelBus(ServoBus):
         leaves ``is_using`` set and a late status packet on its way: both are
         cleared before the next transaction.
         """
-        port = self._port
-        if port is None:
-            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        port = self._open()
         try:
             if self._dirty or port.is_using:
                 self._recover(port)
             return fn()
         except PORT_ERRORS as exc:
-            raise PortLostError(
-                f"port {self.port_name} was lost ({port_error_text(exc)}): "
-                "the servo bus was unplugged, lost power or its emulator stopped"
-            ) from exc
+            raise self._lost(exc) from exc
         except BaseException:
             port.is_using = False
             self._dirty = True
@@ -486,11 +475,12 @@ class DynamixelBus(ServoBus):
             current = int.from_bytes(raw[0:2], "little", signed=True)
             ticks = int.from_bytes(raw[6:10], "little", signed=True)
             out[i] = (ticks_to_turns(ticks), current * self.current_unit)
-        stall = self.over_current(out)
-        if stall is not None:
-            self.stop_servo(stall[0])
-            raise StallError(f"{stall[1]}; the servo was stopped", stall[0])
+        self.stop_on_stall(out)
         return out
+
+    def _stop_stalled(self, dxl_id: int) -> str:
+        self.stop_servo(dxl_id)
+        return "the servo was stopped"
 
     def _fail(self, exc: DriveError) -> None:
         """Switch every servo off, then raise ``exc`` (with any torque-off failure)."""
@@ -563,29 +553,15 @@ class DynamixelBus(ServoBus):
         self._write(dxl_id, ADDR["torque"], 1, 0, tolerate_alert=True)
         return self.read_value(dxl_id, ADDR["torque"], 1, tolerate_alert=True) == 0
 
-    def _reopen(self) -> str | None:
-        """Reopen the port after it was lost, trying for ``reopen_timeout`` seconds.
-
-        Returns why that failed, or None. (A USB adapter that glitched comes back
-        within a second, often under a stable ``/dev/serial/by-id/`` link.)
-        """
-        with contextlib.suppress(*PORT_ERRORS, AttributeError):
-            self._port.closePort()
-        deadline = time.monotonic() + self.reopen_timeout
-        while True:
-            port = self._sdk.PortHandler(self.port_name)
-            try:
-                if port.openPort() and port.setBaudRate(self.baudrate):
-                    break
-                reason = f"the baud rate {self.baudrate} cannot be set"
-            except PORT_ERRORS as exc:
-                reason = port_error_text(exc)
-            if time.monotonic() > deadline:
-                return reason
-            time.sleep(0.05)
-        self._port = port
-        self._dirty = False
-        return None
+    def _try_open(self):
+        port = self._sdk.PortHandler(self.port_name)
+        try:
+            if port.openPort() and port.setBaudRate(self.baudrate):
+                self._dirty = False
+                return port, ""
+            return None, f"the baud rate {self.baudrate} cannot be set"
+        except PORT_ERRORS as exc:
+            return None, port_error_text(exc)
 
     def stop(self) -> None:
         """Switch torque off on every servo, confirmed by reading Torque Enable back.

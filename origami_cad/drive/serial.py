@@ -27,7 +27,6 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
 import math
 import time
 
@@ -36,7 +35,6 @@ from origami_cad.drive.errors import (
     PORT_ERRORS,
     DriveError,
     PortLostError,
-    StallError,
     TorqueOffError,
     hold_ctrl_c,
     port_error_text,
@@ -189,6 +187,7 @@ class SerialBus(ServoBus):
     """
 
     unit = "motor"
+    device = "the board"
 
     def __init__(
         self,
@@ -211,27 +210,19 @@ class SerialBus(ServoBus):
         On any failure (a missing motor, Ctrl-C) the board is sent ``S`` and the
         port closed before the error is raised.
         """
-        if self._port is not None:
-            raise DriveError(f"port {self.port_name} is already open")
-        self._port = self._open_port()
-        self._powered = True  # a previous run may have left motors enabled
-        try:
-            missing = {}
-            for i in self.ids:
-                try:
-                    self.models[i] = int(self._ask(f"P {i}", i).split()[3])
-                except PortLostError:
-                    raise
-                except (DriveError, ValueError, IndexError) as exc:
-                    missing[i] = (
-                        str(exc) if isinstance(exc, DriveError) else f"motor {i}: bad reply"
-                    )
-            if missing:
-                raise DriveError("; ".join(missing.values()) + "; no motor was enabled")
-        except BaseException as exc:
-            self._shutdown(exc)
-            raise
-        return self
+        return super().open()
+
+    def _start(self) -> None:
+        missing = {}
+        for i in self.ids:
+            try:
+                self.models[i] = int(self._ask(f"P {i}", i).split()[3])
+            except PortLostError:
+                raise
+            except (DriveError, ValueError, IndexError) as exc:
+                missing[i] = str(exc) if isinstance(exc, DriveError) else f"motor {i}: bad reply"
+        if missing:
+            raise DriveError("; ".join(missing.values()) + "; no motor was enabled")
 
     def _open_port(self):
         import serial
@@ -247,16 +238,15 @@ class SerialBus(ServoBus):
     def _ask(self, text: str, dxl_id: int | None = None) -> str:
         """Send one command; its reply, skipping stale replies to earlier commands."""
         who = f"motor {dxl_id}" if dxl_id is not None else "the board"
-        if self._port is None:
-            raise DriveError(f"port {self.port_name} is not open (open the bus first)")
+        port = self._open()
         parts = text.split()
         expect = " ".join(["OK", *parts[:2]]) if parts[0] != "S" else "OK S"
         try:
-            self._port.reset_input_buffer()
-            self._port.write((frame(text) + "\n").encode("ascii"))
+            port.reset_input_buffer()
+            port.write((frame(text) + "\n").encode("ascii"))
             deadline = time.monotonic() + self.timeout
             while True:
-                raw = self._port.readline()
+                raw = port.readline()
                 if not raw:
                     raise DriveError(f"{who}: no reply to {text!r} (timeout)")
                 try:
@@ -270,10 +260,7 @@ class SerialBus(ServoBus):
                 if time.monotonic() > deadline:  # only stale replies: give up
                     raise DriveError(f"{who}: no reply to {text!r} (got {reply!r})")
         except PORT_ERRORS as exc:
-            raise PortLostError(
-                f"port {self.port_name} was lost ({port_error_text(exc)}): "
-                "the board was unplugged, lost power or its emulator stopped"
-            ) from exc
+            raise self._lost(exc) from exc
 
     def set_turns(self, targets: dict[int, float]) -> None:
         """Command motor positions, turns (every goal is checked before any is sent)."""
@@ -297,28 +284,21 @@ class SerialBus(ServoBus):
             if not (math.isfinite(turns) and math.isfinite(current)):
                 raise DriveError(f"motor {i}: non-finite reading in {reply!r}")
             out[i] = (turns, current)
-        stall = self.over_current(out)
-        if stall is not None:
-            with hold_ctrl_c():
-                self.stop()
-            raise StallError(f"{stall[1]}; every motor was stopped", stall[0])
+        self.stop_on_stall(out)
         return out
 
-    def _reopen(self) -> str | None:
-        """Reopen a lost port, trying for ``reopen_timeout`` s; why that failed, or None."""
+    def _stop_stalled(self, dxl_id: int) -> str:
+        with hold_ctrl_c():
+            self.stop()
+        return "every motor was stopped"
+
+    def _try_open(self):
         import serial
 
-        with contextlib.suppress(*PORT_ERRORS):
-            self._port.close()
-        deadline = time.monotonic() + self.reopen_timeout
-        while True:
-            try:
-                self._port = serial.Serial(self.port_name, self.baudrate, timeout=self.timeout)
-                return None
-            except (OSError, ValueError) as exc:
-                if time.monotonic() > deadline:
-                    return port_error_text(exc)
-            time.sleep(0.05)
+        try:
+            return serial.Serial(self.port_name, self.baudrate, timeout=self.timeout), ""
+        except (OSError, ValueError) as exc:
+            return None, port_error_text(exc)
 
     def stop(self) -> None:
         """Turn every motor off: ``S`` until the board confirms it (``stop_attempts`` times).

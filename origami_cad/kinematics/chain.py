@@ -63,6 +63,15 @@ def _theta_2d(theta: np.ndarray) -> np.ndarray:
     return th.reshape(1, -1) if th.ndim < 2 else th
 
 
+def _alpha0(
+    theta: np.ndarray, hypar_base: bool | np.ndarray, d: int, alpha0: float = 0.0
+) -> np.ndarray:
+    """``alpha_0`` of each of ``d`` designs, (D, S) radians: eq. 3 on a half hypar base
+    (``hypar_base`` per design or for all), else ``alpha0``; ``theta`` as :func:`_theta_2d`."""
+    hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
+    return np.where(hyp[:, None], hypar_alpha0(theta), alpha0)
+
+
 def turning_angles(
     theta: np.ndarray, shape_angles: np.ndarray, entry_flag: np.ndarray
 ) -> np.ndarray:
@@ -100,8 +109,7 @@ def chain_angles(
     """
     da = turning_angles(theta, shape_angles, entry_flag)
     d, s, _ = da.shape
-    hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
-    a0 = np.where(hyp[:, None], hypar_alpha0(_theta_2d(theta)), alpha0)  # (D, S)
+    a0 = _alpha0(_theta_2d(theta), hypar_base, d, alpha0)  # (D, S)
     out = np.empty((d, s, da.shape[2] + 1))
     out[..., 0] = a0
     np.cumsum(da, axis=2, out=out[..., 1:])
@@ -130,8 +138,7 @@ def chain_joints(
     t = half_turn_tangents(theta, shape_angles, entry_flag)  # eq. 2
     d, n_samples, n = t.shape
     d = max(d, lengths.shape[0])
-    hyp = np.broadcast_to(np.asarray(hypar_base, dtype=bool).reshape(-1), (d,))
-    a0 = np.where(hyp[:, None], hypar_alpha0(theta), 0.0)  # eq. 3, (D, S)
+    a0 = _alpha0(theta, hypar_base, d)  # eq. 3, (D, S)
     heading = np.empty((d, n_samples, n + 1), dtype=complex)
     heading[..., 0] = np.exp(1j * a0)
     inv = 1.0 / (1.0 + t * t)  # the turns, real and imaginary parts (no complex division)

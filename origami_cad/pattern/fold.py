@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_write
-from origami_cad._toml import input_file
+from origami_cad._toml import parse_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
@@ -144,21 +144,14 @@ def write_fold(
 
 
 def _load(path: str | os.PathLike[str]) -> dict[str, Any]:
-    p, name = input_file(path, PatternError)
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise PatternError(
-            f"{name}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})"
-        ) from None
-    except UnicodeDecodeError:
-        raise PatternError(f"{name}: not a text file (FOLD is JSON)") from None
-    except RecursionError:
-        raise PatternError(f"{name}: JSON nested too deeply to read") from None
-    except ValueError as exc:  # e.g. an integer with more digits than Python converts
-        raise PatternError(f"{name}: not valid JSON ({exc})") from None
-    except OSError as exc:
-        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
+    data, name = parse_file(
+        path,
+        lambda p: json.loads(p.read_text(encoding="utf-8")),
+        fmt="JSON",
+        error=PatternError,
+        not_text="not a text file (FOLD is JSON)",
+        too_deep="JSON nested too deeply to read",
+    )
     if not isinstance(data, dict):
         raise PatternError(
             f"{name}: a FOLD file must hold a JSON object, not {type(data).__name__}"
