@@ -56,11 +56,9 @@ def _display(name: str, *args):
     return getattr(console, name)(*args)
 
 
-_PROGRESS = {
-    "design-arm": lambda: _display("progress_bar", "CMA-ES generations"),
-    "simulate": lambda: _display("progress_bar", "simulating"),
-    "drive": lambda: _display("servo_table"),
-}
+_BARS = {"design-arm": "CMA-ES generations", "simulate": "simulating", "plan-route": "candidates"}
+_PROGRESS = {k: lambda v=v: _display("progress_bar", v) for k, v in _BARS.items()}
+_PROGRESS["drive"] = lambda: _display("servo_table")
 
 
 def _call(args: argparse.Namespace) -> jobs.Outputs:
@@ -95,7 +93,6 @@ def _demo(folder: str = "out", quick: bool = False) -> jobs.Outputs:
 
 
 _FOLDER = "output folder; only this command's files are written into it, all else is kept"
-_PROTOCOL = {"choices": ("dynamixel", "serial")}
 _FLAG = {"action": "store_true"}
 
 # (commands, option, argparse keywords): every option of every command
@@ -106,8 +103,13 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fold", "--ratio", {"type": _finite, "help": "fold ratio p in [0, 1]"}),
     ("fold", "--frames", {"type": int, "help": "states from p = 0 to --ratio"}),
     ("design-arm", "--runs", {"type": int, "help": "override the task's [search] runs"}),
-    ("design-arm", "--seed", {"type": int, "help": "override the task's [search] seed"}),
+    ("design-arm plan-route", "--seed", {"type": int, "help": "seed (overrides [search])"}),
+    ("design-arm plan-route", "--scheduler", {"metavar": "ADDR", "help": "Dask scheduler"}),
     ("design-arm", "--max-generations", {"type": int, "help": "override [search] value"}),
+    ("plan-route", "--tsa", {"help": "ring, or onboard:PANEL (the TSA on that panel)"}),
+    ("plan-route", "--strings", {"type": int, "help": "strings the TSA twists"}),
+    ("plan-route", "--target-p", {"type": _finite, "help": "fold ratio (default: eq. 6 limit)"}),
+    ("plan-route", "--candidates", {"type": int, "help": "beam width of the search"}),
     ("fabricate", "--bias", {"type": _finite, "help": "inner bias b, mm"}),
     ("fabricate", "--theta-max", {"type": _finite, "help": "theta_max, deg (gives b, eq. 6)"}),
     ("fabricate", "--p-max", {"type": _finite, "help": "p_max in [0, 1] (gives b, eq. 6)"}),
@@ -123,8 +125,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
     ("simulate", "--steps", {"type": int, "help": "actuation steps over the route's turns"}),
     ("simulate", "--blocker", {"action": "append", "metavar": "EDGE:DEG", "type": _blocker,
-                               "dest": "blockers",
-                               "help": "stop crease EDGE at DEG degrees (repeat)"}),
+                               "dest": "blockers", "help": "stop crease EDGE at DEG deg (repeat)"}),
     ("simulate", "--gravity", {"type": _finite, "help": "gravity along -z, mm/s^2"}),
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
     ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
@@ -133,20 +134,18 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
                                  "help": "time s : fold ratio (one per route)"}),
     ("sequence", "--more-routes", {"nargs": "+", "metavar": "ROUTE", "help": "more TSAs"}),
     ("sequence", "--model", {"choices": ("dcqc", "simulation"), "help": "string model"}),
-    ("sequence", "--ids", {"type": _ids, "help": "servo IDs, one per route, e.g. 1,2"}),
     ("sequence", "--rate", {"type": _finite, "help": "command rate, Hz"}),
     ("sequence", "--repeat", {"type": int, "help": "cycles"}),
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
     ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
-    ("robot", "--no-renders", {"action": "store_false", "dest": "renders",
-                                "help": "skip the render"}),
+    ("robot", "--no-renders", {"action": "store_false", "dest": "renders", "help": "no render"}),
     ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
     ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
-    ("emulate drive", "--protocol", _PROTOCOL),
-    ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
+    ("emulate drive", "--protocol", {"choices": ("dynamixel", "serial")}),
+    ("emulate sequence", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2 (one per route)"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),
     ("drive", "--baudrate", {"type": int, "help": "bits per second"}),
@@ -156,12 +155,11 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("drive", "--log", {"help": "CSV log, written as it runs"}),
     ("drive", "--plot", {"help": "also a PNG of commanded and measured turns"}),
     ("part", "name", {"nargs": "?", "help": "part name"}),
-    ("part", "--output", {"dest": "folder", "help": _FOLDER}),
     ("part", "--list", {**_FLAG, "help": "list the parts and their parameters"}),
     ("part", "--pattern", {"help": "design or pattern file the part is made for"}),
     ("part", "--panel", {"help": "panel label (tsa-module)"}),
     ("part", "--crease", {"type": int, "help": "crease edge index (blocker)"}),
-    ("demo", "--output", {"dest": "folder", "help": _FOLDER}),
+    ("part demo", "--output", {"dest": "folder", "help": _FOLDER}),
     ("demo", "--quick", {**_FLAG, "help": "reduced budget (for tests)"}),
 ]  # fmt: skip
 _SHORT = {"--output": "-o", "--verbose": "-v"}
@@ -178,6 +176,7 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "design-arm": (jobs.run_design_arm, ("task",), "folder"),
     "fabricate": (jobs.run_fabricate, ("design",), "folder"),
     "route": (jobs.run_route, ("design", "route"), "folder"),
+    "plan-route": (jobs.run_plan_route, ("pattern",), "output"),
     "simulate": (jobs.run_simulate, ("pattern", "route"), "folder"),
     "sequence": (jobs.run_sequence, ("design", "route"), "output"),
     "arm-scene": (jobs.run_arm_scene, ("task", "design", "route"), "folder"),
