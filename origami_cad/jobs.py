@@ -905,15 +905,15 @@ def run_plan_route(
     placement = _tsa_placement(tsa, ring_radius, ring_height)
     loaded = load_pattern_source(pattern)
     t0, cpu0 = time.perf_counter(), time.process_time()
+    geom = plan_geometry(loaded, placement, target_p=target_p)
     with _executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
-            executor=executor, progress=progress,
+            executor=executor, progress=progress, geometry=geom,
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:
         raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
-    geom = plan_geometry(loaded, placement, target_p=target_p)
     header = (
         f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
         f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"

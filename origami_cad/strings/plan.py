@@ -304,14 +304,24 @@ def target_ratio(
     return hi
 
 
-def _placed_coords(design: Design, ratios: np.ndarray, held: int) -> np.ndarray:
-    """The sheet on ``ratios`` in the string models' placement (mean pose or a held panel)."""
+def _fold_table(design: Design, ratios: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid folding on ``ratios``: coordinates (G, n, 3) mm and fold angles (G, m) rad."""
+    from origami_cad.kinematics.fold3d import fold_angles_from_coords
+
     cp = design.pattern
-    raw = (
-        fold_coords(design, ratios)
-        if design.tg is not None
-        else np.stack([s.coords for s in fold_sequence(design, ratios)])
+    if design.tg is not None:
+        raw = fold_coords(design, ratios)
+        return raw, np.stack([fold_angles_from_coords(cp, c) for c in raw])
+    states = fold_sequence(design, ratios)
+    return np.stack([s.coords for s in states]), np.radians(
+        np.stack([s.fold_angles for s in states])
     )
+
+
+def _placed_coords(design: Design, raw: np.ndarray, held: int) -> np.ndarray:
+    """The folded sheet ``raw`` (G, n, 3) placed as the string models place it (mean pose,
+    or panel ``held`` held)."""
+    cp = design.pattern
     flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
     if held < 0:
         return mean_pose(raw, flat)
@@ -323,15 +333,8 @@ def _placed_coords(design: Design, ratios: np.ndarray, held: int) -> np.ndarray:
     return out
 
 
-def _energy(design: Design, coords: np.ndarray, ratios, stiffness: float) -> np.ndarray:
+def _energy(cp, angles: np.ndarray, stiffness: float) -> np.ndarray:
     """The creases' elastic energy at each state, N mm (``0.5 k L angle^2`` summed)."""
-    from origami_cad.kinematics.fold3d import fold_angles_from_coords
-
-    cp = design.pattern
-    if design.tg is not None:
-        angles = np.stack([fold_angles_from_coords(cp, c) for c in coords])
-    else:
-        angles = np.radians(np.stack([s.fold_angles for s in fold_sequence(design, ratios)]))
     k = stiffness * cp.edge_lengths() * cp.edge_mask("M", "V")
     return 0.5 * (angles**2 * k).sum(axis=1)
 
@@ -450,7 +453,8 @@ def plan_geometry(
     p_end = target_ratio(design, limit, target_p, target_angles)
     ratios = p_end * np.linspace(0.0, 1.0, settings.grid) ** 1.5  # denser near flat
     held = cp.face_index(placement.panel) if placement.kind == "onboard" else -1
-    coords = _placed_coords(design, ratios, held)
+    raw, fold_angles = _fold_table(design, ratios)
+    coords = _placed_coords(design, raw, held)
     v0, e1, e2, normal, flat_v0, flat_inv = _frames(cp, coords)
     faces, xy, regions = _hole_candidates(cp, fab, settings, set(free_panels), existing_holes)
     parts = {"ratios": ratios, "v0": v0, "e1": e1, "e2": e2, "normal": normal}
@@ -480,7 +484,7 @@ def plan_geometry(
         anchors=anchors,
         anchor_angle=angles,
         rule=rule,
-        energy=_energy(design, coords, ratios, settings.crease_stiffness),
+        energy=_energy(cp, fold_angles, settings.crease_stiffness),
         regions=regions,
         labels=tuple(cp.face_labels),
         placement=placement,
@@ -997,6 +1001,7 @@ def plan_routes(
     fabrication: FabricationParams | None = None,
     settings: PlanSettings | None = None,
     check: int = 3,
+    geometry: PlanGeometry | None = None,
 ) -> list[PlannedRoute]:
     """Search string routes that fold ``design`` to the target under the DCQC principle.
 
@@ -1025,7 +1030,9 @@ def plan_routes(
         The rest of the search (its ``candidates`` is replaced by ``candidates``).
     check : int
         The best ``check`` routes are re-run by :func:`~origami_cad.strings.simulate_dcqc`
-        on the fine grid (``PlannedRoute.checks["dcqc"]``).
+        on the fine grid (``PlannedRoute.checks["dcqc"]``); those that fail are dropped.
+    geometry : PlanGeometry, optional
+        :func:`plan_geometry` of these arguments, if already made (it is not checked).
 
     Returns
     -------
@@ -1037,7 +1044,7 @@ def plan_routes(
     if candidates < 1:
         raise DesignError(f"--candidates must be >= 1, got {candidates}")
     settings = replace(settings or PlanSettings(), candidates=int(candidates))
-    geom = plan_geometry(
+    geom = geometry or plan_geometry(
         design,
         tsa,
         fabrication,
