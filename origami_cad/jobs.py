@@ -863,7 +863,7 @@ def _verify_planned(loaded, geom, planned, route_file: Path, verify: int) -> lis
         if k < verify:
             spec = load_route(route_file, loaded.pattern) if k == 0 else route_spec(geom, r)
             r = dataclasses.replace(
-                r, checks={**r.checks, "simulation": verify_route(loaded, spec, steps=40)}
+                r, checks={**r.checks, "simulation": verify_route(loaded, spec, steps=30)}
             )
         out.append(r)
     return out
@@ -909,7 +909,7 @@ def run_plan_route(
     with _executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
-            executor=executor, progress=progress, geometry=geom,
+            executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:

@@ -87,6 +87,7 @@ __all__ = [
 #: t = 0.4 mm over a 7 mm hinge zone: E t^3 / (12 w)), ``SimulationParams().crease_stiffness``.
 DEFAULT_CREASE_STIFFNESS = 26.0 * 0.4**3 / (12.0 * 7.0)
 TASKS = 8  # the beam search is split into this many tasks, whatever the executor
+STALL = 60  # a CMA-ES refinement stops after this many generations without a better route
 
 
 @dataclass(frozen=True)
@@ -924,15 +925,16 @@ def _refine_task(geom: PlanGeometry, settings: PlanSettings, route: dict, seed: 
     opts = {"seed": seed + 1, "maxiter": settings.generations, "verbose": -9, "verb_log": 0}
     opts.update(verb_disp=0, popsize=max(8, 4 + int(3 * math.log(dim))), tolfun=1e-6)
     es = cma.CMAEvolutionStrategy(np.zeros(dim), 0.5, opts)
-    evaluated = 1
-    while not es.stop():
+    evaluated, since = 1, 0
+    while not es.stop() and since < STALL:
         pop = np.asarray(es.ask())
         c = cost(pop)
         evaluated += len(pop)
         es.tell(list(pop), c.tolist())
         k = int(np.argmin(c))
-        if c[k] < best_c:
-            best_g, best_c = pop[k].copy(), float(c[k])
+        since += 1
+        if c[k] < best_c - 1e-9:
+            best_g, best_c, since = pop[k].copy(), float(c[k]), 0
     angle, xy = _decode(geom, route, best_g[None])
     return {**route, "angle": angle[0], "xy": xy[0], "cost": best_c, "evaluated": evaluated}
 
@@ -1187,7 +1189,7 @@ def _full_dcqc(design, geom, settings, route: PlannedRoute) -> dict[str, Any]:
     res = simulate_dcqc(
         design,
         route_spec(geom, route),
-        grid=None if design.tg is not None else 101,
+        grid=None if design.tg is not None else 61,
         crease_stiffness=settings.crease_stiffness,
     )
     stops = (StopReason.FOLD_LIMIT,)
