@@ -105,13 +105,13 @@ def test_fig5_miura_on_the_ring_folds_to_eq6_in_fewer_turns_at_less_torque_than_
     assert result.turns[-1] <= turns
 
 
-def _boat_plan(executor, candidates: int = 8, seed: int = 0):
+def _boat_plan(executor, candidates: int = 8, seed: int = 0, check: int = 1):
     loaded = load_pattern_source(EXAMPLES / "data" / "boat.dxf")
     placement = TSAPlacement("onboard", "f0", height=10.0, tsa=TSAParams(model="onboard"))
     settings = PlanSettings(generations=15)
     planned = plan_routes(
         loaded, placement, 3, candidates=candidates, seed=seed, executor=executor,
-        settings=settings, check=1,
+        settings=settings, check=check,
     )  # fmt: skip
     return loaded, plan_geometry(loaded, placement, settings=settings), planned
 
@@ -155,14 +155,19 @@ def test_the_arm_is_folded_with_fewer_turns_and_less_torque_than_strings_along_i
     assert np.nanmax(result.torque) <= np.nanmax(example.torque)
 
 
-def test_routes_and_arm_designs_are_identical_on_a_dask_cluster_and_a_process_pool():
+def test_routes_and_arm_designs_are_identical_on_a_dask_cluster_and_a_process_pool(
+    tmp_path, capsys
+):
     distributed = pytest.importorskip("distributed")
-    from origami_cad.design import SearchSettings, design_arm, load_task
+    import dataclasses
 
-    task, _ = load_task(EXAMPLES / "arm_task.toml")
-    settings = SearchSettings(runs=2, seed=3, max_generations=8)
-    local_routes = [r.to_dict() for r in _boat_plan(None, candidates=6, seed=5)[2]]
-    local_arms = design_arm(task, settings)
+    from origami_cad.design import design_arm, load_task
+
+    task_file = EXAMPLES / "arm_task.toml"
+    task, settings = load_task(task_file)
+    settings = dataclasses.replace(settings, runs=2, seed=3, max_generations=8)
+    local_routes = [r.to_dict() for r in _boat_plan(None, candidates=6, seed=5, check=0)[2]]
+    local_arms = design_arm(task, settings)  # the default process pool
     with (
         distributed.LocalCluster(
             n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
@@ -171,13 +176,19 @@ def test_routes_and_arm_designs_are_identical_on_a_dask_cluster_and_a_process_po
         distributed.Client(cluster) as client,
     ):  # fmt: skip
         executor = client.get_executor()
-        remote_routes = [r.to_dict() for r in _boat_plan(executor, candidates=6, seed=5)[2]]
-        remote_arms = design_arm(task, settings, executor=executor)
+        remote_routes = [
+            r.to_dict() for r in _boat_plan(executor, candidates=6, seed=5, check=0)[2]
+        ]
         workers = {w["host"] for w in client.scheduler_info()["workers"].values()}
+        argv = ["design-arm", str(task_file), "--runs", "2", "--seed", "3"]
+        argv += ["--max-generations", "8", "--scheduler", cluster.scheduler_address]
+        assert main([*argv, "-o", str(tmp_path / "arm")]) == 0
+    capsys.readouterr()
     assert workers == {"127.0.0.1"}
     assert json.dumps(remote_routes) == json.dumps(local_routes) and local_routes
-    assert [(a.run, a.lengths, a.history) for a in remote_arms] == [
-        (a.run, a.lengths, a.history) for a in local_arms
+    remote_arms = json.loads((tmp_path / "arm" / "results.json").read_text())["designs"]
+    assert [(d["run"], d["lengths_mm"], d["best_fitness_per_generation"]) for d in remote_arms] == [
+        (a.run, list(a.lengths), list(a.history)) for a in local_arms
     ]
 
 
