@@ -110,6 +110,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("plan-route", "--strings", {"type": int, "help": "strings the TSA twists"}),
     ("plan-route", "--target-p", {"type": _finite, "help": "fold ratio (default: eq. 6 limit)"}),
     ("plan-route", "--candidates", {"type": int, "help": "beam width of the search"}),
+    ("plan-route", "--budget", {"metavar": "TURNS[,NMM]", "help": "turn [and torque] budget"}),
     ("fabricate", "--bias", {"type": _finite, "help": "inner bias b, mm"}),
     ("fabricate", "--theta-max", {"type": _finite, "help": "theta_max, deg (gives b, eq. 6)"}),
     ("fabricate", "--p-max", {"type": _finite, "help": "p_max in [0, 1] (gives b, eq. 6)"}),

@@ -881,6 +881,7 @@ def run_plan_route(
     ring_radius: float = 126.0,
     ring_height: float = 10.0,
     verify: int = 2,
+    budget: str | None = None,
     scheduler: str | None = None,
     progress: Callable[..., None] | None = None,
 ) -> Outputs:
@@ -891,8 +892,10 @@ def run_plan_route(
     ranked by TSA turns, peak torque and load share; the best ``verify`` routes are
     folded by the bar-and-hinge simulator. ``--tsa ring`` puts the guides on a ring
     of ``ring_radius`` mm, ``ring_height`` mm above the sheet; ``onboard:PANEL``
-    mounts the TSA on that panel. routes.json, routes.png and routes_turns.png go
-    next to route.toml. ``--scheduler`` runs the search on a Dask cluster.
+    mounts the TSA on that panel. ``--budget TURNS[,NMM]``: the TSA's turns and peak
+    torque (N mm) to stay within (default 40 turns). routes.json, routes.png and
+    routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
+    cluster.
     """
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings.plan import plan_geometry, plan_routes, route_toml
@@ -905,11 +908,13 @@ def run_plan_route(
     placement = _tsa_placement(tsa, ring_radius, ring_height)
     loaded = load_pattern_source(pattern)
     t0, cpu0 = time.perf_counter(), time.process_time()
-    geom = plan_geometry(loaded, placement, target_p=target_p)
+    settings = _plan_budget(budget)
+    geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
     with _executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
             executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
+            settings=settings,
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:
@@ -938,6 +943,21 @@ def run_plan_route(
 
 
 _PLAN_HINT = "try another TSA place, fewer strings or a smaller --target-p"
+
+
+def _plan_budget(budget: str | None):
+    """``TURNS[,NMM]`` as the search's settings (budgets of TSA turns and peak torque)."""
+    from origami_cad.strings.plan import PlanSettings
+
+    if budget is None:
+        return PlanSettings()
+    try:
+        values = [float(v) for v in budget.split(",")]
+    except ValueError:
+        values = []
+    if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and v > 0 for v in values):
+        raise DesignError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
+    return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
 
 
 def _routes_json(geom, planned, seconds: float) -> dict:

@@ -215,7 +215,11 @@ def test_plan_route_command_writes_a_route_the_route_command_folds(tmp_path, cap
 
 @pytest.mark.parametrize(
     ("option", "message"),
-    [(["--tsa", "onboard:nope"], "no panel labelled 'nope'"), (["--tsa", "rail"], "--tsa must")],
+    [
+        (["--tsa", "onboard:nope"], "no panel labelled 'nope'"),
+        (["--tsa", "rail"], "--tsa must"),
+        (["--budget", "20,-1"], "--budget: expected TURNS"),
+    ],
 )
 def test_plan_route_refuses_a_bad_tsa_in_one_line_and_writes_nothing(
     tmp_path, capsys, option, message
@@ -226,3 +230,40 @@ def test_plan_route_refuses_a_bad_tsa_in_one_line_and_writes_nothing(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0]
     assert not (tmp_path / "plan").exists()
+
+
+def test_a_target_crease_angle_gives_the_fold_ratio_where_the_crease_reaches_it():
+    from origami_cad.strings.plan import target_ratio
+
+    boat = load_pattern_source(EXAMPLES / "data" / "boat.dxf")
+    cp = boat.pattern
+    keel = int(np.flatnonzero(cp.edge_mask("V") & (cp.edge_faces().min(axis=1) >= 0))[0])
+    p = target_ratio(boat, 1.0, target_angles={keel: 90.0})
+    assert p == pytest.approx(0.5, abs=1e-5)  # the degree-4 folder turns the keel 180 p deg
+    from origami_cad.kinematics.folding import fold_design
+
+    assert abs(fold_design(boat, p).fold_angles[keel]) == pytest.approx(90.0, abs=1e-3)
+    with pytest.raises(Exception, match="does not reach"):
+        target_ratio(boat, 0.3, target_angles={keel: 90.0})
+
+
+def test_free_panels_get_no_hole_and_existing_holes_are_candidates():
+    from origami_cad.pattern.design import miura_design
+
+    sheet = miura_design(2, 3, 30.0, 30.0, 65.0)
+    cp = sheet.pattern
+    free = "c0r0s1"
+    existing = tuple(cp.vertices[cp.faces[cp.face_index("c0r1s1")]].mean(axis=0))
+    placement = TSAPlacement("ring", radius=80.0)
+    settings = PlanSettings(generations=5)
+    geom = plan_geometry(
+        sheet, placement, settings=settings, free_panels=[free], existing_holes=[existing]
+    )
+    assert cp.face_index(free) not in set(geom.hole_face.tolist())
+    assert np.isclose(geom.hole_xy, existing).all(axis=1).any()
+    planned = plan_routes(
+        sheet, placement, 2, candidates=4, executor=InlineExecutor(), settings=settings,
+        free_panels=[free], existing_holes=[existing], check=1,
+    )  # fmt: skip
+    assert planned and all(free not in s.names for r in planned for s in r.strings)
+    assert planned[0].checks["dcqc"]["reaches_target"]

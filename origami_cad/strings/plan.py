@@ -88,6 +88,7 @@ __all__ = [
 DEFAULT_CREASE_STIFFNESS = 26.0 * 0.4**3 / (12.0 * 7.0)
 TASKS = 8  # the beam search is split into this many tasks, whatever the executor
 STALL = 60  # a CMA-ES refinement stops after this many generations without a better route
+SET_BEAM = 64  # string sets kept per size at least (a narrow beam may find no compatible set)
 
 
 @dataclass(frozen=True)
@@ -801,7 +802,7 @@ def _compatible(geom: PlanGeometry, pool: dict, used, routes: np.ndarray) -> np.
 def _combine(geom, settings, pool: dict, n_strings: int, progress=None):
     """Beam search over sets of ``n_strings`` pool strings: the best routes (B, n), scores."""
     x, rest, cuts, used = _pool_curves(geom, pool)
-    width = settings.candidates
+    width = max(settings.candidates, SET_BEAM)
     routes = np.arange(len(x))[:, None]
     scores = evaluate_routes(geom, settings, x[:, None], rest[:, None], cuts[:, None])
     evaluated = len(routes)
@@ -1076,7 +1077,7 @@ def _search(geom, settings, n_strings: int, seed: int, executor, progress) -> li
             "no string satisfies DCQC from flat to the target: every hole sequence lengthens "
             "or cuts a panel (try another TSA place or a smaller target)"
         )
-    pool = {k: v[: 4 * settings.candidates] for k, v in pool.items()}
+    pool = {k: v[: max(4 * settings.candidates, 4 * SET_BEAM)] for k, v in pool.items()}
     routes, evaluated = _combine(geom, settings, pool, n_strings)
     tick({"evaluated": evaluated})
     arrays = [_route_arrays(geom, pool, r) for r in routes[: settings.keep]]
