@@ -1,8 +1,8 @@
 """The ``origami-cad`` command. It only parses arguments into the jobs of :mod:`origami_cad.jobs`.
 
-Exit codes (``docs/outputs.md``): 0 success; 1 a negative answer (``check``: the
-pattern has errors, ``route``: the routing never folds); 2 bad input, one line
-``origami-cad: error: ...``; 3 an internal error; 130 and 143 interrupted.
+Exit codes (``docs/outputs.md``): 0 success; 1 a negative answer (``check``: errors found,
+``route``: it never folds); 2 bad input, one line ``origami-cad: error: ...``; 3 an internal
+error; 130 and 143 interrupted.
 """
 
 from __future__ import annotations
@@ -56,11 +56,9 @@ def _display(name: str, *args):
     return getattr(console, name)(*args)
 
 
-_PROGRESS = {
-    "design-arm": lambda: _display("progress_bar", "CMA-ES generations"),
-    "simulate": lambda: _display("progress_bar", "simulating"),
-    "drive": lambda: _display("servo_table"),
-}
+_BARS = {"design-arm": "CMA-ES generations", "simulate": "simulating", "plan-route": "candidates"}
+_PROGRESS = {k: lambda v=v: _display("progress_bar", v) for k, v in _BARS.items()}
+_PROGRESS["drive"] = lambda: _display("servo_table")
 
 
 def _call(args: argparse.Namespace) -> jobs.Outputs:
@@ -78,9 +76,8 @@ def _call(args: argparse.Namespace) -> jobs.Outputs:
     if any(p.kind == p.VAR_KEYWORD for p in names.values()):  # takes every option of its own
         names = {**names, **dict.fromkeys(args.option_names)}
     kwargs = {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
-    display, kwargs["progress"] = _PROGRESS.get(args.command, lambda: (None, None))()
-    if "progress" not in names:
-        del kwargs["progress"]
+    display, progress = _PROGRESS.get(args.command, lambda: (None, None))()
+    kwargs |= {"progress": progress} if "progress" in names else {}
     if "echo" in names:
         kwargs["echo"] = lambda line: print(line, flush=True)
     with display or contextlib.nullcontext():
@@ -108,8 +105,14 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fold", "--ratio", {"type": _finite, "help": "fold ratio p in [0, 1]"}),
     ("fold", "--frames", {"type": int, "help": "states from p = 0 to --ratio"}),
     ("design-arm", "--runs", {"type": int, "help": "override the task's [search] runs"}),
-    ("design-arm", "--seed", {"type": int, "help": "override the task's [search] seed"}),
+    ("design-arm plan-route", "--seed", {"type": int, "help": "seed (overrides [search])"}),
+    ("design-arm plan-route", "--scheduler", {"metavar": "ADDR", "help": "Dask scheduler"}),
     ("design-arm", "--max-generations", {"type": int, "help": "override [search] value"}),
+    ("plan-route", "--tsa", {"help": "ring, or onboard:PANEL (the TSA on that panel)"}),
+    ("plan-route", "--strings", {"type": int, "help": "strings the TSA twists"}),
+    ("plan-route", "--target-p", {"type": _finite, "help": "fold ratio (default: eq. 6 limit)"}),
+    ("plan-route", "--candidates", {"type": int, "help": "beam width of the search"}),
+    ("plan-route", "--budget", {"metavar": "TURNS[,NMM]", "help": "turn [and torque] budget"}),
     ("fabricate", "--bias", {"type": _finite, "help": "inner bias b, mm"}),
     ("fabricate", "--theta-max", {"type": _finite, "help": "theta_max, deg (gives b, eq. 6)"}),
     ("fabricate", "--p-max", {"type": _finite, "help": "p_max in [0, 1] (gives b, eq. 6)"}),
@@ -125,7 +128,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
     ("simulate", "--steps", {"type": int, "help": "actuation steps over the route's turns"}),
     ("simulate", "--blocker", {"action": "append", "metavar": "EDGE:DEG", "type": _blocker,
-                               "dest": "blockers", "help": "stop crease EDGE at DEG (repeat)"}),
+                               "dest": "blockers", "help": "stop crease EDGE at DEG deg (repeat)"}),
     ("simulate", "--gravity", {"type": _finite, "help": "gravity along -z, mm/s^2"}),
     ("simulate", "--ground", {"type": _finite, "help": "height of a ground plane, mm"}),
     ("simulate", "--friction", {"type": _finite, "help": "Coulomb friction coefficient"}),
@@ -134,7 +137,6 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
                                  "help": "time s : fold ratio (one per route)"}),
     ("sequence", "--more-routes", {"nargs": "+", "metavar": "ROUTE", "help": "more TSAs"}),
     ("sequence", "--model", {"choices": ("dcqc", "simulation"), "help": "string model"}),
-    ("sequence", "--ids", {"type": _ids, "help": "servo IDs, one per route, e.g. 1,2"}),
     ("sequence", "--rate", {"type": _finite, "help": "command rate, Hz"}),
     ("sequence", "--repeat", {"type": int, "help": "cycles"}),
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
@@ -146,7 +148,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
     ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
     ("emulate drive", "--protocol", {"choices": ("dynamixel", "serial")}),
-    ("emulate", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2,3,4"}),
+    ("emulate sequence", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2 (one per route)"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),
     ("drive", "--baudrate", {"type": int, "help": "bits per second"}),
@@ -156,15 +158,13 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("drive", "--log", {"help": "CSV log, written as it runs"}),
     ("drive", "--plot", {"help": "also a PNG of commanded and measured turns"}),
     ("part", "name", {"nargs": "?", "help": "part name"}),
-    ("part", "--output", {"dest": "folder", "help": _FOLDER}),
     ("part", "--list", {**_FLAG, "help": "list the parts and their parameters"}),
     ("part", "--pattern", {"help": "design or pattern file the part is made for"}),
     ("part", "--panel", {"help": "panel label (tsa-module)"}),
     ("part", "--crease", {"type": int, "help": "crease edge index (blocker)"}),
-    ("demo", "--output", {"dest": "folder", "help": _FOLDER}),
+    ("part demo", "--output", {"dest": "folder", "help": _FOLDER}),
     ("demo", "--quick", {**_FLAG, "help": "reduced budget (for tests)"}),
 ]  # fmt: skip
-_SHORT = {"--output": "-o", "--verbose": "-v"}
 
 
 # name: (the job, whose docstring is the help; positional arguments, named like the job's
@@ -178,6 +178,7 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "design-arm": (jobs.run_design_arm, ("task",), "folder"),
     "fabricate": (jobs.run_fabricate, ("design",), "folder"),
     "route": (jobs.run_route, ("design", "route"), "folder"),
+    "plan-route": (jobs.run_plan_route, ("pattern",), "output"),
     "simulate": (jobs.run_simulate, ("pattern", "route"), "folder"),
     "sequence": (jobs.run_sequence, ("design", "route"), "output"),
     "arm-scene": (jobs.run_arm_scene, ("task", "design", "route"), "folder"),
@@ -222,7 +223,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.set_defaults(option_names=[])
     for commands, option, kwargs in _OPTIONS:
         for name in commands.split():
-            flags = [_SHORT[option], option] if option in _SHORT else [option]
+            flags = [*{"--output": ["-o"], "--verbose": ["-v"]}.get(option, []), option]
             action = sub.choices[name].add_argument(*flags, **kwargs)
             action.command = name
             sub.choices[name].get_default("option_names").append(action.dest)
@@ -241,8 +242,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if exc.code in (0, None):
             raise  # --help, --version
         return int(exc.code)
-    if extra:
-        args.params = extra  # the part's own --name value parameters
+    args.params = extra  # the part's own --name value parameters (nothing for the others)
     main_thread = threading.current_thread() is threading.main_thread()
     with handle_signals() if main_thread else contextlib.nullcontext():
         return _run(args)

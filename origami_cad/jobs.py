@@ -47,6 +47,7 @@ __all__ = [
     "run_fold",
     "run_part",
     "run_pattern",
+    "run_plan_route",
     "run_robot",
     "run_route",
     "run_sequence",
@@ -508,6 +509,7 @@ def run_design_arm(
     runs: int | None = None,
     seed: int | None = None,
     max_generations: int | None = None,
+    scheduler: str | None = None,
     progress: Callable[[int, int, float], None] | None = None,
 ) -> Outputs:
     """CMA-ES arm design (eq. 5): results.json, best.toml and plots into ``folder``.
@@ -516,7 +518,8 @@ def run_design_arm(
     task's ``[fabrication]`` b, h, t of eq. 6 or ``fold_limit``); best.toml's
     comments give that range and the ``fabricate`` command that builds the winner
     with its fabrication parameters. ``runs``, ``seed`` and ``max_generations``
-    override the task's ``[search]`` table.
+    override the task's ``[search]`` table; ``scheduler`` runs the runs on a Dask
+    cluster (results identical to the local process pool).
     """
     import dataclasses
 
@@ -530,7 +533,8 @@ def run_design_arm(
             raise DesignError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
     settings = dataclasses.replace(settings, **{k: v for k, v in changes.items() if v is not None})
     t0 = time.perf_counter()
-    results = design_arm(arm_task, settings, progress=progress)
+    with _executor(scheduler) as executor:
+        results = design_arm(arm_task, settings, executor=executor, progress=progress)
     seconds = time.perf_counter() - t0
     if not results:
         raise DesignError(
@@ -855,6 +859,201 @@ def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Ou
         messages=[f"wrote {folder}/: " + " ".join(names)],
         result=(dcqc, sim),
     )
+
+
+def _executor(scheduler: str | None):
+    """A context giving the executor of a search: None (a local process pool), or a Dask
+    cluster's executor for ``scheduler`` (an address such as ``tcp://10.0.0.5:8786``).
+    """
+    import contextlib
+
+    if scheduler is None:
+        return contextlib.nullcontext(None)
+    try:
+        from distributed import Client
+    except ImportError:
+        raise DesignError(
+            "--scheduler needs dask.distributed: pip install 'origami-cad[dask]'"
+        ) from None
+    try:
+        client = Client(scheduler, timeout="20s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise DesignError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+
+    @contextlib.contextmanager
+    def held():
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+
+    return held()
+
+
+def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
+    """``ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
+    from origami_cad.strings import TSAParams
+    from origami_cad.strings.plan import TSAPlacement
+
+    kind, _, panel = tsa.partition(":")
+    if kind not in ("ring", "onboard") or (kind == "onboard") != bool(panel):
+        raise DesignError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
+    return TSAPlacement(kind, panel or None, ring_radius, ring_height, tsa=TSAParams(model=kind))
+
+
+def _verify_planned(loaded, geom, planned, route_file: Path, verify: int) -> list:
+    """The best ``verify`` routes folded by the bar-and-hinge simulator (the first from
+    the written route file, read back as ``route``/``simulate`` read it)."""
+    import dataclasses
+
+    from origami_cad.simulation.verify import verify_route
+    from origami_cad.strings import load_route
+    from origami_cad.strings.plan import route_spec
+
+    out = []
+    for k, r in enumerate(planned):
+        if k < verify:
+            spec = load_route(route_file, loaded.pattern) if k == 0 else route_spec(geom, r)
+            r = dataclasses.replace(
+                r, checks={**r.checks, "simulation": verify_route(loaded, spec, steps=30)}
+            )
+        out.append(r)
+    return out
+
+
+def run_plan_route(
+    pattern: PathLike,
+    output: PathLike,
+    *,
+    tsa: str = "ring",
+    strings: int = 4,
+    target_p: float | None = None,
+    candidates: int = 128,
+    seed: int = 0,
+    ring_radius: float = 126.0,
+    ring_height: float = 10.0,
+    verify: int = 2,
+    budget: str | None = None,
+    scheduler: str | None = None,
+    progress: Callable[..., None] | None = None,
+) -> Outputs:
+    """Search string routes by the DCQC principle: route.toml, routes.json and plots.
+
+    Beam search over hole sequences (sides by the M/V rule), then CMA-ES over hole
+    positions in the panels' operation regions, scored on the fast DCQC model and
+    ranked by TSA turns, peak torque and load share; the best ``verify`` routes are
+    folded by the bar-and-hinge simulator. ``--tsa ring`` puts the guides on a ring
+    of ``ring_radius`` mm, ``ring_height`` mm above the sheet; ``onboard:PANEL``
+    mounts the TSA on that panel. ``--budget TURNS[,NMM]``: the TSA's turns and peak
+    torque (N mm) to stay within (default 40 turns). routes.json, routes.png and
+    routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
+    cluster.
+    """
+    from origami_cad.pattern.design import load_pattern_source
+    from origami_cad.strings.plan import plan_geometry, plan_routes, route_toml
+    from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
+
+    _check_suffix(output, (".toml",), "the route")
+    folder = Path(output).parent
+    names = (Path(output).name, "routes.json", "routes.png", "routes_turns.png")
+    check_outputs([pattern], files=[folder / n for n in names])
+    placement = _tsa_placement(tsa, ring_radius, ring_height)
+    loaded = load_pattern_source(pattern)
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    settings = _plan_budget(budget)
+    geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
+    with _executor(scheduler) as executor:
+        planned = plan_routes(
+            loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
+            executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
+            settings=settings,
+        )  # fmt: skip
+    seconds = time.perf_counter() - t0
+    if not planned:
+        raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
+    header = (
+        f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
+        f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"
+        f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
+        f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
+    )
+    with atomic_directory(folder, inputs=_sources(pattern, loaded)) as stage:
+        (stage / names[0]).write_text(route_toml(geom, planned[0], header), encoding="utf-8")
+        planned = _verify_planned(loaded, geom, planned, stage / names[0], verify)
+        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+            json.dump(_routes_json(geom, planned, seconds), fh, indent=1)
+        save_planned_routes_png(loaded.pattern, planned, stage / names[2])
+        save_planned_turns_png(planned, stage / names[3])
+    files = [folder / n for n in names]
+    return Outputs(
+        files=files,
+        images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
+        numbers=_plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
+        messages=[*_plan_messages(planned, geom), f"wrote {' '.join(map(str, files))}"],
+        result=planned,
+    )
+
+
+_PLAN_HINT = "try another TSA place, fewer strings or a smaller --target-p"
+
+
+def _plan_budget(budget: str | None):
+    """``TURNS[,NMM]`` as the search's settings (budgets of TSA turns and peak torque)."""
+    from origami_cad.strings.plan import PlanSettings
+
+    if budget is None:
+        return PlanSettings()
+    try:
+        values = [float(v) for v in budget.split(",")]
+    except ValueError:
+        values = []
+    if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and v > 0 for v in values):
+        raise DesignError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
+    return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
+
+
+def _routes_json(geom, planned, seconds: float) -> dict:
+    return {
+        "target_p": geom.target_p,
+        "fold_limit_p": geom.limit_p,
+        "tsa": geom.placement.kind,
+        "search_seconds": seconds,
+        "routes": [r.to_dict() for r in planned],
+    }
+
+
+def _plan_numbers(planned, geom, seconds: float, cpu: float) -> list[tuple[str, str]]:
+    best = planned[0]
+    sim = best.checks.get("simulation")
+    return [
+        ("valid routes ranked", str(len(planned))),
+        ("target fold ratio", f"p = {geom.target_p:.4f} (fold limit {geom.limit_p:.4f})"),
+        ("best: TSA turns / peak torque", f"{best.turns:.2f} / {best.peak_torque:.3g} N mm"),
+        ("best: load share", f"{best.share:.2f}"),
+        ("search time", f"{seconds:.1f} s wall, {cpu:.1f} s CPU here"),
+        (
+            "bar-and-hinge check of the best",
+            "not run"
+            if sim is None
+            else f"p = {sim['p']:.3f} after {sim['turns']:.1f} turns ({sim['stop']})",
+        ),
+    ]
+
+
+def _plan_messages(planned, geom) -> list[str]:
+    best = planned[0]
+    lines = [
+        f"best of {len(planned)} routes: {len(best.strings)} strings, {best.turns:.2f} TSA turns "
+        f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
+    ]
+    for r in planned:
+        sim = r.checks.get("simulation")
+        if sim is not None and not sim["reaches_target"]:
+            lines.append(
+                f"warning: route {r.rank}: the bar-and-hinge simulation stops at p = "
+                f"{sim['p']:.3f} ({sim['reason']})"
+            )
+    return lines
 
 
 # --------------------------------------------------------------------------- simulation

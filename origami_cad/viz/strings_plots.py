@@ -15,9 +15,30 @@ from origami_cad.strings.route import TOP, RouteSpec
 from origami_cad.viz.figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
 
-__all__ = ["save_dcqc_png", "save_fig5_png", "save_route_png"]
+__all__ = ["draw_strings", "save_dcqc_png", "save_fig5_png", "save_route_png"]
 
 _COLORS = ["#8e44ad", "#e67e22", "#16a085", "#c0392b", "#2c3e50", "#d35400"]
+
+
+def draw_strings(ax, strings) -> None:
+    """Strings (``StringRoute``) on a flat pattern: anchor, holes, solid above, dashed below."""
+    for i, s in enumerate(strings):
+        color = _COLORS[i % len(_COLORS)]
+        pts = np.asarray(s.points)
+        ax.plot([s.anchor[0], pts[0, 0]], [s.anchor[1], pts[0, 1]], ":", color=color, lw=1.5)
+        ax.plot(*s.anchor[:2], "^", color=color, ms=9)
+        for k in range(1, len(pts)):
+            style = "-" if s.sides[k] == TOP else "--"
+            ax.plot(
+                pts[k - 1 : k + 1, 0],
+                pts[k - 1 : k + 1, 1],
+                style,
+                color=color,
+                lw=2.5,
+                label=f"string {i + 1}" if k == 1 else None,
+            )
+        for x, y in pts:
+            ax.add_patch(Circle((x, y), 1.5, fc="white", ec=color, lw=1.5, zorder=5))
 
 
 def save_route_png(cp: CreasePattern, route: RouteSpec, path: str | os.PathLike[str]) -> Path:
@@ -27,23 +48,7 @@ def save_route_png(cp: CreasePattern, route: RouteSpec, path: str | os.PathLike[
         path, figsize=(9, 9 * float(np.clip((y1 - y0) / (x1 - x0), 0.3, 1.5))), dpi=150
     ) as (_, ax):
         plot_pattern(cp, ax, legend=False, title="")
-        for i, s in enumerate(route.strings):
-            color = _COLORS[i % len(_COLORS)]
-            pts = np.asarray(s.points)
-            ax.plot([s.anchor[0], pts[0, 0]], [s.anchor[1], pts[0, 1]], ":", color=color, lw=1.5)
-            ax.plot(*s.anchor[:2], "^", color=color, ms=9)
-            for k in range(1, len(pts)):
-                style = "-" if s.sides[k] == TOP else "--"
-                ax.plot(
-                    pts[k - 1 : k + 1, 0],
-                    pts[k - 1 : k + 1, 1],
-                    style,
-                    color=color,
-                    lw=2.5,
-                    label=f"string {i + 1}" if k == 1 else None,
-                )
-            for x, y in pts:
-                ax.add_patch(Circle((x, y), 1.5, fc="white", ec=color, lw=1.5, zorder=5))
+        draw_strings(ax, route.strings)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=8)
         ax.set_title("String routing: solid above the sheet, dashed below; triangle = TSA anchor")
         ax.autoscale()

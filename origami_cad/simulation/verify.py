@@ -1,0 +1,61 @@
+"""Checking a planned string route with the bar-and-hinge simulator.
+
+:func:`~origami_cad.strings.plan.plan_routes` ranks routes on the fast DCQC
+model; :func:`verify_route` folds the sheet by the route with the full
+simulation (:func:`~origami_cad.simulation.simulate`) and says whether it reaches
+the route's target fold ratio without a jam.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from origami_cad.pattern.design import Design
+from origami_cad.simulation.model import SimulationParams
+from origami_cad.simulation.simulate import simulate
+from origami_cad.strings.dcqc import StopReason, fold_limit
+from origami_cad.strings.route import RouteSpec
+
+__all__ = ["verify_route"]
+
+
+def verify_route(
+    design: Design,
+    spec: RouteSpec,
+    params: SimulationParams | None = None,
+    *,
+    steps: int | None = None,
+    tolerance: float = 0.03,
+) -> dict[str, Any]:
+    """Fold ``design`` by ``spec`` with the bar-and-hinge model; the figures and a verdict.
+
+    ``params`` default: from the route's ``[fabrication]``. ``steps``: equal TSA steps
+    up to the route's ``max_turns`` (default: steps of string taken up). The route
+    passes when the simulation stops at the fold limit (or its ``p_max``) within
+    ``tolerance`` in p of the target and no string jams.
+
+    Returns
+    -------
+    dict
+        ``p``, ``turns``, ``peak_torque_Nmm``, ``peak_tension_N``, ``stop``,
+        ``reason``, ``target_p`` and ``reaches_target``.
+    """
+    if params is None:
+        fab = spec.fabrication
+        params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
+    target = fold_limit(design, spec).p
+    result = simulate(design.pattern, spec, params, design=design, steps=steps)
+    p = float(np.nan_to_num(result.p[-1]))
+    reaches = result.stop is not StopReason.JAM and p >= target - tolerance
+    return {
+        "p": p,
+        "turns": float(result.turns[-1]),
+        "peak_torque_Nmm": float(np.max(result.torque, initial=0.0)),
+        "peak_tension_N": float(np.max(result.tensions, initial=0.0)),
+        "stop": result.stop.value,
+        "reason": result.reason,
+        "target_p": float(target),
+        "reaches_target": bool(reaches),
+    }
