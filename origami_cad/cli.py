@@ -1,14 +1,14 @@
 """The ``origami-cad`` command. It only parses arguments into the jobs of :mod:`origami_cad.jobs`.
 
-Exit codes (``docs/outputs.md``): 0 success; 1 a negative answer (``check``: errors found,
-``route``: it never folds); 2 bad input, one line ``origami-cad: error: ...``; 3 an internal
-error; 130 and 143 interrupted.
+Exit codes (``docs/outputs.md``): 0 success; 1 a negative answer (``check``, ``route``); 2 bad
+input, one line ``origami-cad: error: ...``; 3 an internal error; 130 and 143 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import inspect
 import math
 import signal
@@ -51,9 +51,8 @@ def _blocker(text: str) -> tuple[int, float]:
 
 
 def _display(name: str, *args):
-    from origami_cad.viz import console  # imported only when a job runs (a fast --help)
-
-    return getattr(console, name)(*args)
+    """A display of :mod:`origami_cad.viz.console`, imported only when a job runs (fast --help)."""
+    return getattr(importlib.import_module("origami_cad.viz.console"), name)(*args)
 
 
 _BARS = {"design-arm": "CMA-ES generations", "simulate": "simulating", "plan-route": "candidates"}
@@ -242,7 +241,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if exc.code in (0, None):
             raise  # --help, --version
         return int(exc.code)
-    args.params = extra  # the part's own --name value parameters (nothing for the others)
+    if extra:
+        args.params = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
     with handle_signals() if main_thread else contextlib.nullcontext():
         return _run(args)
