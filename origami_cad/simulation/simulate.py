@@ -352,25 +352,44 @@ def simulate(
         cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states
     )
     held = fixed_panel or route.fixed_panel
-    run = _start(cp, route, params, held, fold_limits, prefold, free, design)
+    limits, note = _route_limits(route, design, fold_limits)
+    run = _start(cp, route, params, held, limits, prefold, free, design)
+    run.notes += [note] if note else []
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
     return _result(rows, stop, run.notes)
 
 
+def _route_limits(route: RouteSpec, design: Design | None, fold_limits: dict | None):
+    """The creases' own limits (deg): the blockers ``fold_limits`` and the route's ``p_max``.
+
+    The route's ``p_max`` limits each crease to its angle in the rigid folding at
+    ``p_max`` (the same limit as the DCQC model's); that needs the pattern's folder
+    (``design``). Returns ``({edge: degrees} or None, a note or "")``.
+    """
+    out = {int(k): float(v) for k, v in (fold_limits or {}).items()}
+    if route.p_max is None:
+        return out or None, ""
+    if design is None:
+        return out or None, "the route's p_max is not applied: pass design= to fold by it"
+    from origami_cad.kinematics.folding import fold_design
+
+    angles = np.abs(fold_design(design, route.p_max).fold_angles)
+    for edge in np.flatnonzero(design.pattern.edge_mask("M", "V")):
+        if angles[edge] > 1e-6:
+            out[int(edge)] = min(out.get(int(edge), math.inf), float(angles[edge]))
+    return out, f"the route's p_max = {route.p_max:g} limits each crease to its angle there"
+
+
 def _default_params(
     route: RouteSpec, params: SimulationParams | None, free: bool
 ) -> SimulationParams:
-    """``params``, else the route's ``[fabrication]`` sheet, else the default printed sheet.
+    """``params``, else the sheet the route describes (:meth:`SimulationParams.for_route`).
 
     Raises :class:`SimulationError` when ``free`` but nothing holds the sheet down.
     """
     if params is None:
-        params = (
-            SimulationParams.from_fabrication(route.fabrication)
-            if route.fabrication is not None
-            else SimulationParams()
-        )
+        params = SimulationParams.for_route(route)
     if free and (params.ground is None or params.gravity <= 0):
         raise SimulationError(
             "a free structure (no panel held) needs gravity > 0 and a ground plane to rest on"

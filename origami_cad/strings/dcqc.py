@@ -51,6 +51,7 @@ from origami_cad.strings.route import (
 )
 
 __all__ = [
+    "MAX_STRING_STRAIN",
     "DCQCResult",
     "FoldLimit",
     "Jam",
@@ -64,6 +65,9 @@ __all__ = [
     "tsa_step",
     "turn_limit_stop",
 ]
+
+
+MAX_STRING_STRAIN = 0.02  #: an elastic string strained beyond this jams (both models)
 
 
 class StopReason(StrEnum):
@@ -351,6 +355,7 @@ def simulate_dcqc(
     grid: int | None = None,
     crease_stiffness: float | None = None,
     max_dp: float = 0.01,
+    string_stiffness: float | None = None,
 ) -> DCQCResult:
     """Simulate the folding that the route's strings and TSA produce, state by state.
 
@@ -370,8 +375,15 @@ def simulate_dcqc(
     max_dp : float
         Largest change of the fold ratio between two states; a TSA step that
         folds more is halved.
+    string_stiffness : float, optional
+        Axial stiffness ``EA`` of the strings, N (e.g.
+        ``SimulationParams.string_axial_stiffness``). With ``crease_stiffness`` the
+        strings are elastic (:func:`_elastic_successor`): each state is the nearest
+        equilibrium of the creases' and the strings' energy along the rigid folding,
+        the same energy as the bar-and-hinge simulation's with rigid panels.
+        Without it the strings are inextensible.
     """
-    t = _tables(design, route, grid, crease_stiffness)
+    t = _tables(design, route, grid, crease_stiffness, string_stiffness)
     rows: dict[str, list] = {k: [] for k in _ROWS}
     _record(t, route, rows, 0.0, route.p0, False)
     theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
@@ -398,7 +410,10 @@ class _Tables:
     length between the TSA's ends and the rest of its route, mm; ``l0`` (strings,)
     the string lengths, mm; ``angles`` (A, m) rad at ``angle_ratios`` (A,);
     ``energy_rate`` the creases' energy per fold ratio at ``angle_ratios`` (N mm,
-    None without a crease stiffness); ``tol`` the slack taken as taut, mm.
+    None without a crease stiffness); ``tol`` the slack taken as taut, mm;
+    ``k`` (strings,) the strings' stiffness ``EA / L_0``, N/mm (None: inextensible);
+    ``dx_dis`` and ``drest`` (strings, G) the derivatives of ``x_dis`` and ``rest``
+    by the fold ratio, mm.
     """
 
     limit: FoldLimit
@@ -411,13 +426,18 @@ class _Tables:
     energy_rate: np.ndarray | None
     placement: str
     tol: float
+    k: np.ndarray | None = None
+    dx_dis: np.ndarray | None = None
+    drest: np.ndarray | None = None
 
     def at(self, p: float, table: np.ndarray) -> np.ndarray:
         """Each row of ``table`` (k, G) interpolated at fold ratio ``p``, (k,)."""
         return np.array([np.interp(p, self.ratios, row) for row in table])
 
 
-def _tables(design: Design, route: RouteSpec, grid: int | None, crease_stiffness) -> _Tables:
+def _tables(
+    design: Design, route: RouteSpec, grid: int | None, crease_stiffness, string_stiffness=None
+) -> _Tables:
     """The geometry of the route on ``grid`` fold ratios from ``p0`` to the fold limit."""
     cp = design.pattern
     limit = fold_limit(design, route)
@@ -453,9 +473,12 @@ def _tables(design: Design, route: RouteSpec, grid: int | None, crease_stiffness
         energy = 0.5 * (angles**2 * k).sum(axis=1)
         energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
     tol = 1e-7 * max(cp.size, 1.0)
-    return _Tables(
-        limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol
-    )
+    t = _Tables(limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol)
+    if energy_rate is not None and string_stiffness is not None and len(ratios) > 1:
+        t.k = float(string_stiffness) / l0
+        t.dx_dis = np.gradient(x_dis, ratios, axis=1)
+        t.drest = np.gradient(rest, ratios, axis=1)
+    return t
 
 
 def _record(t: _Tables, route: RouteSpec, rows: dict[str, list], theta, p, moving) -> None:
@@ -471,7 +494,11 @@ def _record(t: _Tables, route: RouteSpec, rows: dict[str, list], theta, p, movin
     taut = (g >= -t.tol) & moving
     tension = np.full(len(t.l0), np.nan)
     torque = math.nan
-    if t.energy_rate is not None:
+    if t.k is not None:  # elastic strings: the tension is the stiffness times the stretch
+        taut = g > t.tol
+        tension = t.k * np.maximum(g, 0.0)
+        torque = float(np.sum(tension * rate))
+    elif t.energy_rate is not None:
         tension[:] = 0.0
         if taut.any():
             dp = 1e-4 * (t.limit.p - route.p0)
@@ -506,8 +533,11 @@ def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: 
     )
     for _ in range(30):
         new = theta + dtheta
-        outcome = _advance(tsa, new, p, t.ratios, t.x_dis, t.rest, t.l0)
-        if outcome[0] != "fold" or outcome[1] - p <= max_dp or dtheta < 1e-9:
+        if t.k is not None:
+            outcome = _elastic_successor(tsa, new, p, t)
+        else:
+            outcome = _advance(tsa, new, p, t.ratios, t.x_dis, t.rest, t.l0)
+        if outcome[0] != "fold" or abs(outcome[1] - p) <= max_dp or dtheta < 1e-9:
             break
         dtheta *= 0.5
     kind, value = outcome[0], outcome[1]
@@ -518,19 +548,34 @@ def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: 
         _record(t, route, rows, new, value, True)
         return new, value, None, "", None
     if kind == "limit":
-        # the TSA angle at which the strings fit exactly at the fold limit
-        lo, hi = theta, new
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            g = tsa.consumed(mid, t.x_dis[:, -1]) + t.rest[:, -1] - t.l0
-            lo, hi = (mid, hi) if np.max(g) <= 0 else (lo, mid)
+        lo = _limit_angle(tsa, t, theta, new)
         if t.limit.p > p:
             theta, p = lo, float(t.limit.p)
             _record(t, route, rows, theta, p, True)
         return theta, p, StopReason.FOLD_LIMIT, f"fold limit reached: {t.limit.describe()}", None
-    string, stretch = value  # jam
+    string, stretch, p_jam = value  # jam
+    if t.k is not None:  # the elastic state where a string stretches instead: recorded
+        theta, p = new, p_jam
+        _record(t, route, rows, theta, p, True)
     jam = Jam(string, _lengthening_segment(design, route, string, p, t.limit.p), p, stretch)
     return theta, p, StopReason.JAM, jam.describe(), jam
+
+
+def _limit_angle(tsa, t: _Tables, theta: float, new: float) -> float:
+    """The TSA angle (rad) in ``[theta, new]`` at which the sheet reaches the fold limit.
+
+    Inextensible strings: where they fit exactly at the limit; elastic ones: where the
+    equilibrium sits exactly at the limit (:func:`_strings_force` zero there).
+    """
+    lo, hi = theta, new
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if t.k is not None:
+            beyond = _strings_force(tsa, mid, np.array([t.limit.p]), t)[0][0] < 0
+        else:
+            beyond = np.max(tsa.consumed(mid, t.x_dis[:, -1]) + t.rest[:, -1] - t.l0) > 0
+        lo, hi = (lo, mid) if beyond else (mid, hi)
+    return hi if t.k is not None else lo
 
 
 def _load_stop(route: RouteSpec, rows: dict[str, list]) -> tuple[StopReason | None, str]:
@@ -586,6 +631,70 @@ def _dcqc_result(design, route, t: _Tables, rows, p, stop, reason, jam) -> DCQCR
     return result
 
 
+def _strings_force(tsa, theta: float, q: np.ndarray, t: _Tables):
+    """The generalised force along the rigid folding with elastic strings, at ratios ``q``.
+
+    ``f(q) = dE/dp``: the creases' energy rate plus each string's tension ``k_i
+    max(g_i, 0)`` times the rate ``dg_i/dp`` of its demand ``g_i`` (its length with the
+    TSA's share at ``theta`` rad, less ``L_0``; mm), N mm per unit fold ratio; negative
+    where the strings fold the sheet further. Returns ``(f (Q,), g (k, Q), dg/dp (k, Q))``.
+    """
+    q = np.atleast_1d(np.asarray(q, dtype=float))
+    xd = np.array([np.interp(q, t.ratios, row) for row in t.x_dis])
+    rs = np.array([np.interp(q, t.ratios, row) for row in t.rest])
+    dxd = np.array([np.interp(q, t.ratios, row) for row in t.dx_dis])
+    drs = np.array([np.interp(q, t.ratios, row) for row in t.drest])
+    length, _, per_x, _ = tsa.consumed_derivatives(theta, xd)
+    g = length + rs - t.l0[:, None]
+    dg = per_x * dxd + drs
+    f = np.interp(q, t.angle_ratios, t.energy_rate) + np.sum(
+        t.k[:, None] * np.maximum(g, 0.0) * dg, axis=0
+    )
+    return f, g, dg
+
+
+def _elastic_successor(tsa, theta: float, p: float, t: _Tables) -> tuple[str, Any]:
+    """Where the sheet goes from fold ratio ``p`` with elastic strings, the TSA at ``theta``.
+
+    The sheet moves along the rigid folding, downhill in the energy (creases plus
+    strings, :func:`_strings_force`), to the *first* equilibrium it meets: the
+    continuous successor of the previous state. ``("fold", p_new)``;
+    ``("limit", None)`` when it would fold past the fold limit; ``("jam", (string,
+    stretch mm, p_new))`` when at ``p_new`` a taut string's demand rises as the sheet
+    folds (the DCQC rule broken: it stretches instead of folding the sheet) or its
+    strain passes :data:`MAX_STRING_STRAIN`.
+    """
+    f_p = float(_strings_force(tsa, theta, np.array([p]), t)[0][0])
+    start = int(np.searchsorted(t.ratios, p, side="right"))
+    up = f_p < 0
+    nodes = t.ratios[start:] if up else t.ratios[: max(start - 1, 0)][::-1]
+    nodes = nodes[nodes != p]
+    f_nodes = _strings_force(tsa, theta, nodes, t)[0] if len(nodes) else np.zeros(0)
+    crossed = np.flatnonzero(f_nodes >= 0 if up else f_nodes <= 0)
+    if not len(crossed):
+        if up:
+            return "limit", None
+        q = float(t.ratios[0])
+    else:
+        j = int(crossed[0])
+        lo, hi = (p if j == 0 else float(nodes[j - 1])), float(nodes[j])
+        for _ in range(50):  # f changes sign between lo and hi
+            mid = 0.5 * (lo + hi)
+            f_mid = float(_strings_force(tsa, theta, np.array([mid]), t)[0][0])
+            lo, hi = (mid, hi) if (f_mid < 0) == up else (lo, mid)
+        q = 0.5 * (lo + hi)
+    _, g, dg = _strings_force(tsa, theta, np.array([q]), t)
+    g, dg = g[:, 0], dg[:, 0]
+    taut = g > t.tol
+    bad = taut & (
+        (dg > 1e-6 * max(1.0, float(np.max(np.abs(dg))))) | (g / t.l0 > MAX_STRING_STRAIN)
+    )
+    if bad.any():
+        string = int(np.argmax(np.where(bad, g, -np.inf)))
+        return "jam", (string, float(g[string]), q)
+    return "fold", q
+
+
 def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
     """Where the sheet goes from fold ratio ``p`` when the TSA is at ``theta``.
 
@@ -611,7 +720,7 @@ def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
     if len(rises):
         k = int(rises[0])
         string = int(np.argmax(g[:, k]))  # the string that makes the worst demand rise
-        return "jam", (string, float(np.max(worst[k : end + 1])))
+        return "jam", (string, float(np.max(worst[k : end + 1])), p)
     if not len(below):
         return "limit", None
     lo = p if end == 1 else float(ratios[start + end - 2])
