@@ -17,10 +17,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from origami_cad.simulation.mechanics import skew
 
-__all__ = ["SimString", "StringSet", "string_derivatives", "string_length"]
+__all__ = ["SimString", "StringSet", "string_derivatives", "string_length", "string_lengths"]
 
 
 @dataclass
@@ -73,6 +74,104 @@ class StringSet:
     offset: float  # half the panel thickness, mm
     tsa: object  # TSAParams
     theta: float = 0.0  # TSA rotation, rad
+    _packed: tuple | None = None
+
+    def packed(self) -> tuple:
+        """The strings' holes and mounts as flat arrays for :func:`string_lengths` (cached;
+        the anchors, which the mean-pose placement moves, are read afresh each time).
+        """
+        if self._packed is None:
+            ss = self.strings
+            starts = np.cumsum([0] + [len(s.tri) for s in ss]).astype(np.int64)
+            mount_tri = np.array(
+                [s.anchor_tri if s.mounted else (-1, -1, -1) for s in ss], dtype=np.int64
+            ).reshape(-1, 3)
+            mount_ab = np.array(
+                [s.anchor_ab if s.mounted else (0.0, 0.0) for s in ss], dtype=float
+            ).reshape(-1, 2)
+            self._packed = (
+                np.ascontiguousarray(np.vstack([s.tri for s in ss]), dtype=np.int64),
+                np.ascontiguousarray(np.vstack([s.ab for s in ss]), dtype=float),
+                np.concatenate([np.asarray(s.orient, float) for s in ss]),
+                np.concatenate([np.asarray(s.sides, float) for s in ss]),
+                np.concatenate([np.asarray(s.leave_sides, float) for s in ss]),
+                starts,
+                mount_tri,
+                mount_ab,
+                np.array([s.anchor_orient for s in ss], dtype=float),
+                np.array([s.through for s in ss], dtype=float),
+            )
+        return self._packed
+
+
+@njit(cache=True)
+def _lengths_kernel(
+    x, tri, ab, orient, sides, leave, starts, mount_tri, mount_ab, mount_orient, anchors, e
+):
+    """Each string's anchor stretch ``x_dis`` and the rest of its route (k,), mm."""
+    k = len(starts) - 1
+    x_dis = np.zeros(k)
+    rest = np.zeros(k)
+    arrive = np.zeros(3)
+    prev = np.zeros(3)
+    for si in range(k):
+        anchor = anchors[si].copy()
+        if mount_tri[si, 0] >= 0:
+            c, nh = _frame_point(x, mount_tri[si], mount_ab[si], mount_orient[si])
+            anchor = c + anchors[si, 2] * nh
+        for h in range(starts[si], starts[si + 1]):
+            c, nh = _frame_point(x, tri[h], ab[h], orient[h])
+            arrive = c + e * sides[h] * nh
+            if h == starts[si]:
+                d = arrive - anchor
+                x_dis[si] = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            else:
+                d = arrive - prev
+                rest[si] += math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            prev = c + e * leave[h] * nh
+    return x_dis, rest
+
+
+@njit(cache=True, inline="always")
+def _frame_point(x, t, ab, orient):
+    """A frame's point ``ab`` and its unit top normal in ``x``."""
+    v0 = x[t[0]]
+    e1 = x[t[1]] - v0
+    e2 = x[t[2]] - v0
+    n = np.empty(3)
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1]
+    n[1] = e1[2] * e2[0] - e1[0] * e2[2]
+    n[2] = e1[0] * e2[1] - e1[1] * e2[0]
+    n *= orient / math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    return v0 + ab[0] * e1 + ab[1] * e2, n
+
+
+def string_lengths(x: np.ndarray, strings: StringSet) -> tuple[np.ndarray, np.ndarray]:
+    """Every string's demanded length (incl. the TSA's share) and ``x_dis``, (k,) each, mm.
+
+    The same as :func:`string_length` string by string, compiled over all strings.
+    """
+    if not strings.strings:
+        return np.zeros(0), np.zeros(0)
+    tri, ab, orient, sides, leave, starts, mtri, mab, morient, through = strings.packed()
+    anchors = np.array([s.anchor for s in strings.strings], dtype=float)
+    x_dis, rest = _lengths_kernel(
+        np.ascontiguousarray(x, dtype=float),
+        tri,
+        ab,
+        orient,
+        sides,
+        leave,
+        starts,
+        mtri,
+        mab,
+        morient,
+        anchors,
+        float(strings.offset),
+    )
+    return np.asarray(
+        strings.tsa.consumed(strings.theta, x_dis), dtype=float
+    ) + rest + through, x_dis
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -37,7 +37,7 @@ import numpy as np
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.cables import SimString, StringSet, string_length
+from origami_cad.simulation.cables import SimString, StringSet, string_length, string_lengths
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
@@ -240,7 +240,7 @@ class _Placement:
                 s.anchor = np.array(next(it))
 
     def lengths(self, x: np.ndarray) -> np.ndarray:
-        return np.array([string_length(x, s, self.strings)[0] for s in self.strings.strings])
+        return string_lengths(x, self.strings)[0]
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """The pose extrapolated linearly from the last two accepted poses."""
@@ -527,7 +527,7 @@ def _record(run: _Run, route: RouteSpec, theta: float, info, world, moved: float
     displacement since the last state, mm.
     """
     x, st, strings, tsa = run.x, run.st, run.strings, route.tsa
-    lengths = np.array([string_length(x, s, strings) for s in strings.strings]).reshape(-1, 2)
+    lengths = np.column_stack(string_lengths(x, strings)).reshape(-1, 2)
     rate = np.array([float(tsa.consumed_derivatives(theta, xd)[1]) for xd in lengths[:, 1]])
     taken = np.array(
         [float(tsa.consumed(theta, xd) - tsa.consumed(0.0, xd)) for xd in lengths[:, 1]]

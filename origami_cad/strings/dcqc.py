@@ -429,6 +429,7 @@ class _Tables:
     k: np.ndarray | None = None
     dx_dis: np.ndarray | None = None
     drest: np.ndarray | None = None
+    stacked: np.ndarray | None = None  # x_dis, rest, dx_dis, drest stacked (4 k, G)
 
     def at(self, p: float, table: np.ndarray) -> np.ndarray:
         """Each row of ``table`` (k, G) interpolated at fold ratio ``p``, (k,)."""
@@ -640,10 +641,12 @@ def _strings_force(tsa, theta: float, q: np.ndarray, t: _Tables):
     where the strings fold the sheet further. Returns ``(f (Q,), g (k, Q), dg/dp (k, Q))``.
     """
     q = np.atleast_1d(np.asarray(q, dtype=float))
-    xd = np.array([np.interp(q, t.ratios, row) for row in t.x_dis])
-    rs = np.array([np.interp(q, t.ratios, row) for row in t.rest])
-    dxd = np.array([np.interp(q, t.ratios, row) for row in t.dx_dis])
-    drs = np.array([np.interp(q, t.ratios, row) for row in t.drest])
+    if t.stacked is None:
+        t.stacked = np.vstack([t.x_dis, t.rest, t.dx_dis, t.drest])
+    j = np.clip(np.searchsorted(t.ratios, q, side="right"), 1, len(t.ratios) - 1)
+    w = np.clip((q - t.ratios[j - 1]) / (t.ratios[j] - t.ratios[j - 1]), 0.0, 1.0)
+    rows = t.stacked[:, j - 1] * (1.0 - w) + t.stacked[:, j] * w  # linear, as np.interp
+    xd, rs, dxd, drs = np.split(rows, 4)
     length, _, per_x, _ = tsa.consumed_derivatives(theta, xd)
     g = length + rs - t.l0[:, None]
     dg = per_x * dxd + drs
@@ -678,11 +681,14 @@ def _elastic_successor(tsa, theta: float, p: float, t: _Tables) -> tuple[str, An
     else:
         j = int(crossed[0])
         lo, hi = (p if j == 0 else float(nodes[j - 1])), float(nodes[j])
-        for _ in range(50):  # f changes sign between lo and hi
-            mid = 0.5 * (lo + hi)
-            f_mid = float(_strings_force(tsa, theta, np.array([mid]), t)[0][0])
-            lo, hi = (mid, hi) if (f_mid < 0) == up else (lo, mid)
-        q = 0.5 * (lo + hi)
+        f_lo = f_p if j == 0 else float(f_nodes[j - 1])
+        q = _root(
+            lambda v: float(_strings_force(tsa, theta, np.array([v]), t)[0][0]),
+            lo,
+            hi,
+            f_lo,
+            float(f_nodes[j]),
+        )
     _, g, dg = _strings_force(tsa, theta, np.array([q]), t)
     g, dg = g[:, 0], dg[:, 0]
     taut = g > t.tol
@@ -693,6 +699,34 @@ def _elastic_successor(tsa, theta: float, p: float, t: _Tables) -> tuple[str, An
         string = int(np.argmax(np.where(bad, g, -np.inf)))
         return "jam", (string, float(g[string]), q)
     return "fold", q
+
+
+def _root(f, a: float, b: float, fa: float, fb: float, tol: float = 1e-12) -> float:
+    """A root of ``f`` between ``a`` and ``b``, where it changes sign (``fa``, ``fb``):
+    regula falsi with the Illinois rule, falling back to bisection, to ``tol``.
+    """
+    side = 0
+    for _ in range(100):
+        if fb == fa:
+            c = 0.5 * (a + b)
+        else:
+            c = b - fb * (b - a) / (fb - fa)
+            if not min(a, b) < c < max(a, b):
+                c = 0.5 * (a + b)
+        fc = f(c)
+        if fc == 0 or abs(b - a) < tol:
+            return c
+        if (fc > 0) == (fb > 0):
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return c
 
 
 def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
