@@ -240,13 +240,10 @@ def tsa_step(tsa, theta: float, x_dis: np.ndarray, take_up: float, cap: float) -
     def taken(d: float) -> float:
         return float(np.max(tsa.consumed(theta + d, x_dis) - now))
 
-    if taken(cap) <= take_up:
+    at_cap = taken(cap)
+    if at_cap <= take_up:
         return cap
-    lo, hi = 0.0, cap
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if taken(mid) < take_up else (lo, mid)
-    return hi
+    return _root(lambda d: taken(d) - take_up, 0.0, cap, -take_up, at_cap - take_up, 1e-9 * cap)
 
 
 def segment_names(string: StringRoute) -> list[str]:
