@@ -237,12 +237,40 @@ def test_stop_torque_limit(tmp_path):
 def test_stop_fold_limit_from_the_route_and_a_blocker(tmp_path):
     design, route = _one_crease(tmp_path)
     route = dataclasses.replace(route, p_max=0.3, max_turns=40.0)
-    dcqc = simulate_dcqc(design, route)
-    assert dcqc.stop is StopReason.FOLD_LIMIT and dcqc.p[-1] == pytest.approx(0.3)
     crease = int(np.flatnonzero(design.pattern.edge_mask("V"))[0])
-    sim = simulate(design.pattern, route, design=design, fold_limits={crease: 54.0})
+    # the route's p_max stops both models: the simulation limits the crease to its angle there
+    for result in _both(design, route):
+        assert result.stop is StopReason.FOLD_LIMIT and result.p[-1] == pytest.approx(0.3, abs=0.01)
+    assert _both(design, route)[1].limited_edges == (crease,)
+    # a blocker: a limit on one crease (54 deg: p = 0.3 for this crease)
+    free = dataclasses.replace(route, p_max=None)
+    sim = simulate(design.pattern, free, design=design, fold_limits={crease: 54.0})
     assert sim.stop is StopReason.FOLD_LIMIT and sim.limited_edges == (crease,)
     assert sim.p[-1] == pytest.approx(0.3, abs=0.01)
+
+
+def test_one_route_file_gives_both_models_one_fold_limit(tmp_path):
+    """With [fabrication]: eq. 6 (legs first) in both; without: the folder's p = 1 and no
+    printed limit on the creases (they may fold flat, 180 deg); p_max: that in both."""
+    design, route = _fold_file_miura(tmp_path)
+    bare = dataclasses.replace(route, fabrication=None)
+    printed = SimulationParams.for_route(route)
+    assert printed == SimulationParams.from_fabrication(route.fabrication)
+    assert printed.fold_limit == pytest.approx(math.degrees(route.fabrication.theta_max))
+    assert fold_limit(design, route).source == "eq6"
+    # the rigid folding at the DCQC limit puts its first crease exactly at the sim's limit
+    from origami_cad.kinematics.folding import fold_design
+
+    angles = np.abs(fold_design(design, fold_limit(design, route).p).fold_angles)
+    assert angles.max() == pytest.approx(printed.fold_limit, abs=1e-3)
+    assert fold_limit(design, bare).p == 1.0 and SimulationParams.for_route(bare).fold_limit == 180
+    assert np.abs(fold_design(design, 1.0).fold_angles).max() == pytest.approx(180.0, abs=1e-6)
+    # the route's p_max: the DCQC limit, and the creases' angles there in the simulation
+    capped = dataclasses.replace(bare, p_max=0.4, max_turns=200.0)
+    assert fold_limit(design, capped).p == 0.4
+    sim = simulate(design.pattern, capped, design=design)
+    assert sim.stop is StopReason.FOLD_LIMIT and sim.p[-1] == pytest.approx(0.4, abs=0.02)
+    assert "p_max = 0.4" in " ".join(sim.notes)
 
 
 def test_stop_jam_names_string_and_segment_on_one_crease(tmp_path):
