@@ -143,7 +143,8 @@ def test_a_miura_from_a_fold_file_folds_past_p03_in_both_models(tmp_path):
     bare_route = load_route(bare, design.pattern)
     assert bare_route.fabrication is None and fold_limit(design, bare_route).p == 1.0
     assert simulate_dcqc(design, bare_route).p[-1] > 0.3
-    dcqc = simulate_dcqc(design, route)
+    # both models as the commands run them: one route file, its materials
+    dcqc = simulate_dcqc(design, route, **SimulationParams.for_route(route).dcqc_stiffness())
     sim = simulate(design.pattern, route, design=design)
     for result in (dcqc, sim):
         assert result.stop in StopReason and result.reason
@@ -167,13 +168,17 @@ def test_breaking_the_side_rule_on_one_crease_jams_both_models(tmp_path):
         "string 5: segment c1r1s2 -> c1r1s3 runs below a valley crease; DCQC needs it above"
     ]
     dcqc = simulate_dcqc(design, route)
+    elastic = simulate_dcqc(design, route, **SimulationParams.for_route(route).dcqc_stiffness())
     sim = simulate(design.pattern, route, design=design)
-    for result in (dcqc, sim):
+    for result in (dcqc, elastic, sim):
         assert result.stop is StopReason.JAM
         assert result.jam.string == 4 and result.jam.segment == "c1r1s2 -> c1r1s3"
         assert "string 5" in result.reason and "c1r1s2 -> c1r1s3" in result.reason
         assert result.jam.stretch_mm > 0
-    assert not dcqc.valid and dcqc.p[-1] == 0.0  # it never folds
+    assert not dcqc.valid and dcqc.p[-1] == 0.0  # inextensible: it never folds
+    # elastic: string 5 is taut from the first step and stretches as the others fold a little
+    assert elastic.p[-1] < 0.05 and "has stretched" in elastic.reason
+    assert elastic.tensions[-1, 4] == elastic.tensions[-1].max()
     # the elastic string 5 lets the other strings fold the sheet a little before the jam
     assert sim.p[-1] < 0.3 and sim.stretch[-1, 4] == sim.stretch[-1].max()
     assert sim.to_dict()["jam"]["segment"] == "c1r1s2 -> c1r1s3"

@@ -95,10 +95,12 @@ class Jam:
     segment: str
     p: float
     stretch_mm: float
+    elastic: bool = False  # the string has stretched so far (elastic strings), not would have to
 
     def describe(self) -> str:
+        stretch = "has stretched" if self.elastic else "would have to stretch"
         return (
-            f"jam: string {self.string + 1} would have to stretch by {self.stretch_mm:.3g} mm "
+            f"jam: string {self.string + 1} {stretch} by {self.stretch_mm:.3g} mm "
             f"at p = {self.p:.3f}; {self.hint()}"
         )
 
@@ -555,7 +557,8 @@ def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: 
     if t.k is not None:  # the elastic state where a string stretches instead: recorded
         theta, p = new, p_jam
         _record(t, route, rows, theta, p, True)
-    jam = Jam(string, _lengthening_segment(design, route, string, p, t.limit.p), p, stretch)
+    segment = _lengthening_segment(design, route, string, p, t.limit.p)
+    jam = Jam(string, segment, p, stretch, elastic=t.k is not None)
     return theta, p, StopReason.JAM, jam.describe(), jam
 
 
