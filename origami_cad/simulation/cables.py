@@ -122,10 +122,11 @@ def _lengths_kernel(
     for si in range(k):
         anchor = anchors[si].copy()
         if mount_tri[si, 0] >= 0:
-            c, nh = _frame_point(x, mount_tri[si], mount_ab[si], mount_orient[si])
-            anchor = c + anchors[si, 2] * nh
+            _, _, n, norm, c = _frame(x, mount_tri[si], mount_ab[si], mount_orient[si])
+            anchor = c + anchors[si, 2] * n / norm
         for h in range(starts[si], starts[si + 1]):
-            c, nh = _frame_point(x, tri[h], ab[h], orient[h])
+            _, _, n, norm, c = _frame(x, tri[h], ab[h], orient[h])
+            nh = n / norm
             arrive = c + e * sides[h] * nh
             if h == starts[si]:
                 d = arrive - anchor
@@ -135,20 +136,6 @@ def _lengths_kernel(
                 rest[si] += math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             prev = c + e * leave[h] * nh
     return x_dis, rest
-
-
-@njit(cache=True, inline="always")
-def _frame_point(x, t, ab, orient):
-    """A frame's point ``ab`` and its unit top normal in ``x``."""
-    v0 = x[t[0]]
-    e1 = x[t[1]] - v0
-    e2 = x[t[2]] - v0
-    n = np.empty(3)
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1]
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2]
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0]
-    n *= orient / math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
-    return v0 + ab[0] * e1 + ab[1] * e2, n
 
 
 def string_lengths(x: np.ndarray, strings: StringSet) -> tuple[np.ndarray, np.ndarray]:
