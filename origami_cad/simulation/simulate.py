@@ -458,8 +458,8 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     st.hinge_rest = sign * math.radians(prefold)
     if ground is not None:
         ground.start(st.x0)
-    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
-    assembly = HessianAssembly(st, strings)
+    assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground, assembly=assembly)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
