@@ -42,6 +42,7 @@ from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
 from origami_cad.strings.dcqc import (
+    MAX_STRING_STRAIN,
     Jam,
     StopReason,
     TurnStates,
@@ -281,7 +282,7 @@ class StopRules:
     tension_cap: float
     jam_ratio: float = 0.8
     jam_steps: int = 3
-    max_string_strain: float = 0.02
+    max_string_strain: float = MAX_STRING_STRAIN
     max_bar_strain: float = 0.01
     max_dp: float = 0.01
     max_states: int = 5000
@@ -300,7 +301,7 @@ def simulate(
     tension_limit: float | None = None,
     jam_ratio: float = 0.8,
     jam_steps: int = 3,
-    max_string_strain: float = 0.02,
+    max_string_strain: float = MAX_STRING_STRAIN,
     max_bar_strain: float = 0.01,
     max_dp: float = 0.01,
     max_states: int = 5000,

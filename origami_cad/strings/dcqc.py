@@ -14,17 +14,22 @@ rise, the string would have to stretch, and the folding *jams*; the jam names
 the string, the segment that lengthens, the fold ratio and the stretch it would
 need. A state never jumps over fold ratios the strings forbid.
 
-Strings and panels are inextensible and rigid. The sheet keeps its mean pose
+Panels are rigid. Strings are inextensible, or, given their ``EA`` and the creases'
+stiffness, elastic: each state is then the nearest equilibrium of the creases' and the
+strings' energy along the rigid folding (the bar-and-hinge simulation's energy with rigid
+panels), and the tensions are the strings' stretch times ``EA / L_0``. The sheet
+keeps its mean pose
 (:func:`~origami_cad.strings.route.mean_pose`: the vertex centroid stays and it
 does not rotate on average, a sheet free in the middle of the ring and pulled
 evenly) unless the route holds a panel. The fold limit is the route's
 ``p_max``, else the printed sheet's (eq. 6 on the first crease, legs included,
 :func:`fold_limit`), else the largest fold ratio the folder takes.
 
-With a crease stiffness, the tension follows by virtual work: the binding
-strings' tension times the string that folding saves per unit ``p`` equals the
-creases' elastic energy per unit ``p``; the TSA torque is the tension times
-the string taken up per radian (:meth:`TSAParams.consumed_derivatives`).
+With a crease stiffness alone (inextensible strings), the tension follows by
+virtual work: the binding strings' tension times the string that folding saves
+per unit ``p`` equals the creases' elastic energy per unit ``p``. The TSA torque
+is the tension times the string taken up per radian
+(:meth:`TSAParams.consumed_derivatives`).
 """
 
 from __future__ import annotations
