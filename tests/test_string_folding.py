@@ -85,6 +85,10 @@ def test_fig5_dcqc_folds_continuously_from_flat_to_the_fold_limit(fig5):
     assert (
         np.max(np.abs(stiff.p - np.interp(stiff.turns, inextensible.turns, inextensible.p))) < 2e-3
     )
+    from origami_cad.errors import SimulationError
+
+    with pytest.raises(SimulationError, match="crease_stiffness"):  # no energy, no stretch
+        simulate_dcqc(design, route, string_stiffness=6000.0)
     # inextensible with a crease stiffness: tensions by virtual work, positive while folding
     work = simulate_dcqc(design, route, crease_stiffness=params.crease_stiffness)
     assert np.all(work.tensions[1:][work.taut[1:]] > 0) and np.nanmax(work.torque) > 0

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.strings.route import (
@@ -387,6 +388,11 @@ def simulate_dcqc(
         the same energy as the bar-and-hinge simulation's with rigid panels.
         Without it the strings are inextensible.
     """
+    if string_stiffness is not None and (crease_stiffness is None or not string_stiffness > 0):
+        raise SimulationError(
+            "simulate_dcqc: elastic strings need a positive string_stiffness (EA, N) and the "
+            f"creases' crease_stiffness too (got {string_stiffness!r}, {crease_stiffness!r})"
+        )
     t = _tables(design, route, grid, crease_stiffness, string_stiffness)
     rows: dict[str, list] = {k: [] for k in _ROWS}
     _record(t, route, rows, 0.0, route.p0, False)
