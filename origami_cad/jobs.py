@@ -769,7 +769,7 @@ def run_route(
     loaded, warned = _sized_source(design, unit, scale, width)
     cp = loaded.pattern
     spec = load_route(route, cp)
-    result = simulate_dcqc(loaded, spec, crease_stiffness=_sim_params(spec).crease_stiffness)
+    result = simulate_dcqc(loaded, spec, **_sim_params(spec).dcqc_stiffness())
     names = ("dcqc.json", "route.png", "dcqc.png", "route_folded.png")
     with atomic_directory(folder, inputs=_sources(design, route, loaded)) as stage:
         with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
@@ -813,9 +813,7 @@ def _sim_params(spec, **loads):
     """The simulation's materials: from the route's [fabrication] (one source), else defaults."""
     from origami_cad.simulation import SimulationParams
 
-    if spec.fabrication is not None:
-        return SimulationParams.from_fabrication(spec.fabrication, **loads)
-    return SimulationParams(**loads)
+    return SimulationParams.for_route(spec, **loads)
 
 
 def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Outputs:
@@ -834,7 +832,7 @@ def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Ou
     loaded = load_pattern_source(design)
     spec = load_route(route, loaded.pattern)
     params = _sim_params(spec)
-    dcqc = simulate_dcqc(loaded, spec, crease_stiffness=params.crease_stiffness)
+    dcqc = simulate_dcqc(loaded, spec, **params.dcqc_stiffness())
     sim = simulate(loaded.pattern, spec, params, design=loaded)
     gap = np.abs(sim.p - np.interp(sim.turns, dcqc.turns, dcqc.p))
     names = ("fig5.png", "simulation.json")
@@ -1180,10 +1178,9 @@ def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_pane
         if fixed_panel not in loaded.pattern.face_labels:
             raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
         spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
-    fab = spec.fabrication
-    params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
+    params = SimulationParams.for_route(spec)
     if model == "dcqc":
-        return simulate_dcqc(loaded, spec, crease_stiffness=params.crease_stiffness)
+        return simulate_dcqc(loaded, spec, **params.dcqc_stiffness())
     return simulate(loaded.pattern, spec, params, design=loaded, steps=steps)
 
 

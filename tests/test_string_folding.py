@@ -29,7 +29,7 @@ def fig5():
     design = load_design(EXAMPLES / "miura_6x4.toml")
     route = load_route(EXAMPLES / "miura_route.toml", design.pattern)
     params = SimulationParams.from_fabrication(route.fabrication)
-    dcqc = simulate_dcqc(design, route, crease_stiffness=params.crease_stiffness)
+    dcqc = simulate_dcqc(design, route, **params.dcqc_stiffness())
     sim = simulate(design.pattern, route, design=design)
     return design, route, dcqc, sim
 
@@ -53,19 +53,45 @@ def test_the_sheets_fold_limit_is_its_first_crease_at_eq6_legs_included(fig5):
 
 
 def test_fig5_dcqc_folds_continuously_from_flat_to_the_fold_limit(fig5):
-    _, _, dcqc, _ = fig5
-    assert dcqc.valid and dcqc.stop is StopReason.FOLD_LIMIT
-    assert dcqc.p[0] == 0.0 and dcqc.turns[0] == 0.0
-    assert np.all(np.diff(dcqc.p) >= 0) and np.all(np.diff(dcqc.turns) > 0)
-    assert np.max(np.diff(dcqc.p)) <= 0.02  # no jumps over states the strings forbid
-    assert dcqc.p[-1] == pytest.approx(dcqc.limit.p, abs=0.02)
-    assert dcqc.p[1] < 0.02  # the first twist already folds a little, not a leap
-    # every state fits its strings: the binding ones exactly, the others slack
-    g = dcqc.tsa_length + dcqc.routed_length - np.array(dcqc.initial_length_mm)
+    design, route, elastic, _ = fig5
+    inextensible = simulate_dcqc(design, route)  # DCQC's own assumption: no stretch
+    for dcqc in (elastic, inextensible):
+        assert dcqc.valid and dcqc.stop is StopReason.FOLD_LIMIT
+        assert dcqc.p[0] == 0.0 and dcqc.turns[0] == 0.0
+        assert np.all(np.diff(dcqc.p) >= 0) and np.all(np.diff(dcqc.turns) > 0)
+        assert np.max(np.diff(dcqc.p)) <= 0.02  # no jumps over states the strings forbid
+        assert dcqc.p[-1] == pytest.approx(dcqc.limit.p, abs=0.02)
+        assert dcqc.p[1] < 0.02  # the first twist already folds a little, not a leap
+    # inextensible: every state fits its strings, the binding ones exactly, the others slack
+    g = inextensible.tsa_length + inextensible.routed_length
+    g -= np.array(inextensible.initial_length_mm)
     assert np.all(g <= 1e-6)
-    assert np.all(np.abs(g[dcqc.taut]) < 1e-6)
-    # tensions by virtual work: positive on the binding strings while folding
-    assert np.all(dcqc.tensions[1:][dcqc.taut[1:]] > 0) and np.nanmax(dcqc.torque) > 0
+    assert np.all(np.abs(g[inextensible.taut]) < 1e-6)
+    # elastic: the taut strings stretch by tension / (EA / L0), the slack ones fit
+    l0 = np.array(elastic.initial_length_mm)
+    stretch = elastic.tsa_length + elastic.routed_length - l0
+    ea = SimulationParams().string_axial_stiffness
+    assert np.all(stretch[~elastic.taut] <= 1e-6)
+    assert np.allclose(elastic.tensions, ea / l0 * np.maximum(stretch, 0.0), atol=1e-9)
+    assert elastic.tensions.max() < 20.0 and np.all(elastic.torque[1:] > 0)
+    # the stretch makes it lag: at the same turns it folds less than inextensible strings
+    kinematic = np.interp(elastic.turns, inextensible.turns, inextensible.p)
+    assert np.all(elastic.p <= kinematic + 1e-6) and np.max(kinematic - elastic.p) > 0.005
+    # and as the strings' EA grows it tends to the inextensible model
+    params = SimulationParams.from_fabrication(route.fabrication)
+    stiff = simulate_dcqc(
+        design, route, crease_stiffness=params.crease_stiffness, string_stiffness=1e8
+    )
+    assert (
+        np.max(np.abs(stiff.p - np.interp(stiff.turns, inextensible.turns, inextensible.p))) < 2e-3
+    )
+    from origami_cad.errors import SimulationError
+
+    with pytest.raises(SimulationError, match="crease_stiffness"):  # no energy, no stretch
+        simulate_dcqc(design, route, string_stiffness=6000.0)
+    # inextensible with a crease stiffness: tensions by virtual work, positive while folding
+    work = simulate_dcqc(design, route, crease_stiffness=params.crease_stiffness)
+    assert np.all(work.tensions[1:][work.taut[1:]] > 0) and np.nanmax(work.torque) > 0
 
 
 def test_fig5_simulation_folds_to_the_same_limit_for_a_named_reason(fig5):
@@ -86,15 +112,16 @@ def test_fig5_simulation_folds_to_the_same_limit_for_a_named_reason(fig5):
 
 
 def test_fig5_models_agree(fig5):
-    """Default physics within 0.05; with DCQC's own assumptions within 0.02."""
+    """Within 0.02 in p at every state, at default physics and with DCQC's own assumptions."""
     design, route, dcqc, sim = fig5
-    assert _gap(sim, dcqc).max() < 0.05  # strings stretch, panels bend: it lags a little
+    # the same elastic strings and creases in both; the panels bend in the simulation only
+    assert _gap(sim, dcqc).max() < 0.02
     rigid = SimulationParams.from_fabrication(
         route.fabrication, string_axial_stiffness=1e5, panel_modulus=35000.0
     )
     stiff = simulate(design.pattern, route, rigid, design=design)
     assert stiff.stop is StopReason.FOLD_LIMIT
-    assert _gap(stiff, dcqc).max() < 0.02
+    assert _gap(stiff, simulate_dcqc(design, route)).max() < 0.02  # inextensible, rigid
 
 
 def _fold_file_miura(tmp_path: Path):
@@ -120,7 +147,8 @@ def test_a_miura_from_a_fold_file_folds_past_p03_in_both_models(tmp_path):
     bare_route = load_route(bare, design.pattern)
     assert bare_route.fabrication is None and fold_limit(design, bare_route).p == 1.0
     assert simulate_dcqc(design, bare_route).p[-1] > 0.3
-    dcqc = simulate_dcqc(design, route)
+    # both models as the commands run them: one route file, its materials
+    dcqc = simulate_dcqc(design, route, **SimulationParams.for_route(route).dcqc_stiffness())
     sim = simulate(design.pattern, route, design=design)
     for result in (dcqc, sim):
         assert result.stop in StopReason and result.reason
@@ -144,13 +172,17 @@ def test_breaking_the_side_rule_on_one_crease_jams_both_models(tmp_path):
         "string 5: segment c1r1s2 -> c1r1s3 runs below a valley crease; DCQC needs it above"
     ]
     dcqc = simulate_dcqc(design, route)
+    elastic = simulate_dcqc(design, route, **SimulationParams.for_route(route).dcqc_stiffness())
     sim = simulate(design.pattern, route, design=design)
-    for result in (dcqc, sim):
+    for result in (dcqc, elastic, sim):
         assert result.stop is StopReason.JAM
         assert result.jam.string == 4 and result.jam.segment == "c1r1s2 -> c1r1s3"
         assert "string 5" in result.reason and "c1r1s2 -> c1r1s3" in result.reason
         assert result.jam.stretch_mm > 0
-    assert not dcqc.valid and dcqc.p[-1] == 0.0  # it never folds
+    assert not dcqc.valid and dcqc.p[-1] == 0.0  # inextensible: it never folds
+    # elastic: string 5 is taut from the first step and stretches as the others fold a little
+    assert elastic.p[-1] < 0.05 and "has stretched" in elastic.reason
+    assert elastic.tensions[-1, 4] == elastic.tensions[-1].max()
     # the elastic string 5 lets the other strings fold the sheet a little before the jam
     assert sim.p[-1] < 0.3 and sim.stretch[-1, 4] == sim.stretch[-1].max()
     assert sim.to_dict()["jam"]["segment"] == "c1r1s2 -> c1r1s3"
@@ -173,7 +205,7 @@ def _one_crease(tmp_path: Path, extra: str = "", tsa: str = "") -> tuple[Design,
 
 def _both(design, route):
     params = SimulationParams()
-    dcqc = simulate_dcqc(design, route, crease_stiffness=params.crease_stiffness)
+    dcqc = simulate_dcqc(design, route, **params.dcqc_stiffness())
     sim = simulate(design.pattern, route, params, design=design)
     return dcqc, sim
 
@@ -214,12 +246,40 @@ def test_stop_torque_limit(tmp_path):
 def test_stop_fold_limit_from_the_route_and_a_blocker(tmp_path):
     design, route = _one_crease(tmp_path)
     route = dataclasses.replace(route, p_max=0.3, max_turns=40.0)
-    dcqc = simulate_dcqc(design, route)
-    assert dcqc.stop is StopReason.FOLD_LIMIT and dcqc.p[-1] == pytest.approx(0.3)
     crease = int(np.flatnonzero(design.pattern.edge_mask("V"))[0])
-    sim = simulate(design.pattern, route, design=design, fold_limits={crease: 54.0})
+    # the route's p_max stops both models: the simulation limits the crease to its angle there
+    for result in _both(design, route):
+        assert result.stop is StopReason.FOLD_LIMIT and result.p[-1] == pytest.approx(0.3, abs=0.01)
+    assert _both(design, route)[1].limited_edges == (crease,)
+    # a blocker: a limit on one crease (54 deg: p = 0.3 for this crease)
+    free = dataclasses.replace(route, p_max=None)
+    sim = simulate(design.pattern, free, design=design, fold_limits={crease: 54.0})
     assert sim.stop is StopReason.FOLD_LIMIT and sim.limited_edges == (crease,)
     assert sim.p[-1] == pytest.approx(0.3, abs=0.01)
+
+
+def test_one_route_file_gives_both_models_one_fold_limit(tmp_path):
+    """With [fabrication]: eq. 6 (legs first) in both; without: the folder's p = 1 and no
+    printed limit on the creases (they may fold flat, 180 deg); p_max: that in both."""
+    design, route = _fold_file_miura(tmp_path)
+    bare = dataclasses.replace(route, fabrication=None)
+    printed = SimulationParams.for_route(route)
+    assert printed == SimulationParams.from_fabrication(route.fabrication)
+    assert printed.fold_limit == pytest.approx(math.degrees(route.fabrication.theta_max))
+    assert fold_limit(design, route).source == "eq6"
+    # the rigid folding at the DCQC limit puts its first crease exactly at the sim's limit
+    from origami_cad.kinematics.folding import fold_design
+
+    angles = np.abs(fold_design(design, fold_limit(design, route).p).fold_angles)
+    assert angles.max() == pytest.approx(printed.fold_limit, abs=1e-3)
+    assert fold_limit(design, bare).p == 1.0 and SimulationParams.for_route(bare).fold_limit == 180
+    assert np.abs(fold_design(design, 1.0).fold_angles).max() == pytest.approx(180.0, abs=1e-6)
+    # the route's p_max: the DCQC limit, and the creases' angles there in the simulation
+    capped = dataclasses.replace(bare, p_max=0.4, max_turns=200.0)
+    assert fold_limit(design, capped).p == 0.4
+    sim = simulate(design.pattern, capped, design=design)
+    assert sim.stop is StopReason.FOLD_LIMIT and sim.p[-1] == pytest.approx(0.4, abs=0.02)
+    assert "p_max = 0.4" in " ".join(sim.notes)
 
 
 def test_stop_jam_names_string_and_segment_on_one_crease(tmp_path):

@@ -106,10 +106,35 @@ class SimulationParams:
         values.update(overrides)
         return cls(**values)
 
+    @classmethod
+    def for_route(cls, route, **overrides) -> SimulationParams:
+        """The sheet a route file describes, with the same fold limit as the DCQC model.
+
+        With the route's ``[fabrication]`` table, :meth:`from_fabrication` (eq. 6's
+        ``theta_max`` on every crease); without it the default materials and no printed
+        fold limit: the creases may fold up to flat (180 deg), the limit of the
+        pattern's folder at p = 1 that the DCQC model takes then
+        (:func:`~origami_cad.strings.dcqc.fold_limit`). ``overrides`` set any field.
+        """
+        if route.fabrication is not None:
+            return cls.from_fabrication(route.fabrication, **overrides)
+        return cls(**{"fold_limit": 180.0, **overrides})
+
     @property
     def crease_stiffness(self) -> float:
         """Rotational stiffness of a crease per unit length, N mm / rad / mm: E t^3 / (12 w)."""
         return self.crease_modulus * self.crease_thickness**3 / (12.0 * self.hinge_zone)
+
+    def dcqc_stiffness(self) -> dict[str, float]:
+        """The same creases and strings for the DCQC model: keywords of
+        :func:`~origami_cad.strings.simulate_dcqc` (``crease_stiffness``, N mm / rad / mm,
+        and ``string_stiffness``, the strings' EA in N), so that both string models fold
+        one sheet with one set of materials.
+        """
+        return {
+            "crease_stiffness": self.crease_stiffness,
+            "string_stiffness": self.string_axial_stiffness,
+        }
 
     @property
     def panel_bending(self) -> float:

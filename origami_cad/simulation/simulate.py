@@ -37,11 +37,12 @@ import numpy as np
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.cables import SimString, StringSet, string_length
+from origami_cad.simulation.cables import SimString, StringSet, string_length, string_lengths
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
 from origami_cad.strings.dcqc import (
+    MAX_STRING_STRAIN,
     Jam,
     StopReason,
     TurnStates,
@@ -240,7 +241,7 @@ class _Placement:
                 s.anchor = np.array(next(it))
 
     def lengths(self, x: np.ndarray) -> np.ndarray:
-        return np.array([string_length(x, s, self.strings)[0] for s in self.strings.strings])
+        return string_lengths(x, self.strings)[0]
 
     def predict(self) -> tuple[np.ndarray, np.ndarray]:
         """The pose extrapolated linearly from the last two accepted poses."""
@@ -281,7 +282,7 @@ class StopRules:
     tension_cap: float
     jam_ratio: float = 0.8
     jam_steps: int = 3
-    max_string_strain: float = 0.02
+    max_string_strain: float = MAX_STRING_STRAIN
     max_bar_strain: float = 0.01
     max_dp: float = 0.01
     max_states: int = 5000
@@ -300,7 +301,7 @@ def simulate(
     tension_limit: float | None = None,
     jam_ratio: float = 0.8,
     jam_steps: int = 3,
-    max_string_strain: float = 0.02,
+    max_string_strain: float = MAX_STRING_STRAIN,
     max_bar_strain: float = 0.01,
     max_dp: float = 0.01,
     max_states: int = 5000,
@@ -352,25 +353,44 @@ def simulate(
         cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states
     )
     held = fixed_panel or route.fixed_panel
-    run = _start(cp, route, params, held, fold_limits, prefold, free, design)
+    limits, note = _route_limits(route, design, fold_limits)
+    run = _start(cp, route, params, held, limits, prefold, free, design)
+    run.notes += [note] if note else []
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
     return _result(rows, stop, run.notes)
 
 
+def _route_limits(route: RouteSpec, design: Design | None, fold_limits: dict | None):
+    """The creases' own limits (deg): the blockers ``fold_limits`` and the route's ``p_max``.
+
+    The route's ``p_max`` limits each crease to its angle in the rigid folding at
+    ``p_max`` (the same limit as the DCQC model's); that needs the pattern's folder
+    (``design``). Returns ``({edge: degrees} or None, a note or "")``.
+    """
+    out = {int(k): float(v) for k, v in (fold_limits or {}).items()}
+    if route.p_max is None:
+        return out or None, ""
+    if design is None:
+        return out or None, "the route's p_max is not applied: pass design= to fold by it"
+    from origami_cad.kinematics.folding import fold_design
+
+    angles = np.abs(fold_design(design, route.p_max).fold_angles)
+    for edge in np.flatnonzero(design.pattern.edge_mask("M", "V")):
+        if angles[edge] > 1e-6:
+            out[int(edge)] = min(out.get(int(edge), math.inf), float(angles[edge]))
+    return out, f"the route's p_max = {route.p_max:g} limits each crease to its angle there"
+
+
 def _default_params(
     route: RouteSpec, params: SimulationParams | None, free: bool
 ) -> SimulationParams:
-    """``params``, else the route's ``[fabrication]`` sheet, else the default printed sheet.
+    """``params``, else the sheet the route describes (:meth:`SimulationParams.for_route`).
 
     Raises :class:`SimulationError` when ``free`` but nothing holds the sheet down.
     """
     if params is None:
-        params = (
-            SimulationParams.from_fabrication(route.fabrication)
-            if route.fabrication is not None
-            else SimulationParams()
-        )
+        params = SimulationParams.for_route(route)
     if free and (params.ground is None or params.gravity <= 0):
         raise SimulationError(
             "a free structure (no panel held) needs gravity > 0 and a ground plane to rest on"
@@ -439,8 +459,8 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     st.hinge_rest = sign * math.radians(prefold)
     if ground is not None:
         ground.start(st.x0)
-    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground)
-    assembly = HessianAssembly(st, strings)
+    assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground, assembly=assembly)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
@@ -508,7 +528,7 @@ def _record(run: _Run, route: RouteSpec, theta: float, info, world, moved: float
     displacement since the last state, mm.
     """
     x, st, strings, tsa = run.x, run.st, run.strings, route.tsa
-    lengths = np.array([string_length(x, s, strings) for s in strings.strings]).reshape(-1, 2)
+    lengths = np.column_stack(string_lengths(x, strings)).reshape(-1, 2)
     rate = np.array([float(tsa.consumed_derivatives(theta, xd)[1]) for xd in lengths[:, 1]])
     taken = np.array(
         [float(tsa.consumed(theta, xd) - tsa.consumed(0.0, xd)) for xd in lengths[:, 1]]

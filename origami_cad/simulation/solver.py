@@ -42,7 +42,12 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from origami_cad.errors import SimulationError
-from origami_cad.simulation.cables import SimString, StringSet, string_derivatives, string_length
+from origami_cad.simulation.cables import (
+    SimString,
+    StringSet,
+    string_derivatives,
+    string_lengths,
+)
 from origami_cad.simulation.mechanics import assemble_bars, assemble_hinges, bar_hinge_energy
 from origami_cad.simulation.model import Structure
 
@@ -151,12 +156,18 @@ def total_energy(
     energy += float(np.dot(st.weight, x[:, 2]))
     if ground is not None:
         energy += ground.energy(x)
-    if strings is not None:
-        for s in strings.strings:
-            stretch = string_length(x, s, strings)[0] - s.free_length
-            if stretch > 0:
-                energy += 0.5 * s.stiffness * stretch**2
+    if strings is not None and strings.strings:
+        stretch = np.maximum(string_lengths(x, strings)[0] - _free_lengths(strings), 0.0)
+        energy += 0.5 * float(np.dot(_stiffnesses(strings), stretch * stretch))
     return energy
+
+
+def _free_lengths(strings: StringSet) -> np.ndarray:
+    return np.array([s.free_length for s in strings.strings])
+
+
+def _stiffnesses(strings: StringSet) -> np.ndarray:
+    return np.array([s.stiffness for s in strings.strings])
 
 
 def _dofs(nodes: np.ndarray) -> np.ndarray:
@@ -305,11 +316,10 @@ class HessianAssembly:
             data[self.node_positions] += h_nodes.reshape(n, 9)  # one node: distinct entries
         tensions = []
         if strings is not None:
-            for s, pos in zip(strings.strings, self.string_positions, strict=True):
-                total, _ = string_length(x, s, strings)
-                stretch = total - s.free_length
-                tension = s.stiffness * stretch if stretch > 0 else 0.0
-                tensions.append(tension)
+            tensions = _string_tensions(x, strings)
+            for s, pos, tension in zip(
+                strings.strings, self.string_positions, tensions, strict=True
+            ):
                 if tension > 0:
                     nodes, g, h = string_derivatives(x, s, strings)
                     grad[nodes] += tension * g
@@ -552,10 +562,10 @@ def solve_equilibrium(
 
 def _string_tensions(x: np.ndarray, strings: StringSet) -> list[float]:
     """Each string's tension at ``x`` (n, 3) mm, N: its stiffness times its stretch, or 0."""
-    return [
-        max(0.0, s.stiffness * (string_length(x, s, strings)[0] - s.free_length))
-        for s in strings.strings
-    ]
+    if not strings.strings:
+        return []
+    stretch = string_lengths(x, strings)[0] - _free_lengths(strings)
+    return (_stiffnesses(strings) * np.maximum(stretch, 0.0)).tolist()
 
 
 def _preconditioned_step(x, g, values, energy, shift, asm, info, problem):

@@ -14,17 +14,22 @@ rise, the string would have to stretch, and the folding *jams*; the jam names
 the string, the segment that lengthens, the fold ratio and the stretch it would
 need. A state never jumps over fold ratios the strings forbid.
 
-Strings and panels are inextensible and rigid. The sheet keeps its mean pose
+Panels are rigid. Strings are inextensible, or, given their ``EA`` and the creases'
+stiffness, elastic: each state is then the nearest equilibrium of the creases' and the
+strings' energy along the rigid folding (the bar-and-hinge simulation's energy with rigid
+panels), and the tensions are the strings' stretch times ``EA / L_0``. The sheet
+keeps its mean pose
 (:func:`~origami_cad.strings.route.mean_pose`: the vertex centroid stays and it
 does not rotate on average, a sheet free in the middle of the ring and pulled
 evenly) unless the route holds a panel. The fold limit is the route's
 ``p_max``, else the printed sheet's (eq. 6 on the first crease, legs included,
 :func:`fold_limit`), else the largest fold ratio the folder takes.
 
-With a crease stiffness, the tension follows by virtual work: the binding
-strings' tension times the string that folding saves per unit ``p`` equals the
-creases' elastic energy per unit ``p``; the TSA torque is the tension times
-the string taken up per radian (:meth:`TSAParams.consumed_derivatives`).
+With a crease stiffness alone (inextensible strings), the tension follows by
+virtual work: the binding strings' tension times the string that folding saves
+per unit ``p`` equals the creases' elastic energy per unit ``p``. The TSA torque
+is the tension times the string taken up per radian
+(:meth:`TSAParams.consumed_derivatives`).
 """
 
 from __future__ import annotations
@@ -36,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.strings.route import (
@@ -51,6 +57,7 @@ from origami_cad.strings.route import (
 )
 
 __all__ = [
+    "MAX_STRING_STRAIN",
     "DCQCResult",
     "FoldLimit",
     "Jam",
@@ -64,6 +71,9 @@ __all__ = [
     "tsa_step",
     "turn_limit_stop",
 ]
+
+
+MAX_STRING_STRAIN = 0.02  #: an elastic string strained beyond this jams (both models)
 
 
 class StopReason(StrEnum):
@@ -91,10 +101,12 @@ class Jam:
     segment: str
     p: float
     stretch_mm: float
+    elastic: bool = False  # the string has stretched so far (elastic strings), not would have to
 
     def describe(self) -> str:
+        stretch = "has stretched" if self.elastic else "would have to stretch"
         return (
-            f"jam: string {self.string + 1} would have to stretch by {self.stretch_mm:.3g} mm "
+            f"jam: string {self.string + 1} {stretch} by {self.stretch_mm:.3g} mm "
             f"at p = {self.p:.3f}; {self.hint()}"
         )
 
@@ -236,13 +248,10 @@ def tsa_step(tsa, theta: float, x_dis: np.ndarray, take_up: float, cap: float) -
     def taken(d: float) -> float:
         return float(np.max(tsa.consumed(theta + d, x_dis) - now))
 
-    if taken(cap) <= take_up:
+    at_cap = taken(cap)
+    if at_cap <= take_up:
         return cap
-    lo, hi = 0.0, cap
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if taken(mid) < take_up else (lo, mid)
-    return hi
+    return _root(lambda d: taken(d) - take_up, 0.0, cap, -take_up, at_cap - take_up, 1e-9 * cap)
 
 
 def segment_names(string: StringRoute) -> list[str]:
@@ -351,6 +360,7 @@ def simulate_dcqc(
     grid: int | None = None,
     crease_stiffness: float | None = None,
     max_dp: float = 0.01,
+    string_stiffness: float | None = None,
 ) -> DCQCResult:
     """Simulate the folding that the route's strings and TSA produce, state by state.
 
@@ -370,8 +380,20 @@ def simulate_dcqc(
     max_dp : float
         Largest change of the fold ratio between two states; a TSA step that
         folds more is halved.
+    string_stiffness : float, optional
+        Axial stiffness ``EA`` of the strings, N (e.g.
+        ``SimulationParams.string_axial_stiffness``). With ``crease_stiffness`` the
+        strings are elastic (:func:`_elastic_successor`): each state is the nearest
+        equilibrium of the creases' and the strings' energy along the rigid folding,
+        the same energy as the bar-and-hinge simulation's with rigid panels.
+        Without it the strings are inextensible.
     """
-    t = _tables(design, route, grid, crease_stiffness)
+    if string_stiffness is not None and (crease_stiffness is None or not string_stiffness > 0):
+        raise SimulationError(
+            "simulate_dcqc: elastic strings need a positive string_stiffness (EA, N) and the "
+            f"creases' crease_stiffness too (got {string_stiffness!r}, {crease_stiffness!r})"
+        )
+    t = _tables(design, route, grid, crease_stiffness, string_stiffness)
     rows: dict[str, list] = {k: [] for k in _ROWS}
     _record(t, route, rows, 0.0, route.p0, False)
     theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
@@ -398,7 +420,10 @@ class _Tables:
     length between the TSA's ends and the rest of its route, mm; ``l0`` (strings,)
     the string lengths, mm; ``angles`` (A, m) rad at ``angle_ratios`` (A,);
     ``energy_rate`` the creases' energy per fold ratio at ``angle_ratios`` (N mm,
-    None without a crease stiffness); ``tol`` the slack taken as taut, mm.
+    None without a crease stiffness); ``tol`` the slack taken as taut, mm;
+    ``k`` (strings,) the strings' stiffness ``EA / L_0``, N/mm (None: inextensible);
+    ``dx_dis`` and ``drest`` (strings, G) the derivatives of ``x_dis`` and ``rest``
+    by the fold ratio, mm.
     """
 
     limit: FoldLimit
@@ -411,13 +436,19 @@ class _Tables:
     energy_rate: np.ndarray | None
     placement: str
     tol: float
+    k: np.ndarray | None = None
+    dx_dis: np.ndarray | None = None
+    drest: np.ndarray | None = None
+    stacked: np.ndarray | None = None  # x_dis, rest, dx_dis, drest stacked (4 k, G)
 
     def at(self, p: float, table: np.ndarray) -> np.ndarray:
         """Each row of ``table`` (k, G) interpolated at fold ratio ``p``, (k,)."""
         return np.array([np.interp(p, self.ratios, row) for row in table])
 
 
-def _tables(design: Design, route: RouteSpec, grid: int | None, crease_stiffness) -> _Tables:
+def _tables(
+    design: Design, route: RouteSpec, grid: int | None, crease_stiffness, string_stiffness=None
+) -> _Tables:
     """The geometry of the route on ``grid`` fold ratios from ``p0`` to the fold limit."""
     cp = design.pattern
     limit = fold_limit(design, route)
@@ -453,9 +484,12 @@ def _tables(design: Design, route: RouteSpec, grid: int | None, crease_stiffness
         energy = 0.5 * (angles**2 * k).sum(axis=1)
         energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
     tol = 1e-7 * max(cp.size, 1.0)
-    return _Tables(
-        limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol
-    )
+    t = _Tables(limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol)
+    if energy_rate is not None and string_stiffness is not None and len(ratios) > 1:
+        t.k = float(string_stiffness) / l0
+        t.dx_dis = np.gradient(x_dis, ratios, axis=1)
+        t.drest = np.gradient(rest, ratios, axis=1)
+    return t
 
 
 def _record(t: _Tables, route: RouteSpec, rows: dict[str, list], theta, p, moving) -> None:
@@ -471,7 +505,11 @@ def _record(t: _Tables, route: RouteSpec, rows: dict[str, list], theta, p, movin
     taut = (g >= -t.tol) & moving
     tension = np.full(len(t.l0), np.nan)
     torque = math.nan
-    if t.energy_rate is not None:
+    if t.k is not None:  # elastic strings: the tension is the stiffness times the stretch
+        taut = g > t.tol
+        tension = t.k * np.maximum(g, 0.0)
+        torque = float(np.sum(tension * rate))
+    elif t.energy_rate is not None:
         tension[:] = 0.0
         if taut.any():
             dp = 1e-4 * (t.limit.p - route.p0)
@@ -506,8 +544,11 @@ def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: 
     )
     for _ in range(30):
         new = theta + dtheta
-        outcome = _advance(tsa, new, p, t.ratios, t.x_dis, t.rest, t.l0)
-        if outcome[0] != "fold" or outcome[1] - p <= max_dp or dtheta < 1e-9:
+        if t.k is not None:
+            outcome = _elastic_successor(tsa, new, p, t)
+        else:
+            outcome = _advance(tsa, new, p, t.ratios, t.x_dis, t.rest, t.l0)
+        if outcome[0] != "fold" or abs(outcome[1] - p) <= max_dp or dtheta < 1e-9:
             break
         dtheta *= 0.5
     kind, value = outcome[0], outcome[1]
@@ -518,19 +559,35 @@ def _dcqc_step(design, route, t: _Tables, rows, theta: float, p: float, max_dp: 
         _record(t, route, rows, new, value, True)
         return new, value, None, "", None
     if kind == "limit":
-        # the TSA angle at which the strings fit exactly at the fold limit
-        lo, hi = theta, new
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            g = tsa.consumed(mid, t.x_dis[:, -1]) + t.rest[:, -1] - t.l0
-            lo, hi = (mid, hi) if np.max(g) <= 0 else (lo, mid)
+        lo = _limit_angle(tsa, t, theta, new)
         if t.limit.p > p:
             theta, p = lo, float(t.limit.p)
             _record(t, route, rows, theta, p, True)
         return theta, p, StopReason.FOLD_LIMIT, f"fold limit reached: {t.limit.describe()}", None
-    string, stretch = value  # jam
-    jam = Jam(string, _lengthening_segment(design, route, string, p, t.limit.p), p, stretch)
+    string, stretch, p_jam = value  # jam
+    if t.k is not None:  # the elastic state where a string stretches instead: recorded
+        theta, p = new, p_jam
+        _record(t, route, rows, theta, p, True)
+    segment = _lengthening_segment(design, route, string, p, t.limit.p)
+    jam = Jam(string, segment, p, stretch, elastic=t.k is not None)
     return theta, p, StopReason.JAM, jam.describe(), jam
+
+
+def _limit_angle(tsa, t: _Tables, theta: float, new: float) -> float:
+    """The TSA angle (rad) in ``[theta, new]`` at which the sheet reaches the fold limit.
+
+    Inextensible strings: where they fit exactly at the limit; elastic ones: where the
+    equilibrium sits exactly at the limit (:func:`_strings_force` zero there).
+    """
+    lo, hi = theta, new
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if t.k is not None:
+            beyond = _strings_force(tsa, mid, np.array([t.limit.p]), t)[0][0] < 0
+        else:
+            beyond = np.max(tsa.consumed(mid, t.x_dis[:, -1]) + t.rest[:, -1] - t.l0) > 0
+        lo, hi = (lo, mid) if beyond else (mid, hi)
+    return hi if t.k is not None else lo
 
 
 def _load_stop(route: RouteSpec, rows: dict[str, list]) -> tuple[StopReason | None, str]:
@@ -586,6 +643,103 @@ def _dcqc_result(design, route, t: _Tables, rows, p, stop, reason, jam) -> DCQCR
     return result
 
 
+def _strings_force(tsa, theta: float, q: np.ndarray, t: _Tables):
+    """The generalised force along the rigid folding with elastic strings, at ratios ``q``.
+
+    ``f(q) = dE/dp``: the creases' energy rate plus each string's tension ``k_i
+    max(g_i, 0)`` times the rate ``dg_i/dp`` of its demand ``g_i`` (its length with the
+    TSA's share at ``theta`` rad, less ``L_0``; mm), N mm per unit fold ratio; negative
+    where the strings fold the sheet further. Returns ``(f (Q,), g (k, Q), dg/dp (k, Q))``.
+    """
+    q = np.atleast_1d(np.asarray(q, dtype=float))
+    if t.stacked is None:
+        t.stacked = np.vstack([t.x_dis, t.rest, t.dx_dis, t.drest])
+    j = np.clip(np.searchsorted(t.ratios, q, side="right"), 1, len(t.ratios) - 1)
+    w = np.clip((q - t.ratios[j - 1]) / (t.ratios[j] - t.ratios[j - 1]), 0.0, 1.0)
+    rows = t.stacked[:, j - 1] * (1.0 - w) + t.stacked[:, j] * w  # linear, as np.interp
+    xd, rs, dxd, drs = np.split(rows, 4)
+    length, _, per_x, _ = tsa.consumed_derivatives(theta, xd)
+    g = length + rs - t.l0[:, None]
+    dg = per_x * dxd + drs
+    f = np.interp(q, t.angle_ratios, t.energy_rate) + np.sum(
+        t.k[:, None] * np.maximum(g, 0.0) * dg, axis=0
+    )
+    return f, g, dg
+
+
+def _elastic_successor(tsa, theta: float, p: float, t: _Tables) -> tuple[str, Any]:
+    """Where the sheet goes from fold ratio ``p`` with elastic strings, the TSA at ``theta``.
+
+    The sheet moves along the rigid folding, downhill in the energy (creases plus
+    strings, :func:`_strings_force`), to the *first* equilibrium it meets: the
+    continuous successor of the previous state. ``("fold", p_new)``;
+    ``("limit", None)`` when it would fold past the fold limit; ``("jam", (string,
+    stretch mm, p_new))`` when at ``p_new`` a taut string's demand rises as the sheet
+    folds (the DCQC rule broken: it stretches instead of folding the sheet) or its
+    strain passes :data:`MAX_STRING_STRAIN`.
+    """
+    f_p = float(_strings_force(tsa, theta, np.array([p]), t)[0][0])
+    start = int(np.searchsorted(t.ratios, p, side="right"))
+    up = f_p < 0
+    nodes = t.ratios[start:] if up else t.ratios[: max(start - 1, 0)][::-1]
+    nodes = nodes[nodes != p]
+    f_nodes = _strings_force(tsa, theta, nodes, t)[0] if len(nodes) else np.zeros(0)
+    crossed = np.flatnonzero(f_nodes >= 0 if up else f_nodes <= 0)
+    if not len(crossed):
+        if up:
+            return "limit", None
+        q = float(t.ratios[0])
+    else:
+        j = int(crossed[0])
+        lo, hi = (p if j == 0 else float(nodes[j - 1])), float(nodes[j])
+        f_lo = f_p if j == 0 else float(f_nodes[j - 1])
+        q = _root(
+            lambda v: float(_strings_force(tsa, theta, np.array([v]), t)[0][0]),
+            lo,
+            hi,
+            f_lo,
+            float(f_nodes[j]),
+        )
+    _, g, dg = _strings_force(tsa, theta, np.array([q]), t)
+    g, dg = g[:, 0], dg[:, 0]
+    taut = g > t.tol
+    bad = taut & (
+        (dg > 1e-6 * max(1.0, float(np.max(np.abs(dg))))) | (g / t.l0 > MAX_STRING_STRAIN)
+    )
+    if bad.any():
+        string = int(np.argmax(np.where(bad, g, -np.inf)))
+        return "jam", (string, float(g[string]), q)
+    return "fold", q
+
+
+def _root(f, a: float, b: float, fa: float, fb: float, tol: float = 1e-12) -> float:
+    """A root of ``f`` between ``a`` and ``b``, where it changes sign (``fa``, ``fb``):
+    regula falsi with the Illinois rule, falling back to bisection, to ``tol``.
+    """
+    side = 0
+    for _ in range(100):
+        if fb == fa:
+            c = 0.5 * (a + b)
+        else:
+            c = b - fb * (b - a) / (fb - fa)
+            if not min(a, b) < c < max(a, b):
+                c = 0.5 * (a + b)
+        fc = f(c)
+        if fc == 0 or abs(b - a) < tol:
+            return c
+        if (fc > 0) == (fb > 0):
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return c
+
+
 def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
     """Where the sheet goes from fold ratio ``p`` when the TSA is at ``theta``.
 
@@ -611,7 +765,7 @@ def _advance(tsa, theta, p, ratios, x_dis, rest, l0) -> tuple[str, Any]:
     if len(rises):
         k = int(rises[0])
         string = int(np.argmax(g[:, k]))  # the string that makes the worst demand rise
-        return "jam", (string, float(np.max(worst[k : end + 1])))
+        return "jam", (string, float(np.max(worst[k : end + 1])), p)
     if not len(below):
         return "limit", None
     lo = p if end == 1 else float(ratios[start + end - 2])

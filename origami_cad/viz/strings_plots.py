@@ -102,7 +102,7 @@ def save_fig5_png(cp: CreasePattern, dcqc: DCQCResult, sim, path: str | os.PathL
     fig = Figure(figsize=(12, 8))  # a Figure, not pyplot: no global state
     grid = fig.add_gridspec(2, 4, height_ratios=[1.1, 1.0])
     ax = fig.add_subplot(grid[0, :2])
-    ax.plot(dcqc.turns, dcqc.p, lw=2.2, color="#1f4fd6", label="DCQC (rigid, inextensible)")
+    ax.plot(dcqc.turns, dcqc.p, lw=2.2, color="#1f4fd6", label="DCQC (rigid panels)")
     ax.plot(sim.turns, sim.p, "o-", ms=2.5, lw=1.2, color="#d62728", label="bar-and-hinge")
     ax.axhline(dcqc.limit.p, color="0.4", ls=":", lw=1, label="fold limit")
     ax.set_xlabel("TSA rotation (turns)")
