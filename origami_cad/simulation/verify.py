@@ -31,7 +31,8 @@ def verify_route(
 ) -> dict[str, Any]:
     """Fold ``design`` by ``spec`` with the bar-and-hinge model; the figures and a verdict.
 
-    ``params`` default: from the route's ``[fabrication]``. ``steps``: equal TSA steps
+    ``params`` default: :meth:`SimulationParams.for_route` (the route's
+    ``[fabrication]``, the same fold limit as the DCQC model). ``steps``: equal TSA steps
     up to the route's ``max_turns`` (default: steps of string taken up). The route
     passes when the simulation stops at the fold limit (or its ``p_max``) within
     ``tolerance`` in p of the target and no string jams.
@@ -42,9 +43,7 @@ def verify_route(
         ``p``, ``turns``, ``peak_torque_Nmm``, ``peak_tension_N``, ``stop``,
         ``reason``, ``target_p`` and ``reaches_target``.
     """
-    if params is None:
-        fab = spec.fabrication
-        params = SimulationParams.from_fabrication(fab) if fab is not None else SimulationParams()
+    params = SimulationParams.for_route(spec) if params is None else params
     target = fold_limit(design, spec).p
     result = simulate(design.pattern, spec, params, design=design, steps=steps)
     p = float(np.nan_to_num(result.p[-1]))
