@@ -258,3 +258,58 @@ def test_stroked_circles_and_ellipses_are_not_silently_dropped(tmp_path, element
     # a filled circle without a stroke is still a hole
     hole = read_svg(svg(tmp_path, '<circle cx="50" cy="50" r="2" fill="black"/>', "hole.svg"))
     assert [(h.x, h.y, h.diameter) for h in hole.holes] == [(50.0, -50.0, 4.0)]
+
+
+XLINK_HEAD = HEAD.replace("<svg ", '<svg xmlns:xlink="http://www.w3.org/1999/xlink" ')
+
+
+def test_use_draws_what_it_names_moved_by_x_y_and_its_transform(tmp_path):
+    """``<use>`` (href or xlink:href, of a group or a symbol) gives the same pattern as the
+    same lines written out, as a browser or Inkscape draws it."""
+    cell = '<g id="cell"><line x1="0" y1="0" x2="50" y2="0" stroke="#ff0000"/></g>'
+    sym = '<symbol id="col"><line x1="0" y1="0" x2="0" y2="50" stroke="#0000ff"/></symbol>'
+    used = svg(
+        tmp_path,
+        f"<defs>{cell}{sym}</defs>"
+        '<use href="#cell" y="50"/><use xlink:href="#cell" x="50" y="50"/>'
+        '<use href="#col" x="50" transform="translate(0 10)" stroke-opacity="0.5"/>',
+        "use.svg",
+        XLINK_HEAD,
+    )
+    plain = svg(
+        tmp_path,
+        '<line x1="0" y1="50" x2="50" y2="50" stroke="#ff0000"/>'
+        '<line x1="50" y1="50" x2="100" y2="50" stroke="#ff0000"/>'
+        '<line x1="50" y1="10" x2="50" y2="60" stroke="#0000ff"/>',
+        "plain.svg",
+    )
+    a, b = read_svg(used), read_svg(plain)
+    assert a.n_edges == b.n_edges
+    assert sorted(a.assignments).count("M") == 2 and sorted(a.assignments).count("V") == 2
+    key = lambda cp: sorted(  # noqa: E731
+        (tuple(sorted(map(tuple, cp.vertices[e].round(9).tolist()))), s)
+        for e, s in zip(cp.edges, cp.assignments, strict=True)
+    )
+    assert key(a) == key(b)
+
+
+@pytest.mark.parametrize(
+    "body, fragment",
+    [
+        ('<use id="u" href="#nothing"/>', "href '#nothing' names no element"),
+        ('<use href="other.svg#cell"/>', "names no element of this file"),
+        ('<g id="loop"><use href="#loop"/></g>', "#loop contains this <use> (a cycle)"),
+        ('<use href="#cell" x="1e400"/><g id="cell"/>', "x"),
+    ],
+)
+def test_bad_use_elements_are_refused_by_name(tmp_path, body, fragment):
+    refused(svg(tmp_path, body), fragment)
+
+
+def test_use_that_multiplies_elements_is_refused_before_it_explodes(tmp_path):
+    """A "billion laughs" of nested <use>: 10 copies of 10 copies ... of one line."""
+    body = '<g id="l0"><line x1="0" y1="0" x2="1" y2="1" stroke="red"/></g>'
+    for k in range(1, 8):
+        uses = "".join(f'<use href="#l{k - 1}"/>' for _ in range(10))
+        body += f'<g id="l{k}">{uses}</g>'
+    refused(svg(tmp_path, f"<defs>{body}</defs><use href='#l7'/>"), "more than 1,000,000 elements")

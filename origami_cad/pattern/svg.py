@@ -45,7 +45,14 @@ from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
 
-__all__ = ["MIN_FEATURE_UNITS", "OS_MERGE_UNITS", "read_svg", "units_per_mm", "write_svg"]
+__all__ = [
+    "MAX_ELEMENTS",
+    "MIN_FEATURE_UNITS",
+    "OS_MERGE_UNITS",
+    "read_svg",
+    "units_per_mm",
+    "write_svg",
+]
 
 COLORS = {
     "B": "#000000",
@@ -97,6 +104,9 @@ def _xml_text(text: str) -> str:
 def _fmt(v: float) -> str:
     return repr(round(float(v), 12) + 0.0)
 
+
+#: Elements :func:`read_svg` walks at the most, the copies that ``<use>`` makes included.
+MAX_ELEMENTS = 1_000_000
 
 #: Origami Simulator merges vertices closer than this many user units (``vertTol``)
 OS_MERGE_UNITS = 3.0
@@ -519,9 +529,11 @@ def _walk_svg(
     holes: list[Hole] = []
     title = ""
     counter = 0
-    stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float]] = [(root, np.eye(3), {}, 1.0)]
+    ids = {el.attrib["id"]: el for el in root.iter() if "id" in el.attrib}
+    stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float, frozenset]]
+    stack = [(root, np.eye(3), {}, 1.0, frozenset())]
     while stack:
-        el, matrix, inherited, opacity = stack.pop()
+        el, matrix, inherited, opacity, using = stack.pop()
         tag = _local(el.tag)
         own = _style(el)
         style = {
@@ -533,6 +545,10 @@ def _walk_svg(
         if tag in ("defs", "clipPath", "mask", "symbol", "metadata", "style"):
             continue
         counter += 1
+        if counter > MAX_ELEMENTS:
+            raise PatternError(
+                f"{name}: more than {MAX_ELEMENTS:,} elements (with the copies <use> makes)"
+            )
         ident = el.attrib.get("id")
         where = (
             f"{name}: <{printable(tag)}{' id=' + printable(ident) if ident else ''}> "
@@ -541,13 +557,47 @@ def _walk_svg(
         if "opacity" in own:
             opacity = opacity * _opacity(own["opacity"], where, "opacity")
         m = matrix @ _transform(el.attrib.get("transform", ""), where)
+        if tag == "use":
+            stack.extend(_used(el, ids, where, m, style, opacity, using))
+            continue
         hole = _svg_hole(el, tag, where, m, style, sx, sy)
         if hole is not None:
             holes.append(hole)
             continue
         segments += _element_segments(el, tag, where, m, style, opacity, sx, sy)
-        stack.extend((child, m, style, opacity) for child in reversed(el))
+        stack.extend((child, m, style, opacity, using) for child in reversed(el))
     return segments, holes, title
+
+
+def _used(
+    el: ET.Element,
+    ids: dict[str, ET.Element],
+    where: str,
+    m: np.ndarray,
+    style: dict[str, str],
+    opacity: float,
+    using: frozenset,
+) -> list[tuple[ET.Element, np.ndarray, dict[str, str], float, frozenset]]:
+    """What a ``<use>`` draws, as entries of :func:`_walk_svg`'s stack.
+
+    The element its ``href`` (or ``xlink:href``) names, moved by its ``x`` and ``y``
+    (user units) after its own transform ``m``, inheriting its style; a ``<symbol>``
+    gives its children. ``using`` holds the ids being drawn through ``<use>`` above
+    this one: a reference to one of them (a cycle), to an id this file lacks or
+    to another file is a PatternError naming the ``<use>``.
+    """
+    href = el.attrib.get("href", el.attrib.get("{http://www.w3.org/1999/xlink}href", ""))
+    key = href[1:] if href.startswith("#") else None
+    if key not in ids:
+        raise PatternError(f"{where}: href {printable(href)!r} names no element of this file")
+    if key in using:
+        raise PatternError(f"{where}: #{printable(key)} contains this <use> (a cycle)")
+    x = _num(el.attrib.get("x", "0"), where, "x")
+    y = _num(el.attrib.get("y", "0"), where, "y")
+    moved = m @ np.array([[1.0, 0.0, x], [0.0, 1.0, y], [0.0, 0.0, 1.0]])
+    target, inside = ids[key], using | {key}
+    shown = list(target) if _local(target.tag) == "symbol" else [target]
+    return [(t, moved, style, opacity, inside) for t in reversed(shown)]
 
 
 def _svg_hole(
