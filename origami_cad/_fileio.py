@@ -26,6 +26,7 @@ import os
 import shutil
 import signal
 import stat
+import sys
 import tempfile
 import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -80,7 +81,17 @@ def _on_signal(signum: int, frame) -> None:
     first = not _received
     _received.append(signum)
     if first:  # a second signal must not cut short the clean-up the first one started
+        sys.unraisablehook = _quiet_unraisable
         raise Interrupted(signum)
+
+
+def _quiet_unraisable(unraisable) -> None:
+    """After an interrupt, say nothing of errors in ``__del__`` (no traceback on stderr).
+
+    The interrupt may have cut an object short in its constructor (a pyvista
+    ``Renderer`` during a render), whose ``__del__`` then fails when the process
+    exits; the command has already said it was interrupted and wrote nothing.
+    """
 
 
 @contextlib.contextmanager

@@ -282,3 +282,34 @@ def test_dev_stdout_is_written_into_and_stays_a_link(tmp_path, into):
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and 0.005 < ink(data)[0] < 0.5  # nothing else
     assert os.path.islink("/dev/stdout")
     _no_leftovers(tmp_path)
+
+
+def test_after_an_interrupt_a_failing_destructor_prints_no_traceback():
+    """An object an interrupt cut short (a pyvista Renderer mid-constructor) whose
+    ``__del__`` fails at exit: silent after the signal, reported without one."""
+    code = """
+import os, signal, sys
+from origami_cad._fileio import Interrupted, handle_signals
+
+class Half:
+    def __del__(self):
+        raise AttributeError("half built")
+
+keep = Half()
+if sys.argv[1] == "signal":
+    with handle_signals():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            signal.pause()
+        except Interrupted:
+            pass
+del keep
+"""
+    runs = {
+        mode: subprocess.run(
+            [sys.executable, "-c", code, mode], capture_output=True, text=True, timeout=60
+        )
+        for mode in ("signal", "plain")
+    }
+    assert "half built" in runs["plain"].stderr  # Python reports it when nothing interrupted
+    assert runs["signal"].stderr == "" and runs["signal"].returncode == 0
