@@ -91,7 +91,7 @@ def _demo(folder: str = "out", quick: bool = False) -> jobs.Outputs:
 
 
 _FOLDER = "output folder; only this command's files are written into it, all else is kept"
-_FLAG, _SIZED = {"action": "store_true"}, "convert fold fabricate route simulate"  # read files
+_FLAG, _SIZED = {"action": "store_true"}, "convert fold fabricate route simulate plan-route"
 
 # (commands, option, argparse keywords): every option of every command
 _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [

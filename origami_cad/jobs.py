@@ -933,6 +933,9 @@ def run_plan_route(
     verify: int = 2,
     budget: str | None = None,
     scheduler: str | None = None,
+    unit: str | None = None,
+    scale: float | None = None,
+    width: float | None = None,
     progress: Callable[..., None] | None = None,
 ) -> Outputs:
     """Search string routes by the DCQC principle: route.toml, routes.json and plots.
@@ -945,9 +948,8 @@ def run_plan_route(
     mounts the TSA on that panel. ``--budget TURNS[,NMM]``: the TSA's turns and peak
     torque (N mm) to stay within (default 40 turns). routes.json, routes.png and
     routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
-    cluster.
+    cluster. ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
-    from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings.plan import plan_geometry, plan_routes, route_toml
     from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
 
@@ -956,7 +958,7 @@ def run_plan_route(
     names = (Path(output).name, "routes.json", "routes.png", "routes_turns.png")
     check_outputs([pattern], files=[folder / n for n in names])
     placement = _tsa_placement(tsa, ring_radius, ring_height)
-    loaded = load_pattern_source(pattern)
+    loaded, warned = _sized_source(pattern, unit, scale, width)
     t0, cpu0 = time.perf_counter(), time.process_time()
     settings = _plan_budget(budget)
     geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
@@ -987,7 +989,7 @@ def run_plan_route(
         files=files,
         images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
         numbers=_plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
-        messages=[*_plan_messages(planned, geom), f"wrote {' '.join(map(str, files))}"],
+        messages=[*warned, *_plan_messages(planned, geom), f"wrote {' '.join(map(str, files))}"],
         result=planned,
     )
 

@@ -206,12 +206,13 @@ def test_fold_reads_the_size_option(tmp_path, capsys):
     assert "over 5 m" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("command", ["fabricate", "route", "simulate"])
+@pytest.mark.parametrize("command", ["fabricate", "route", "simulate", "plan-route"])
 def test_every_pattern_reading_command_takes_the_size_options(tmp_path, capsys, command):
     shutil.copy(EXAMPLES / "miura_route.toml", tmp_path / "route.toml")
-    route = [str(tmp_path / "route.toml")] if command != "fabricate" else []
+    route = [str(tmp_path / "route.toml")] if command in ("route", "simulate") else []
+    out = tmp_path / "out" / "route.toml" if command == "plan-route" else tmp_path / "out"
     design = str(EXAMPLES / "miura_6x4.toml")
-    code = main([command, design, *route, "--scale", "2", "-o", str(tmp_path / "out")])
+    code = main([command, design, *route, "--scale", "2", "-o", str(out)])
     assert code == 2
     err = capsys.readouterr().err
     assert "the scale option sizes only imported patterns" in err and "'miura'" in err
