@@ -169,7 +169,10 @@ def test_preconditioned_steps_reach_the_same_equilibria_as_factorised_ones(monke
     assert len(fast.states) == len(plain.states) > 5
     turned = np.abs(fast.fold_angles[-1]).max()
     assert turned > 10.0  # the string really folded the sheet
-    np.testing.assert_allclose(fast.states, plain.states, atol=1e-6)
+    # the settled sheet before the strings pull (states 0 and 1) is an equilibrium to
+    # 1e-7 N along its softest folding mode: a few 1e-6 mm; once pulled, 1e-9 mm
+    np.testing.assert_allclose(fast.states[:2], plain.states[:2], atol=1e-5)
+    np.testing.assert_allclose(fast.states[2:], plain.states[2:], atol=1e-8)
     np.testing.assert_allclose(fast.tensions, plain.tensions, rtol=1e-6, atol=1e-6)
     assert fast.converged.all() and plain.converged.all()
 

@@ -21,15 +21,16 @@ search, so the energy decreases at every accepted iteration (recorded, and
 asserted by the tests).
 
 Linear algebra (:class:`HessianAssembly`): the Hessian's sparsity pattern, the
-place of every element entry in its CSC data and a symmetric minimum-degree
-ordering are computed once per structure; bars and hinges are evaluated and
+place of every element entry in its CSC data and how the matrix is factorised
+(:mod:`origami_cad.simulation.factor`: banded Cholesky or SuperLU, whichever
+the pattern suits) are computed once per structure; bars and hinges are evaluated and
 added in place by compiled kernels. A Newton step is solved by conjugate
 gradients preconditioned with the latest factorisation, kept across iterations
 and actuation steps, while that converges in a few iterations; otherwise the
-Hessian is factorised afresh (SuperLU, symmetric mode, diagonal pivots), and
-the pivots give its inertia: Levenberg damping is added where it is not
-positive definite. Conjugate gradients also stop at a direction of
-non-positive curvature, which sends the step to a fresh factorisation.
+Hessian is factorised afresh, which also tells whether it is positive
+definite: Levenberg damping is added where it is not. Conjugate gradients also
+stop at a direction of non-positive curvature, which sends the step to a fresh
+factorisation.
 """
 
 from __future__ import annotations
@@ -39,7 +40,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from origami_cad.errors import SimulationError
 from origami_cad.simulation.cables import (
@@ -48,6 +48,7 @@ from origami_cad.simulation.cables import (
     string_derivatives,
     string_lengths,
 )
+from origami_cad.simulation.factor import Factor, FactorPlan, factorise, plan_factorisation
 from origami_cad.simulation.mechanics import assemble_bars, assemble_hinges, bar_hinge_energy
 from origami_cad.simulation.model import Structure
 
@@ -175,24 +176,6 @@ def _dofs(nodes: np.ndarray) -> np.ndarray:
     return (3 * nodes[..., :, None] + np.arange(3)).reshape(*nodes.shape[:-1], -1)
 
 
-class Factor:
-    """A sparse LDL^T-like factorisation of ``A`` in a fixed fill-reducing ordering.
-
-    Wraps SuperLU (symmetric mode, diagonal pivots) of the permuted matrix
-    ``A[q][:, q]``; :meth:`solve` takes and returns vectors in ``A``'s own order.
-    """
-
-    def __init__(self, lu, order: np.ndarray) -> None:
-        self.lu = lu
-        self.order = order
-
-    def solve(self, rhs: np.ndarray) -> np.ndarray:
-        """``A^-1 rhs`` for ``rhs`` (size,)."""
-        out = np.empty_like(rhs)
-        out[self.order] = self.lu.solve(rhs[self.order])
-        return out
-
-
 class HessianAssembly:
     """The free-free Hessian's sparsity pattern and its assembly, computed once per structure.
 
@@ -201,8 +184,8 @@ class HessianAssembly:
     CSC data array (entries on held nodes go to one spare slot past the end).
     Each Newton iteration then only evaluates the elements and adds their
     values at those positions (:meth:`assemble`, compiled for bars and hinges),
-    and factorises in a fill-reducing ordering (symmetric minimum degree on
-    ``A^T + A``) that is also computed once (:meth:`factorise`).
+    and factorises by a plan (banded Cholesky or SuperLU, and the elimination
+    order) that is also computed once (:meth:`factorise`, :attr:`plan`).
 
     Parameters
     ----------
@@ -229,9 +212,8 @@ class HessianAssembly:
     reuse_factorisations : bool
         Class-wide switch (default True): False factorises at every Newton step
         (the plain Newton method, for comparisons).
-    ordering : ndarray
-        (size,) the fill-reducing order: row and column ``ordering[k]`` of the
-        Hessian is the factorised matrix's ``k``-th.
+    plan : FactorPlan
+        How the Hessian is factorised; its ``order`` is :attr:`ordering`.
     """
 
     def __init__(self, st: Structure, strings: StringSet | None = None) -> None:
@@ -270,7 +252,7 @@ class HessianAssembly:
         self.diagonal = np.searchsorted(unique, diag)
         self.preconditioner: Factor | None = None
         self.stale = False
-        self._ordering: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._plan: FactorPlan | None = None
 
     def keep(self, factor: Factor) -> None:
         """Keep ``factor`` as the preconditioner of the next solves."""
@@ -336,63 +318,27 @@ class HessianAssembly:
     reuse_factorisations = True
 
     @property
-    def ordering(self) -> np.ndarray:
-        """(size,) the fill-reducing order (computed at the first use, then kept)."""
-        return self._order()[0]
+    def plan(self) -> FactorPlan:
+        """How this pattern is factorised (computed at the first use, then kept)."""
+        if self._plan is None:
+            self._plan = plan_factorisation(self.indices, self.indptr, self.diagonal)
+        return self._plan
 
-    def _order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The fill-reducing ordering ``q`` and the permuted pattern (data map, indices, indptr)."""
-        if self._ordering is None:
-            # minimum degree depends on the pattern only: take it from a diagonally dominant
-            # matrix of the same pattern, and keep it
-            template = sp.csc_matrix(
-                (np.arange(self.nnz, dtype=float), self.indices, self.indptr),
-                shape=(self.size, self.size),
-            )
-            probe = template.copy()
-            probe.data[:] = -1.0
-            probe.data[self.diagonal] = np.diff(self.indptr) + 1.0
-            lu = splu(
-                probe,
-                permc_spec="MMD_AT_PLUS_A",
-                diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True},
-            )
-            order = np.argsort(lu.perm_c)  # order[new] = old
-            permuted = template[order][:, order].tocsc()
-            permuted.sort_indices()
-            self._ordering = (
-                order,
-                permuted.data.astype(np.int64),
-                permuted.indices.astype(np.int32),
-                permuted.indptr.astype(np.int32),
-            )
-        return self._ordering
+    @property
+    def ordering(self) -> np.ndarray:
+        """(size,) the elimination order: row and column ``ordering[k]`` of the Hessian
+        is the factorised matrix's ``k``-th."""
+        return self.plan.order
 
     def factorise(self, data: np.ndarray, shift: float = 0.0) -> Factor | None:
-        """LDL^T-like factorisation of the Hessian plus ``shift`` I, in the fill-reducing order.
+        """Factorisation of the Hessian plus ``shift`` I (:func:`factor.factorise`).
 
-        Diagonal pivots only, so the pivots give the inertia: returns None unless
-        the matrix is positive definite (or when it is exactly singular).
+        Returns None unless the matrix is positive definite (or when it is exactly
+        singular).
         """
-        order, data_map, indices, indptr = self._order()
         values = data[: self.nnz].copy()
         values[self.diagonal] += shift
-        a = sp.csc_matrix((values[data_map], indices, indptr), shape=(self.size, self.size))
-        try:
-            lu = splu(
-                a,
-                permc_spec="NATURAL",
-                diag_pivot_thresh=0.0,
-                options={"SymmetricMode": True},
-            )
-        except RuntimeError:  # exactly singular
-            return None
-        if not np.array_equal(lu.perm_r, lu.perm_c):
-            return None
-        if not np.all(lu.U.diagonal() > 0):
-            return None  # Sylvester: a non-positive pivot means the matrix is not positive definite
-        return Factor(lu, order)
+        return factorise(self.plan, values)
 
 
 def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_iter: int):
