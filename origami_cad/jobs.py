@@ -1771,7 +1771,7 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulat
                 loads=seq.loads(emulate["load_scale"]),
             )
             if protocol == "dynamixel"
-            else SerialEmulator(seq.ids)
+            else SerialEmulator(seq.ids, time_scale=emulate["time_scale"])
         )
         port = stack.enter_context(emu).port
     limits = {t.dxl_id: t.max_turns for t in seq.tsas}

@@ -361,3 +361,23 @@ def test_load_curves_in_a_sequence_are_checked(tmp_path):
         bad.write_text(text.replace(line, new))
         with pytest.raises(DesignError, match=re.escape(message)):
             load_sequence(bad)
+
+
+def test_a_serial_dry_run_keeps_up_with_its_time_scale(tmp_path):
+    # the line-protocol board's emulator lives as fast as the sequence is run: at 16 x real
+    # time its motors follow their commands as closely as the Dynamixel emulator's do
+    logs = {}
+    for protocol in ("serial", "dynamixel"):
+        log = tmp_path / f"{protocol}.csv"
+        args = ["drive", str(EXAMPLES / "crawler_gait.toml"), "--dry-run", "--speed", "16"]
+        assert main([*args, "--protocol", protocol, "--log", str(log)]) == 0
+        rows = list(csv.DictReader(log.open()))
+        logs[protocol] = np.array(
+            [abs(float(r["target_turns"]) - float(r["measured_turns"])) for r in rows]
+        )
+    target_span = max(float(r["target_turns"]) for r in rows)
+    assert target_span > 2.0  # the motors really turned
+    # (the gait's steps jump the command by 1.6 turns: the worst rows lag by that much in both;
+    # before the board's emulator scaled its time, a tenth of the rows lagged by over 1 turn)
+    for lags in logs.values():
+        assert np.percentile(lags, 90) < 0.1

@@ -321,6 +321,11 @@ class _PtyDevice:
         raise NotImplementedError
 
 
+def _check_time_scale(time_scale: float) -> None:
+    if not (math.isfinite(time_scale) and time_scale > 0):
+        raise DriveError(f"emulator time scale must be finite and > 0, got {time_scale}")
+
+
 class DynamixelEmulator(_PtyDevice):
     """X-series servos answering Protocol 2.0 on a pseudo-terminal.
 
@@ -352,8 +357,7 @@ class DynamixelEmulator(_PtyDevice):
     ) -> None:
         ids = [int(i) for i in ids]
         _check_ids(ids)
-        if not (math.isfinite(time_scale) and time_scale > 0):
-            raise DriveError(f"emulator time scale must be finite and > 0, got {time_scale}")
+        _check_time_scale(time_scale)
         if model not in MODELS:
             raise DriveError(f"unknown servo model {model!r}; one of {', '.join(MODELS)}")
         super().__init__()
@@ -458,15 +462,27 @@ class DynamixelEmulator(_PtyDevice):
 
 
 class SerialEmulator(_PtyDevice):
-    """A board speaking the generic line protocol (see :mod:`origami_cad.drive.serial`)."""
+    """A board speaking the generic line protocol (see :mod:`origami_cad.drive.serial`).
 
-    def __init__(self, ids, corrupt_replies: int = 0) -> None:
+    Parameters
+    ----------
+    ids : iterable of int
+        Motor IDs on the board.
+    corrupt_replies : int
+        This many replies, from the first, get a wrong checksum (fault injection).
+    time_scale : float
+        The motors move this many times faster than real time (for dry runs of
+        sequences run with the same ``time_scale``).
+    """
+
+    def __init__(self, ids, corrupt_replies: int = 0, time_scale: float = 1.0) -> None:
         ids = [int(i) for i in ids]
         _check_ids(ids)
+        _check_time_scale(time_scale)
         super().__init__()
         from origami_cad.drive.serial import LineDevice
 
-        self.device = LineDevice(ids)
+        self.device = LineDevice(ids, time_scale=time_scale)
         self.device.corrupt_replies = corrupt_replies
         self._buffer = b""
 

@@ -86,19 +86,21 @@ def unframe(line: str) -> str:
 class LineDevice:
     """The device side of the protocol (what the reference firmware does), in Python.
 
-    Motors move toward their goal at ``speed`` turns per second.
+    Motors move toward their goal at ``speed`` turns per second of device time, which
+    runs ``time_scale`` times faster than real time (an emulator's dry run).
     """
 
-    def __init__(self, ids, speed: float = 5.0) -> None:
+    def __init__(self, ids, speed: float = 5.0, time_scale: float = 1.0) -> None:
         self.goal = {int(i): 0.0 for i in ids}
         self.position = {int(i): 0.0 for i in ids}
         self.enabled = {int(i): False for i in ids}
         self.speed = speed
+        self.time_scale = time_scale
         self.corrupt_replies = 0
-        self._last = time.monotonic()
+        self._last = time.monotonic() * time_scale
 
     def _advance(self) -> None:
-        now = time.monotonic()
+        now = time.monotonic() * self.time_scale
         dt, self._last = now - self._last, now
         for i, goal in self.goal.items():
             if self.enabled[i]:
