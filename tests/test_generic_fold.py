@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -115,3 +117,27 @@ def test_patterns_that_cannot_fold_this_way_are_named():
     kinked = CreasePattern(verts, edges, ["B"] * 4 + ["M", "M", "M", "V"])
     with pytest.raises(PatternError, match="not flat-foldable"):
         fold_degree4(kinked, 0.2)
+
+
+SIM_SAMPLES = Path(__file__).parent / "data" / "origami-simulator"
+
+
+@pytest.mark.parametrize(
+    ("name", "reason"),
+    [
+        # one vertex on two straight creases (M-M across, M-V up and down): a map fold
+        ("simpleVertex.svg", r"cannot fold rigidly: they lie on straight lines"),
+        ("mapfold.svg", r"cannot fold rigidly: they lie on straight lines"),
+        # pleats meeting at vertices of odd degree
+        ("hypar.svg", r"has \d+ folding creases, an odd number"),
+    ],
+)
+def test_origami_simulator_patterns_the_rigid_folder_cannot_fold_say_why(
+    name, reason, tmp_path, capsys
+):
+    code = main(["fold", str(SIM_SAMPLES / name), "--ratio", "0.5", "-o", str(tmp_path / "f.png")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert re.search(r"vertex \d+ at \(", err) and re.search(reason, err), err
+    assert "nan" not in err
+    assert not (tmp_path / "f.png").exists()

@@ -78,18 +78,25 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
     same_02 = signs[0] == signs[2]
     same_13 = signs[1] == signs[3]
     if same_02 == same_13:
-        raise ValueError("the assignments break Maekawa's pairing")
+        raise ValueError(
+            "they break Maekawa's pairing (one opposite pair must fold the same way, the "
+            "other opposite ways)"
+        )
     if same_02:
         num, den = math.cos((alpha + beta) / 2), math.cos((alpha - beta) / 2)
     else:
         num, den = math.sin((alpha + beta) / 2), math.sin((alpha - beta) / 2)
-    if abs(den) < 1e-12 or abs(num) < 1e-12:
-        raise ValueError("a degenerate vertex (the creases cannot fold rigidly)")
+    if abs(den) < 1e-6 or abs(num) < 1e-6:  # straight within the Kawasaki check's 1e-6 rad
+        raise ValueError(
+            "they lie on straight lines through the vertex, which fold one after the other "
+            "(as a map folds), not together as one rigid folding does; the bar-and-hinge "
+            "simulation (simulate) folds such patterns"
+        )
     c = abs(num / den)
     probe = 0.3
     rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2) * np.asarray(signs)
     if vertex_closure(np.asarray(sectors, dtype=float), rho) > 1e-9:
-        raise ValueError("no rigid folding with these signs")
+        raise ValueError("the vertex does not close when folded with these signs")
     return c
 
 
@@ -174,13 +181,21 @@ def fold_degree4(
 def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
     """Raise :class:`PatternError` naming the first interior vertex that breaks Kawasaki."""
     res = kawasaki_residuals(cp, interior)
+    folding = cp.edge_mask(*_FOLD, "U", "J")
     for v, r in zip(interior, res, strict=True):
-        if not (abs(r) <= 1e-6):
-            loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        if abs(r) <= 1e-6:
+            continue
+        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        if not np.isfinite(r):  # an odd number of folding creases
+            degree = int(np.sum(folding & (cp.edges == v).any(axis=1)))
             raise PatternError(
-                f"vertex {v} at {loc} mm is not flat-foldable (Kawasaki defect "
-                f"{math.degrees(abs(r)) / 2 if np.isfinite(r) else float('nan'):.3g} deg)"
+                f"vertex {v} at {loc} mm has {degree} folding creases, an odd number: it "
+                "cannot fold flat, and this folder needs flat-foldable degree-4 vertices"
             )
+        raise PatternError(
+            f"vertex {v} at {loc} mm is not flat-foldable (Kawasaki defect "
+            f"{math.degrees(abs(r)) / 2:.3g} deg)"
+        )
 
 
 def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) -> np.ndarray:
@@ -231,11 +246,11 @@ def _vertex_ratio(cp, v: int, order: list[int], sectors: np.ndarray, sign: np.nd
     """
     try:
         return degree4_ratio(sectors, sign[order])
-    except ValueError:
+    except ValueError as exc:
         loc = tuple(round(float(c), 4) for c in cp.vertices[v])
         raise PatternError(
-            f"vertex {v} at {loc} mm: the assignments of creases {order} "
-            f"({''.join(cp.assignments[order])}) cannot fold rigidly"
+            f"vertex {v} at {loc} mm: creases {order} ({''.join(cp.assignments[order])}) "
+            f"cannot fold rigidly: {exc}"
         ) from None
 
 
