@@ -128,8 +128,9 @@ SIM_SAMPLES = Path(__file__).parent / "data" / "origami-simulator"
         # one vertex on two straight creases (M-M across, M-V up and down): a map fold
         ("simpleVertex.svg", r"cannot fold rigidly: they lie on straight lines"),
         ("mapfold.svg", r"cannot fold rigidly: they lie on straight lines"),
-        # pleats meeting at vertices of odd degree
-        ("hypar.svg", r"has \d+ folding creases, an odd number"),
+        # pleats meeting at vertices of odd degree, and a waterbomb's degree-6 vertices
+        ("hypar.svg", r"has \d+ creases; this folder needs every interior vertex to have"),
+        ("waterbomb.svg", r"has 6 creases; this folder needs every interior vertex to have"),
     ],
 )
 def test_origami_simulator_patterns_the_rigid_folder_cannot_fold_say_why(

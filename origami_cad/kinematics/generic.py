@@ -115,7 +115,8 @@ def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
         loc = tuple(round(float(c), 4) for c in cp.vertices[v])
         if len(items) != 4:
             raise PatternError(
-                f"vertex {v} at {loc} mm has {len(items)} creases; this folder needs every "
+                f"vertex {v} at {loc} mm has {len(items)} crease{'s' * (len(items) != 1)}; "
+                "this folder needs every "
                 "interior vertex to have degree 4"
             )
         items.sort()
@@ -164,8 +165,8 @@ def fold_degree4(
     if not len(creases):
         raise PatternError("the pattern has no mountain or valley crease to fold")
     interior = interior_vertices(cp)
+    tables = _vertex_tables(cp, interior)  # degree 4 first: the more basic requirement
     _check_flat_foldable(cp, interior)
-    tables = _vertex_tables(cp, interior)
     if driving_edge is None:
         mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
         driving_edge = int(creases[np.argmin(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))])
@@ -189,7 +190,7 @@ def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
         if not np.isfinite(r):  # an odd number of folding creases
             degree = int(np.sum(folding & (cp.edges == v).any(axis=1)))
             raise PatternError(
-                f"vertex {v} at {loc} mm has {degree} folding creases, an odd number: it "
+                f"vertex {v} at {loc} mm has {degree} folding crease{'s' * (degree != 1)}, an odd number: it "
                 "cannot fold flat, and this folder needs flat-foldable degree-4 vertices"
             )
         raise PatternError(
