@@ -190,8 +190,9 @@ def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
         if not np.isfinite(r):  # an odd number of folding creases
             degree = int(np.sum(folding & (cp.edges == v).any(axis=1)))
             raise PatternError(
-                f"vertex {v} at {loc} mm has {degree} folding crease{'s' * (degree != 1)}, an odd number: it "
-                "cannot fold flat, and this folder needs flat-foldable degree-4 vertices"
+                f"vertex {v} at {loc} mm has {degree} folding crease{'s' * (degree != 1)}, "
+                "an odd number: it cannot fold flat, and this folder needs flat-foldable "
+                "degree-4 vertices"
             )
         raise PatternError(
             f"vertex {v} at {loc} mm is not flat-foldable (Kawasaki defect "
