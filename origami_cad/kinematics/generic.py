@@ -24,9 +24,14 @@ from origami_cad.errors import PatternError
 from origami_cad.pattern.check import interior_vertices, kawasaki_residuals
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["degree4_ratio", "fold_degree4", "vertex_closure"]
+__all__ = ["FLAT_FOLD_TOLERANCE", "degree4_ratio", "fold_degree4", "vertex_closure"]
 
 _FOLD = ("M", "V")
+
+#: How far a vertex may be from flat-foldable (Kawasaki's alternating sum), and a crease
+#: pair from straight, radians: about what coordinates written to 6 significant digits
+#: (as other tools write FOLD and SVG files) leave of an exact pattern.
+FLAT_FOLD_TOLERANCE = 1e-5
 
 
 def _rx(a: float) -> np.ndarray:
@@ -86,7 +91,7 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
         num, den = math.cos((alpha + beta) / 2), math.cos((alpha - beta) / 2)
     else:
         num, den = math.sin((alpha + beta) / 2), math.sin((alpha - beta) / 2)
-    if abs(den) < 1e-6 or abs(num) < 1e-6:  # straight within the Kawasaki check's 1e-6 rad
+    if abs(den) < FLAT_FOLD_TOLERANCE or abs(num) < FLAT_FOLD_TOLERANCE:
         raise ValueError(
             "they lie on straight lines through the vertex, which fold one after the other "
             "(as a map folds), not together as one rigid folding does; the bar-and-hinge "
@@ -95,7 +100,7 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
     c = abs(num / den)
     probe = 0.3
     rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2) * np.asarray(signs)
-    if vertex_closure(np.asarray(sectors, dtype=float), rho) > 1e-9:
+    if vertex_closure(np.asarray(sectors, dtype=float), rho) > FLAT_FOLD_TOLERANCE:
         raise ValueError("the vertex does not close when folded with these signs")
     return c
 
@@ -134,7 +139,10 @@ def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
 
 
 def fold_degree4(
-    cp: CreasePattern, p: float, driving_edge: int | None = None, tol: float = 1e-9
+    cp: CreasePattern,
+    p: float,
+    driving_edge: int | None = None,
+    tol: float = FLAT_FOLD_TOLERANCE,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Fold ``cp`` rigidly so that the driving crease folds by ``p * 180`` degrees.
 
@@ -150,7 +158,8 @@ def fold_degree4(
         The driving crease (default: the mountain or valley crease nearest the
         pattern's centroid).
     tol : float
-        Loop-consistency tolerance, radians (and ``tol * size`` mm for positions).
+        Loop-consistency tolerance, radians (and ``tol * size`` mm for positions);
+        default :data:`FLAT_FOLD_TOLERANCE`.
 
     Returns
     -------
@@ -184,7 +193,7 @@ def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
     res = kawasaki_residuals(cp, interior)
     folding = cp.edge_mask(*_FOLD, "U", "J")
     for v, r in zip(interior, res, strict=True):
-        if abs(r) <= 1e-6:
+        if abs(r) <= FLAT_FOLD_TOLERANCE:
             continue
         loc = tuple(round(float(c), 4) for c in cp.vertices[v])
         if not np.isfinite(r):  # an odd number of folding creases
@@ -222,8 +231,9 @@ def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) ->
         elif abs(magnitude[e] - value) > tol * max(1.0, value):
             raise PatternError(
                 f"the folding is not consistent around the loop through crease {e} at "
-                f"{tuple(np.round(mids[e], 4))} mm (vertex {v}): "
-                f"{math.degrees(magnitude[e]):.6g} deg against {math.degrees(value):.6g} deg"
+                f"{tuple(round(float(c), 4) for c in mids[e])} mm (vertex {v}): "
+                f"{math.degrees(magnitude[e]):.6g} deg against {math.degrees(value):.6g} deg "
+                f"({math.degrees(abs(magnitude[e] - value)):.3g} deg apart)"
             )
 
     while queue:
@@ -285,7 +295,7 @@ def _place(cp: CreasePattern, rho: np.ndarray, driving_edge: int, tol: float) ->
             transform[other] = transform[f] @ _rotation(a, b - a, angle)
             queue.append(other)
     coords = np.full((cp.n_vertices, 3), np.nan)
-    limit = tol * 1e3 * max(cp.size, 1.0)
+    limit = tol * max(cp.size, 1.0)
     for f, t in transform.items():
         ring = cp.faces[f]
         pts = (t[:3, :3] @ flat[ring].T).T + t[:3, 3]

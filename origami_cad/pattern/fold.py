@@ -9,7 +9,8 @@ without it). Holes and panel labels ride along under namespaced keys
 :func:`write_fold` ``frames``).
 
 Reading accepts files of other tools: 2D or 3D coordinates (a 3D file takes
-the key frame if it is flat, else the first flat frame, else it is an error),
+the key frame if it is flat, else the first flat frame, else the first folded form
+with faces, unfolded: :mod:`origami_cad.pattern.unfold`),
 missing faces (computed), the old key ``edges_foldAngles``, and a missing
 ``edges_assignment`` (taken from the sign of the fold angles, else ``U``).
 """
@@ -28,7 +29,14 @@ import numpy as np
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import parse_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
+from origami_cad.pattern.model import (
+    MAX_COORDINATE,
+    CreasePattern,
+    Hole,
+    Problem,
+    Severity,
+    printable,
+)
 
 __all__ = [
     "FoldFrame",
@@ -424,9 +432,12 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
     ``frame_unit`` declares (default: the declared unit; mm when none, one mm per
     unit for ``"unit"``); ``metadata["source_unit"]`` says which was used.
 
-    The key frame is used when it is flat; otherwise the first flat frame of
-    ``file_frames`` (a file holding only a folded form is an error, since its
-    crease pattern cannot be recovered without unfolding it).
+    The key frame is used when it is flat (and not declared a ``foldedForm``);
+    otherwise the first such frame of ``file_frames``; otherwise the first folded
+    form with ``faces_vertices`` is unfolded, its faces laid flat across their
+    shared creases (:func:`origami_cad.pattern.unfold.unfold_faces`), which keeps
+    every length; its fold angles become the pattern's. A form that does not
+    unfold flat (stretched, torn) is an error naming the vertex.
 
     Every field used is checked for its JSON type, shape and range (finite
     coordinates within :data:`~origami_cad.pattern.model.MAX_COORDINATE` mm,
@@ -444,6 +455,7 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
         title = ""
     if not isinstance(title, str):
         raise PatternError(f"{name}: file_title must be a string, not {_json_type(title)}")
+    forms = []
     for i, frame in enumerate(frames):
         if "vertices_coords" not in frame and i == 0 and len(frames) > 1:
             continue
@@ -453,17 +465,98 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
         _key(frame, "vertices_coords", where)
         scale = _unit_scale(frame, where) if mm_per_unit is None else float(mm_per_unit)
         verts = _coords(frame, where, scale)
-        if _is_flat(verts):
-            unit = "mm (no frame_unit)"
-            if "frame_unit" in frame:
-                unit = f"frame_unit {frame['frame_unit']!r}"
-            if mm_per_unit is not None:
-                unit = f"{scale:g} mm per unit (given)"
+        unit = "mm (no frame_unit)"
+        if "frame_unit" in frame:
+            unit = f"frame_unit {frame['frame_unit']!r}"
+        if mm_per_unit is not None:
+            unit = f"{scale:g} mm per unit (given)"
+        if _is_flat(verts) and not _is_folded_form(frame):
             cp = _frame_to_pattern(frame, where, title, verts)
             return cp.with_metadata(source_unit=printable(unit, 80))
-    raise PatternError(
-        f"{name}: no frame is flat: the file holds a folded form only, not a crease pattern"
+        if frame.get("faces_vertices") is not None and "edges_vertices" in frame:
+            forms.append((frame, where, verts, unit))
+    if not forms:
+        raise PatternError(
+            f"{name}: no frame is flat and no folded form has faces_vertices to unfold: "
+            "the file holds no crease pattern"
+        )
+    frame, where, verts, unit = forms[0]
+    cp = _unfolded_pattern(frame, where, title, verts)
+    return cp.with_metadata(source_unit=printable(unit, 80))
+
+
+def _is_folded_form(frame: dict[str, Any]) -> bool:
+    """Whether the frame says it is a folded state (``frame_classes`` ``foldedForm``)
+    and not also a crease pattern: a form folded flat is flat but no crease pattern."""
+    classes = frame.get("frame_classes")
+    if not isinstance(classes, list):
+        return False
+    return "foldedForm" in classes and "creasePattern" not in classes
+
+
+def _unfolded_pattern(
+    frame: dict[str, Any], where: str, title: str, verts: np.ndarray
+) -> CreasePattern:
+    """The crease pattern of a folded-form frame, its faces laid flat (:mod:`.unfold`).
+
+    The form's fold angles become the pattern's (unless the file gives its own) and,
+    without ``edges_assignment``, its assignments: B on edges of one face, V or M by
+    the angle's sign, F where the faces are coplanar, U where the geometry cannot tell
+    (folded flat). Faces listed clockwise seen from the top (their valleys measure
+    negative) are laid out mirrored, so that the pattern is seen from its top.
+    """
+    from origami_cad.pattern.unfold import fold_angles_of_form, unfold_faces
+
+    faces = _index_rows(frame, "faces_vertices", where, len(verts), None)
+    edges = np.asarray(_index_rows(frame, "edges_vertices", where, len(verts), 2), dtype=int)
+    try:
+        flat = unfold_faces(verts, faces)
+    except PatternError as exc:
+        raise PatternError(f"{where}: {exc}") from None
+    measured = fold_angles_of_form(verts, faces, edges.reshape(-1, 2))
+    assign = _assignments(frame, where, len(edges))
+    if assign is None:
+        sides = _faces_per_edge(faces, edges)
+        assign = np.where(
+            sides < 2,
+            "B",
+            np.where(
+                np.isnan(measured),
+                "U",
+                np.where(measured > 1e-6, "V", np.where(measured < -1e-6, "M", "F")),
+            ),
+        ).tolist()
+    sense = np.array([{"V": 1.0, "M": -1.0}.get(a, 0.0) for a in assign])
+    known = np.isfinite(measured) & (sense != 0) & (np.abs(measured) > 1e-6)
+    if known.any() and np.sum(np.sign(measured[known]) != sense[known]) > known.sum() / 2:
+        flat[:, 0] *= -1.0  # seen from below: mirror, and the measured senses turn over
+        measured = -measured
+        faces = [list(reversed(f)) for f in faces]
+    flat_folded = np.isnan(measured) & (sense != 0)
+    measured[flat_folded] = 180.0 * sense[flat_folded]
+    measured[np.sign(measured) != sense] = np.nan  # only angles that agree with the letters
+    given = {"edges_assignment": list(assign), "faces_vertices": faces}
+    if "edges_foldAngle" not in frame and "edges_foldAngles" not in frame:
+        given["edges_foldAngle"] = [None if np.isnan(a) else float(a) for a in measured]
+    cp = _frame_to_pattern({**frame, **given}, where, title, flat)
+    note = Problem(
+        "unfolded",
+        f"{where}: the file holds a folded form only; its {len(faces)} faces were laid "
+        "flat to recover the crease pattern",
+        severity=Severity.INFO,
     )
+    out = cp.with_metadata(unfolded=True)
+    out.notes = (*cp.notes, note)
+    return out
+
+
+def _faces_per_edge(faces: list[list[int]], edges: np.ndarray) -> np.ndarray:
+    count: dict[tuple[int, int], int] = {}
+    for face in faces:
+        for a, b in zip(face, [*face[1:], face[0]], strict=True):
+            key = (min(a, b), max(a, b))
+            count[key] = count.get(key, 0) + 1
+    return np.array([count.get((min(a, b), max(a, b)), 0) for a, b in edges])
 
 
 def read_fold_frames(path: str | os.PathLike[str]) -> list[np.ndarray]:

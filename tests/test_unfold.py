@@ -1,0 +1,113 @@
+"""Folded forms read from FOLD files written by other tools are unfolded into their crease
+patterns: lengths kept, assignments and fold angles taken from the form, and the rigid
+folder folds the recovered pattern back into the very form the file holds."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from origami_cad.cli import main
+from origami_cad.kinematics.generic import fold_degree4
+from origami_cad.pattern import PatternError, read_fold
+from origami_cad.pattern.unfold import fold_angles_of_form, unfold_faces
+
+DATA = Path(__file__).parent / "data" / "fold"
+
+
+def _form(name: str):
+    data = json.loads((DATA / name).read_text())
+    return data, np.array(data["vertices_coords"], dtype=float)
+
+
+def _distances(x: np.ndarray) -> np.ndarray:
+    return np.linalg.norm(x[:, None, :] - x[None, :, :], axis=-1)
+
+
+@pytest.mark.parametrize("name", ["squaretwist.fold", "simple.fold", "box.fold"])
+def test_every_face_keeps_its_shape_and_every_crease_its_length(name):
+    data, xyz = _form(name)
+    cp = read_fold(DATA / name)
+    assert any(n.code == "unfolded" for n in cp.notes)
+    assert len(cp.faces) == len(data["faces_vertices"])
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    # the reader keeps the file's vertex numbering; each face is congruent to its folded self
+    for face in data["faces_vertices"]:
+        np.testing.assert_allclose(_distances(flat[face]), _distances(xyz[face]), atol=1e-5)
+    # the assignments are the file's own
+    assert cp.assignments.tolist() == data["edges_assignment"]
+    # the sheet is seen from its top (faces counter-clockwise) and does not overlap itself:
+    # the faces' union is as large as their areas together
+    polygons = [shapely.Polygon(cp.vertices[f]) for f in cp.faces]
+    assert all(shapely.is_ccw(p.exterior) for p in polygons)
+    total = sum(p.area for p in polygons)
+    assert shapely.union_all(polygons).area == pytest.approx(total, rel=1e-6)
+
+
+def test_the_square_twist_folds_back_into_the_form_the_file_holds():
+    # Thomas Hull's rigidly folded square twist (Mathematica): unfolded, then folded
+    # rigidly by the degree-4 folder to the same driving angle, it is the file's form
+    _, xyz = _form("squaretwist.fold")
+    cp = read_fold(DATA / "squaretwist.fold")
+    twist = np.array([[0.25, 0.5], [0.5, 0.25], [0.75, 0.5], [0.5, 0.75]])
+    assert all(np.min(np.linalg.norm(cp.vertices - t, axis=1)) < 1e-5 for t in twist)
+    # the form's fold angles became the pattern's: valleys positive, mountains negative
+    m, v = cp.edge_mask("M"), cp.edge_mask("V")
+    assert np.all(cp.fold_angles[v] > 20) and np.all(cp.fold_angles[m] < -20)
+    drive = int(np.flatnonzero(v)[0])
+    p = abs(cp.fold_angles[drive]) / 180.0
+    coords, angles = fold_degree4(cp, p, driving_edge=drive)
+    np.testing.assert_allclose(angles[m | v], cp.fold_angles[m | v], atol=1e-3)
+    np.testing.assert_allclose(_distances(coords), _distances(xyz), atol=1e-4)
+
+
+def test_measured_fold_angles_follow_the_fold_convention():
+    data, xyz = _form("squaretwist.fold")
+    edges = np.array(data["edges_vertices"])
+    angles = fold_angles_of_form(xyz, data["faces_vertices"], edges)
+    letters = np.array(data["edges_assignment"])
+    assert np.all(angles[letters == "V"] > 0) and np.all(angles[letters == "M"] < 0)
+    assert np.all(np.isnan(angles[letters == "B"]))
+
+
+def test_a_form_that_is_not_developable_is_refused_by_vertex(tmp_path):
+    # a square pyramid's four sides around its apex: 4 x 60 deg of paper cannot lie flat
+    apex = [0.0, 0.0, 1.0]
+    base = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.0], [-1.0, -1.0, 0.0], [1.0, -1.0, 0.0]]
+    xyz = np.array([apex, *base])
+    faces = [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]]
+    with pytest.raises(PatternError, match=r"does not unfold flat: vertex \d lands at two"):
+        unfold_faces(xyz, faces)
+    path = tmp_path / "pyramid.fold"
+    edges = [[0, 1], [0, 2], [0, 3], [0, 4], [1, 2], [2, 3], [3, 4], [4, 1]]
+    path.write_text(
+        json.dumps(
+            {
+                "frame_classes": ["foldedForm"],
+                "vertices_coords": xyz.tolist(),
+                "faces_vertices": faces,
+                "edges_vertices": edges,
+            }
+        )
+    )
+    out = tmp_path / "cp.svg"
+    assert main(["convert", str(path), str(out)]) == 2
+    assert not out.exists()
+
+
+def test_a_folded_form_without_faces_cannot_be_unfolded(tmp_path):
+    path = tmp_path / "bent.fold"
+    path.write_text(
+        json.dumps(
+            {
+                "vertices_coords": [[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 1]],
+                "edges_vertices": [[0, 1], [1, 2], [2, 3], [3, 0]],
+            }
+        )
+    )
+    with pytest.raises(PatternError, match="no folded form has faces_vertices to unfold"):
+        read_fold(path)
