@@ -257,8 +257,8 @@ def _run(args: argparse.Namespace) -> int:
         for line in outputs.messages:
             print(line)
         return outputs.status
-    except OrigamiCadError as exc:
-        _error(str(exc))
+    except OrigamiCadError as exc:  # with its notes (a pattern's implausible size)
+        _error("; ".join([str(exc), *getattr(exc, "__notes__", ())]))
         return 2
     except KeyboardInterrupt:
         return _interrupted()

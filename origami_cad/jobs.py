@@ -20,6 +20,8 @@ atomically. A job returns an :class:`Outputs` record of what it wrote and found.
 
 from __future__ import annotations
 
+import contextvars
+import functools
 import json
 import math
 import os
@@ -30,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
-from origami_cad.errors import DesignError
+from origami_cad.errors import DesignError, OrigamiCadError
 
 __all__ = [
     "Outputs",
@@ -180,6 +182,31 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
         write_pattern(cp, out)
 
 
+_SIZE_NOTES: contextvars.ContextVar[list[str] | None] = contextvars.ContextVar(
+    "size_notes", default=None
+)
+
+
+def _size_noted(job: Callable) -> Callable:
+    """Decorate a job that reads patterns by :func:`_sized_source`: an error it raises
+    carries (``add_note``) the size warnings of the patterns read, since a pattern read
+    at the wrong scale (1 mm across) fails far from the reader, where nothing says why."""
+
+    @functools.wraps(job)
+    def wrapper(*args, **kwargs):
+        token = _SIZE_NOTES.set([])
+        try:
+            return job(*args, **kwargs)
+        except OrigamiCadError as exc:
+            for note in _SIZE_NOTES.get() or ():
+                exc.add_note(note)
+            raise
+        finally:
+            _SIZE_NOTES.reset(token)
+
+    return wrapper
+
+
 def _sized_source(design: PathLike, unit=None, scale=None, width=None):
     """``(Design, warnings)``: a design or pattern file, an imported pattern sized by
     ``unit``/``scale``/``width``; the warnings name an implausible size."""
@@ -187,7 +214,11 @@ def _sized_source(design: PathLike, unit=None, scale=None, width=None):
     from origami_cad.pattern.design import load_pattern_source
 
     loaded = load_pattern_source(design, unit=unit, scale=scale, width=width)
-    return loaded, [f"warning: {w}" for w in size_warnings(loaded.pattern)]
+    warned = size_warnings(loaded.pattern)
+    notes = _SIZE_NOTES.get()
+    if notes is not None:
+        notes += [f"note: {w}" for w in warned]
+    return loaded, [f"warning: {w}" for w in warned]
 
 
 # --------------------------------------------------------------------------- patterns
@@ -235,6 +266,7 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
     return Outputs(messages=lines, numbers=numbers, result=problems, status=1 if errors else 0)
 
 
+@_size_noted
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
     for out in outputs:
@@ -258,6 +290,7 @@ def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool =
     return result
 
 
+@_size_noted
 def run_fold(
     design: PathLike,
     output: PathLike,
@@ -646,6 +679,7 @@ def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
     return numbers
 
 
+@_size_noted
 def run_fabricate(
     design: PathLike,
     folder: PathLike,
@@ -747,6 +781,7 @@ def run_part(
 # --------------------------------------------------------------------------- strings
 
 
+@_size_noted
 def run_route(
     design: PathLike,
     route: PathLike,
@@ -919,6 +954,7 @@ def _verify_planned(loaded, geom, planned, route_file: Path, verify: int) -> lis
     return out
 
 
+@_size_noted
 def run_plan_route(
     pattern: PathLike,
     output: PathLike,
@@ -1091,6 +1127,7 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     save_route_png(cp, spec, stage / names[4])
 
 
+@_size_noted
 def run_simulate(
     pattern: PathLike,
     route: PathLike,

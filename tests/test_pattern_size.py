@@ -120,10 +120,27 @@ def test_scaled_keeps_the_graph_labels_holes_and_angles():
 
 
 def test_a_tiny_pattern_is_warned_about(tmp_path):
-    tiny = write_pattern(miura_pattern(2, 2, 0.2, 0.3, 60.0), tmp_path / "tiny.fold")
+    tiny = write_pattern(miura_pattern(2, 2, 2.0, 3.0, 60.0), tmp_path / "tiny.fold")
     (warning,) = size_warnings(read_pattern(tiny))
-    assert "under 1 mm across" in warning and "--width" in warning
-    assert size_warnings(read_pattern(tiny, scale=100.0)) == []
+    assert "under 10 mm across" in warning and "--width" in warning
+    assert size_warnings(read_pattern(tiny, scale=10.0)) == []
+
+
+def test_a_job_failing_on_a_tiny_pattern_says_its_size(tmp_path, capsys):
+    # the FOLD project's diagonal-cp.fold is 1 x 1 with no frame_unit: read as 1 mm, its
+    # panels are too small to print, and the error says why and how to size it
+    out = tmp_path / "fab"
+    assert main(["fabricate", str(DATA / "fold" / "diagonal-cp.fold"), "-o", str(out)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "too small" in line and "under 10 mm across" in line and "--width" in line
+    assert not out.exists()
+    assert (
+        main(
+            ["fabricate", str(DATA / "fold" / "diagonal-cp.fold"), "--width", "100", "-o", str(out)]
+        )
+        == 0
+    )
+    assert (out / "print.3mf").is_file()
 
 
 def test_oripa_files_are_6_inches_of_no_unit(tmp_path):

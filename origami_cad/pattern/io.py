@@ -46,8 +46,10 @@ UNITS = {
     "pt": 25.4 / 72,
     "px": 25.4 / 96,
 }
-#: a pattern larger or smaller than this across (mm) gets a ``size`` warning note
-PLAUSIBLE_SIZE = (1.0, 5000.0)
+#: a pattern larger or smaller than this across (mm) gets a ``size`` warning note: under
+#: 10 mm no printed panel fits its chamfers and holes (FOLD's unitless examples are 1 or 2
+#: units across, read as mm)
+PLAUSIBLE_SIZE = (10.0, 5000.0)
 #: how a user sets the size (named in the warning)
 SIZE_HINT = "--unit mm|cm|m|in|ft|pt|px, --scale FACTOR or --width MM"
 
@@ -109,7 +111,7 @@ def read_pattern(
     Returns
     -------
     CreasePattern
-        In mm. A pattern over 5 m or under 1 mm across (its larger extent)
+        In mm. A pattern over 5 m or under 10 mm across (its larger extent)
         carries a ``size`` warning in its ``notes``, naming the unit it was read
         in and the options that set the size (see :func:`size_warnings`).
 
@@ -153,10 +155,11 @@ def _check_size(cp: CreasePattern, name: str) -> CreasePattern:
     x0, y0, x1, y1 = cp.bounds
     across = max(x1 - x0, y1 - y0)
     low, high = PLAUSIBLE_SIZE
-    if low <= across <= high:
+    said = any(n.code == "size" and n.severity == Severity.WARNING for n in cp.notes)
+    if low <= across <= high or said:  # in range, or the reader warned already (ORIPA)
         return cp
     read_in = cp.metadata.get("source_unit", "mm")
-    what = "over 5 m" if across > high else "under 1 mm"
+    what = "over 5 m" if across > high else "under 10 mm"
     note = Problem(
         "size",
         f"{name}: the pattern measures {x1 - x0:.4g} x {y1 - y0:.4g} mm, {what} across "
