@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-import multiprocessing
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -51,6 +50,7 @@ import cma
 import numpy as np
 
 from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
+from origami_cad.design.parallel import local_pool, start_context
 from origami_cad.design.task import ArmTask, SearchSettings
 from origami_cad.pattern.tg import TGDesign
 
@@ -295,14 +295,9 @@ def design_arm(
     queue = None
     manager = None
     if own:
-        # fork (where available) lets user scripts without a __main__ guard run searches
-        methods = multiprocessing.get_all_start_methods()
-        ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-        executor = cf.ProcessPoolExecutor(
-            max_workers=min(settings.runs, multiprocessing.cpu_count()), mp_context=ctx
-        )
+        executor = local_pool(settings.runs)
         if progress is not None:
-            manager = ctx.Manager()
+            manager = start_context().Manager()
             queue = manager.Queue()
     elif progress is not None and isinstance(executor, cf.ThreadPoolExecutor):
         queue = _CallbackQueue(progress)

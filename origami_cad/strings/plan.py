@@ -42,13 +42,13 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-import multiprocessing
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
+from origami_cad.design.parallel import local_pool
 from origami_cad.errors import DesignError
 from origami_cad.fabrication.panels import panel_outlines
 from origami_cad.fabrication.params import FabricationParams
@@ -958,10 +958,7 @@ def run_tasks(
     """
     own = executor is None
     if own:
-        methods = multiprocessing.get_all_start_methods()
-        ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-        workers = max(1, min(len(tasks), multiprocessing.cpu_count()))
-        executor = cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+        executor = local_pool(len(tasks))
     try:
         futures = [executor.submit(fn, *task) for task in tasks]
         if progress is not None:
