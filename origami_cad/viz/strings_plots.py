@@ -88,6 +88,17 @@ def _sheet(ax, cp: CreasePattern, coords: np.ndarray, title: str) -> None:
     ax.set_title(title, fontsize=9)
 
 
+#: how a figure's title names each stop reason (StopReason values)
+_STOP_PHRASES = {
+    "turn_limit": "the TSA's turn limit",
+    "helix_limit": "the strands' helix limit",
+    "fold_limit": "the fold limit",
+    "tension_limit": "the tension limit",
+    "torque_limit": "the torque limit",
+    "jam": "a jam",
+}
+
+
 def save_fig5_png(cp: CreasePattern, dcqc: DCQCResult, sim, path: str | os.PathLike[str]) -> Path:
     """The paper's Fig. 5 from both string models, for sizing the hardware.
 
@@ -110,7 +121,9 @@ def save_fig5_png(cp: CreasePattern, dcqc: DCQCResult, sim, path: str | os.PathL
     ax.set_ylim(0, max(0.6, float(np.nanmax(sim.p)) + 0.05))
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
-    ax.set_title(f"DCQC: {dcqc.stop.value}; simulation: {sim.stop.value}", fontsize=10)
+    a, b = _STOP_PHRASES.get(dcqc.stop.value, "?"), _STOP_PHRASES.get(sim.stop.value, "?")
+    title = f"both models stop at {a}" if a == b else f"DCQC stops at {a}, the simulation at {b}"
+    ax.set_title(title, fontsize=10)
     ax2 = fig.add_subplot(grid[0, 2:])
     for i in range(sim.tensions.shape[1]):
         ax2.plot(
