@@ -196,6 +196,21 @@ def test_fuzz_fold_reader(doc, nest):
         sound(cp)
 
 
+@fuzz(80)
+@given(doc=fold_documents(), heights=st.lists(st.integers(0, 6), min_size=9, max_size=9))
+def test_fuzz_folded_forms(doc, heights):
+    # a key frame in 3D: a folded form the reader unfolds (faces laid flat, or refused)
+    coords = doc["vertices_coords"]
+    if isinstance(coords, list) and all(isinstance(c, list) and len(c) == 2 for c in coords):
+        doc["vertices_coords"] = [[*c, heights[k % 9]] for k, c in enumerate(coords)]
+    doc["frame_classes"] = ["foldedForm"]
+    path = _DIR / "fuzz_form.fold"
+    path.write_text(json.dumps(doc, allow_nan=True), encoding="utf-8", errors="surrogatepass")
+    cp = outcome(read_pattern, path)
+    if cp is not None:
+        sound(cp)
+
+
 @fuzz(40)
 @given(doc=fold_documents(), cut=st.integers(0, 10_000), junk=st.text(max_size=4))
 def test_fuzz_fold_text(doc, cut, junk):

@@ -111,3 +111,17 @@ def test_a_folded_form_without_faces_cannot_be_unfolded(tmp_path):
     )
     with pytest.raises(PatternError, match="no folded form has faces_vertices to unfold"):
         read_fold(path)
+
+
+def test_a_form_that_would_overlap_itself_when_flat_is_refused():
+    # seven 55-degree triangles around one vertex, each beside the last: 385 degrees of
+    # paper, so laid flat the seventh covers part of the first (paper lies in one layer)
+    angles = np.radians(np.arange(0, 386, 55.0))
+    xyz = np.vstack(
+        [[0.0, 0.0, 0.0], np.column_stack([np.cos(angles), np.sin(angles), 0 * angles])]
+    )
+    faces = [[0, k, k + 1] for k in range(1, len(angles))]
+    with pytest.raises(PatternError, match="does not unfold into one layer: faces 0 and 6"):
+        unfold_faces(xyz, faces)
+    # six of them (330 degrees) lie flat
+    assert unfold_faces(xyz[:-1], faces[:-1]).shape == (len(xyz) - 1, 2)

@@ -219,7 +219,8 @@ def _coords(frame: dict[str, Any], where: str, scale: float) -> np.ndarray:
                 )
     if not raw:
         return np.zeros((0, 2))
-    verts = np.asarray(raw, dtype=float) * scale
+    with np.errstate(over="ignore"):  # an overflow is infinite: refused just below
+        verts = np.asarray(raw, dtype=float) * scale
     big = np.abs(verts) > MAX_COORDINATE
     if big.any():
         k = int(np.flatnonzero(big.any(axis=1))[0])
@@ -241,7 +242,7 @@ def _index_rows(
                 f"{where}: {key}[{k}] must be an array of {width or 'the'} vertex indices"
             )
         idx = [_index(v, key, k, where) for v in row]
-        if width is not None and any(not 0 <= i < n_vertices for i in idx):
+        if any(not 0 <= i < n_vertices for i in idx):
             raise PatternError(
                 f"{where}: {key}[{k}] = {idx} refers to vertex "
                 f"{next(i for i in idx if not 0 <= i < n_vertices)}, which does not exist "

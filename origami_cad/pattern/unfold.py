@@ -56,9 +56,19 @@ def _face_edges(faces: Sequence[Sequence[int]]) -> dict[tuple[int, int], list[in
 
 def _check_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], size: float) -> None:
     for f, face in enumerate(faces):
+        if any(not 0 <= w < len(xyz) for w in face):
+            raise PatternError(
+                f"face {f} of the folded form refers to a vertex that does not exist"
+            )
         pts = xyz[list(face)]
+        sides = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+        if len(face) < 3 or np.any(sides <= 1e-9 * size):
+            raise PatternError(
+                f"face {f} of the folded form is degenerate (fewer than 3 corners, or a side "
+                "of zero length)"
+            )
         n = _normal(pts)
-        if len(face) < 3 or not np.any(n):
+        if not np.any(n):
             raise PatternError(f"face {f} of the folded form is degenerate (no area)")
         off = np.abs((pts - pts[0]) @ n)
         if off.max() > 1e-6 * size:
@@ -147,7 +157,27 @@ def unfold_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], tol: float = 1
             f"face {missing[0]} of the folded form shares no edge with face 0: the faces "
             "do not form one sheet"
         )
-    return _merge(placed, len(xyz), size, tol)
+    flat = _merge(placed, len(xyz), size, tol)
+    _check_no_overlap(flat, faces, size, tol)
+    return flat
+
+
+def _check_no_overlap(flat: np.ndarray, faces: list[list[int]], size: float, tol: float) -> None:
+    """Refuse a layout whose faces overlap: paper lies flat in one layer."""
+    import shapely
+
+    polygons = shapely.make_valid(np.array([shapely.Polygon(flat[f]) for f in faces]))
+    total = float(np.sum(shapely.area(polygons)))
+    union = float(shapely.area(shapely.union_all(polygons)))
+    if total - union > tol * size * size:
+        tree = shapely.STRtree(polygons)
+        for f, g in np.asarray(tree.query(polygons, predicate="overlaps")).T:
+            if f < g and shapely.area(shapely.intersection(polygons[f], polygons[g])) > 0:
+                raise PatternError(
+                    f"the folded form does not unfold into one layer: faces {f} and {g} "
+                    "overlap when laid flat"
+                )
+        raise PatternError("the folded form does not unfold into one layer: its faces overlap")
 
 
 def _merge(placed: dict, n: int, size: float, tol: float) -> np.ndarray:
