@@ -1701,7 +1701,19 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
 
         every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
         every.update(stls)
-        render_parts(every, stage / "robot.png", title=f"{Path(robot).stem}: printed robot")
+        from origami_cad.parts.robot import PART_COLORS
+
+        kinds = {n: assembly.kinds[n] for n in stls}
+        render_parts(
+            every,
+            stage / "robot.png",
+            title=f"{Path(robot).stem}: printed robot",
+            labels={
+                n: k.replace("-", " ") + "s" * (list(kinds.values()).count(k) > 1)
+                for n, k in kinds.items()
+            },
+            colors={n: PART_COLORS.get(k, "#cccccc") for n, k in kinds.items()},
+        )
         images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
     return images
 

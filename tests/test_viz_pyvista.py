@@ -144,3 +144,28 @@ def test_show_in_a_notebook_gives_pyvista_notebook_viewer(design):
     assert image.shape == (150, 200, 3)
     assert 0.05 < np.any(image < 230, axis=-1).mean() < 0.9
     assert not pv.OFF_SCREEN
+
+
+def test_parts_render_in_their_colours_with_one_legend_entry_per_label(tmp_path):
+    import imageio.v3 as iio
+
+    from origami_cad.viz.parts_render import render_parts
+
+    stls = {}
+    for k, centre in enumerate([(0, 0, 0), (3, 0, 0), (0, 3, 0)]):
+        stls[f"module_{k}"] = tmp_path / f"module_{k}.stl"
+        pv.Cube(center=centre).save(stls[f"module_{k}"])
+    blue = "#1F77B4"
+    colours = {name: blue for name in stls}
+
+    def legend_rows(labels):
+        out = render_parts(stls, tmp_path / "parts.png", labels=labels, colors=colours)
+        image = iio.imread(out)[..., :3].astype(int)
+        # the parts are blue (shaded: blue well above red)
+        assert (image[..., 2] - image[..., 0] > 60).sum() > 0.01 * image[..., 0].size
+        grey = np.flatnonzero((np.abs(image - 0xA0).max(axis=-1) <= 2).sum(axis=1) > 20)
+        return grey.max() - grey.min() + 1  # the legend's grey box, pixel rows
+
+    one = legend_rows({name: "modules" for name in stls})
+    three = legend_rows(None)  # each part under its own name
+    assert 10 < one and three > 2.5 * one

@@ -32,6 +32,8 @@ def render_parts(
     section_normal: Sequence[float] | None = None,
     window_size: tuple[int, int] = (1000, 700),
     title: str = "",
+    labels: Mapping[str, str] | None = None,
+    colors: Mapping[str, str] | None = None,
 ) -> Path:
     """Render the part STLs to a PNG (off-screen).
 
@@ -46,11 +48,17 @@ def render_parts(
         cut by the plane through ``section_origin`` (mm) with ``section_normal``, the
         cut outlined in black, seen along the normal (choose a plane perpendicular to
         a crease for the paper's Fig. 4e).
+    labels : mapping, optional
+        The legend's label of each part (default: its name); parts sharing a label
+        (four TSA modules) share one legend entry.
+    colors : mapping, optional
+        Colour (sRGB hex) of parts not in :data:`PART_COLORS` (default grey).
     """
     import pyvista as pv
 
     meshes = {name: pv.read(str(p)) for name, p in stls.items()}
     size = max(np.ptp(np.asarray(m.bounds).reshape(3, 2), axis=1).max() for m in meshes.values())
+    legend: dict[str, str] = {}
     with offscreen_plotter(window_size) as plotter:
         for name, mesh in meshes.items():
             if mode == "exploded":
@@ -65,14 +73,11 @@ def render_parts(
                     plotter.add_mesh(cut, color="black", line_width=3)
                 if mesh.n_points == 0:
                     continue
-            plotter.add_mesh(
-                mesh,
-                color=PART_COLORS.get(name, "#cccccc"),
-                label=name,
-                show_edges=False,
-                ambient=0.3,
-                specular=0.2,
-            )
+            colour = PART_COLORS.get(name) or (colors or {}).get(name, "#cccccc")
+            label = (labels or {}).get(name, name)
+            if label not in legend:
+                legend[label] = colour
+            plotter.add_mesh(mesh, color=colour, show_edges=False, ambient=0.3, specular=0.2)
         if mode == "section":
             n = np.asarray(section_normal, float)
             plotter.view_vector(tuple(n / np.linalg.norm(n)), viewup=(0, 0, 1))
@@ -83,7 +88,15 @@ def render_parts(
         else:
             plotter.view_isometric()
             plotter.reset_camera()
-        plotter.add_legend(bcolor="white", face="rectangle", size=(0.16, 0.16))
+        # entries are written in their parts' colours, from near white to dark grey: a
+        # mid-grey box, in the corner
+        plotter.add_legend(
+            [[label, colour] for label, colour in legend.items()],
+            bcolor="#a0a0a0",
+            face="rectangle",
+            size=(0.17, min(0.035 * len(legend), 0.3)),
+            loc="upper right",
+        )
         if title:
             plotter.add_text(title, font_size=10, color="black")
         with atomic_path(path) as tmp:
