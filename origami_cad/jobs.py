@@ -349,7 +349,8 @@ def run_fold(
         meshes = folding_meshes(cp, [s.coords for s in states])
         write_glb(out, meshes, times=np.linspace(0.0, FOLDING_SECONDS, len(states)))
     else:
-        render_folding_gif(cp, [s.coords for s in states], out, view=view)
+        captions = [f"p = {s.p:.3f}" for s in states]
+        render_folding_gif(cp, [s.coords for s in states], out, view=view, captions=captions)
     caption = f"Folded at p = {ratio:g}" if suffix == ".png" else f"Folding from p = 0 to {ratio:g}"
     plural = "s" if len(states) > 1 else ""
     return Outputs(
@@ -1123,9 +1124,11 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
         json.dump(result.to_dict(), fh, indent=1)
     every = max(1, len(result.states) // max(gif_frames, 1))
-    shown = [*result.states[::every], result.states[-1]]
+    picked = [*range(0, len(result.states), every), len(result.states) - 1]
+    shown = [result.states[k] for k in picked]
+    captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
     view = (1, -1.5, 1)
-    render_folding_gif(cp, shown, stage / names[2], view=view)
+    render_folding_gif(cp, shown, stage / names[2], view=view, captions=captions)
     title = f"after {result.turns[-1]:.1f} TSA turns"
     render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
     save_route_png(cp, spec, stage / names[4])
@@ -1569,8 +1572,13 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
         result.t, result.fold, result.turns, legs, stage / names[5], commanded=result.commanded
     )
     every = max(1, len(result.states) // max(gif_frames, 1))
-    shown = [*result.states[::every], result.states[-1]]
-    render_folding_gif(spec.pattern, shown, stage / names[3], view="xz")
+    picked = [*range(0, len(result.states), every), len(result.states) - 1]
+    shown = [result.states[k] for k in picked]
+    captions = [
+        f"t = {result.t[k]:.1f} s, body moved {result.body[k, 0] - result.body[0, 0]:+.1f} mm"
+        for k in picked
+    ]
+    render_folding_gif(spec.pattern, shown, stage / names[3], view="xz", captions=captions)
     text = gait_sequence_text(
         spec, repeat=info["cycles"], result=result, reverse=info["reverse"],
         command=info["command"],

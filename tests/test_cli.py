@@ -70,6 +70,10 @@ def test_fold_renders_png_and_gif(tmp_path):
     frames = iio.imread(tmp_path / "m.gif", index=None, plugin="pillow")
     assert frames.shape[0] == 3
     assert not np.array_equal(frames[0], frames[-1])  # it moves
+    # each frame says its fold ratio in the top-left corner: dark text that changes
+    corner = frames[:, :30, :150, :3].astype(int).max(axis=-1)
+    assert all((c < 100).sum() > 50 for c in corner)
+    assert not np.array_equal(corner[0] < 100, corner[-1] < 100)
 
 
 def test_check_exit_codes(tmp_path, capsys):

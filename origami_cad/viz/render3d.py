@@ -158,13 +158,18 @@ def render_folding_gif(
     window_size: tuple[int, int] = (640, 480),
     view: Sequence[float] | str = "iso",
     fps: int = 12,
+    captions: Sequence[str] | None = None,
 ) -> Path:
     """Render folded states (coords arrays, mm) to an animated GIF (atomic write).
 
     The camera is fixed on the bounding box of all frames so the motion shows.
+    ``captions``, one per frame, are written in its top-left corner (the state's
+    fold ratio, TSA turns or time).
     """
     if not frames:
         raise ValueError("no frames to render")
+    if captions is not None and len(captions) != len(frames):
+        raise ValueError(f"{len(captions)} captions for {len(frames)} frames")
     import pyvista as pv
 
     bounds = pv.PolyData(np.concatenate([np.asarray(f, float) for f in frames])).bounds
@@ -175,6 +180,8 @@ def render_folding_gif(
             for k, coords in enumerate(frames):
                 plotter.clear_actors()
                 _add_state(plotter, cp, coords)
+                if captions is not None:
+                    plotter.add_text(captions[k], font_size=10, color="black")
                 if k == 0:
                     _set_view(plotter, view, bounds=bounds)
                 plotter.write_frame()
