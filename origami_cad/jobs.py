@@ -356,9 +356,31 @@ def run_fold(
     return Outputs(
         files=[out],
         images=[(out, caption)] if suffix != ".fold" else [],
-        messages=[*warned, f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})"],
+        messages=[
+            *warned,
+            *_flat_creases_note(cp, states[-1].fold_angles if ratio > 0 else None),
+            f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})",
+        ],
         result=states,
     )
+
+
+def _flat_creases_note(cp, fold_angles) -> list[str]:
+    """A note when some mountain and valley creases do not fold at all (degrees given)."""
+    import numpy as np
+
+    if fold_angles is None:
+        return []
+    creases = cp.edge_mask("M", "V")
+    flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
+    if not flat.any():
+        return []
+    return [
+        f"note: {int(flat.sum())} of the {int(creases.sum())} creases stay flat: their straight "
+        "crease lines fold independently of the driving crease (as a map's lines fold one at "
+        "a time), which a one-parameter rigid folding leaves flat; the bar-and-hinge "
+        "simulation (simulate) folds them together"
+    ]
 
 
 def run_tg(design: PathLike, output: PathLike) -> Outputs:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from pathlib import Path
@@ -13,7 +14,14 @@ from origami_cad.cli import main
 from origami_cad.kinematics.fold3d import face_normals, fold_angles_from_coords, fold_tessellation
 from origami_cad.kinematics.folding import fold_design
 from origami_cad.kinematics.generic import degree4_ratio, fold_degree4, vertex_closure
-from origami_cad.pattern import CreasePattern, PatternError, read_fold, write_fold, write_pattern
+from origami_cad.pattern import (
+    CreasePattern,
+    PatternError,
+    read_fold,
+    read_fold_frames,
+    write_fold,
+    write_pattern,
+)
 from origami_cad.pattern.design import Design, miura_design
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 
@@ -125,9 +133,6 @@ SIM_SAMPLES = Path(__file__).parent / "data" / "origami-simulator"
 @pytest.mark.parametrize(
     ("name", "reason"),
     [
-        # one vertex on two straight creases (M-M across, M-V up and down): a map fold
-        ("simpleVertex.svg", r"cannot fold rigidly: they lie on straight lines"),
-        ("mapfold.svg", r"cannot fold rigidly: they lie on straight lines"),
         # pleats meeting at vertices of odd degree, and a waterbomb's degree-6 vertices
         ("hypar.svg", r"has \d+ creases; this folder needs every interior vertex to have"),
         ("waterbomb.svg", r"has 6 creases; this folder needs every interior vertex to have"),
@@ -142,3 +147,27 @@ def test_origami_simulator_patterns_the_rigid_folder_cannot_fold_say_why(
     assert re.search(r"vertex \d+ at \(", err) and re.search(reason, err), err
     assert "nan" not in err
     assert not (tmp_path / "f.png").exists()
+
+
+@pytest.mark.parametrize(("name", "folding"), [("simpleVertex.svg", 2), ("mapfold.svg", 2)])
+def test_a_maps_straight_crease_line_folds_on_its_own(name, folding, tmp_path, capsys):
+    # one vertex on two straight lines (simpleVertex: M-M across, M-V up and down) and a
+    # map: a straight line of one letter folds alone, rigidly, the rest stays flat (said)
+    out = tmp_path / "f.fold"
+    assert main(["fold", str(SIM_SAMPLES / name), "--ratio", "0.5", "-o", str(out)]) == 0
+    assert "stay flat: their straight crease lines fold independently" in capsys.readouterr().out
+    cp = read_fold(out)
+    coords = read_fold_frames(out)[-1]
+    edges = cp.edges
+    flat = np.linalg.norm(np.diff(cp.vertices[edges], axis=1)[:, 0], axis=1)
+    folded = np.linalg.norm(np.diff(coords[edges], axis=1)[:, 0], axis=1)
+    # rigid, to the 6 digits the file was written with
+    np.testing.assert_allclose(folded, flat, atol=1e-5 * flat.max())
+    data = json.loads(out.read_text())["file_frames"][-1]["edges_foldAngle"]
+    angles = np.abs(np.array(data, dtype=float))
+    creases = cp.edge_mask("M", "V")
+    assert np.sum(np.isclose(angles[creases], 90.0, atol=1e-6)) == folding  # p = 0.5
+    assert np.sum(angles[creases] < 1e-6) == creases.sum() - folding
+    # the folded line is straight and of one letter
+    line = np.flatnonzero(creases & (angles > 1.0))
+    assert len(set(cp.assignments[line])) == 1

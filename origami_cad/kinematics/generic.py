@@ -60,6 +60,10 @@ def vertex_closure(sectors: np.ndarray, rho: np.ndarray) -> float:
 def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
     """``c`` of ``tan(rho_1 / 2) = c tan(rho_0 / 2)`` at a flat-foldable degree-4 vertex.
 
+    Where two opposite creases lie on one straight line (a map's vertex), that line
+    folds on its own: ``c = 0`` when it is creases 0 and 2, ``c = inf`` when it is
+    creases 1 and 3 (which then fold before creases 0 and 2 can, reaching 180 deg).
+
     With ``alpha`` the sector between creases 0 and 1 and ``beta`` the one between
     creases 1 and 2 (opposite creases: 0-2 and 1-3)::
 
@@ -91,16 +95,16 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
         num, den = math.cos((alpha + beta) / 2), math.cos((alpha - beta) / 2)
     else:
         num, den = math.sin((alpha + beta) / 2), math.sin((alpha - beta) / 2)
-    if abs(den) < FLAT_FOLD_TOLERANCE or abs(num) < FLAT_FOLD_TOLERANCE:
-        raise ValueError(
-            "they lie on straight lines through the vertex, which fold one after the other "
-            "(as a map folds), not together as one rigid folding does; the bar-and-hinge "
-            "simulation (simulate) folds such patterns"
-        )
-    c = abs(num / den)
     probe = 0.3
-    rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2) * np.asarray(signs)
-    if vertex_closure(np.asarray(sectors, dtype=float), rho) > FLAT_FOLD_TOLERANCE:
+    if abs(den) < FLAT_FOLD_TOLERANCE:  # creases 1 and 3 are one straight line: it folds
+        c = math.inf  # first, alone; creases 0 and 2 only once it is folded flat (a map)
+        rho = np.array([0.0, probe] * 2)
+    else:  # c = 0: creases 0 and 2 are one straight line, folding alone
+        c = 0.0 if abs(num) < FLAT_FOLD_TOLERANCE else abs(num / den)
+        rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2)
+    if vertex_closure(np.asarray(sectors, dtype=float), rho * np.asarray(signs)) > (
+        FLAT_FOLD_TOLERANCE
+    ):
         raise ValueError("the vertex does not close when folded with these signs")
     return c
 
@@ -176,16 +180,35 @@ def fold_degree4(
     interior = interior_vertices(cp)
     tables = _vertex_tables(cp, interior)  # degree 4 first: the more basic requirement
     _check_flat_foldable(cp, interior)
+    sign = np.where(cp.assignments == "V", 1.0, -1.0)
     if driving_edge is None:
-        mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
-        driving_edge = int(creases[np.argmin(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))])
+        driving_edge = _default_driver(cp, tables, sign, creases, tol)
     if cp.assignments[driving_edge] not in _FOLD:
         raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
-    sign = np.where(cp.assignments == "V", 1.0, -1.0)
     magnitude = _propagate(cp, tables, sign, driving_edge, p * math.pi, tol)
     rho = np.where(np.isnan(magnitude), 0.0, magnitude) * sign
     rho[~cp.edge_mask(*_FOLD)] = 0.0
     return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+
+
+def _default_driver(cp, tables, sign, creases: np.ndarray, tol: float) -> int:
+    """The crease nearest the pattern's centroid that starts a continuous folding.
+
+    On a map (straight crease lines through its vertices) some lines fold only once
+    others are folded flat: driven from such a line, those others would jump to 180
+    deg as soon as it moves. Creases are tried from the centre outwards; the first from
+    which a small fold moves no crease to 180 deg is taken (the nearest, if none does).
+    """
+    mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
+    ranked = creases[np.argsort(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))]
+    for e in ranked[:50]:
+        try:
+            magnitude = _propagate(cp, tables, sign, int(e), 0.1 * math.pi, tol)
+        except PatternError:
+            continue
+        if not np.nanmax(magnitude) >= math.pi - 1e-9:
+            return int(e)
+    return int(ranked[0])
 
 
 def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
@@ -244,9 +267,14 @@ def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) ->
             order = [edges[(k + j) % 4] for j in range(4)]
             if v not in ratios or ratios[v][0] != order[0]:
                 ratios[v] = (order[0], _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign))
-            a = magnitude[e]
-            b = 2 * math.atan(ratios[v][1] * math.tan(a / 2))
+            a, c = magnitude[e], ratios[v][1]
             settle(order[2], a, v)
+            # a map's vertex (two straight lines): tan(b/2) = c tan(a/2) with c = inf says the
+            # other line is folded flat once e folds at all, and leaves it free while e is
+            # flat; with c = 0, the other line stays flat until e is folded flat
+            if (math.isinf(c) and a <= 1e-12) or (c == 0.0 and a >= math.pi - 1e-12):
+                continue
+            b = math.pi if math.isinf(c) else 2 * math.atan(c * math.tan(a / 2))
             settle(order[1], b, v)
             settle(order[3], b, v)
     return magnitude
