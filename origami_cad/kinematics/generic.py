@@ -201,6 +201,14 @@ def _default_driver(cp, tables, sign, creases: np.ndarray, tol: float) -> int:
     """
     mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
     ranked = creases[np.argsort(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))]
+    straight = any(  # a straight line of one letter through a vertex: c = 0 or inf there
+        abs(sectors[k] + sectors[k + 1] - math.pi) < FLAT_FOLD_TOLERANCE
+        and sign[edges[k]] == sign[edges[k + 2]]
+        for edges, sectors in tables.values()
+        for k in (0, 1)
+    )
+    if not straight:  # no map's vertex: every crease starts a continuous folding
+        return int(ranked[0])
     for e in ranked[:50]:
         try:
             magnitude = _propagate(cp, tables, sign, int(e), 0.1 * math.pi, tol)
