@@ -211,3 +211,36 @@ def test_prusaslicer_finds_every_part_on_the_bed_and_manifold(tmp_path):
         assert values["manifold"] == "yes", name
         assert int(values["number_of_parts"]) == solids, name
         assert float(values["volume"]) == pytest.approx(volume, rel=5e-3), name
+
+
+def test_a_sheet_larger_than_the_default_bed_is_warned_about():
+    from origami_cad.fabrication import plan_panels
+    from origami_cad.pattern.design import miura_design
+
+    small = plan_panels(miura_design(4, 4, 20.0, 20.0, 65.0))  # about 100 mm
+    assert not any("bed" in w for w in small.warnings)
+    large = plan_panels(miura_design(4, 12, 20.0, 20.0, 65.0))  # about 250 mm long
+    (warning,) = [w for w in large.warnings if "bed" in w]
+    x0, y0, x1, y1 = large.pattern.bounds
+    assert f"{x1 - x0:.1f} x {y1 - y0:.1f} mm" in warning and "200 x 200" in warning
+
+
+@pytest.mark.skipif(PRUSA is None, reason="PrusaSlicer's CLI is not installed (apt prusa-slicer)")
+def test_prusaslicer_slices_a_large_sheet_on_a_bed_that_holds_it(tmp_path):
+    # what the warning says: the 3MF is sound, only PrusaSlicer's default bed is too small
+    from origami_cad.fabrication import FabricationParams, fabricate
+    from origami_cad.fabrication.export import export_3mf
+    from origami_cad.pattern.design import miura_design
+
+    fab = fabricate(miura_design(2, 10, 22.0, 20.0, 65.0), FabricationParams(holes="none"))
+    x0, _, x1, _ = fab.plan.pattern.bounds
+    assert x1 - x0 > 200.0
+    path = export_3mf(fab.parts, tmp_path / "print.3mf", params=fab.params)
+    failed = subprocess.run(
+        [PRUSA, "--export-gcode", str(path), "-o", str(tmp_path / "a.gcode")],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600, check=False,
+    )  # fmt: skip
+    assert failed.returncode != 0 and "could not fit on the bed" in failed.stdout + failed.stderr
+    bed = "0x0,300x0,300x300,0x300"
+    _prusa("--export-gcode", "--bed-shape", bed, str(path), "-o", "b.gcode", cwd=tmp_path)
+    assert (tmp_path / "b.gcode").stat().st_size > 10_000

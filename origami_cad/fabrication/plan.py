@@ -257,8 +257,27 @@ def plan_panels(
     limits = crease_limits(design, params)
     if design.tg is not None:
         timings["crease_limits"] = time.perf_counter() - t0
-    return PanelPlan(
-        cp, params, outlines, holes, hole_panels, limits, _warnings(params, limits), timings
+    warned = (*_warnings(params, limits), *_bed_warning(cp))
+    return PanelPlan(cp, params, outlines, holes, hole_panels, limits, warned, timings)
+
+
+#: The print bed a sheet is checked against, mm: PrusaSlicer's default printer profile
+#: (what its command line slices on without a printer profile) and common 220 mm beds.
+DEFAULT_BED = (200.0, 200.0)
+
+
+def _bed_warning(cp: CreasePattern) -> tuple[str, ...]:
+    """A warning when the flat sheet is larger than :data:`DEFAULT_BED` either way round."""
+    x0, y0, x1, y1 = cp.bounds
+    w, h = sorted((x1 - x0, y1 - y0))
+    bed = sorted(DEFAULT_BED)
+    if w <= bed[0] and h <= bed[1]:
+        return ()
+    return (
+        f"the sheet is printed flat, {x1 - x0:.1f} x {y1 - y0:.1f} mm: larger than a "
+        f"{DEFAULT_BED[0]:g} x {DEFAULT_BED[1]:g} mm bed (PrusaSlicer's default printer, which "
+        "its command line slices on without a printer profile: 'Objects could not fit on the "
+        "bed'); print it on a printer whose bed holds it, or scale the pattern",
     )
 
 
