@@ -16,7 +16,9 @@ place.
 from __future__ import annotations
 
 import math
+import weakref
 from collections import deque
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -174,24 +176,59 @@ def fold_degree4(
     """
     if not 0.0 <= p <= 1.0:
         raise PatternError(f"fold ratio p must lie in [0, 1] for the degree-4 folder, got {p}")
+    prep = _prepare(cp)
+    if driving_edge is None:
+        if tol not in prep.drivers:
+            prep.drivers[tol] = _default_driver(cp, prep, tol)
+        driving_edge = prep.drivers[tol]
+    if cp.assignments[driving_edge] not in _FOLD:
+        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
+    magnitude = _propagate(cp, prep, driving_edge, p * math.pi, tol)
+    rho = np.where(np.isnan(magnitude), 0.0, magnitude) * prep.sign
+    rho[~cp.edge_mask(*_FOLD)] = 0.0
+    return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+
+
+@dataclass
+class _Prepared:
+    """What folding a pattern needs at every fold ratio, computed once per pattern: each
+    interior vertex's creases and sectors, the creases' signs (+1 valley), the vertices on
+    each crease, the vertices' ratios by (vertex, first crease) and the default drivers."""
+
+    tables: dict
+    sign: np.ndarray
+    creases: np.ndarray
+    by_edge: dict[int, list[int]]
+    ratios: dict[tuple[int, int], float] = field(default_factory=dict)
+    drivers: dict[float, int] = field(default_factory=dict)
+
+
+_PREPARED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _prepare(cp: CreasePattern) -> _Prepared:
+    """The pattern's :class:`_Prepared` (checked and built at its first fold, then kept
+    while the pattern lives; patterns are immutable)."""
+    prep = _PREPARED.get(cp)
+    if prep is not None:
+        return prep
     creases = np.flatnonzero(cp.edge_mask(*_FOLD))
     if not len(creases):
         raise PatternError("the pattern has no mountain or valley crease to fold")
     interior = interior_vertices(cp)
     tables = _vertex_tables(cp, interior)  # degree 4 first: the more basic requirement
     _check_flat_foldable(cp, interior)
+    by_edge: dict[int, list[int]] = {}
+    for v, (edges, _) in tables.items():
+        for e in edges:
+            by_edge.setdefault(e, []).append(v)
     sign = np.where(cp.assignments == "V", 1.0, -1.0)
-    if driving_edge is None:
-        driving_edge = _default_driver(cp, tables, sign, creases, tol)
-    if cp.assignments[driving_edge] not in _FOLD:
-        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
-    magnitude = _propagate(cp, tables, sign, driving_edge, p * math.pi, tol)
-    rho = np.where(np.isnan(magnitude), 0.0, magnitude) * sign
-    rho[~cp.edge_mask(*_FOLD)] = 0.0
-    return _place(cp, rho, driving_edge, tol), np.degrees(rho)
+    prep = _Prepared(tables, sign, creases, by_edge)
+    _PREPARED[cp] = prep
+    return prep
 
 
-def _default_driver(cp, tables, sign, creases: np.ndarray, tol: float) -> int:
+def _default_driver(cp: CreasePattern, prep: _Prepared, tol: float) -> int:
     """The crease nearest the pattern's centroid that starts a continuous folding.
 
     On a map (straight crease lines through its vertices) some lines fold only once
@@ -199,19 +236,20 @@ def _default_driver(cp, tables, sign, creases: np.ndarray, tol: float) -> int:
     deg as soon as it moves. Creases are tried from the centre outwards; the first from
     which a small fold moves no crease to 180 deg is taken (the nearest, if none does).
     """
+    creases, sign = prep.creases, prep.sign
     mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
     ranked = creases[np.argsort(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))]
     straight = any(  # a straight line of one letter through a vertex: c = 0 or inf there
         abs(sectors[k] + sectors[k + 1] - math.pi) < FLAT_FOLD_TOLERANCE
         and sign[edges[k]] == sign[edges[k + 2]]
-        for edges, sectors in tables.values()
+        for edges, sectors in prep.tables.values()
         for k in (0, 1)
     )
     if not straight:  # no map's vertex: every crease starts a continuous folding
         return int(ranked[0])
     for e in ranked[:50]:
         try:
-            magnitude = _propagate(cp, tables, sign, int(e), 0.1 * math.pi, tol)
+            magnitude = _propagate(cp, prep, int(e), 0.1 * math.pi, tol)
         except PatternError:
             continue
         if not np.nanmax(magnitude) >= math.pi - 1e-9:
@@ -240,18 +278,14 @@ def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
         )
 
 
-def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) -> np.ndarray:
+def _propagate(cp, prep: _Prepared, driving_edge: int, angle: float, tol: float) -> np.ndarray:
     """Fold magnitudes (m,) rad of every crease reached from ``driving_edge`` folded by
-    ``angle`` rad, vertex by vertex (NaN where none reaches); ``sign`` (m,) is +1 for
-    valleys. Raises :class:`PatternError` where a loop disagrees by more than ``tol``.
+    ``angle`` rad, vertex by vertex (NaN where none reaches). Raises
+    :class:`PatternError` where a loop disagrees by more than ``tol``.
     """
     magnitude = np.full(cp.n_edges, np.nan)
     magnitude[driving_edge] = angle
-    ratios: dict[int, tuple[int, float]] = {}
-    by_edge: dict[int, list[int]] = {}
-    for v, (edges, _) in tables.items():
-        for e in edges:
-            by_edge.setdefault(e, []).append(v)
+    tables, sign, ratios = prep.tables, prep.sign, prep.ratios
     queue = deque([driving_edge])
     mids = (cp.vertices[cp.edges[:, 0]] + cp.vertices[cp.edges[:, 1]]) / 2
 
@@ -269,13 +303,13 @@ def _propagate(cp, tables, sign, driving_edge: int, angle: float, tol: float) ->
 
     while queue:
         e = queue.popleft()
-        for v in by_edge.get(e, []):
+        for v in prep.by_edge.get(e, []):
             edges, sectors = tables[v]
             k = edges.index(e)
             order = [edges[(k + j) % 4] for j in range(4)]
-            if v not in ratios or ratios[v][0] != order[0]:
-                ratios[v] = (order[0], _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign))
-            a, c = magnitude[e], ratios[v][1]
+            if (v, e) not in ratios:
+                ratios[v, e] = _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign)
+            a, c = magnitude[e], ratios[v, e]
             settle(order[2], a, v)
             # a map's vertex (two straight lines): tan(b/2) = c tan(a/2) with c = inf says the
             # other line is folded flat once e folds at all, and leaves it free while e is

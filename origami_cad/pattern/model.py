@@ -214,6 +214,7 @@ class CreasePattern:
     """
 
     __slots__ = (
+        "__weakref__",  # caches of derived data (the degree-4 folder's) hold patterns weakly
         "_face_edges",
         "_faces",
         "assignments",
@@ -455,7 +456,8 @@ class CreasePattern:
     def _copy(self) -> CreasePattern:
         out = object.__new__(CreasePattern)
         for name in CreasePattern.__slots__:
-            setattr(out, name, getattr(self, name))
+            if name != "__weakref__":
+                setattr(out, name, getattr(self, name))
         out.metadata = dict(self.metadata)
         return out
 
