@@ -87,3 +87,12 @@ def test_a_dense_coupling_goes_to_the_sparse_factorisation():
 def _bandwidth(a: sp.csc_matrix) -> int:
     coo = a.tocoo()
     return int(np.abs(coo.row - coo.col).max())
+
+
+@pytest.mark.parametrize("method", list(FactorMethod))
+def test_a_matrix_with_a_value_that_is_not_finite_is_refused(method):
+    a, diagonal = _pattern(_flat_sheet_hessian())
+    plan = plan_factorisation(a.indices, a.indptr, diagonal, method)
+    values = a.data.copy()
+    values[diagonal[3]] = np.nan
+    assert factorise(plan, values) is None

@@ -125,3 +125,59 @@ def test_a_form_that_would_overlap_itself_when_flat_is_refused():
         unfold_faces(xyz, faces)
     # six of them (330 degrees) lie flat
     assert unfold_faces(xyz[:-1], faces[:-1]).shape == (len(xyz) - 1, 2)
+
+
+def _write_form(path: Path, xyz, faces, edges=None, letters=None) -> Path:
+    doc = {"frame_classes": ["foldedForm"], "vertices_coords": np.asarray(xyz).tolist()}
+    doc["faces_vertices"] = faces
+    if edges is None:
+        edges = sorted({tuple(sorted((f[k], f[(k + 1) % len(f)]))) for f in faces for k in
+                        range(len(f))})  # fmt: skip
+    doc["edges_vertices"] = [list(e) for e in edges]
+    if letters is not None:
+        doc["edges_assignment"] = letters
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def test_a_concave_face_keeps_its_shape(tmp_path):
+    # an L-shaped face standing on a square's edge (folded 90 degrees), listed from its
+    # inner corner: laid flat it must stay an L, not fold its arm over onto the square
+    square = [[0, 0, 0], [10, 0, 0], [10, 20, 0], [0, 20, 0]]
+    ell = [[10, 20, 20], [10, 10, 20], [10, 10, 10], [10, 0, 10]]  # vertices 4-7
+    xyz = np.array(square + ell, dtype=float)
+    faces = [[0, 1, 2, 3], [6, 5, 4, 2, 1, 7]]
+    flat = unfold_faces(xyz, faces)
+    for face in faces:
+        np.testing.assert_allclose(_distances(flat[face]), _distances(xyz[face]), atol=1e-9)
+    polygons = [shapely.Polygon(flat[f]) for f in faces]
+    assert all(p.is_valid for p in polygons)
+    assert shapely.union_all(polygons).area == pytest.approx(10 * 20 + 300.0)
+    cp = read_fold(_write_form(tmp_path / "ell.fold", xyz, faces))
+    assert cp.n_vertices == len(xyz) and len(cp.faces) == 2
+
+
+def test_faces_listed_either_way_round_give_the_same_fold(tmp_path):
+    # a 30 degree valley: the second face listed clockwise or counter-clockwise
+    t = np.radians(30.0)
+    c, z = 10 + 10 * np.cos(t), 10 * np.sin(t)
+    xyz = [[0, 0, 0], [10, 0, 0], [10, 10, 0], [0, 10, 0], [c, 0, z], [c, 10, z]]
+    edge = np.array([[1, 2]])
+    same = fold_angles_of_form(xyz, [[0, 1, 2, 3], [1, 4, 5, 2]], edge)
+    other = fold_angles_of_form(xyz, [[0, 1, 2, 3], [2, 5, 4, 1]], edge)
+    np.testing.assert_allclose(same, [30.0], atol=1e-9)
+    np.testing.assert_allclose(other, same, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("faces", "match"),
+    [
+        ([[0, 1, 2, 3], [1, 0, 4], [1, 0, 5]], "borders 3 faces"),
+        ([[0, 1, 2, 0, 3]], "lists a vertex twice"),
+    ],
+)
+def test_faces_that_are_no_sheet_of_paper_are_refused(faces, match):
+    xyz = np.array([[0, 0, 0], [100, 0, 0], [100, 100, 0], [0, 100, 0], [50, -1, 1],
+                    [50, -1, -1]], dtype=float)  # fmt: skip
+    with pytest.raises(PatternError, match=match):
+        unfold_faces(xyz, faces)

@@ -181,8 +181,12 @@ def fold_degree4(
         if tol not in prep.drivers:
             prep.drivers[tol] = _default_driver(cp, prep, tol)
         driving_edge = prep.drivers[tol]
-    if cp.assignments[driving_edge] not in _FOLD:
-        raise PatternError(f"edge {driving_edge} is not a mountain or valley crease")
+    if not (
+        isinstance(driving_edge, int | np.integer)
+        and 0 <= driving_edge < cp.n_edges
+        and cp.assignments[driving_edge] in _FOLD
+    ):
+        raise PatternError(f"edge {driving_edge!r} is not a mountain or valley crease")
     magnitude = _propagate(cp, prep, driving_edge, p * math.pi, tol)
     rho = np.where(np.isnan(magnitude), 0.0, magnitude) * prep.sign
     rho[~cp.edge_mask(*_FOLD)] = 0.0
@@ -236,18 +240,10 @@ def _default_driver(cp: CreasePattern, prep: _Prepared, tol: float) -> int:
     deg as soon as it moves. Creases are tried from the centre outwards; the first from
     which a small fold moves no crease to 180 deg is taken (the nearest, if none does).
     """
-    creases, sign = prep.creases, prep.sign
+    creases = prep.creases
     mids = (cp.vertices[cp.edges[creases, 0]] + cp.vertices[cp.edges[creases, 1]]) / 2
     ranked = creases[np.argsort(np.linalg.norm(mids - cp.vertices.mean(0), axis=1))]
-    straight = any(  # a straight line of one letter through a vertex: c = 0 or inf there
-        abs(sectors[k] + sectors[k + 1] - math.pi) < FLAT_FOLD_TOLERANCE
-        and sign[edges[k]] == sign[edges[k + 2]]
-        for edges, sectors in prep.tables.values()
-        for k in (0, 1)
-    )
-    if not straight:  # no map's vertex: every crease starts a continuous folding
-        return int(ranked[0])
-    for e in ranked[:50]:
+    for e in ranked[:50]:  # (the ratios met on the way are kept for the folds that follow)
         try:
             magnitude = _propagate(cp, prep, int(e), 0.1 * math.pi, tol)
         except PatternError:

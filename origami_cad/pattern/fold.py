@@ -532,8 +532,8 @@ def _unfolded_pattern(
     if known.any() and np.sum(np.sign(measured[known]) != sense[known]) > known.sum() / 2:
         flat[:, 0] *= -1.0  # seen from below: mirror, and the measured senses turn over
         measured = -measured
-        faces = [list(reversed(f)) for f in faces]
-    flat_folded = np.isnan(measured) & (sense != 0)
+    faces = [f if _signed_area(flat[f]) > 0 else f[::-1] for f in faces]  # seen from the top
+    flat_folded = np.isnan(measured) & (sense != 0) & (_faces_per_edge(faces, edges) == 2)
     measured[flat_folded] = 180.0 * sense[flat_folded]
     measured[np.sign(measured) != sense] = np.nan  # only angles that agree with the letters
     given = {"edges_assignment": list(assign), "faces_vertices": faces}
@@ -549,6 +549,11 @@ def _unfolded_pattern(
     out = cp.with_metadata(unfolded=True)
     out.notes = (*cp.notes, note)
     return out
+
+
+def _signed_area(ring: np.ndarray) -> float:
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _faces_per_edge(faces: list[list[int]], edges: np.ndarray) -> np.ndarray:

@@ -56,6 +56,8 @@ def _face_edges(faces: Sequence[Sequence[int]]) -> dict[tuple[int, int], list[in
 
 def _check_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], size: float) -> None:
     for f, face in enumerate(faces):
+        if len(set(face)) != len(face):
+            raise PatternError(f"face {f} of the folded form lists a vertex twice")
         if any(not 0 <= w < len(xyz) for w in face):
             raise PatternError(
                 f"face {f} of the folded form refers to a vertex that does not exist"
@@ -77,19 +79,39 @@ def _check_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], size: float) -
             )
 
 
+def _runs(face: Sequence[int], a: int, b: int) -> bool:
+    """Whether ``face`` runs its edge from ``a`` to ``b`` (else from ``b`` to ``a``)."""
+    k = list(face).index(a)
+    return face[(k + 1) % len(face)] == b
+
+
 def _lay(xyz, face, a, b, flat_a, flat_b, away) -> dict[int, np.ndarray]:
-    """The face's vertices in the plane, its edge ``a b`` at ``flat_a flat_b``, on the side
-    ``away`` (a unit 2D vector perpendicular to the edge)."""
+    """The face's vertices in the plane, its edge ``a b`` at ``flat_a flat_b`` and its
+    interior on the side ``away`` (a unit 2D vector perpendicular to the edge).
+
+    Each vertex keeps its distance along the edge and its signed distance from the
+    edge's line, positive towards the face's interior (the left of its own direction
+    round its normal), so that concave faces keep their shape.
+    """
     pa, pb = xyz[a], xyz[b]
     u = (pb - pa) / np.linalg.norm(pb - pa)
+    inward = np.cross(_normal(xyz[list(face)]), u) * (1.0 if _runs(face, a, b) else -1.0)
     u2 = (flat_b - flat_a) / np.linalg.norm(flat_b - flat_a)
     out = {}
     for w in face:
         d = xyz[w] - pa
-        along = float(d @ u)
-        across = float(np.linalg.norm(d - along * u))
-        out[int(w)] = flat_a + along * u2 + across * away
+        out[int(w)] = flat_a + float(d @ u) * u2 + float(d @ inward) * away
     return out
+
+
+def _interior_side(flat: dict[int, np.ndarray], face: Sequence[int], a: int, b: int) -> np.ndarray:
+    """The unit 2D normal of the laid face's edge ``a -> b`` on the face's interior side."""
+    ring = np.array([flat[w] for w in face])
+    x, y = ring[:, 0], ring[:, 1]
+    ccw = float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) > 0
+    edge = (flat[b] - flat[a]) / np.linalg.norm(flat[b] - flat[a])
+    left = np.array([-edge[1], edge[0]])
+    return left if ccw == _runs(face, a, b) else -left
 
 
 def unfold_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], tol: float = 1e-4) -> np.ndarray:
@@ -129,6 +151,12 @@ def unfold_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], tol: float = 1
     size = max(float(np.ptp(xyz, axis=0).max()), 1e-300)
     _check_faces(xyz, faces, size)
     by_edge = _face_edges(faces)
+    for (a, b), on in by_edge.items():
+        if len(on) > 2:
+            raise PatternError(
+                f"the edge between vertices {a} and {b} borders {len(on)} faces of the "
+                f"folded form ({', '.join(map(str, on))}): paper has two sides, not more"
+            )
     # the first face in its own plane: first edge along +x, the face on its left (+y)
     f0 = faces[0]
     a, b = f0[0], f0[1]
@@ -139,17 +167,12 @@ def unfold_faces(xyz: np.ndarray, faces: Sequence[Sequence[int]], tol: float = 1
     while queue:
         f = queue.popleft()
         face = faces[f]
-        centre = np.mean([placed[f][w] for w in face], axis=0)
         for a, b in zip(face, [*face[1:], face[0]], strict=True):
             for g in by_edge[(min(a, b), max(a, b))]:
                 if g in placed:
                     continue
-                fa, fb = placed[f][a], placed[f][b]
-                edge = (fb - fa) / np.linalg.norm(fb - fa)
-                away = np.array([-edge[1], edge[0]])
-                if float((centre - fa) @ away) > 0:
-                    away = -away
-                placed[g] = _lay(xyz, faces[g], a, b, fa, fb, away)
+                away = -_interior_side(placed[f], face, a, b)  # across the crease from f
+                placed[g] = _lay(xyz, faces[g], a, b, placed[f][a], placed[f][b], away)
                 queue.append(g)
     missing = sorted(set(range(len(faces))) - set(placed))
     if missing:
@@ -166,10 +189,17 @@ def _check_no_overlap(flat: np.ndarray, faces: list[list[int]], size: float, tol
     """Refuse a layout whose faces overlap: paper lies flat in one layer."""
     import shapely
 
-    polygons = shapely.make_valid(np.array([shapely.Polygon(flat[f]) for f in faces]))
-    total = float(np.sum(shapely.area(polygons)))
+    polygons = np.array([shapely.Polygon(flat[f]) for f in faces])
+    bad = np.flatnonzero(~shapely.is_valid(polygons))
+    if bad.size:
+        raise PatternError(
+            f"face {bad[0]} of the folded form crosses itself when laid flat (is it planar "
+            "and listed in order round its boundary?)"
+        )
+    areas = shapely.area(polygons)
+    total = float(np.sum(areas))
     union = float(shapely.area(shapely.union_all(polygons)))
-    if total - union > tol * size * size:
+    if total - union > tol * float(np.min(areas)):
         tree = shapely.STRtree(polygons)
         for f, g in np.asarray(tree.query(polygons, predicate="overlaps")).T:
             if f < g and shapely.area(shapely.intersection(polygons[f], polygons[g])) > 0:
@@ -210,13 +240,12 @@ def fold_angles_of_form(
     ``edges`` (m, 2) vertex pairs; an edge between two faces gets the angle between
     their normals, positive when the second face lies on the first one's normal side
     (a valley, folding toward the top), NaN where the edge borders fewer than two
-    faces. Faces must be oriented alike (as ``faces_vertices`` of one sheet are). A crease
+    faces (two faces listed the opposite ways round are taken as one sheet). A crease
     folded flat, its faces in one plane, has no sense the geometry can tell: NaN.
     """
     xyz = np.asarray(xyz, dtype=float)
     if xyz.shape[1] == 2:
         xyz = np.column_stack([xyz, np.zeros(len(xyz))])
-    size = max(float(np.ptp(xyz, axis=0).max()), 1e-300)
     by_edge = _face_edges(faces)
     normals = [_normal(xyz[list(f)]) for f in faces]
     out = np.full(len(edges), np.nan)
@@ -225,10 +254,14 @@ def fold_angles_of_form(
         if len(on) != 2:
             continue
         f, g = on
-        n_f, n_g = normals[f], normals[g]
-        angle = float(np.degrees(np.arccos(np.clip(n_f @ n_g, -1.0, 1.0))))
-        side = float(n_f @ (xyz[list(faces[g])].mean(axis=0) - xyz[a]))
-        if abs(side) <= 1e-9 * size and angle > 90.0:
+        forward = _runs(faces[f], a, b)
+        u = xyz[b] - xyz[a] if forward else xyz[a] - xyz[b]  # the edge as f runs it
+        u = u / np.linalg.norm(u)
+        n_f = normals[f]
+        # g oriented like f: it runs the shared edge the other way round
+        n_g = normals[g] if _runs(faces[g], a, b) != forward else -normals[g]
+        across, dot = float(np.cross(n_f, n_g) @ u), float(n_f @ n_g)
+        if abs(across) <= 1e-6 and dot < 0:
             continue  # folded flat: mountain or valley only the layer order tells
-        out[k] = angle if side > 0 else -angle
+        out[k] = -float(np.degrees(np.arctan2(across, dot)))
     return out

@@ -186,8 +186,11 @@ def plan_factorisation(
 def factorise(plan: FactorPlan, values: np.ndarray) -> Factor | None:
     """Factorise the matrix with ``values`` (nnz,) in the planned pattern.
 
-    Returns None unless it is positive definite (or when it is exactly singular).
+    Returns None unless it is positive definite (or when it is exactly singular, or
+    holds a value that is not finite).
     """
+    if not np.all(np.isfinite(values)):
+        return None
     if plan.method is FactorMethod.BANDED:
         ab = np.zeros((plan.bandwidth + 1) * plan.size)
         ab[plan.target] = values[plan.source]
