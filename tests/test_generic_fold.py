@@ -171,3 +171,39 @@ def test_a_maps_straight_crease_line_folds_on_its_own(name, folding, tmp_path, c
     # the folded line is straight and of one letter
     line = np.flatnonzero(creases & (angles > 1.0))
     assert len(set(cp.assignments[line])) == 1
+
+
+def _map_vertex(d: float) -> CreasePattern:
+    """One vertex of creases at 0, 90 + d/2, 180 + d and 270 + d/2 deg (Kawasaki exact, the
+    0-180 line straight to within d rad) in a 40 x 20 sheet, lettered V M V V."""
+    c = np.array([20.0, 10.0])
+    ends = []
+    for a in (0.0, np.pi / 2 + d / 2, np.pi + d, 3 * np.pi / 2 + d / 2):
+        u = np.array([np.cos(a), np.sin(a)])
+        reach = [
+            ((hi if u[k] > 0 else lo) - c[k]) / u[k]
+            for k, (lo, hi) in enumerate(((0.0, 40.0), (0.0, 20.0)))
+            if abs(u[k]) > 1e-12
+        ]
+        ends.append(c + min(reach) * u)
+    return CreasePattern(
+        np.vstack([[[0, 0], [40, 0], [40, 20], [0, 20]], [c], ends]),
+        [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [4, 6], [4, 7], [4, 8]],
+        ["B"] * 4 + ["V", "M", "V", "V"],
+    )
+
+
+@pytest.mark.parametrize("d", [0.0, 1.5e-5])
+def test_a_nearly_straight_map_vertex_folds_continuously(d):
+    # whichever line the default driver picks, a small fold moves no crease to 180 deg
+    _, small = fold_degree4(_map_vertex(d), 0.01)
+    assert np.abs(small).max() < 10.0
+
+
+def test_driving_a_line_that_cannot_fold_first_is_refused_in_plain_numbers():
+    # the M-V line cannot fold while the V-V line is flat: refused, the vertex in mm
+    cp = _map_vertex(1.5e-5)
+    mountain = int(np.flatnonzero(cp.edge_mask("M"))[0])
+    with pytest.raises(PatternError, match=r"\(-?\d+\.?\d*, -?\d+\.?\d*\) mm") as info:
+        fold_degree4(cp, 0.01, driving_edge=mountain)
+    assert "np." not in str(info.value)

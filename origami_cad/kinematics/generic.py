@@ -372,7 +372,8 @@ def _place(cp: CreasePattern, rho: np.ndarray, driving_edge: int, tol: float) ->
             )
             raise PatternError(
                 f"the panels do not close up around vertex {v} at "
-                f"{tuple(np.round(cp.vertices[v], 4))} mm: not rigidly foldable this way"
+                f"{tuple(round(float(c), 4) for c in cp.vertices[v])} mm: not rigidly "
+                "foldable this way"
             )
         coords[ring] = pts
     if np.isnan(coords).any():
