@@ -1133,6 +1133,12 @@ def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
     return limits
 
 
+def _gif_states(states: int, frames: int) -> list[int]:
+    """The states a GIF of about ``frames`` frames shows: evenly spaced, and the last."""
+    every = max(1, states // max(frames, 1))
+    return [*range(0, states, every), states - 1]
+
+
 def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.viz.render3d import render_folded, render_folding_gif
@@ -1145,8 +1151,7 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     write_fold(cp, stage / names[0], frames=frames)
     with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
         json.dump(result.to_dict(), fh, indent=1)
-    every = max(1, len(result.states) // max(gif_frames, 1))
-    picked = [*range(0, len(result.states), every), len(result.states) - 1]
+    picked = _gif_states(len(result.states), gif_frames)
     shown = [result.states[k] for k in picked]
     captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
     view = (1, -1.5, 1)
@@ -1593,8 +1598,7 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
     save_crawl_gait_png(
         result.t, result.fold, result.turns, legs, stage / names[5], commanded=result.commanded
     )
-    every = max(1, len(result.states) // max(gif_frames, 1))
-    picked = [*range(0, len(result.states), every), len(result.states) - 1]
+    picked = _gif_states(len(result.states), gif_frames)
     shown = [result.states[k] for k in picked]
     captions = [
         f"t = {result.t[k]:.1f} s, body moved {result.body[k, 0] - result.body[0, 0]:+.1f} mm"
@@ -1731,7 +1735,7 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
 
         every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
         every.update(stls)
-        from origami_cad.parts.robot import PART_COLORS
+        from origami_cad.parts.robot import display_color
 
         kinds = {n: assembly.kinds[n] for n in stls}
         render_parts(
@@ -1742,7 +1746,7 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
                 n: k.replace("-", " ") + "s" * (list(kinds.values()).count(k) > 1)
                 for n, k in kinds.items()
             },
-            colors={n: PART_COLORS.get(k, "#cccccc") for n, k in kinds.items()},
+            colors={n: display_color(assembly, n) for n in stls},
         )
         images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
     return images

@@ -35,6 +35,7 @@ __all__ = [
     "FreePlacement",
     "ModulePlacement",
     "RobotAssembly",
+    "display_color",
     "robot_assembly",
     "robot_overlaps",
     "robot_report",
@@ -196,16 +197,21 @@ def _color(hexa: str) -> Color:
     return Color(*(int(hexa[i : i + 2], 16) / 255 for i in (0, 2, 4)))
 
 
+def display_color(robot: RobotAssembly, name: str) -> str:
+    """The colour (sRGB hex) solid ``name`` is shown in: its material's for the sheet's
+    parts, its kind's (:data:`PART_COLORS`) for the added ones."""
+    kind = robot.kinds[name]
+    return MATERIAL_COLORS[robot.materials[name]] if kind == "structure" else PART_COLORS[kind]
+
+
 def write_robot_step(
     robot: RobotAssembly, path: str | os.PathLike[str], label: str = "robot"
 ) -> Path:
     """Write the robot as one STEP assembly of named, coloured parts (atomic)."""
     children = []
     for name, shape in robot.solids.items():
-        kind = robot.kinds[name]
-        hexa = MATERIAL_COLORS[robot.materials[name]] if kind == "structure" else PART_COLORS[kind]
         shape.label = name
-        shape.color = _color(hexa)
+        shape.color = _color(display_color(robot, name))
         children.append(shape)
     assembly = Compound(children=children)
     assembly.label = label

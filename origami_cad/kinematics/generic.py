@@ -36,6 +36,11 @@ _FOLD = ("M", "V")
 FLAT_FOLD_TOLERANCE = 1e-5
 
 
+def _mm(point: np.ndarray) -> tuple[float, ...]:
+    """A point's coordinates as messages show them, mm."""
+    return tuple(round(float(c), 4) for c in point)
+
+
 def _rx(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
@@ -123,12 +128,11 @@ def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
                 around[int(v)].append((math.atan2(d[1], d[0]), int(e)))
     tables = {}
     for v, items in around.items():
-        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        loc = _mm(cp.vertices[v])
         if len(items) != 4:
             raise PatternError(
                 f"vertex {v} at {loc} mm has {len(items)} crease{'s' * (len(items) != 1)}; "
-                "this folder needs every "
-                "interior vertex to have degree 4"
+                "this folder needs every interior vertex to have degree 4"
             )
         items.sort()
         angles = np.array([t for t, _ in items])
@@ -260,7 +264,7 @@ def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
     for v, r in zip(interior, res, strict=True):
         if abs(r) <= FLAT_FOLD_TOLERANCE:
             continue
-        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        loc = _mm(cp.vertices[v])
         if not np.isfinite(r):  # an odd number of folding creases
             degree = int(np.sum(folding & (cp.edges == v).any(axis=1)))
             raise PatternError(
@@ -292,7 +296,7 @@ def _propagate(cp, prep: _Prepared, driving_edge: int, angle: float, tol: float)
         elif abs(magnitude[e] - value) > tol * max(1.0, value):
             raise PatternError(
                 f"the folding is not consistent around the loop through crease {e} at "
-                f"{tuple(round(float(c), 4) for c in mids[e])} mm (vertex {v}): "
+                f"{_mm(mids[e])} mm (vertex {v}): "
                 f"{math.degrees(magnitude[e]):.6g} deg against {math.degrees(value):.6g} deg "
                 f"({math.degrees(abs(magnitude[e] - value)):.3g} deg apart)"
             )
@@ -325,7 +329,7 @@ def _vertex_ratio(cp, v: int, order: list[int], sectors: np.ndarray, sign: np.nd
     try:
         return degree4_ratio(sectors, sign[order])
     except ValueError as exc:
-        loc = tuple(round(float(c), 4) for c in cp.vertices[v])
+        loc = _mm(cp.vertices[v])
         raise PatternError(
             f"vertex {v} at {loc} mm: creases {order} ({''.join(cp.assignments[order])}) "
             f"cannot fold rigidly: {exc}"
@@ -372,7 +376,7 @@ def _place(cp: CreasePattern, rho: np.ndarray, driving_edge: int, tol: float) ->
             )
             raise PatternError(
                 f"the panels do not close up around vertex {v} at "
-                f"{tuple(round(float(c), 4) for c in cp.vertices[v])} mm: not rigidly "
+                f"{_mm(cp.vertices[v])} mm: not rigidly "
                 "foldable this way"
             )
         coords[ring] = pts

@@ -506,7 +506,12 @@ def _unfolded_pattern(
     (folded flat). Faces listed clockwise seen from the top (their valleys measure
     negative) are laid out mirrored, so that the pattern is seen from its top.
     """
-    from origami_cad.pattern.unfold import fold_angles_of_form, unfold_faces
+    from origami_cad.pattern.unfold import (
+        counter_clockwise,
+        faces_per_edge,
+        fold_angles_of_form,
+        unfold_faces,
+    )
 
     faces = _index_rows(frame, "faces_vertices", where, len(verts), None)
     edges = np.asarray(_index_rows(frame, "edges_vertices", where, len(verts), 2), dtype=int)
@@ -516,8 +521,8 @@ def _unfolded_pattern(
         raise PatternError(f"{where}: {exc}") from None
     measured = fold_angles_of_form(verts, faces, edges.reshape(-1, 2))
     assign = _assignments(frame, where, len(edges))
+    sides = faces_per_edge(faces, edges)
     if assign is None:
-        sides = _faces_per_edge(faces, edges)
         assign = np.where(
             sides < 2,
             "B",
@@ -532,8 +537,8 @@ def _unfolded_pattern(
     if known.any() and np.sum(np.sign(measured[known]) != sense[known]) > known.sum() / 2:
         flat[:, 0] *= -1.0  # seen from below: mirror, and the measured senses turn over
         measured = -measured
-    faces = [f if _signed_area(flat[f]) > 0 else f[::-1] for f in faces]  # seen from the top
-    flat_folded = np.isnan(measured) & (sense != 0) & (_faces_per_edge(faces, edges) == 2)
+    faces = counter_clockwise(flat, faces)  # seen from the top
+    flat_folded = np.isnan(measured) & (sense != 0) & (sides == 2)
     measured[flat_folded] = 180.0 * sense[flat_folded]
     measured[np.sign(measured) != sense] = np.nan  # only angles that agree with the letters
     given = {"edges_assignment": list(assign), "faces_vertices": faces}
@@ -549,20 +554,6 @@ def _unfolded_pattern(
     out = cp.with_metadata(unfolded=True)
     out.notes = (*cp.notes, note)
     return out
-
-
-def _signed_area(ring: np.ndarray) -> float:
-    x, y = ring[:, 0], ring[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
-
-
-def _faces_per_edge(faces: list[list[int]], edges: np.ndarray) -> np.ndarray:
-    count: dict[tuple[int, int], int] = {}
-    for face in faces:
-        for a, b in zip(face, [*face[1:], face[0]], strict=True):
-            key = (min(a, b), max(a, b))
-            count[key] = count.get(key, 0) + 1
-    return np.array([count.get((min(a, b), max(a, b)), 0) for a, b in edges])
 
 
 def read_fold_frames(path: str | os.PathLike[str]) -> list[np.ndarray]:

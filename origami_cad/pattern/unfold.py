@@ -28,7 +28,7 @@ import numpy as np
 
 from origami_cad.errors import PatternError
 
-__all__ = ["fold_angles_of_form", "unfold_faces"]
+__all__ = ["counter_clockwise", "faces_per_edge", "fold_angles_of_form", "unfold_faces"]
 
 
 def _normal(points: np.ndarray) -> np.ndarray:
@@ -43,6 +43,24 @@ def _normal(points: np.ndarray) -> np.ndarray:
     )
     length = float(np.linalg.norm(n))
     return n / length if length > 0 else n
+
+
+def _signed_area(ring: np.ndarray) -> float:
+    """Signed area of a 2D ring (n, 2): positive when counter-clockwise."""
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def counter_clockwise(flat: np.ndarray, faces: Sequence[Sequence[int]]) -> list[list[int]]:
+    """Each face's vertex list turned, where needed, to run counter-clockwise in ``flat``
+    (n, 2): the faces seen from the top of the laid-out sheet."""
+    return [list(f) if _signed_area(flat[list(f)]) > 0 else list(f)[::-1] for f in faces]
+
+
+def faces_per_edge(faces: Sequence[Sequence[int]], edges: np.ndarray) -> np.ndarray:
+    """How many of ``faces`` have each edge of ``edges`` (m, 2) on their boundary."""
+    on = _face_edges(faces)
+    return np.array([len(on.get((min(a, b), max(a, b)), ())) for a, b in edges], dtype=int)
 
 
 def _face_edges(faces: Sequence[Sequence[int]]) -> dict[tuple[int, int], list[int]]:
@@ -106,9 +124,7 @@ def _lay(xyz, face, a, b, flat_a, flat_b, away) -> dict[int, np.ndarray]:
 
 def _interior_side(flat: dict[int, np.ndarray], face: Sequence[int], a: int, b: int) -> np.ndarray:
     """The unit 2D normal of the laid face's edge ``a -> b`` on the face's interior side."""
-    ring = np.array([flat[w] for w in face])
-    x, y = ring[:, 0], ring[:, 1]
-    ccw = float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) > 0
+    ccw = _signed_area(np.array([flat[w] for w in face])) > 0
     edge = (flat[b] - flat[a]) / np.linalg.norm(flat[b] - flat[a])
     left = np.array([-edge[1], edge[0]])
     return left if ccw == _runs(face, a, b) else -left
