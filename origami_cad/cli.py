@@ -19,6 +19,7 @@ from typing import Any
 
 from origami_cad import __version__, jobs
 from origami_cad._fileio import Interrupted, handle_signals, interrupted
+from origami_cad._names import one_line
 from origami_cad.errors import DesignError, OrigamiCadError
 
 __all__ = ["build_parser", "main"]
@@ -291,8 +292,7 @@ def _interrupted() -> int:
 
 def _error(message: str) -> None:
     """Print one error line; control characters of user-supplied names are escaped."""
-    safe = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
-    print(f"origami-cad: error: {safe}", file=sys.stderr)
+    print(f"origami-cad: error: {one_line(message)}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

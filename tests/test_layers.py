@@ -2,7 +2,7 @@
 
 The order is the guide's (``docs/architecture.md``): pattern, kinematics, design,
 fabrication, strings, parts, simulation, drive, viz, jobs, then the CLI and the
-demo. ``errors``, ``_fileio`` and ``_toml`` are the base every stage may use.
+demo. ``errors``, ``_fileio``, ``_names`` and ``_toml`` are the base every stage may use.
 Names starting with an underscore never cross a module boundary, in the package,
 its tests or its benchmarks.
 """
@@ -15,7 +15,13 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-BASE = {"origami_cad", "origami_cad.errors", "origami_cad._fileio", "origami_cad._toml"}
+BASE = {
+    "origami_cad",
+    "origami_cad.errors",
+    "origami_cad._fileio",
+    "origami_cad._names",
+    "origami_cad._toml",
+}
 ORDER = [
     "pattern",
     "kinematics",

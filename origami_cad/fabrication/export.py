@@ -19,13 +19,13 @@ import json
 import os
 import zipfile
 from pathlib import Path
-from xml.sax.saxutils import escape
 
 import numpy as np
 from build123d import Color, Compound, Location, Solid, export_step, export_stl
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_path
+from origami_cad._names import xml_text
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
@@ -331,7 +331,7 @@ def _model_xml(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray, name: str) 
         '<model unit="millimeter" xml:lang="en-US" '
         'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">',
         f' <metadata name="Application">origami_cad {__version__}</metadata>',
-        f' <metadata name="Title">{escape(name)}</metadata>',
+        f' <metadata name="Title">{xml_text(name)}</metadata>',
         " <resources>",
         '  <basematerials id="1">',
     ]
@@ -339,7 +339,7 @@ def _model_xml(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray, name: str) 
         model.append(f'   <base name="{material}" displaycolor="{color}FF"/>')
     model += [
         "  </basematerials>",
-        f'  <object id="2" type="model" name="{escape(name)}" pid="1" pindex="0">',
+        f'  <object id="2" type="model" name="{xml_text(name)}" pid="1" pindex="0">',
         "   <mesh>",
         "    <vertices>",
     ]
@@ -369,13 +369,13 @@ def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str]
         '<?xml version="1.0" encoding="UTF-8"?>',
         "<config>",
         ' <object id="2" instances_count="1">',
-        f'  <metadata type="object" key="name" value="{escape(name)}"/>',
+        f'  <metadata type="object" key="name" value="{xml_text(name)}"/>',
     ]
     bambu = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         "<config>",
         ' <object id="2">',
-        f'  <metadata key="name" value="{escape(name)}"/>',
+        f'  <metadata key="name" value="{xml_text(name)}"/>',
         '  <metadata key="extruder" value="1"/>',
     ]
     for k, (n, (first, last)) in enumerate(zip(PART_NAMES, ranges, strict=True)):
