@@ -71,8 +71,11 @@ def path_component(name: str) -> str:
     shown = repr(name)[:60]
     if not isinstance(name, str) or not name:
         raise ValueError(f"{shown} cannot be a file name: it is empty")
-    if len(name) > MAX_COMPONENT:
-        raise ValueError(f"{shown}... cannot be a file name: over {MAX_COMPONENT} characters")
+    if len(name) > MAX_COMPONENT or len(name.encode("utf-8", "replace")) > 2 * MAX_COMPONENT:
+        raise ValueError(
+            f"{shown} cannot be a file name: too long (at most {MAX_COMPONENT} characters "
+            f"or {2 * MAX_COMPONENT} bytes)"
+        )
     bad = next((c for c in name if c in _RESERVED or _hidden(c)), None)
     if bad is not None:
         raise ValueError(f"{shown} cannot be a file name: it holds {bad!r}")
@@ -131,16 +134,16 @@ def one_line(text: object) -> str:
 
 _NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 _XML = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&apos;"}
-_XML |= {"\t": "&#9;", "\n": "&#10;", "\r": "&#13;"}
-_XML_SPECIAL = re.compile("[&<>\"'\t\n\r]")
+_XML_SPECIAL = re.compile("[&<>\"']")
 
 
 def xml_text(text: object) -> str:
     """``text`` safe as XML 1.0 content or as an attribute value in either quote.
 
-    ``& < > " '`` become entities; tab, line feed and carriage return become character
-    references (an attribute keeps them, a parser does not normalise them); characters
-    XML 1.0 cannot hold at all (NUL, other controls, lone surrogates) become U+FFFD.
+    ``& < > " '`` become the five predefined entities (never character references,
+    which lib3mf's strict reader refuses); tab, line feed and carriage return stay (a
+    parser reads them as spaces in an attribute); characters XML 1.0 cannot hold at
+    all (NUL, other controls, lone surrogates) become U+FFFD.
     """
     clean = _NOT_XML.sub("\ufffd", str(text))
     return _XML_SPECIAL.sub(lambda m: _XML[m.group()], clean)

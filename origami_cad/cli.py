@@ -245,7 +245,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if extra:
         args.params = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
-    with handle_signals() if main_thread else contextlib.nullcontext():
+    # argv None: the console script, which exits next (a caller passing argv goes on)
+    with handle_signals(exiting=argv is None) if main_thread else contextlib.nullcontext():
         return _run(args)
 
 

@@ -1905,7 +1905,12 @@ def run_drive(
     import numpy as np
 
     from origami_cad.drive import StallError
-    from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
+    from origami_cad.drive.sequence import (
+        check_time_scale,
+        load_sequence,
+        log_not_started,
+        run_sequence,
+    )
     from origami_cad.viz.drive_plots import save_drive_png
 
     if plot is not None:
@@ -1923,7 +1928,11 @@ def run_drive(
     names = {t.dxl_id: t.name for t in seq.tsas}
     try:
         with contextlib.ExitStack() as stack:
-            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+            try:
+                bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+            except BaseException as exc:  # an absent servo: the log says so
+                log_not_started(log, seq, exc)
+                raise
             done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
     except StallError as exc:  # name the TSA, not only its servo ID
         name = names.get(exc.servo)

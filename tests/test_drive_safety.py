@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import os
 import random
+import re
 import signal
 import threading
 from pathlib import Path
@@ -110,10 +111,25 @@ def replug_at(emu, link: Path, packet: int) -> None:
     emu.at_packet(packet, replug)
 
 
-def assert_valid_log(path: Path, ids) -> list[dict[str, str]]:
-    """The CSV log reads back whole: header, complete rows, one row per servo per cycle."""
+def log_note(path: Path) -> str | None:
+    """The comment line ending a log (why the run stopped), or None; only the last line
+    may be a comment."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    notes = [k for k, line in enumerate(lines) if line.startswith("#")]
+    assert notes in ([], [len(lines) - 1]), lines[-3:]
+    return lines[-1] if notes else None
+
+
+def assert_valid_log(path: Path, ids, stopped: str | None = None) -> list[dict[str, str]]:
+    """The CSV log reads back whole: header, complete rows, one row per servo per cycle.
+
+    ``stopped``: a pattern the last line, the comment saying why the run stopped, matches.
+    """
+    note = log_note(path)
+    if stopped is not None:
+        assert note is not None and re.search(stopped, note), note
     with path.open(newline="") as fh:
-        rows = list(csv.DictReader(fh))
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
     with path.open(newline="") as fh:
         assert next(csv.reader(fh)) == list(LOG_FIELDS)
     for row in rows:
