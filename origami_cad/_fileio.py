@@ -46,6 +46,7 @@ __all__ = [
     "atomic_write",
     "check_outputs",
     "clean_stale",
+    "finishing",
     "handle_signals",
     "referenced_files",
     "interrupted",
@@ -121,6 +122,20 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
         for sig, handler in previous.items():
             signal.signal(sig, signal.SIG_IGN if ignore else handler)
         _received.clear()
+
+
+@contextlib.contextmanager
+def finishing() -> Iterator[None]:
+    """Within the block, outputs complete although an interrupt came, and further
+    SIGINT and SIGTERM wait (main thread): for what a stopped run still owes its
+    user (``drive``'s plot of the readings its log kept). The interrupt stays noted."""
+    saved = list(_received)
+    _received.clear()
+    try:
+        with _signals_held() as held:
+            yield
+    finally:
+        _received[:] = saved + [s for s in held if s not in saved]
 
 
 def _raise_if_interrupted() -> None:

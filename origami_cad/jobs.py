@@ -1845,9 +1845,20 @@ def run_emulate(
     return Outputs()
 
 
-def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulate: dict | None):
+def _open_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None, log=None):
     """The servo bus of a sequence: on ``port``, or on a new emulator given ``emulate``
-    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
+    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads). If it
+    cannot be opened (an absent servo), the CSV ``log`` says why."""
+    from origami_cad.drive.sequence import log_not_started
+
+    try:
+        return _start_bus(stack, seq, port, protocol, baudrate, emulate)
+    except BaseException as exc:
+        log_not_started(log, seq, exc)
+        raise
+
+
+def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None):
     from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
 
     if emulate is not None:
@@ -1879,6 +1890,22 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulat
     return stack.enter_context(bus)
 
 
+def _drive_stopped(exc: BaseException, plot, names: dict[int, str]) -> BaseException:
+    """After a run stopped early: the ``plot`` of its readings (so log and plot stay one
+    set), and the error to raise (a stall names the TSA, not only its servo ID)."""
+    from origami_cad._fileio import finishing
+    from origami_cad.drive import StallError
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    ran = getattr(exc, "drive_log", None)
+    if plot and ran is not None and ran.t.size:
+        with finishing():
+            save_drive_png(ran, plot, names)
+    if isinstance(exc, StallError) and names.get(exc.servo):
+        return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
+    return exc
+
+
 def run_drive(
     sequence: PathLike,
     log: PathLike = "drive_log.csv",
@@ -1904,13 +1931,7 @@ def run_drive(
 
     import numpy as np
 
-    from origami_cad.drive import StallError
-    from origami_cad.drive.sequence import (
-        check_time_scale,
-        load_sequence,
-        log_not_started,
-        run_sequence,
-    )
+    from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
     if plot is not None:
@@ -1928,15 +1949,10 @@ def run_drive(
     names = {t.dxl_id: t.name for t in seq.tsas}
     try:
         with contextlib.ExitStack() as stack:
-            try:
-                bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
-            except BaseException as exc:  # an absent servo: the log says so
-                log_not_started(log, seq, exc)
-                raise
+            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate, log)
             done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
-    except StallError as exc:  # name the TSA, not only its servo ID
-        name = names.get(exc.servo)
-        raise StallError(f"{name}: {exc}" if name else str(exc), exc.servo) from None
+    except BaseException as exc:  # the plot shows what ran; a stall names the TSA
+        raise _drive_stopped(exc, plot, names) from exc.__cause__
     files = [Path(log)]
     if plot:
         save_drive_png(done, plot, names)

@@ -432,6 +432,13 @@ class DriveLog:
             self.measured[k, j], self.current[k, j] = state[i]
         return self.rows(k, k + 1)
 
+    def first(self, steps: int) -> DriveLog:
+        """The log of the first ``steps`` command cycles (those that ran)."""
+        cut = slice(0, steps)
+        return DriveLog(
+            self.ids, self.t[cut], self.target[cut], self.measured[cut], self.current[cut]
+        )
+
     @property
     def lag(self) -> np.ndarray:
         """How far each servo is behind its command, turns (S, n)."""
@@ -513,7 +520,9 @@ def run_sequence(
     :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
     hardware error or a lost port leaves a valid CSV up to its last reading.
     It is opened (and checked) before the first command; a log path that is
-    the sequence file itself is refused.
+    the sequence file itself is refused. A run that stops early ends the log with
+    a comment saying why (:func:`note_stop`), and the exception carries the
+    readings of the cycles that ran as ``drive_log`` (a :class:`DriveLog`).
     """
     time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
@@ -529,7 +538,7 @@ def run_sequence(
             writer.writeheader()
             fh.flush()
         start = time.monotonic()
-        t = 0.0
+        t, ran = 0.0, 0
         try:
             for k in range(steps):
                 t = k * period
@@ -540,12 +549,14 @@ def run_sequence(
                 bus.set_turns(targets)
                 state = bus.read()
                 new = out.record(k, round(t, 6), targets, state)
+                ran = k + 1
                 if writer is not None:
                     writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
                     fh.flush()
                 if progress is not None:
                     progress(t, targets, state)
         except BaseException as exc:
+            exc.drive_log = out.first(ran)  # what ran, for the caller (a plot of it)
             if fh is not None:
                 with hold_ctrl_c():  # the reason's line is written whole
                     note_stop(fh, exc, t)
