@@ -48,8 +48,8 @@ __all__ = [
     "clean_stale",
     "finishing",
     "handle_signals",
-    "referenced_files",
     "interrupted",
+    "referenced_files",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -660,9 +660,9 @@ def check_outputs(
     Raises
     ------
     OutputError
-        An output resolves to an input or a file an input names, two outputs are the same file, a file
-        output is an existing folder, a folder output is an existing file, or a
-        parent of an output is a file.
+        An output resolves to an input or a file an input names, two outputs are
+        the same file, a file output is an existing folder, a folder output is an
+        existing file, or a parent of an output is a file.
 
     Examples
     --------

@@ -31,7 +31,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
+from origami_cad._fileio import (
+    atomic_directory,
+    atomic_path,
+    atomic_write,
+    check_outputs,
+    finishing,
+)
 from origami_cad.errors import DesignError, OrigamiCadError
 
 __all__ = [
@@ -1194,7 +1200,8 @@ def run_simulate(
 
     if steps is not None and not 1 <= steps <= 100_000:
         raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
-    check_outputs([pattern, route], folders=[folder])
+    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    check_outputs([pattern, route], files=[Path(folder) / n for n in names], folders=[folder])
     if friction is not None and friction < 0:
         raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
@@ -1206,7 +1213,6 @@ def run_simulate(
     limits = _blocker_limits(cp, blockers, pattern)
     kwargs = {"steps": steps, "fold_limits": limits or None, "progress": progress, "free": free}
     result = simulate(cp, spec, params, design=loaded, **kwargs)
-    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
         _write_simulation(stage, names, cp, spec, result, gif_frames)
     files = [Path(folder) / n for n in names]
@@ -1893,7 +1899,6 @@ def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | N
 def _drive_stopped(exc: BaseException, plot, names: dict[int, str]) -> BaseException:
     """After a run stopped early: the ``plot`` of its readings (so log and plot stay one
     set), and the error to raise (a stall names the TSA, not only its servo ID)."""
-    from origami_cad._fileio import finishing
     from origami_cad.drive import StallError
     from origami_cad.viz.drive_plots import save_drive_png
 
@@ -1955,7 +1960,8 @@ def run_drive(
         raise _drive_stopped(exc, plot, names) from exc.__cause__
     files = [Path(log)]
     if plot:
-        save_drive_png(done, plot, names)
+        with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
+            save_drive_png(done, plot, names)
         files.append(Path(plot))
     # the largest lag is where a command jumps (to the first keyframe, a gait's step);
     # how closely the servos follow shows in the lag of 95 % of the readings

@@ -538,12 +538,14 @@ def test_serial_absent_motor_lost_port_and_stall(tmp_path, capsys):
     seq = write_sequence(tmp_path, [1, 7])
     with SerialEmulator([1, 2]) as emu:
         log = tmp_path / "absent.csv"
-        code = main(["drive", str(seq), "--port", emu.port, "--protocol", "serial", "--log", str(log)])
+        argv = ["drive", str(seq), "--port", emu.port, "--protocol", "serial", "--log", str(log)]
+        code = main(argv)
         err = capsys.readouterr().err.strip()
         assert code == 2 and err.count("\n") == 0
         assert "motor 7" in err and "no motor was enabled" in err
         assert_motors_off(emu)
-    assert assert_valid_log(log, [1, 7], stopped=r"^# not started: motor 7: .*no motor was enabled") == []
+    note = r"^# not started: motor 7: .*no motor was enabled"
+    assert assert_valid_log(log, [1, 7], stopped=note) == []
     seq = write_sequence(tmp_path, IDS)
     log = tmp_path / "serial.csv"
     port = tmp_path / "ttyACM0"
