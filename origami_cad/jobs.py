@@ -1902,7 +1902,7 @@ def _drive_stopped(exc: BaseException, plot, names: dict[int, str]) -> BaseExcep
     from origami_cad.drive import StallError
     from origami_cad.viz.drive_plots import save_drive_png
 
-    ran = getattr(exc, "drive_log", None)
+    ran = getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
     if plot and ran is not None and ran.t.size:
         with finishing():
             save_drive_png(ran, plot, names)
