@@ -15,7 +15,13 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-BASE = {"origami_cad", "origami_cad.errors", "origami_cad._fileio", "origami_cad._toml"}
+BASE = {
+    "origami_cad",
+    "origami_cad.errors",
+    "origami_cad._fileio",
+    "origami_cad._libm",
+    "origami_cad._toml",
+}
 ORDER = [
     "pattern",
     "kinematics",
