@@ -19,6 +19,7 @@ BASE = {
     "origami_cad",
     "origami_cad.errors",
     "origami_cad._fileio",
+    "origami_cad._libm",
     "origami_cad._names",
     "origami_cad._toml",
 }

@@ -19,7 +19,15 @@ from origami_cad.design.limits import (
     panel_bias_violations,
     reachable_fold_angle,
 )
-from origami_cad.design.search import ArmDesign, decode, decode_bias, design_arm, run_one
+from origami_cad.design.search import (
+    ArmDesign,
+    decode,
+    decode_bias,
+    design_arm,
+    rank_designs,
+    run_one,
+    ties,
+)
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
 
 __all__ = [
@@ -37,8 +45,10 @@ __all__ = [
     "leg_fold_angles",
     "load_task",
     "panel_bias_violations",
+    "rank_designs",
     "reachable_fold_angle",
     "run_one",
     "sample_angles",
     "task_to_dict",
+    "ties",
 ]
