@@ -234,6 +234,8 @@ def clean_stale(folder: PathLike) -> list[Path]:
         entries = list(os.scandir(folder))
     except OSError:
         return removed
+    # staging folders first: their journals need the old files kept beside the targets
+    entries.sort(key=lambda e: not e.is_dir(follow_symlinks=False))
     for entry in entries:
         m = _STALE.match(entry.name)
         if m is None or m.group(1) != _HOST:
