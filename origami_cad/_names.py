@@ -14,6 +14,7 @@ Every such place goes through the one function of its kind here, never through a
 :func:`xml_text`       XML content and attribute values (either quote)
 :func:`html_text`      HTML content and attribute values (either quote)
 :func:`slicer_value`   a value of PrusaSlicer's ``; key = value`` config lines
+:func:`plot_text`      a title, label or legend entry of a matplotlib plot
 ==================== ==================================================================
 
 Characters no output of the kind can hold become U+FFFD (XML, HTML) or an escape
@@ -39,6 +40,7 @@ __all__ = [
     "html_text",
     "one_line",
     "path_component",
+    "plot_text",
     "slicer_value",
     "toml_key",
     "toml_string",
@@ -170,3 +172,14 @@ def slicer_value(text: object) -> str:
     text = str(text).replace("\\", "\\\\")
     text = text.replace("\n", "\\n").replace("\r", "\\r").replace("\t", "\\t")
     return one_line(text)
+
+
+def plot_text(text: object) -> str:
+    """``text`` shown as itself in a matplotlib plot (title, label, legend entry).
+
+    One line (:func:`one_line`); ``$`` is escaped, so a name such as ``$\\frac$`` is
+    not parsed as mathtext (which fails on it); a leading ``_``, which would hide a
+    legend entry, is kept visible.
+    """
+    shown = one_line(text).replace("$", r"\$")
+    return "\u200b" + shown if shown.startswith("_") else shown

@@ -38,6 +38,7 @@ from origami_cad._fileio import (
     check_outputs,
     finishing,
 )
+from origami_cad._names import one_line
 from origami_cad.errors import DesignError, OrigamiCadError
 
 __all__ = [
@@ -1097,7 +1098,8 @@ def run_plan_route(
     if not planned:
         raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
     header = (
-        f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
+        f"# Planned by: origami-cad plan-route {one_line(pattern)} --tsa {one_line(tsa)} "
+        f"--strings {strings}"
         f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"
         f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
         f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
@@ -1338,11 +1340,12 @@ def _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
         ]
     )
     header = (
-        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# Generated from the {model} model of {one_line(design)} folded by its strings, "
+        "not typed by\n"
         f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
         "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
         "# commands the turns the model needed. Regenerate with:\n"
-        f"#   {argv}\n"
+        f"#   {one_line(argv)}\n"
     )
     return header
 

@@ -27,6 +27,7 @@ from origami_cad._names import (
     html_text,
     one_line,
     path_component,
+    plot_text,
     slicer_value,
     toml_key,
     toml_string,
@@ -145,6 +146,33 @@ def test_a_slicer_value_stays_on_its_line(text):
     assert [line.split(" = ")[0] for line in lines] == ["; name", "; layer_height"]
     if all(c.isprintable() or c in "\n\r\t" for c in text):
         assert _slicer_unescape(lines[0].split(" = ", 1)[1]) == text
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(TEXT)
+def test_plot_text_is_drawn_as_itself(text):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(2, 1))
+    ax = fig.subplots()
+    ax.set_title(plot_text(text))
+    shown = plot_text(text)
+    ax.plot([0, 1], label=shown or "empty")
+    legend = ax.legend()
+    fig.canvas.draw()  # mathtext would fail on an unbalanced or bad $...$
+    assert len(legend.get_texts()) == 1  # a leading "_" does not hide the entry
+    assert "\n" not in shown and shown.count("$") == shown.count(r"\$")
+
+
+def test_a_title_and_labels_from_a_fold_file_are_drawn_as_text(tmp_path, capsys):
+    fold = _title_pattern(tmp_path, r"$\frac$ _x $")
+    data = json.loads(fold.read_text())
+    data["faces_label"] = [r"$\frac$", "_a", "b$", "c\nd"]
+    fold.write_text(json.dumps(data))
+    assert main(["convert", str(fold), str(tmp_path / "cp.png"), "--labels"]) == 0, (
+        capsys.readouterr().err
+    )
+    assert (tmp_path / "cp.png").stat().st_size > 1000
 
 
 # ----------------------------------------------------------------- through the commands
