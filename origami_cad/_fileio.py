@@ -109,18 +109,17 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
     makes every pending atomic output refuse to complete, so an interrupt that a
     library swallowed (a VTK callback, a worker loop) still leaves nothing behind.
     The previous handlers are restored and the memory cleared on leaving; with
-    ``exiting`` (the process ends after the block), after an interrupt further
-    signals are ignored instead, so a second Ctrl-C while the interpreter shuts
-    down cannot replace the exit code 130 by a death by SIGINT.
+    ``exiting`` (the process ends after the block), further signals are ignored
+    instead: the command has finished (or been interrupted), and a Ctrl-C while the
+    interpreter shuts down must not replace its exit code by a death by SIGINT.
     """
     _received.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
-        ignore = exiting and bool(_received)
         for sig, handler in previous.items():
-            signal.signal(sig, signal.SIG_IGN if ignore else handler)
+            signal.signal(sig, signal.SIG_IGN if exiting else handler)
         _received.clear()
 
 

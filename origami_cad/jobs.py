@@ -1959,12 +1959,13 @@ def _drive_stopped(exc: BaseException, plot, names: dict[int, str]) -> BaseExcep
     """After a run stopped early: the ``plot`` of its readings (so log and plot stay one
     set), and the error to raise (a stall names the TSA, not only its servo ID)."""
     from origami_cad.drive import StallError
+    from origami_cad.drive.sequence import DriveLog
     from origami_cad.viz.drive_plots import save_drive_png
 
     ran = getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
-    if plot and ran is not None and ran.t.size:
+    if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
         with finishing():
-            save_drive_png(ran, plot, names)
+            save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
     if isinstance(exc, StallError) and names.get(exc.servo):
         return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
     return exc
