@@ -1955,14 +1955,15 @@ def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | N
     return stack.enter_context(bus)
 
 
-def _drive_stopped(exc: BaseException, plot, names: dict[int, str]) -> BaseException:
-    """After a run stopped early: the ``plot`` of its readings (so log and plot stay one
-    set), and the error to raise (a stall names the TSA, not only its servo ID)."""
+def _drive_stopped(exc: BaseException, plot, names: dict[int, str], done=None) -> BaseException:
+    """After a run stopped early: the ``plot`` of its readings (``done``: all of them, when
+    only the shutdown failed), so log and plot stay one set; and the error to raise (a
+    stall names the TSA, not only its servo ID)."""
     from origami_cad.drive import StallError
     from origami_cad.drive.sequence import DriveLog
     from origami_cad.viz.drive_plots import save_drive_png
 
-    ran = getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
+    ran = done or getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
     if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
         with finishing():
             save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
@@ -2011,13 +2012,13 @@ def run_drive(
         raise DesignError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
-    names = {t.dxl_id: t.name for t in seq.tsas}
+    names, done = {t.dxl_id: t.name for t in seq.tsas}, None
     try:
         with contextlib.ExitStack() as stack:
             bus = _open_bus(stack, seq, port, protocol, baudrate, emulate, log)
             done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
     except BaseException as exc:  # the plot shows what ran; a stall names the TSA
-        raise _drive_stopped(exc, plot, names) from exc.__cause__
+        raise _drive_stopped(exc, plot, names, done) from exc.__cause__
     files = [Path(log)]
     if plot:
         with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
