@@ -36,6 +36,20 @@ class Fabrication:
     plan: PanelPlan
     parts: Parts
     timings: dict[str, float] = field(default_factory=dict)
+    #: the design it was made from, when it came from one (folds it in :meth:`assembly`)
+    design: Design | None = None
+
+    def assembly(self, ratio: float = 0.0, design: Design | None = None) -> Any:
+        """The printed sheet as a build123d ``Compound`` tree with joints, folded to ``ratio``.
+
+        sheet -> one child per panel (labelled as the FOLD's ``faces_origami_cad:labels``)
+        holding its infill, shell and mid-layer solids, and ``creases``, the crease strips;
+        every solid in its material's colour. See :func:`~origami_cad.fabrication.assembly.sheet_assembly`
+        (``ratio`` in [0, 1], ``design`` default :attr:`design`).
+        """
+        from origami_cad.fabrication.assembly import sheet_assembly
+
+        return sheet_assembly(self, ratio, design or self.design)
 
     @property
     def pattern(self) -> CreasePattern:
@@ -130,7 +144,9 @@ def fabricate(
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
-    return build_fabrication(plan_panels(source, params))
+    fab = build_fabrication(plan_panels(source, params))
+    fab.design = source if isinstance(source, Design) else None
+    return fab
 
 
 def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:
