@@ -6,9 +6,10 @@ Every part is a build123d ``BasePartObject`` (:class:`TSAModule`, :class:`RingRa
 at its defaults with no argument, takes ``rotation``, ``align`` and ``mode`` as
 build123d's own parts do, adds itself to an active ``BuildPart`` (nothing it builds on
 the way leaks into the user's builder), has labelled children and named
-``RigidJoint`` s at its mounting features. Every part has a typed parameter dataclass (units in its field docs) and is listed
-in :data:`~origami_cad.parts.registry.PARTS`, from which ``origami-cad part`` and
-its ``--list`` are generated:
+``RigidJoint`` s at its mounting features. Every part has a typed parameter
+dataclass (units in its field docs) and is listed in
+:data:`~origami_cad.parts.registry.PARTS`, from which ``origami-cad part`` and its
+``--list`` are generated:
 
 ==================  =========================================  =========================
 name                builder                                    parameters

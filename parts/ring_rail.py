@@ -207,8 +207,7 @@ def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     assembly = Compound(children=children)
     assembly.label = "ring rail"
     seats = {
-        f"seat {k + 1}": Location((cx, cy, z_top), (0, 0, 1), a)
-        * Location((r_mid, 0.0, 0.0))
+        f"seat {k + 1}": Location((cx, cy, z_top), (0, 0, 1), a) * Location((r_mid, 0.0, 0.0))
         for k, a in enumerate(angles)
     }
     return assembly, seats

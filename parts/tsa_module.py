@@ -198,9 +198,7 @@ def _build(
     children.append(mount)
     assembly = Compound(children=children)
     assembly.label = f"TSA module ({servo})"
-    hub_face = Plane(
-        origin=(1.0 + p.hub_thickness, 0.0, axis_z), x_dir=(0, 0, 1), z_dir=(1, 0, 0)
-    )
+    hub_face = Plane(origin=(1.0 + p.hub_thickness, 0.0, axis_z), x_dir=(0, 0, 1), z_dir=(1, 0, 0))
     joints = {
         "mount": Location((cx, cy, z_base)),
         "hub": shift * Location(hub_face),
@@ -260,7 +258,11 @@ def _mount(
 
 
 def _footprint(
-    p: TSAModuleParams, reach: tuple[float, float, float, float], margin: float, cx: float, cy: float
+    p: TSAModuleParams,
+    reach: tuple[float, float, float, float],
+    margin: float,
+    cx: float,
+    cy: float,
 ) -> shapely.Polygon:
     """The module's reach grown by ``margin`` (mm), turned to the heading, at ``(cx, cy)``."""
     x0, y0, x1, y1 = reach

@@ -51,7 +51,6 @@ from build123d import (
     RevoluteJoint,
     RigidJoint,
     Solid,
-    Vector,
 )
 
 from origami_cad.errors import DesignError
@@ -109,7 +108,9 @@ def face_motions(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
     """
     coords = np.asarray(coords, dtype=float)
     if coords.shape != (cp.n_vertices, 3):
-        raise DesignError(f"a state of this pattern has {cp.n_vertices} vertices, got {coords.shape}")
+        raise DesignError(
+            f"a state of this pattern has {cp.n_vertices} vertices, got {coords.shape}"
+        )
     flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
     out = np.tile(np.eye(4), (len(cp.faces), 1, 1))
     for k, face in enumerate(cp.faces):

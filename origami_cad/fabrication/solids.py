@@ -116,6 +116,7 @@ def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
 
 def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
     """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm."""
+
     def wire(ring) -> Wire:
         c = _distinct([(float(x), float(y)) for x, y in shapely.get_coordinates(ring)[:-1]])
         return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
