@@ -258,8 +258,13 @@ def _crease_frames(cp: CreasePattern) -> list[tuple[int, int, int, np.ndarray, n
 
 
 def mount_point(fab: Fabrication, face: int) -> tuple[float, float]:
-    """Where a TSA module's mount centres on panel ``face``: its outer face inset by 1 mm, mm."""
-    foot = shapely.Polygon(fab.outlines[face].outer).buffer(-1.0, join_style="mitre")
+    """Where a TSA module's mount centres on panel ``face``: its outer face inset by 1 mm, mm.
+
+    A panel too small for the inset gives its outer face's centroid.
+    """
+    outer = shapely.Polygon(fab.outlines[face].outer)
+    foot = outer.buffer(-1.0, join_style="mitre")
+    foot = foot if not foot.is_empty else outer
     return float(foot.centroid.x), float(foot.centroid.y)
 
 
