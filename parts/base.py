@@ -9,7 +9,10 @@ own frame, and hands it to :class:`OrigamiPart`, which
 * adds the part to the active ``BuildPart`` in ``mode`` (build123d isolates what the
   part builds on the way: nothing but the finished part reaches the user's builder),
   placed at the builder's ``Locations``, its children and joints placed with it;
-* attaches the part's named ``RigidJoint`` s.
+* attaches the part's named ``RigidJoint`` s;
+* keeps its children where the part is when it is placed by ``locate``, ``move``,
+  ``moved`` or a joint's ``connect_to`` (build123d moves a ``Compound``'s own shape
+  only, leaving its children behind: the STEP would hold them where they were built).
 
 Lengths are mm, angles degrees.
 """
@@ -75,10 +78,8 @@ class OrigamiPart(BasePartObject):
         """What the part is: its label and volume (mm^3)."""
         return f"{self.label}: {self.volume:.1f} mm^3"
 
-    def _publish_to_context(self, object_scope: Any) -> None:
-        """Publish to the user's builder, and place the children as the part was placed."""
-        before = self.location
-        super()._publish_to_context(object_scope)
+    def _carry_children(self, before: Location) -> None:
+        """Move every node below the part as the part moved from ``before`` to now."""
         delta = self.location * before.inverse()
         if delta == Location():
             return
@@ -87,3 +88,30 @@ class OrigamiPart(BasePartObject):
             node = stack.pop()
             node.wrapped = node.wrapped.Moved(delta.wrapped)
             stack.extend(node.children)
+
+    def _publish_to_context(self, object_scope: Any) -> None:
+        """Publish to the user's builder, and place the children as the part was placed."""
+        before = self.location
+        super()._publish_to_context(object_scope)
+        self._carry_children(before)
+
+    def locate(self, loc: Location) -> OrigamiPart:
+        """Place the part at ``loc`` (what ``connect_to`` does), its children with it."""
+        before = self.location
+        super().locate(loc)
+        self._carry_children(before)
+        return self
+
+    def moved(self, loc: Location) -> OrigamiPart:
+        """A copy moved by ``loc``, its children with it."""
+        before = self.location
+        out = super().moved(loc)
+        out._carry_children(before)
+        return out
+
+    def move(self, loc: Location) -> OrigamiPart:
+        """Move the part by ``loc`` in place, its children with it."""
+        before = self.location
+        super().move(loc)
+        self._carry_children(before)
+        return self

@@ -4,12 +4,15 @@
 
     sheet                       the pattern's title, or "sheet"
     +-- c0r0s0                  one child per panel, labelled as FOLD's faces_origami_cad:labels
-    |   +-- c0r0s0 infill 0     PLA, white
-    |   +-- c0r0s0 shell 0      TPU, red
-    |   +-- c0r0s0 midlayer 0   PLA
+    |   +-- c0r0s0_infill_0     PLA, white
+    |   +-- c0r0s0_shell_0      TPU, red
+    |   +-- c0r0s0_midlayer_0   PLA
     |   ...
     +-- creases
-        +-- crease strip 0      TPU
+        +-- crease_strip_0      TPU (folded: c0r0s0_strip_0, the piece on each face)
+
+Solid labels hold no space, dot or bracket, which build123d's ``import_step`` would turn
+into underscores: they read back as written.
 
 Every solid carries its material's colour (:data:`~origami_cad.fabrication.export.MATERIAL_COLORS`).
 Each panel carries build123d joints:
@@ -78,7 +81,7 @@ __all__ = [
 
 #: Display colour of each material (sRGB hex): PLA white, TPU red.
 MATERIAL_COLORS = {"PLA": "#F2F2F2", "TPU": "#D62728"}
-#: The word naming a solid's part in its label (``c0r1s2 shell 1``), and that part.
+#: The word naming a solid's part in its label (``c0r1s2_shell_1``), and that part.
 KIND_PARTS = {"infill": "infills", "midlayer": "midlayers", "shell": "shells", "strip": "creases"}
 _PART_KINDS = {v: k for k, v in KIND_PARTS.items()}
 
@@ -208,7 +211,7 @@ def _panel_children(fab: Fabrication, motion: SheetMotion) -> list[Compound]:
         for solid, face in zip(fab.parts.solids[part], fab.parts.owners[part], strict=True):
             k = counts[face].get(kind, 0)
             counts[face][kind] = k + 1
-            label = f"{cp.face_labels[face]} {kind} {k}"
+            label = f"{cp.face_labels[face]}_{kind}_{k}"
             loc = motion.locations[face] if moving else None
             per_face[face].append(_leaf(solid, label, PART_MATERIALS[part], loc))
     panels = []
@@ -224,7 +227,7 @@ def _crease_strips(fab: Fabrication, motion: SheetMotion) -> Compound:
     material = PART_MATERIALS["creases"]
     flat = fab.parts.solids["creases"]
     if motion.ratio == 0:
-        strips = [_leaf(s, f"crease strip {k}", material, None) for k, s in enumerate(flat)]
+        strips = [_leaf(s, f"crease_strip_{k}", material, None) for k, s in enumerate(flat)]
     else:
         cp = fab.pattern
         p = fab.params
@@ -236,7 +239,7 @@ def _crease_strips(fab: Fabrication, motion: SheetMotion) -> Compound:
             for k, part in enumerate(shapely.get_parts(piece)):
                 if part.geom_type != "Polygon" or part.area < 1e-9:
                     continue
-                label = f"{cp.face_labels[face]} strip {k}"
+                label = f"{cp.face_labels[face]}_strip_{k}"
                 strips.append(
                     _leaf(planar_prism(part, z0, z1), label, material, motion.locations[face])
                 )
@@ -320,7 +323,7 @@ def sheet_assembly(fab: Fabrication, ratio: float = 0.0, design: Design | None =
 
 def leaf_part(label: str) -> str | None:
     """The part (``infills``...) a solid of :func:`sheet_assembly` belongs to, from its label."""
-    words = label.rsplit(" ", 2)
+    words = label.rsplit("_", 2)
     return KIND_PARTS.get(words[-2]) if len(words) == 3 else None
 
 
