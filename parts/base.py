@@ -86,8 +86,9 @@ class OrigamiPart(BasePartObject):
         stack = list(self.children)
         while stack:
             node = stack.pop()
-            node.wrapped = node.wrapped.Moved(delta.wrapped)
-            stack.extend(node.children)
+            node.move(delta)  # an OrigamiPart below carries its own children
+            if not isinstance(node, OrigamiPart):
+                stack.extend(node.children)
 
     def _publish_to_context(self, object_scope: Any) -> None:
         """Publish to the user's builder, and place the children as the part was placed."""
