@@ -25,13 +25,13 @@ from build123d import (
     export_step,
     import_step,
 )
+from origami_cad.parts import Blocker, DriverAdapter, RingRail, TSAModule
+from origami_cad.parts.robot import BlockerPlacement, ModulePlacement, robot_assembly
 
 import origami_cad as oc
 from origami_cad.fabrication import fabricate
 from origami_cad.fabrication.assembly import MATERIAL_COLORS, solids_by_part
 from origami_cad.fabrication.solids import PART_MATERIALS
-from origami_cad.parts import Blocker, DriverAdapter, RingRail, TSAModule
-from origami_cad.parts.robot import BlockerPlacement, ModulePlacement, robot_assembly
 from origami_cad.pattern.design import miura_design
 
 PARTS = [TSAModule, RingRail, Blocker, DriverAdapter]
