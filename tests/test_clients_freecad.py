@@ -49,15 +49,13 @@ def _rgb(hexa: str) -> list[float]:
     return [int(h[i : i + 2], 16) / 255 for i in (0, 2, 4)]
 
 
-@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
-def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
-    fab = fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
-    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+def _freecad(tmp_path, probe: str, step):
+    """Run a probe script (``{path}``: the STEP, ``{out}``: its JSON) in FreeCAD; its rows."""
     out = tmp_path / "objects.json"
     script = tmp_path / "probe.py"
-    script.write_text(SCRIPT.format(path=str(step), out=str(out)))
+    script.write_text(probe.format(path=str(step), out=str(out)))
     home = tmp_path / "home"
-    home.mkdir()
+    home.mkdir(exist_ok=True)
     env = {
         **os.environ,
         "QT_QPA_PLATFORM": "offscreen",
@@ -69,7 +67,14 @@ def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
         [FREECAD, str(script)], env=env, capture_output=True, text=True, timeout=600, check=False
     )
     assert out.is_file(), run.stdout[-2000:] + run.stderr[-2000:]
-    rows = json.loads(out.read_text())
+    return json.loads(out.read_text())
+
+
+@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
+def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
+    fab = fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
+    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    rows = _freecad(tmp_path, SCRIPT, step)
     for name in PART_NAMES:
         expected = _rgb(MATERIAL_COLORS[PART_MATERIALS[name]])
         solids = [r for r in rows if r[1] == "Part::Feature" and r[0].startswith(f"{name} ")]
@@ -109,26 +114,6 @@ with open({out!r}, "w") as fh:
 """
 
 
-def _freecad_rows(tmp_path, step) -> dict:
-    out = tmp_path / "modes.json"
-    script = tmp_path / "modes.py"
-    script.write_text(MODES_SCRIPT.format(path=str(step), out=str(out)))
-    home = tmp_path / "home"
-    home.mkdir(exist_ok=True)
-    env = {
-        **os.environ,
-        "QT_QPA_PLATFORM": "offscreen",
-        "HOME": str(home),
-        "XDG_CONFIG_HOME": str(home / ".config"),
-        "XDG_DATA_HOME": str(home / ".local" / "share"),
-    }
-    run = subprocess.run(
-        [FREECAD, str(script)], env=env, capture_output=True, text=True, timeout=600, check=False
-    )
-    assert out.is_file(), run.stdout[-2000:] + run.stderr[-2000:]
-    return json.loads(out.read_text())
-
-
 @pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
 def test_freecad_reads_the_folded_assembly_and_a_part_in_both_merge_modes(tmp_path):
     """Every solid of the folded sheet and of a TSA module beside it: valid, named as we
@@ -154,7 +139,7 @@ def test_freecad_reads_the_folded_assembly_and_a_part_in_both_merge_modes(tmp_pa
         for leaf in leaves
     }
     want.update({c.label: ([0.25, 0.25, 0.25], c.volume) for c in module.children})
-    rows = _freecad_rows(tmp_path, step)
+    rows = _freecad(tmp_path, MODES_SCRIPT, step)
     assert set(rows) == {"merge", "no merge"}
     for mode, features in rows.items():
         got = {
