@@ -201,7 +201,9 @@ def test_crawl_command(tmp_path, capsys):
 
 def _shared(a, b) -> float:
     """Volume two shapes share, mm^3 (a real boolean of the solids read back)."""
-    common = a & b
+    from build123d import Compound
+
+    common = Compound(a.solids()) & Compound(b.solids())
     return 0.0 if common is None else float(sum(s.volume for s in common.solids()))
 
 
@@ -235,9 +237,8 @@ def test_robot_step_holds_named_parts_that_do_not_interpenetrate(printed):
         assert leaf.color is not None, leaf.label
     by_part = solids_by_part(solids["sheet"])
     assert tuple(by_part["shells"][0].color)[:3] == pytest.approx((0.839, 0.153, 0.157), abs=0.01)
-    assert tuple(solids["blocker_rear_left"].color)[:3] == pytest.approx(
-        (1.0, 0.498, 0.055), abs=0.01
-    )
+    for leaf in solids["blocker_rear_left"].leaves:  # the blocker's solid, in orange
+        assert tuple(leaf.color)[:3] == pytest.approx((1.0, 0.498, 0.055), abs=0.01)
     # read back, every pair of parts (not the sheet's own four) shares no volume with another
     from build123d import Compound
 
@@ -250,7 +251,9 @@ def test_robot_step_holds_named_parts_that_do_not_interpenetrate(printed):
     # the check sees an overlap: the same blocker pushed 1 mm into the sheet
     from build123d import Location
 
-    pushed = solids["blocker_front_left"].moved(Location((0, 0, 1.0)))
+    from build123d import Compound as Flat
+
+    pushed = Flat(solids["blocker_front_left"].solids()).moved(Location((0, 0, 1.0)))
     assert _shared(pushed, sheet) > 1.0
     # every module stands on its leg, above the sheet's top face (z = h = 2.2 mm)
     for k in ("front_left", "rear_right"):
