@@ -133,10 +133,12 @@ def blocker(
     plan: PanelPlan | None = None,
     crease: int | None = None,
     params: BlockerParams | None = None,
+    *,
+    mountain: bool = False,
     **values: Any,
 ) -> Blocker:
     """A blocker stopping a valley crease at ``angle`` degrees: :class:`Blocker`."""
-    return Blocker(plan, crease, params, **values)
+    return Blocker(plan, crease, params, mountain=mountain, **values)
 
 
 def _build(

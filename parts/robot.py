@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import shapely
-from build123d import Color, Compound, Location, Plane, export_stl
+from build123d import Color, Compound, Location, export_stl
 
 from origami_cad._fileio import atomic_path
 from origami_cad.errors import DesignError
@@ -146,9 +146,9 @@ def robot_assembly(
     for b in blockers:
         if cp.assignments[b.crease] not in ("M", "V"):
             raise DesignError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
-        shape = build_part("blocker", {**b.values, "angle": b.angle}, pattern=plan, crease=b.crease)
-        if cp.assignments[b.crease] == "M":
-            shape = shape.mirror(Plane.XY.offset(h / 2.0))
+        mountain = cp.assignments[b.crease] == "M"
+        values = {**b.values, "angle": b.angle}
+        shape = build_part("blocker", values, pattern=plan, crease=b.crease, mountain=mountain)
         face = int(cp.edge_faces()[b.crease][0])
         add(b.name, moved_tree(shape, motion[face]), "PLA", "blocker")
     for f in free:

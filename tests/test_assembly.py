@@ -158,6 +158,10 @@ def test_the_robot_folded_keeps_its_parts_on_their_panels(fab, tmp_path):
         "free": [FreePlacement("adapter", "driver-adapter", (45.0, 45.0))],
     }
     flat = robot_assembly(fab, **placements)
+    # flat: the valley's blocker on the top face, the mountain's under the sheet
+    assert flat.solids["stop"].bounding_box().min.Z == pytest.approx(fab.params.height)
+    assert flat.solids["stop_m"].bounding_box().max.Z == pytest.approx(0.0, abs=1e-9)
+    assert [c.label for c in flat.solids["stop_m"].children] == ["blocker 80 deg"]
     folded = robot_assembly(fab, **placements, ratio=0.4)
     sheet0, sheet1 = fab.assembly(0.0), fab.assembly(0.4)
     faces = {"module": "c0r1s2", "stop": "c0r1s0", "stop_m": "c0r0s1", "adapter": "c0r1s1"}

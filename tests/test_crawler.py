@@ -249,11 +249,9 @@ def test_robot_step_holds_named_parts_that_do_not_interpenetrate(printed):
         for b in names[i + 1 :]:
             assert _shared(solids[a], solids[b]) < 1e-3, (a, b)
     # the check sees an overlap: the same blocker pushed 1 mm into the sheet
-    from build123d import Location
+    from build123d import Compound, Location
 
-    from build123d import Compound as Flat
-
-    pushed = Flat(solids["blocker_front_left"].solids()).moved(Location((0, 0, 1.0)))
+    pushed = Compound(solids["blocker_front_left"].solids()).moved(Location((0, 0, 1.0)))
     assert _shared(pushed, sheet) > 1.0
     # every module stands on its leg, above the sheet's top face (z = h = 2.2 mm)
     for k in ("front_left", "rear_right"):

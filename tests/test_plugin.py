@@ -136,7 +136,7 @@ def test_connect_to_places_a_module_and_a_blocker_where_robot_places_them(fab):
     robot = robot_assembly(
         fab,
         modules=[ModulePlacement("module", label)],
-        blockers=[BlockerPlacement("stop", crease, 60.0)],
+        blockers=[BlockerPlacement("stop", crease, 60.0), BlockerPlacement("under", 11, 50.0)],
         ratio=ratio,
     )
     sheet = fab.assembly(ratio)
@@ -152,6 +152,12 @@ def test_connect_to_places_a_module_and_a_blocker_where_robot_places_them(fab):
     stop = Blocker(fab.plan, crease, angle=60.0).moved(Location((-20, 30, 5)))
     panels[left].joints[f"blocker {crease}"].connect_to(stop.joints["crease"])
     _same_place(stop, robot.solids["stop"])
+    # a mountain crease: the mirrored blocker, under the sheet
+    assert fab.pattern.assignments[11] == "M"
+    left = fab.pattern.face_labels[int(fab.pattern.edge_faces()[11][0])]
+    under = Blocker(fab.plan, 11, angle=50.0, mountain=True).moved(Location((3, 4, 5)))
+    panels[left].joints["blocker 11"].connect_to(under.joints["crease"])
+    _same_place(under, robot.solids["under"])
 
 
 def test_a_standalone_module_connects_to_a_users_joint():
