@@ -1772,7 +1772,8 @@ def run_robot(
     ``driver_adapter.stl``), ``robot.step`` (every solid named and coloured in place),
     ``robot.json`` (each solid's volume, mass and bounding box, the mass budget with the
     robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
-    ``robot.png``. ``ratio``: the fold ratio of ``robot.step``'s sheet and parts (0: flat).
+    ``robot.png``. ``ratio``: the fold ratio of ``robot.step``'s sheet and parts (0: flat);
+    the added parts' STLs and ``robot.json``'s boxes follow it, the sheet's own files stay flat.
     """
     from origami_cad.fabrication import FabricationParams, fabricate
     from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
