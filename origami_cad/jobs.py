@@ -1779,6 +1779,8 @@ def run_robot(
     from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
     from origami_cad.simulation.crawler import load_robot, robot_placements
 
+    if not 0.0 <= ratio <= 1.0:
+        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))

@@ -234,3 +234,19 @@ def test_show_draws_each_thing_off_screen(what):
     if what in ("TSAModule", "RingRail", "Blocker", "DriverAdapter"):
         assert sorted(blocks.keys()) == sorted(c.label for c in obj.children)
         assert sum(blocks[n].volume for n in blocks.keys()) == pytest.approx(obj.volume, rel=0.02)
+
+
+def test_bad_ratios_on_the_command_line_are_one_line_and_exit_2(tmp_path, capsys):
+    from pathlib import Path
+
+    robot = Path(__file__).resolve().parents[1] / "examples" / "crawler" / "crawler.toml"
+    (tmp_path / "arm.toml").write_text(DESIGN)
+    runs = [
+        ["robot", str(robot), "-o", str(tmp_path / "out"), "--ratio", "1.5"],
+        ["fold", str(tmp_path / "arm.toml"), "--ratio", "-0.2", "-o", str(tmp_path / "f.step")],
+    ]
+    for args in runs:
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "fold ratio must lie in [0, 1]" in err[0], err
+    assert not (tmp_path / "out").exists() and not (tmp_path / "f.step").exists()
