@@ -141,6 +141,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
     ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
+    ("robot", "--ratio", {"type": _finite, "help": "fold ratio p of robot.step"}),
     ("robot", "--no-renders", {"action": "store_false", "dest": "renders", "help": "no render"}),
     ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
