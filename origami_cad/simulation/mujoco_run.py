@@ -1,0 +1,150 @@
+"""Running exported models in MuJoCo: TSA turns to actuator controls, fold ratios, frames.
+
+Needs the optional ``mujoco`` package (``pip install origami-cad[mujoco]``); models come
+from :func:`~origami_cad.simulation.mjcf.to_mjcf`. Units: the model's SI inside (m, s);
+mm, turns and degrees at this module's edges.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from origami_cad.simulation.mjcf import MJ, MjcfError
+from origami_cad.strings.tsa import TSAParams
+
+__all__ = ["crease_angles", "hold_mean_pose", "panel_points", "set_fold", "load_model", "render_png", "tsa_actuators", "tsa_controls"]
+
+
+def load_model(xml: str):
+    """``(MjModel, MjData)`` of MJCF text; :class:`MjcfError` if MuJoCo refuses it."""
+    import mujoco
+
+    try:
+        model = mujoco.MjModel.from_xml_string(xml)
+    except ValueError as exc:
+        raise MjcfError(f"MuJoCo refused the model: {exc}") from None
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)  # site positions for the first controls
+    return model, data
+
+
+def tsa_actuators(model) -> list[tuple[int, int, TSAParams, float, int, int]]:
+    """Per TSA actuator: ``(actuator, route index, TSAParams, x0 mm, guide site, hole site)``."""
+    import mujoco
+
+    out = []
+    for a in range(model.nu):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a)
+        num = model.numeric(name)
+        code, route, x0, d1, d2, ds, x_fixed, length, radius, helix = num.data.tolist()
+        tsa = TSAParams(
+            model="ring" if code == 0 else "onboard",
+            d1=d1,
+            d2=d2,
+            string_width=ds,
+            x_dis=None if x_fixed < 0 else x_fixed,
+            length=length,
+            radius=radius,
+            max_helix_angle=helix,
+        )
+        guide = model.site(f"{name}_guide").id
+        out.append((a, int(route), tsa, x0, guide, model.site(f"{name}_h0").id))
+    return out
+
+
+def tsa_controls(model, data, turns, actuators=None) -> np.ndarray:
+    """Each actuator's control (string taken up, m) for the TSAs' turns (one per route).
+
+    ``u = consumed(theta, x_dis) - x_dis - (consumed(0, x0) - x0)`` with eq. 8 or the
+    onboard model (:meth:`TSAParams.consumed`), ``x_dis`` (mm) the current distance
+    from the guide to the first hole in ``data``. Writes ``data.ctrl`` and returns it.
+    """
+    turns = np.atleast_1d(np.asarray(turns, dtype=float))
+    for a, route, tsa, x0, guide, hole in actuators or tsa_actuators(model):
+        theta = 2.0 * math.pi * max(float(turns[route]), 0.0)
+        x = float(np.linalg.norm(data.site_xpos[hole] - data.site_xpos[guide])) / MJ
+        now = float(tsa.consumed(theta, x)) - x
+        data.ctrl[a] = (now - (float(tsa.consumed(0.0, x0)) - x0)) * MJ
+    return data.ctrl
+
+
+def crease_angles(model, data, edges: int) -> np.ndarray:
+    """Fold angle of every tree crease (``crease<e>`` joints), radians, NaN elsewhere (m,)."""
+    import mujoco
+
+    out = np.full(edges, np.nan)
+    for j in range(model.njnt):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or ""
+        if name.startswith("crease"):
+            out[int(name[6:])] = data.qpos[model.jnt_qposadr[j]]
+    return out
+
+
+def render_png(model, data, path: str | os.PathLike[str], *, size=(640, 480), distance=0.7):
+    """Render the current state off-screen into a PNG (EGL or OSMesa: ``MUJOCO_GL``).
+
+    Returns the path; :class:`MjcfError` when no GL context can be made (the reason).
+    """
+    import imageio.v3 as iio
+    import mujoco
+
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    try:
+        renderer = mujoco.Renderer(model, size[1], size[0])
+    except Exception as exc:  # no display, no EGL/OSMesa: say which
+        raise MjcfError(f"no off-screen GL context ({os.environ['MUJOCO_GL']}): {exc}") from None
+    camera = mujoco.MjvCamera()
+    camera.lookat[:] = data.xpos[1]
+    camera.distance, camera.azimuth, camera.elevation = distance, 135.0, -25.0
+    with renderer:
+        renderer.update_scene(data, camera)
+        iio.imwrite(path, renderer.render())
+    return path
+
+
+def panel_points(model, data, cp) -> tuple[np.ndarray, np.ndarray]:
+    """Every panel's corners now and flat, ``(P, 3)`` each, mm (one row per panel corner)."""
+    now, flat = [], []
+    for f, ring in enumerate(cp.faces):
+        b = model.body(cp.face_labels[f]).id
+        v = np.column_stack([cp.vertices[ring], np.zeros(len(ring))])
+        flat.append(v)
+        now.append(v @ data.xmat[b].reshape(3, 3).T + data.xpos[b] / MJ)
+    return np.vstack(now), np.vstack(flat)
+
+
+def hold_mean_pose(model, data, cp) -> None:
+    """Move the ``ring`` of guides so that the sheet sits in it in its mean pose.
+
+    The sheet lies free in the ring and is pulled evenly: as in the project's string
+    models (``strings.route.mean_pose``), its corners' centroid stays where it was flat
+    in the ring and it has no mean rotation. The exported model holds the root panel and
+    carries the guides on a mocap body instead (the same relative placement). Call it
+    between steps of a model exported with ``gravity=0`` and no held panel.
+    """
+    import mujoco
+
+    from origami_cad.strings.route import rigid_fit
+
+    now, flat = panel_points(model, data, cp)
+    rot, shift = rigid_fit(flat, now)  # rot flat + shift ~ now
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, rot.ravel())
+    data.mocap_pos[0], data.mocap_quat[0] = shift * MJ, quat
+
+
+def set_fold(model, data, table, p: float) -> None:
+    """Put every crease joint at the rigid folding's angle at fold ratio ``p`` (``table``
+    from :func:`~origami_cad.simulation.simulate.rigid_table`), and update positions."""
+    import mujoco
+
+    ratios, angles = table
+    for j in range(model.njnt):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or ""
+        if name.startswith("crease"):
+            e = int(name[6:])
+            data.qpos[model.jnt_qposadr[j]] = np.interp(p, ratios, angles[:, e])
+    mujoco.mj_forward(model, data)
