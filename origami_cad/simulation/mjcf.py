@@ -390,9 +390,10 @@ def to_mjcf(
         f'<mujoco model={quoteattr(cp.title or "origami")}>',
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{timestep:.6g}" gravity="0 0 {-gravity * MJ:.6g}" '
-        'integrator="implicitfast"/>',
+        'integrator="Euler" iterations="200" ls_iterations="50"/>',
         "  <default>",
-        f'    <joint armature="{armature:.6g}"/>',
+        f'    <joint armature="{armature:.6g}" solreflimit="{2 * timestep:.6g} 1"/>',
+        f'    <equality solref="{2 * timestep:.6g} 1" solimp="0.99 0.999 0.001"/>',
         f'    <default class="panel"><geom type="mesh" density="{density:.6g}" '
         f'friction="{mu:.6g} 0.005 0.0001" rgba="0.85 0.75 0.45 1"/></default>',
         "  </default>",

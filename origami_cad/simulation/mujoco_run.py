@@ -15,7 +15,11 @@ import numpy as np
 from origami_cad.simulation.mjcf import MJ, MjcfError
 from origami_cad.strings.tsa import TSAParams
 
-__all__ = ["crease_angles", "hold_mean_pose", "panel_points", "set_fold", "load_model", "render_png", "tsa_actuators", "tsa_controls"]
+# off-screen rendering without a display: MuJoCo picks its GL backend when it is first
+# imported, so this must be set before (EGL; MUJOCO_GL=osmesa for software rendering)
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+__all__ = ["crease_angles", "hold_mean_pose", "set_fold", "load_model", "render_png", "tsa_actuators", "tsa_controls", "vertex_coords"]
 
 
 def load_model(xml: str):
@@ -91,7 +95,6 @@ def render_png(model, data, path: str | os.PathLike[str], *, size=(640, 480), di
     import imageio.v3 as iio
     import mujoco
 
-    os.environ.setdefault("MUJOCO_GL", "egl")
     try:
         renderer = mujoco.Renderer(model, size[1], size[0])
     except Exception as exc:  # no display, no EGL/OSMesa: say which
@@ -105,22 +108,22 @@ def render_png(model, data, path: str | os.PathLike[str], *, size=(640, 480), di
     return path
 
 
-def panel_points(model, data, cp) -> tuple[np.ndarray, np.ndarray]:
-    """Every panel's corners now and flat, ``(P, 3)`` each, mm (one row per panel corner)."""
-    now, flat = [], []
+def vertex_coords(model, data, cp) -> np.ndarray:
+    """The pattern's vertices now, ``(n, 3)`` mm: each the mean over the panels it is on."""
+    out, count = np.zeros((cp.n_vertices, 3)), np.zeros(cp.n_vertices)
     for f, ring in enumerate(cp.faces):
         b = model.body(cp.face_labels[f]).id
         v = np.column_stack([cp.vertices[ring], np.zeros(len(ring))])
-        flat.append(v)
-        now.append(v @ data.xmat[b].reshape(3, 3).T + data.xpos[b] / MJ)
-    return np.vstack(now), np.vstack(flat)
+        out[ring] += v @ data.xmat[b].reshape(3, 3).T + data.xpos[b] / MJ
+        count[ring] += 1
+    return out / np.maximum(count, 1)[:, None]
 
 
 def hold_mean_pose(model, data, cp) -> None:
     """Move the ``ring`` of guides so that the sheet sits in it in its mean pose.
 
     The sheet lies free in the ring and is pulled evenly: as in the project's string
-    models (``strings.route.mean_pose``), its corners' centroid stays where it was flat
+    models (``strings.route.mean_pose``), its vertices' centroid stays where it was flat
     in the ring and it has no mean rotation. The exported model holds the root panel and
     carries the guides on a mocap body instead (the same relative placement). Call it
     between steps of a model exported with ``gravity=0`` and no held panel.
@@ -129,8 +132,8 @@ def hold_mean_pose(model, data, cp) -> None:
 
     from origami_cad.strings.route import rigid_fit
 
-    now, flat = panel_points(model, data, cp)
-    rot, shift = rigid_fit(flat, now)  # rot flat + shift ~ now
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    rot, shift = rigid_fit(flat, vertex_coords(model, data, cp))  # rot flat + shift ~ now
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, rot.ravel())
     data.mocap_pos[0], data.mocap_quat[0] = shift * MJ, quat
