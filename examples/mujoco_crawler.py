@@ -20,13 +20,13 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import mujoco
+import numpy as np
 
-from origami_cad.simulation.crawler import gait_turns, load_robot  # noqa: E402
-from origami_cad.simulation.mjcf import to_mjcf  # noqa: E402
-from origami_cad.simulation.mujoco_run import load_model, tsa_actuators, tsa_controls  # noqa: E402
+from origami_cad.simulation.crawler import gait_turns, load_robot
+from origami_cad.simulation.mjcf import to_mjcf
+from origami_cad.simulation.mujoco_run import load_model, tsa_actuators, tsa_controls
 
 ROBOT = Path(__file__).resolve().parent / "crawler" / "crawler.toml"
 STEER = 2.0  # stride change per radian of heading error
@@ -68,7 +68,11 @@ def run(seconds: float, folder: Path) -> dict:
     fig.tight_layout()
     fig.savefig(folder / "trajectory.png", dpi=100)
     plt.close(fig)
-    return {"forward_mm": float(x[-1] - x[0]), "seconds": float(t[-1]), "yaw_deg": float(np.degrees(yaw[-1]))}
+    return {
+        "forward_mm": float(x[-1] - x[0]),
+        "seconds": float(t[-1]),
+        "yaw_deg": float(np.degrees(yaw[-1])),
+    }
 
 
 def main() -> None:

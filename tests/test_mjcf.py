@@ -20,13 +20,14 @@ mujoco = pytest.importorskip("mujoco")
 from origami_cad.cli import main  # noqa: E402
 from origami_cad.pattern.design import load_design  # noqa: E402
 from origami_cad.pattern.model import CreasePattern  # noqa: E402
-from origami_cad.simulation.crawler import gait_turns, load_robot  # noqa: E402
+from origami_cad.simulation.crawler import load_robot  # noqa: E402
 from origami_cad.simulation.mjcf import MjcfError, load_mjcf_source, spanning_tree, to_mjcf  # noqa: E402
 from origami_cad.simulation.mujoco_run import (  # noqa: E402
     crease_angles,
     hold_mean_pose,
     load_model,
-    render_png,
+    play_gait,
+    render_gait_frame,
     set_fold,
     tsa_actuators,
     tsa_controls,
@@ -120,7 +121,11 @@ def test_fig5_the_ring_tsa_folds_the_miura_like_both_string_models(fig5_models):
             mujoco.mj_step(model, data)
         p = _fit(model, data, cp, table)
         gaps.append(
-            (p, float(np.interp(turns, sim.turns, sim.p)), float(np.interp(turns, dcqc.turns, dcqc.p)))
+            (
+                p,
+                float(np.interp(turns, sim.turns, sim.p)),
+                float(np.interp(turns, dcqc.turns, dcqc.p)),
+            )
         )
     gaps = np.array(gaps)
     print("Fig. 5 p (MuJoCo, bar-and-hinge, DCQC):", gaps.round(3).tolist())
@@ -129,24 +134,13 @@ def test_fig5_the_ring_tsa_folds_the_miura_like_both_string_models(fig5_models):
     assert np.abs(gaps[:, 0] - gaps[:, 2]).max() < 0.05
 
 
-def _walk(model, data, robot, seconds: float, start: float = 0.0):
-    acts, keys, times = tsa_actuators(model), gait_turns(robot), robot.gait_t
-    period = float(times[-1])
-    end = data.time + seconds
-    while data.time < end:
-        tc = (data.time + start) % period
-        turns = [np.interp(tc, times, keys[:, k]) for k in range(len(robot.legs))]
-        tsa_controls(model, data, turns, acts)
-        mujoco.mj_step(model, data)
-
-
 def test_the_crawler_moves_forward_under_its_gait():
     robot = load_robot(CRAWLER[0])
     model, data = load_model(to_mjcf(robot, timestep=1e-3))
     body = model.body(robot.body).id
-    _walk(model, data, robot, 3.0)  # stand up on the strings
+    play_gait(model, data, robot, 3.0)  # stand up on the strings
     x0 = data.xpos[body].copy()
-    _walk(model, data, robot, float(robot.gait_t[-1]), start=3.0)
+    play_gait(model, data, robot, float(robot.gait_t[-1]), start=3.0)
     dx = (data.xpos[body] - x0) * 1e3
     print(f"crawler in MuJoCo: {dx[0]:.1f} mm forward, {dx[1]:.1f} mm sideways per cycle")
     assert dx[0] > 0.5
@@ -169,7 +163,7 @@ def test_a_crease_on_the_border_is_refused_by_name():
     square = [[0, 0], [10, 0], [10, 10], [0, 10], [5, 0], [5, 10]]
     edges = [[0, 4], [4, 1], [1, 2], [2, 5], [5, 3], [3, 0], [4, 5]]
     cp = CreasePattern(square, edges, "MBBBBBV")  # edge 0 is a mountain on the border
-    with pytest.raises(MjcfError, match="crease 0 .* not between two panels"):
+    with pytest.raises(MjcfError, match=r"crease 0 .* not between two panels"):
         to_mjcf(cp)
 
 
@@ -184,9 +178,7 @@ def test_a_tsa_model_without_an_mjcf_construction_is_refused_by_name():
         to_mjcf(MIURA[0], [bad])
 
 
-def test_the_cli_writes_a_model_mujoco_loads_and_refuses_bad_input_without_a_file(
-    tmp_path, capsys
-):
+def test_the_cli_writes_a_model_mujoco_loads_and_refuses_bad_input_without_a_file(tmp_path, capsys):
     out = tmp_path / "model.xml"
     assert main(["mjcf", str(MIURA[0]), str(MIURA[1][0]), "-o", str(out)]) == 0
     assert mujoco.MjModel.from_xml_path(str(out)).ntendon == 4
@@ -202,11 +194,8 @@ def test_the_cli_writes_a_model_mujoco_loads_and_refuses_bad_input_without_a_fil
 def test_a_frame_of_the_crawler_mid_stride_renders_off_screen(tmp_path):
     import imageio.v3 as iio
 
-    robot = load_robot(CRAWLER[0])
-    model, data = load_model(to_mjcf(robot, timestep=1e-3))
-    _walk(model, data, robot, 1.0, start=10.0)
     try:
-        path = render_png(model, data, tmp_path / "frame.png")
+        path = render_gait_frame(CRAWLER[0], tmp_path / "frame.png", at=11.0)
     except MjcfError as exc:
         pytest.skip(str(exc))
     image = iio.imread(path)
@@ -231,7 +220,7 @@ def test_turns_map_to_take_up_by_eq8():
 
     model, data = load_model(_xml("miura"))
     acts = tsa_actuators(model)
-    _, _, tsa, x0, guide, hole = acts[0]
+    _, _, tsa, _, guide, hole = acts[0]
     u = [float(tsa_controls(model, data, [t], acts)[0]) for t in (0.0, 0.4, 5.0)]
     assert u[0] == pytest.approx(0.0, abs=1e-12)
     d1, d2, ds = tsa.d1, tsa.d2, tsa.string_width

@@ -55,14 +55,12 @@ from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.crawler import Robot, gait_turns, load_robot
+from origami_cad.simulation.crawler import Robot, load_robot
+from origami_cad.simulation.mjcf_strings import MJ, TSA_CODES, tendon_specs, tendon_xml
 from origami_cad.simulation.model import SimulationParams
 from origami_cad.strings.route import RouteSpec, load_route
 
 __all__ = ["MJ", "MjcfError", "MjcfSource", "load_mjcf_source", "to_mjcf"]
-
-MJ = 1e-3  # m per mm
-TSA_CODES = {"ring": 0.0, "onboard": 1.0}
 
 
 class MjcfError(OrigamiCadError, ValueError):
@@ -226,43 +224,6 @@ def _limits(source: MjcfSource, fab: FabricationParams, params: SimulationParams
     return limits
 
 
-def _string_sites(spec: RouteSpec, string, s_name: str) -> list[tuple[int, str, np.ndarray]]:
-    """(face or -1 for the world, site name, position mm) of a string, in route order."""
-    half = spec.thickness / 2.0
-    ax, ay, az = string.anchor
-    if string.anchor_face >= 0:  # onboard: height above the panel's top face
-        sites = [(string.anchor_face, f"{s_name}_guide", np.array([ax, ay, az + half]))]
-    else:
-        sites = [(-1, f"{s_name}_guide", np.array([ax, ay, az]))]
-    sides = list(string.sides)
-    leave = [*sides[1:], sides[-1]]
-    for k, (face, (x, y)) in enumerate(zip(string.faces, string.points, strict=True)):
-        sites.append((face, f"{s_name}_h{k}", np.array([x, y, sides[k] * half])))
-        if leave[k] != sides[k]:
-            sites.append((face, f"{s_name}_h{k}x", np.array([x, y, leave[k] * half])))
-    return sites
-
-
-def _tendons(source: MjcfSource, params: SimulationParams):
-    """Per string: its name, sites, rest length L0 (mm) and the custom numbers of its TSA."""
-    out = []
-    for r, spec in enumerate(source.routes):
-        tsa = spec.tsa
-        for s, string in enumerate(spec.strings):
-            name = f"tsa{r}_s{s}"
-            sites = _string_sites(spec, string, name)
-            pts = np.array([p for _, _, p in sites])
-            segs = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-            x0, rest = float(segs[0]), float(segs[1:].sum())
-            l0 = float(tsa.consumed(0.0, x0)) + rest
-            x_fixed = -1.0 if tsa.x_dis is None else tsa.x_dis
-            numbers = [TSA_CODES[tsa.model], r, x0, tsa.d1, tsa.d2, tsa.string_width, x_fixed]
-            numbers += [tsa.length, tsa.radius, tsa.max_helix_angle]
-            kp = params.string_axial_stiffness / l0 / MJ  # N/m
-            out.append((name, sites, l0, numbers, kp))
-    return out
-
-
 def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list[str]:
     cp = source.pattern
     root = _root(cp, source)
@@ -278,7 +239,7 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
         pad = "  " * depth
         label = cp.face_labels[f]
         z0 = fab.height / 2.0 + 1.0 if f == root and source.robot else 0.0
-        lines.append(f"{pad}<body name={quoteattr(label)} pos=\"0 0 {z0 * MJ:.9g}\">")
+        lines.append(f'{pad}<body name={quoteattr(label)} pos="0 0 {z0 * MJ:.9g}">')
         if f == root and (source.robot or not (held or any(r.fixed_panel for r in source.routes))):
             lines.append(f'{pad}  <freejoint name="root"/>')
         elif f != root:
@@ -378,16 +339,18 @@ def to_mjcf(
     params = params or (
         SimulationParams.for_route(src.routes[0]) if src.routes else SimulationParams()
     )
-    mu = friction if friction is not None else (src.robot.friction if src.robot else params.friction)
+    mu = (
+        friction if friction is not None else (src.robot.friction if src.robot else params.friction)
+    )
     meshes = _meshes(src, fab)
-    tendons = _tendons(src, params)
+    tendons = tendon_specs(src.routes, params)
     sites: dict[int, list] = {}
     for _, string_sites, *_ in tendons:
         for face, name, at in string_sites:
             sites.setdefault(face, []).append((name, at))
     density = DENSITY_G_CM3["PLA"] * 1000.0  # kg/m^3
     lines = [
-        f'<mujoco model={quoteattr(cp.title or "origami")}>',
+        f"<mujoco model={quoteattr(cp.title or 'origami')}>",
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{timestep:.6g}" gravity="0 0 {-gravity * MJ:.6g}" '
         'integrator="Euler" iterations="200" ls_iterations="50"/>',
@@ -396,6 +359,7 @@ def to_mjcf(
         f'    <equality solref="{2 * timestep:.6g} 1" solimp="0.99 0.999 0.001"/>',
         f'    <default class="panel"><geom type="mesh" density="{density:.6g}" '
         f'friction="{mu:.6g} 0.005 0.0001" rgba="0.85 0.75 0.45 1"/></default>',
+        '    <site size="0.0008" rgba="0.9 0.1 0.1 1"/>',
         "  </default>",
         '  <visual><global offwidth="1280" offheight="960"/></visual>',
         "  <asset>",
@@ -418,7 +382,7 @@ def to_mjcf(
         world = ['    <body name="ring" mocap="true">', *("  " + w for w in world), "    </body>"]
     lines += world
     lines += _body_xml(src, fab, params, meshes, sites, _masses(src, fab), crease_damping, held)
-    lines += ["  </worldbody>", *_loops_xml(src), *_tendon_xml(tendons), "</mujoco>"]
+    lines += ["  </worldbody>", *_loops_xml(src), *tendon_xml(tendons), "</mujoco>"]
     return "\n".join(lines) + "\n"
 
 
@@ -437,27 +401,3 @@ def _loops_xml(src: MjcfSource) -> list[str]:
                 f'anchor="{_v(at)}"/>'
             )
     return [*lines, "  </equality>"] if len(lines) > 1 else []
-
-
-def _tendon_xml(tendons) -> list[str]:
-    if not tendons:
-        return []
-    lines = ["  <tendon>"]
-    for name, sites, *_ in tendons:
-        lines.append(f'    <spatial name="{name}" width="0.0005" rgba="0.9 0.1 0.1 1">')
-        lines += [f'      <site site="{s}"/>' for _, s, _ in sites]
-        lines.append("    </spatial>")
-    lines += ["  </tendon>", "  <actuator>"]
-    for name, sites, _, _, kp in tendons:
-        pts = np.array([p for _, _, p in sites])
-        t0 = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()) * MJ  # m
-        kv = 2e-3 * kp  # s: damps the string's stretch
-        lines.append(
-            f'    <general name="{name}" tendon="{name}" gainprm="{-kp:.6g}" biastype="affine" '
-            f'biasprm="{kp * t0:.9g} {-kp:.6g} {-kv:.6g}" ctrlrange="0 {t0:.6g}" '
-            'forcerange="-200 0"/>'
-        )
-    lines += ["  </actuator>", "  <custom>"]
-    for name, _, _, numbers, _ in tendons:
-        lines.append(f'    <numeric name="{name}" data="{" ".join(f"{v:.9g}" for v in numbers)}"/>')
-    return [*lines, "  </custom>"]
