@@ -220,7 +220,7 @@ def test_turns_map_to_take_up_by_eq8():
 
     model, data = load_model(_xml("miura"))
     acts = tsa_actuators(model)
-    _, _, tsa, _, guide, hole = acts[0]
+    tsa, guide, hole = acts.tsas[0], acts.guide[0], acts.hole[0]
     u = [float(tsa_controls(model, data, [t], acts)[0]) for t in (0.0, 0.4, 5.0)]
     assert u[0] == pytest.approx(0.0, abs=1e-12)
     d1, d2, ds = tsa.d1, tsa.d2, tsa.string_width

@@ -330,7 +330,7 @@ def to_mjcf(
         without an MJCF construction.
     """
     src = source if isinstance(source, MjcfSource) else load_mjcf_source(source, routes)
-    if src.routes and not isinstance(source, MjcfSource) and routes and src.robot:
+    if routes and src.robot is not None and not isinstance(source, MjcfSource):
         raise MjcfError("a robot file names its own routes: give no route files with it")
     cp = src.pattern
     _panel_graph(cp)
@@ -348,6 +348,16 @@ def to_mjcf(
     for _, string_sites, *_ in tendons:
         for face, name, at in string_sites:
             sites.setdefault(face, []).append((name, at))
+    held = src.robot is None and not any(r.fixed_panel for r in src.routes) and not gravity
+    lines = _header_xml(cp, meshes, timestep, gravity, armature, mu)
+    lines += _world_xml(sites, ground, mu, held)
+    lines += _body_xml(src, fab, params, meshes, sites, _masses(src, fab), crease_damping, held)
+    lines += ["  </worldbody>", *_loops_xml(src), *tendon_xml(tendons), "</mujoco>"]
+    return "\n".join(lines) + "\n"
+
+
+def _header_xml(cp, meshes, timestep: float, gravity: float, armature: float, mu: float):
+    """Options, defaults (materials, constraint softness) and the panels' meshes."""
     density = DENSITY_G_CM3["PLA"] * 1000.0  # kg/m^3
     lines = [
         f"<mujoco model={quoteattr(cp.title or 'origami')}>",
@@ -367,23 +377,25 @@ def to_mjcf(
     for f, halves in sorted(meshes.items()):
         for h, verts in enumerate(halves):
             lines.append(f'    <mesh name="{cp.face_labels[f]}_{h}" vertex="{_v(verts.ravel())}"/>')
-    lines += ["  </asset>", "  <worldbody>"]
-    lines.append('    <light pos="0 0 1.5" dir="0 0 -1" directional="true"/>')
+    return [*lines, "  </asset>"]
+
+
+def _world_xml(sites: dict, ground: bool, mu: float, held: bool) -> list[str]:
+    """The world: light, ground plane, and the fixed guides (on the ``ring`` if held).
+
+    A sheet free in the ring, pulled evenly, keeps its mean pose: the root panel is held
+    and the ring of guides follows the sheet (``mujoco_run.hold_mean_pose``).
+    """
+    lines = ["  <worldbody>", '    <light pos="0 0 1.5" dir="0 0 -1" directional="true"/>']
     if ground:
         lines.append(
             f'    <geom name="ground" type="plane" size="2 2 0.01" friction="{mu:.6g} 0.005 0.0001"'
             ' rgba="0.6 0.65 0.7 1"/>'
         )
-    held = src.robot is None and not any(r.fixed_panel for r in src.routes) and not gravity
-    # a sheet free in the ring, pulled evenly, keeps its mean pose: the root panel is held
-    # and the ring of guides follows the sheet (mujoco_run.hold_mean_pose)
     world = [f'    <site name="{name}" pos="{_v(at)}"/>' for name, at in sites.get(-1, [])]
     if held:
         world = ['    <body name="ring" mocap="true">', *("  " + w for w in world), "    </body>"]
-    lines += world
-    lines += _body_xml(src, fab, params, meshes, sites, _masses(src, fab), crease_damping, held)
-    lines += ["  </worldbody>", *_loops_xml(src), *tendon_xml(tendons), "</mujoco>"]
-    return "\n".join(lines) + "\n"
+    return lines + world
 
 
 def _loops_xml(src: MjcfSource) -> list[str]:

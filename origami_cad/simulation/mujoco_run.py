@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -46,15 +47,28 @@ def load_model(xml: str):
     return model, data
 
 
-def tsa_actuators(model) -> list[tuple[int, int, TSAParams, float, int, int]]:
-    """Per TSA actuator: ``(actuator, route index, TSAParams, x0 mm, guide site, hole site)``."""
+@dataclass(frozen=True)
+class TSAActuators:
+    """The TSA actuators of a model, read from its ``custom`` numerics (arrays, mm)."""
+
+    ids: np.ndarray  # actuator index
+    route: np.ndarray  # the route (TSA) each belongs to
+    guide: np.ndarray  # site of the TSA's guide
+    hole: np.ndarray  # site of the first hole
+    offset: np.ndarray  # consumed(0, x0) - x0, mm
+    tsas: tuple[TSAParams, ...]  # one per route
+
+
+def tsa_actuators(model) -> TSAActuators:
+    """The model's TSA actuators: their routes, guide and first-hole sites and TSA models."""
     import mujoco
 
-    out = []
+    rows, tsas = [], {}
     for a in range(model.nu):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_ACTUATOR, a)
-        num = model.numeric(name)
-        code, route, x0, d1, d2, ds, x_fixed, length, radius, helix = num.data.tolist()
+        code, route, x0, d1, d2, ds, x_fixed, length, radius, helix = model.numeric(
+            name
+        ).data.tolist()
         tsa = TSAParams(
             model="ring" if code == 0 else "onboard",
             d1=d1,
@@ -65,24 +79,29 @@ def tsa_actuators(model) -> list[tuple[int, int, TSAParams, float, int, int]]:
             radius=radius,
             max_helix_angle=helix,
         )
-        guide = model.site(f"{name}_guide").id
-        out.append((a, int(route), tsa, x0, guide, model.site(f"{name}_h0").id))
-    return out
+        tsas[int(route)] = tsa
+        guide, hole = model.site(f"{name}_guide").id, model.site(f"{name}_h0").id
+        rows.append((a, int(route), guide, hole, float(tsa.consumed(0.0, x0)) - x0))
+    ids, route, guide, hole, offset = (np.array(c) for c in zip(*rows, strict=True))
+    return TSAActuators(ids, route, guide, hole, offset, tuple(tsas[r] for r in sorted(tsas)))
 
 
-def tsa_controls(model, data, turns, actuators=None) -> np.ndarray:
+def tsa_controls(model, data, turns, actuators: TSAActuators | None = None) -> np.ndarray:
     """Each actuator's control (string taken up, m) for the TSAs' turns (one per route).
 
     ``u = consumed(theta, x_dis) - x_dis - (consumed(0, x0) - x0)`` with eq. 8 or the
-    onboard model (:meth:`TSAParams.consumed`), ``x_dis`` (mm) the current distance
-    from the guide to the first hole in ``data``. Writes ``data.ctrl`` and returns it.
+    onboard model (:meth:`TSAParams.consumed`), ``theta = 2 pi turns``, ``x_dis`` (mm)
+    the current distance from the guide to the first hole in ``data``. Writes
+    ``data.ctrl`` and returns it.
     """
+    acts = actuators or tsa_actuators(model)
     turns = np.atleast_1d(np.asarray(turns, dtype=float))
-    for a, route, tsa, x0, guide, hole in actuators or tsa_actuators(model):
-        theta = 2.0 * math.pi * max(float(turns[route]), 0.0)
-        x = float(np.linalg.norm(data.site_xpos[hole] - data.site_xpos[guide])) / MJ
-        now = float(tsa.consumed(theta, x)) - x
-        data.ctrl[a] = (now - (float(tsa.consumed(0.0, x0)) - x0)) * MJ
+    x = np.linalg.norm(data.site_xpos[acts.hole] - data.site_xpos[acts.guide], axis=1) / MJ
+    for r, tsa in enumerate(acts.tsas):
+        mine = acts.route == r
+        theta = 2.0 * math.pi * max(float(turns[r]), 0.0)
+        now = np.asarray(tsa.consumed(theta, x[mine])) - x[mine]
+        data.ctrl[acts.ids[mine]] = (now - acts.offset[mine]) * MJ
     return data.ctrl
 
 
