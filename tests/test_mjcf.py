@@ -29,8 +29,10 @@ from origami_cad.simulation.mujoco_run import (  # noqa: E402
     play_gait,
     render_gait_frame,
     set_fold,
+    tie_strings,
     tsa_actuators,
     tsa_controls,
+    vertex_coords,
 )
 from origami_cad.simulation.simulate import fold_ratio_fit, rigid_table  # noqa: E402
 
@@ -132,6 +134,61 @@ def test_fig5_the_ring_tsa_folds_the_miura_like_both_string_models(fig5_models):
     assert gaps[-1, 0] > 0.45  # it does fold
     assert np.abs(gaps[:, 0] - gaps[:, 1]).max() < 0.05
     assert np.abs(gaps[:, 0] - gaps[:, 2]).max() < 0.05
+
+
+def _arm_p_e(tg, route):
+    from origami_cad.design import load_task, reachable_fold_angle
+
+    task, _ = load_task(EX / "arm_task.toml")
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    limit = task.crease_limit(route.fabrication.bias if task.fold_limit is None else None)
+    return float(reachable_fold_angle(beta, limit)[0] / math.pi)
+
+
+def test_the_arm_tip_at_p_e_is_on_the_designed_path():
+    from origami_cad.design.arm_route import arm_chain_path
+    from origami_cad.kinematics.chain import chain_points
+
+    design = load_design(ARM[0])
+    cp, tg = design.pattern, design.tg
+    src = load_mjcf_source(*ARM)
+    p_e = _arm_p_e(tg, src.routes[0])
+    table = rigid_table(design)
+    model, data = load_model(to_mjcf(src, gravity=0, ground=False))
+    acts = tsa_actuators(model)
+    set_fold(model, data, table, 0.05)  # off the flat sheet, strings tied taut
+    tie_strings(model, data)
+    turns, p = 0.0, 0.05
+    while p < p_e and turns < 38.0:
+        turns += 10.0 * model.opt.timestep
+        tsa_controls(model, data, [turns], acts)
+        mujoco.mj_step(model, data)
+        if int(data.time / model.opt.timestep) % 20 == 0:
+            p = _fit(model, data, cp, table)
+    for _ in range(200):  # hold and settle
+        tsa_controls(model, data, [turns], acts)
+        mujoco.mj_step(model, data)
+    p = _fit(model, data, cp, table)
+    tip = arm_chain_path(tg, vertex_coords(model, data, cp)[None], np.array([p]))[0, -1]
+    beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
+    path = chain_points(
+        np.linspace(0.0, p_e * math.pi, 400),
+        tg.lengths,
+        beta,
+        tg.entry_flag,
+        tg.hypar_base,
+        tg.start,
+    )[0][:, -1]
+    gap = float(np.min(np.linalg.norm(path - tip, axis=1)))
+    at_p = chain_points(
+        np.array([p * math.pi]), tg.lengths, beta, tg.entry_flag, tg.hypar_base, tg.start
+    )[0][0, -1]
+    print(
+        f"arm in MuJoCo: p = {p:.3f} (p_e {p_e:.3f}) after {turns:.1f} turns; tip {gap:.2f} "
+        f"mm from the designed path, {np.linalg.norm(tip - at_p):.2f} mm from its point at p"
+    )
+    assert abs(p - p_e) < 0.02
+    assert gap < 5.0
 
 
 def test_the_crawler_moves_forward_under_its_gait():

@@ -216,3 +216,12 @@ def render_gait_frame(robot, path: str | os.PathLike[str], at: float = 11.0, siz
     model, data = load_model(to_mjcf(robot, timestep=1e-3))
     play_gait(model, data, robot, at)
     return render_png(model, data, path, size=size)
+
+
+def tie_strings(model, data) -> None:
+    """Make the current pose the strings' taut start: each TSA actuator's ``T0`` becomes its
+    tendon's length now (after :func:`set_fold`: strings tied on the pre-folded sheet)."""
+    for a in range(model.nu):
+        tendon = model.actuator_trnid[a, 0]
+        kp = -model.actuator_gainprm[a, 0]
+        model.actuator_biasprm[a, 0] = kp * data.ten_length[tendon]
