@@ -2027,12 +2027,17 @@ def run_mjcf(source: PathLike, routes: Sequence[PathLike] = (), output: PathLike
     xml = to_mjcf(source, routes)
     with atomic_write(output, "w", encoding="utf-8") as fh:
         fh.write(xml)
-    counts = {k: xml.count(f"<{k} ") for k in ("body", "joint", "connect", "spatial", "general")}
+    keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}
+    counts = {k: xml.count(v) for k, v in keys.items()} | {"spatial": xml.count("<spatial ")}
+    counts["panel"] //= 2  # two printed halves each
     return Outputs(
         files=[Path(output)],
         numbers=[
-            ("bodies / hinges / loop constraints", "{body} / {joint} / {connect}".format(**counts)),
-            ("tendons / TSA actuators", "{spatial} / {general}".format(**counts)),
+            (
+                "panels / hinges / loop constraints",
+                "{panel} / {hinge} / {connect}".format(**counts),
+            ),
+            ("strings (tendons, one TSA actuator each)", str(counts["spatial"])),
         ],
         messages=[f"wrote {output}"],
     )
