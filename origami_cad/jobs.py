@@ -47,6 +47,7 @@ __all__ = [
     "run_emulate",
     "run_fabricate",
     "run_fold",
+    "run_mjcf",
     "run_part",
     "run_pattern",
     "run_plan_route",
@@ -2027,4 +2028,34 @@ def run_drive(
             *(f"wrote {p}" for p in files),
         ],
         result=done,
+    )
+
+
+def run_mjcf(source: PathLike, routes: Sequence[PathLike] = (), output: PathLike = "") -> Outputs:
+    """A MuJoCo model (MJCF) of a design and its routes, or of a robot file: model.xml.
+
+    Panels as bodies, creases as hinges (eq. 6 ranges), strings as tendons through the
+    holes, one TSA actuator per string (docs/mujoco.md). Written atomically.
+    """
+    from origami_cad.simulation.mjcf import to_mjcf
+
+    routes = list(routes or ())
+    check_outputs([source, *routes], files=[output])
+    _check_suffix(output, (".xml",), "an MJCF model")
+    xml = to_mjcf(source, routes)
+    with atomic_write(output, "w", encoding="utf-8") as fh:
+        fh.write(xml)
+    keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}
+    counts = {k: xml.count(v) for k, v in keys.items()} | {"spatial": xml.count("<spatial ")}
+    counts["panel"] //= 2  # two printed halves each
+    return Outputs(
+        files=[Path(output)],
+        numbers=[
+            (
+                "panels / hinges / loop constraints",
+                "{panel} / {hinge} / {connect}".format(**counts),
+            ),
+            ("strings (tendons, one TSA actuator each)", str(counts["spatial"])),
+        ],
+        messages=[f"wrote {output}"],
     )
