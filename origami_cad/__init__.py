@@ -57,6 +57,7 @@ _API = {
     # simulation
     "SimulationParams": "origami_cad.simulation",
     "simulate": "origami_cad.simulation",
+    "to_mjcf": "origami_cad.simulation.mjcf",
     # the build123d parts
     "TSAModule": "origami_cad.parts",
     "RingRail": "origami_cad.parts",
@@ -103,6 +104,7 @@ __all__ = [
     "simulate",
     "simulate_dcqc",
     "tg_design",
+    "to_mjcf",
     "to_pyvista",
     "write_fabrication",
     "write_fold",
@@ -128,6 +130,7 @@ if TYPE_CHECKING:  # for type checkers and the docs' name check; at run time: __
     from origami_cad.pattern.model import CreasePattern
     from origami_cad.pattern.tg import TGDesign
     from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.simulation.mjcf import to_mjcf
     from origami_cad.strings import RouteSpec, TSAParams, load_route, simulate_dcqc
     from origami_cad.strings.plan import plan_routes
     from origami_cad.viz.pyvista_mesh import display_mode, show, to_pyvista
