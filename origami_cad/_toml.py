@@ -110,10 +110,10 @@ def _read_toml(path: Path) -> dict[str, Any]:
         return tomllib.load(fh)
 
 
-def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
+def load_toml(path: str | os.PathLike[str], error: type[Exception] = DesignError) -> dict[str, Any]:
+    """Parse a TOML file; ``error`` (default :class:`DesignError`) naming the file on a problem."""
     too_deep = "not valid TOML (arrays or tables nested too deeply)"
-    return parse_file(path, _read_toml, fmt="TOML", too_deep=too_deep)[0]
+    return parse_file(path, _read_toml, error=error, fmt="TOML", too_deep=too_deep)[0]
 
 
 def _finite_number(v: Any) -> bool:
@@ -146,13 +146,17 @@ class Table:
         The parsed table.
     where : str
         How to name it in messages, e.g. ``"design.toml [pattern]"``.
+    error : type
+        The exception class of its messages (the reading stage's, e.g.
+        :class:`~origami_cad.errors.StringsError` for a route file); its tables share it.
     """
 
-    def __init__(self, data: Any, where: str) -> None:
+    def __init__(self, data: Any, where: str, error: type[Exception] = DesignError) -> None:
         if not isinstance(data, dict):
-            raise DesignError(f"{where}: expected a table, got {_type_name(data)}")
+            raise error(f"{where}: expected a table, got {_type_name(data)}")
         self.data = data
         self.where = where
+        self.error_class = error
         self.used: set[str] = set()
 
     def has(self, key: str) -> bool:
@@ -163,12 +167,12 @@ class Table:
         if key in self.data:
             return self.data[key]
         if default is _MISSING:
-            raise DesignError(f"{self.where}: missing key '{key}'")
+            raise self.error_class(f"{self.where}: missing key '{key}'")
         return default
 
-    def error(self, key: str, message: str) -> DesignError:
+    def error(self, key: str, message: str) -> Exception:
         """An error about ``key`` (to raise)."""
-        return DesignError(f"{self.where}: key '{key}': {message}")
+        return self.error_class(f"{self.where}: key '{key}': {message}")
 
     def number(
         self,
@@ -286,6 +290,7 @@ class Table:
             f"{self.where.rstrip(']')}.{key}]"
             if self.where.endswith("]")
             else f"{self.where} [{key}]",
+            self.error_class,
         )
 
     def finish(self) -> None:
@@ -295,4 +300,6 @@ class Table:
             shown = ", ".join(_shown(k) for k in unknown[:5])
             if len(unknown) > 5:
                 shown += f" and {len(unknown) - 5} more"
-            raise DesignError(f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} {shown}")
+            raise self.error_class(
+                f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} {shown}"
+            )

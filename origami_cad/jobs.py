@@ -32,7 +32,15 @@ from pathlib import Path
 from typing import Any
 
 from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.errors import (
+    DesignError,
+    DriveError,
+    OptionsError,
+    OrigamiCadError,
+    SimulationError,
+    StringsError,
+)
+from origami_cad.parallel import open_executor
 
 __all__ = [
     "Outputs",
@@ -151,7 +159,7 @@ def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
     if len(allowed) == 1 and _is_stream(path):
         return  # one possible format: a device or pipe needs no extension
     if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
-        raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+        raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
 
 
 def _sources(*items) -> list:
@@ -325,9 +333,9 @@ def run_fold(
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     if not 1 <= frames <= MAX_FRAMES:
-        raise DesignError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
+        raise OptionsError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
     out = Path(output)
     suffix = out.suffix.lower()
     _check_suffix(out, FOLD_SUFFIXES, "the folded state")
@@ -590,14 +598,14 @@ def run_design_arm(
     changes = {"runs": runs, "seed": seed, "max_generations": max_generations}
     for name, value in changes.items():
         if value is not None and value < (0 if name == "seed" else 1):
-            raise DesignError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
+            raise OptionsError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
     settings = dataclasses.replace(settings, **{k: v for k, v in changes.items() if v is not None})
     t0 = time.perf_counter()
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         results = design_arm(arm_task, settings, executor=executor, progress=progress)
     seconds = time.perf_counter() - t0
     if not results:
-        raise DesignError(
+        raise OptionsError(
             f"{task}: no feasible design: every run's chain touched a prohibited area; relax "
             "the obstacles or the length range"
         )
@@ -645,7 +653,7 @@ def fabrication_params(
 
     given = [v is not None for v in (bias, theta_max, p_max)]
     if sum(given) > 1:
-        raise DesignError("give only one of the bias, theta_max and p_max")
+        raise OptionsError("give only one of the bias, theta_max and p_max")
     kw = {k: v for k, v in kw.items() if v is not None}
     height = kw.get("height", FabricationParams.height)
     thickness = kw.get("thickness", FabricationParams.thickness)
@@ -740,7 +748,7 @@ def run_fabricate(
     if params is None:
         params = fabrication_params(**overrides)
     elif any(v is not None for v in overrides.values()):
-        raise DesignError("give either fabrication parameters or their keywords, not both")
+        raise OptionsError("give either fabrication parameters or their keywords, not both")
     loaded, warned = _sized_source(design, unit, scale, width)
     fab = fabricate(loaded, params)
     label = name or Path(design).stem
@@ -921,35 +929,6 @@ def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Ou
     )
 
 
-def _executor(scheduler: str | None):
-    """A context giving the executor of a search: None (a local process pool), or a Dask
-    cluster's executor for ``scheduler`` (an address such as ``tcp://10.0.0.5:8786``).
-    """
-    import contextlib
-
-    if scheduler is None:
-        return contextlib.nullcontext(None)
-    try:
-        from distributed import Client
-    except ImportError:
-        raise DesignError(
-            "--scheduler needs dask.distributed: pip install 'origami-cad[dask]'"
-        ) from None
-    try:
-        client = Client(scheduler, timeout="20s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise DesignError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-
-    @contextlib.contextmanager
-    def held():
-        try:
-            yield client.get_executor()
-        finally:
-            client.close()
-
-    return held()
-
-
 def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
     """``ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
     from origami_cad.strings import TSAParams
@@ -957,7 +936,7 @@ def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
 
     kind, _, panel = tsa.partition(":")
     if kind not in ("ring", "onboard") or (kind == "onboard") != bool(panel):
-        raise DesignError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
+        raise OptionsError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
     return TSAPlacement(kind, panel or None, ring_radius, ring_height, tsa=TSAParams(model=kind))
 
 
@@ -1025,7 +1004,7 @@ def run_plan_route(
     t0, cpu0 = time.perf_counter(), time.process_time()
     settings = _plan_budget(budget)
     geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
             executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
@@ -1033,7 +1012,7 @@ def run_plan_route(
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:
-        raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
+        raise StringsError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
     header = (
         f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
         f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"
@@ -1071,7 +1050,7 @@ def _plan_budget(budget: str | None):
     except ValueError:
         values = []
     if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and v > 0 for v in values):
-        raise DesignError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
+        raise OptionsError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
     return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
 
 
@@ -1126,9 +1105,9 @@ def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
     limits = {}
     for edge, degrees in dict(blockers or {}).items():
         if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
-            raise DesignError(f"blocker on edge {edge}: not a crease of {source}")
+            raise OptionsError(f"blocker on edge {edge}: not a crease of {source}")
         if not (math.isfinite(degrees) and 0 < degrees <= 180):
-            raise DesignError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
+            raise OptionsError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
         limits[int(edge)] = float(degrees)
     return limits
 
@@ -1193,10 +1172,10 @@ def run_simulate(
     from origami_cad.strings import load_route
 
     if steps is not None and not 1 <= steps <= 100_000:
-        raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
+        raise OptionsError(f"the number of steps must lie in 1..100000, got {steps}")
     check_outputs([pattern, route], folders=[folder])
     if friction is not None and friction < 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
     loaded, warned = _sized_source(pattern, unit, scale, width)
     cp = loaded.pattern
@@ -1249,7 +1228,7 @@ def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_pane
 
     if fixed_panel is not None:
         if fixed_panel not in loaded.pattern.face_labels:
-            raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
+            raise OptionsError(f"fixed panel: no panel labelled {fixed_panel!r}")
         spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
     params = SimulationParams.for_route(spec)
     if model == "dcqc":
@@ -1289,13 +1268,13 @@ def _check_sequence_options(output, model: str, points: int, rate: float, repeat
     """Clear errors for the options of ``sequence`` (before any model runs)."""
     _check_suffix(output, (".toml",), "a sequence")
     if model not in SEQUENCE_MODELS:
-        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+        raise OptionsError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
     if not 2 <= points <= 1000:
-        raise DesignError(f"points must lie in 2..1000, got {points}")
+        raise OptionsError(f"points must lie in 2..1000, got {points}")
     if not (math.isfinite(rate) and 0 < rate <= 1000):
-        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+        raise OptionsError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
     if not 1 <= repeat <= 1_000_000:
-        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+        raise OptionsError(f"repeat must lie in 1..1000000, got {repeat}")
 
 
 def _route_tsa(loaded, path, model: str, fixed_panel, servo: int, at, points: int):
@@ -1378,7 +1357,7 @@ def run_sequence(
     _check_sequence_options(output, model, points, rate, repeat)
     ids = list(ids) if ids else list(range(1, len(routes) + 1))
     if len(ids) != len(routes):
-        raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
+        raise DriveError(f"{len(ids)} servo IDs for {len(routes)} routes")
     frames = parse_keyframes(keyframes, len(routes))
     loaded = load_pattern_source(design)
     tsas, numbers, results = [], [], []
@@ -1557,11 +1536,11 @@ PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
 
 def _check_crawl_options(cycles: int, steps: int, friction: float | None) -> None:
     if not 1 <= cycles <= 100:
-        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+        raise OptionsError(f"the number of cycles must lie in 1..100, got {cycles}")
     if not 1 <= steps <= 1000:
-        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+        raise OptionsError(f"the steps between keyframes must lie in 1..1000, got {steps}")
     if friction is not None and not friction >= 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
 
 
 def _crawl_command(robot, folder, cycles, steps, reverse, friction) -> str:
@@ -1829,13 +1808,13 @@ def run_emulate(
     echo: Callable[[str], None] = print,
 ) -> Outputs:
     """Emulate servos on a pseudo-terminal until Ctrl-C, or for ``seconds`` (0: forever)."""
-    from origami_cad.drive import DynamixelEmulator, SerialEmulator
+    from origami_cad.drive import open_emulator
 
     if len(set(ids)) != len(ids) or not ids or any(not 0 <= i <= 252 for i in ids):
-        raise DesignError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
+        raise DriveError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
     if not (math.isfinite(seconds) and seconds >= 0):
-        raise DesignError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
-    emu = DynamixelEmulator(list(ids)) if protocol == "dynamixel" else SerialEmulator(list(ids))
+        raise OptionsError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
+    emu = open_emulator(protocol, list(ids))
     with emu:
         echo(f"{protocol} emulator with servos {list(ids)} on {emu.port}")
         echo(f"connect with --port {emu.port}; Ctrl-C to stop")
@@ -1848,34 +1827,22 @@ def run_emulate(
 def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulate: dict | None):
     """The servo bus of a sequence: on ``port``, or on a new emulator given ``emulate``
     (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
-    from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
+    from origami_cad.drive import open_bus, open_emulator
 
-    if emulate is not None:
-        emu = (
-            DynamixelEmulator(
-                seq.ids,
-                time_scale=emulate["time_scale"],
-                loads=seq.loads(emulate["load_scale"]),
-            )
-            if protocol == "dynamixel"
-            else SerialEmulator(seq.ids, time_scale=emulate["time_scale"])
-        )
-        port = stack.enter_context(emu).port
     limits = {t.dxl_id: t.max_turns for t in seq.tsas}
-    if protocol == "dynamixel":
-        bus = DynamixelBus(
-            port,
-            baudrate,
-            seq.ids,
-            max_turns=limits,
-            current_limit_ma=seq.current_limit,
-            profile_velocity=0,
-            reply_slack=0.5 if emulate is not None else 0.0,
-        )
-    else:
-        bus = SerialBus(
-            port, baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
-        )
+    if emulate is not None:
+        loads = seq.loads(emulate["load_scale"])
+        emu = open_emulator(protocol, seq.ids, time_scale=emulate["time_scale"], loads=loads)
+        port = stack.enter_context(emu).port
+    bus = open_bus(
+        protocol,
+        port,
+        baudrate,
+        seq.ids,
+        max_turns=limits,
+        current_limit_ma=seq.current_limit,
+        emulated=emulate is not None,
+    )
     return stack.enter_context(bus)
 
 
@@ -1914,10 +1881,10 @@ def run_drive(
     if dry_run:
         speed = check_time_scale(speed, "speed")
         if not (math.isfinite(load_scale) and 0 <= load_scale <= 1e6):
-            raise DesignError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
+            raise DriveError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
     seq = load_sequence(sequence)
     if not dry_run and not port:
-        raise DesignError("give the servos' port, or use a dry run on the emulator")
+        raise DriveError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
     names = {t.dxl_id: t.name for t in seq.tsas}

@@ -50,8 +50,8 @@ import cma
 import numpy as np
 
 from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
-from origami_cad.design.parallel import local_pool, start_context
 from origami_cad.design.task import ArmTask, SearchSettings
+from origami_cad.parallel import local_pool, start_context
 from origami_cad.pattern.tg import TGDesign
 
 __all__ = ["ArmDesign", "RunResult", "UnitBox", "decode", "decode_bias", "design_arm", "run_one"]

@@ -51,9 +51,9 @@ import numpy as np
 import shapely
 
 from origami_cad._toml import Table, load_toml
-from origami_cad.design.limits import crease_fold_limit
 from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
+from origami_cad.kinematics.limits import crease_fold_limit
 
 __all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
 
@@ -107,7 +107,7 @@ class ArmTask:
     bias, height, thickness : float
         ``b``, ``h``, ``t`` of eq. 6 of the printed arm, mm: every crease
         stops at ``theta_max`` and the fitness is evaluated over the fold
-        range this leaves (:mod:`origami_cad.design.limits`).
+        range this leaves (:mod:`origami_cad.kinematics.limits`).
     fold_limit : float or None
         The largest fold angle of every crease in degrees, instead of eq. 6
         (180: no limit, the paper's range 0 <= p <= 1).

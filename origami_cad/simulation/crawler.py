@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._toml import Table, load_toml
-from origami_cad.errors import DesignError, PatternError
+from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
@@ -136,18 +136,18 @@ def _robot_pattern(p: Path, robot: Table) -> tuple[CreasePattern, Path, str]:
     try:
         cp = read_pattern(pattern_path)
     except PatternError as exc:
-        raise DesignError(f"{p}: [robot] pattern: {exc}") from None
+        raise SimulationError(f"{p}: [robot] pattern: {exc}") from None
     return cp, pattern_path, rel
 
 
 def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -> list[Leg]:
     """The ``[[leg]]`` tables: a panel sharing one crease with ``body``, an onboard route."""
     if not isinstance(legs_raw, list) or not legs_raw:
-        raise DesignError(f"{p}: expected at least one [[leg]] table")
+        raise SimulationError(f"{p}: expected at least one [[leg]] table")
     body_face = cp.face_index(body)
     legs = []
     for i, item in enumerate(legs_raw):
-        t = Table(item, f"{p} [[leg]] #{i + 1}")
+        t = Table(item, f"{p} [[leg]] #{i + 1}", SimulationError)
         panel = t.string("panel")
         if panel not in cp.face_labels:
             raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
@@ -160,7 +160,7 @@ def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -
             raise t.error("route", f"{route_path}: no such file")
         try:
             route = load_route(route_path, cp)
-        except DesignError as exc:
+        except StringsError as exc:
             raise t.error("route", str(exc)) from None
         if route.tsa.model != "onboard":
             raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
@@ -170,7 +170,7 @@ def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -
         legs.append(Leg(panel, face, crease, route, servo, name, route_path))
     ids = [leg.servo for leg in legs]
     if len(set(ids)) != len(ids):
-        raise DesignError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+        raise SimulationError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
     return legs
 
 
@@ -178,7 +178,7 @@ def _read_masses(p: Path, masses_raw: Any, cp: CreasePattern, rel: str) -> list[
     """The ``[[mass]]`` tables: grams at a point (mm) of a named panel."""
     masses = []
     for i, item in enumerate(masses_raw if isinstance(masses_raw, list) else [masses_raw]):
-        t = Table(item, f"{p} [[mass]] #{i + 1}")
+        t = Table(item, f"{p} [[mass]] #{i + 1}", SimulationError)
         name = t.string("name")
         panel = t.string("panel")
         if panel not in cp.face_labels:
@@ -199,21 +199,21 @@ def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndar
     gait.used.add("keyframe")
     gait.finish()
     if not isinstance(frames, list) or len(frames) < 2:
-        raise DesignError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
+        raise SimulationError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
     times, ratios = [], []
     for i, item in enumerate(frames):
-        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}")
+        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}", SimulationError)
         times.append(t.number("t", low=0))
         ratios.append(
             t.numbers("p", length=legs, check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
         )
         t.finish()
     if np.any(np.diff(times) <= 0):
-        raise DesignError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
+        raise SimulationError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
     limit = blocker / 180.0
     worst = max(max(r) for r in ratios)
     if worst > limit + 1e-9:
-        raise DesignError(
+        raise SimulationError(
             f"{p}: [[gait.keyframe]] p = {worst:g} folds a leg past its blocker "
             f"({blocker:g} deg = p {limit:.3f})"
         )
@@ -221,9 +221,9 @@ def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndar
 
 
 def load_robot(path: str | os.PathLike[str]) -> Robot:
-    """Read a robot file; errors name the file, table and key (:class:`DesignError`)."""
+    """Read a robot file; errors name the file, table and key (:class:`SimulationError`)."""
     p = Path(path)
-    top = Table(load_toml(p), str(p))
+    top = Table(load_toml(p, SimulationError), str(p), SimulationError)
     robot = top.table("robot")
     fab = top.table("fabrication", {})
     adapter = top.table("adapter", {})
@@ -409,7 +409,7 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
     """TSA turns (K, legs) for fold ratios (K, legs) (default: the gait's keyframes).
 
     Through :func:`leg_contraction` and the inverse of the onboard TSA model
-    (``onboard_angle``); raises :class:`DesignError` beyond what the strands give.
+    (``onboard_angle``); raises :class:`SimulationError` beyond what the strands give.
     """
     ratios = robot.gait_p if ratios is None else np.atleast_2d(ratios)
     out = np.zeros(ratios.shape)
@@ -604,7 +604,7 @@ def _point_weights(cp: CreasePattern, st, masses: tuple[PointMass, ...], g: floa
                 w[tri] += lam * m.grams * 1e-6 * g  # g -> kg, mm/s^2 -> N (kg mm/s^2 / 1000)
                 break
         else:
-            raise DesignError(f"mass {m.name!r} at {m.at} lies on no panel")
+            raise SimulationError(f"mass {m.name!r} at {m.at} lies on no panel")
     return w
 
 

@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml
+from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.tsa import TSAParams
@@ -154,7 +155,7 @@ def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     """Read a route file for the pattern ``cp``; errors name the file, key and string."""
     p = Path(path)
-    top = Table(load_toml(p), str(p))
+    top = Table(load_toml(p, StringsError), str(p), StringsError)
     tsa_t = top.table("tsa", {})
     fab_t = top.table("fabrication") if top.has("fabrication") else None
     route = top.table("route")
@@ -169,7 +170,7 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     route.finish()
     auto = functools.cache(functools.partial(auto_holes, cp, settings.pop("hole_diameter")))
     strings = tuple(
-        _read_string(Table(item, f"{p} [[route.strings]] #{si + 1}"), si, cp, auto)
+        _read_string(Table(item, f"{p} [[route.strings]] #{si + 1}", StringsError), si, cp, auto)
         for si, item in enumerate(raw)
     )
     return RouteSpec(tsa, strings, **settings, fabrication=fabrication)
