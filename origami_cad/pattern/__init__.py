@@ -10,7 +10,7 @@ Examples
 
 from origami_cad.errors import PatternError
 from origami_cad.pattern.check import check_pattern
-from origami_cad.pattern.fold import folded_frame, read_fold, read_fold_frames, write_fold
+from origami_cad.pattern.formats.fold import folded_frame, read_fold, read_fold_frames, write_fold
 from origami_cad.pattern.io import (
     READ_FORMATS,
     UNITS,

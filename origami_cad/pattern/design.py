@@ -32,7 +32,8 @@ from typing import Any
 
 from origami_cad._toml import Table, input_file, load_toml, printable
 from origami_cad.errors import DesignError, PatternError
-from origami_cad.pattern.io import READ_FORMATS, read_pattern
+from origami_cad.pattern.formats import READERS
+from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
@@ -179,8 +180,8 @@ def load_design(
             target = (p.parent / rel).resolve()
         except (OSError, ValueError, RuntimeError) as exc:
             raise table.error("path", f"{shown!r} cannot be used ({exc})") from None
-        if target.suffix.lower() not in READ_FORMATS:
-            raise table.error("path", f"{shown!r} is not a {', '.join(READ_FORMATS)} file")
+        if target.suffix.lower() not in READERS:
+            raise table.error("path", f"{shown!r} is not a {', '.join(READERS)} file")
         try:
             input_file(target, PatternError)
         except PatternError as exc:

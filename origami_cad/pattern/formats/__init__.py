@@ -1,0 +1,80 @@
+"""Crease-pattern file formats: one module per format, merged into one registry.
+
+=========  =====================  ======================================
+suffix     module                 notes
+=========  =====================  ======================================
+``.fold``  :mod:`.formats.fold`   FOLD 1.2 (JSON), lossless
+``.dxf``   :mod:`.formats.dxf`    layers Mountain/Valley/Cut/Border, mm
+``.svg``   :mod:`.formats.svg`    Origami Simulator colour convention
+=========  =====================  ======================================
+
+Each format module ends in two small dicts, ``readers`` and ``writers``, from a
+lower-case suffix to ``read(path, mm_per_unit) -> CreasePattern`` (mm; ``mm_per_unit``
+None for the unit the file declares) and ``write(cp, path) -> Path`` (atomic).
+:data:`READERS` and :data:`WRITERS` merge them; :func:`origami_cad.pattern.read_pattern`
+and :func:`~origami_cad.pattern.write_pattern` dispatch through them. A new format is
+its module and one line of :data:`MODULES`.
+
+>>> sorted(READERS) == sorted(WRITERS) == [".dxf", ".fold", ".svg"]
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from origami_cad._toml import printable
+from origami_cad.errors import PatternError
+from origami_cad.pattern.formats import dxf, fold, svg
+
+__all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
+
+#: The format modules, one line each; their ``readers``/``writers`` make the registry.
+MODULES = (
+    fold,
+    dxf,
+    svg,
+)
+
+#: suffix -> ``read(path, mm_per_unit) -> CreasePattern``
+READERS: dict[str, Callable[..., Any]] = {k: v for m in MODULES for k, v in m.readers.items()}
+#: suffix -> ``write(cp, path) -> Path``
+WRITERS: dict[str, Callable[..., Path]] = {k: v for m in MODULES for k, v in m.writers.items()}
+
+
+def register(module: Any) -> None:
+    """Add a format module's ``readers`` and ``writers`` (suffix -> function) to the registry.
+
+    For a format outside the package (a plugin, a test); the package's own are in
+    :data:`MODULES`.
+    """
+    READERS.update({k.lower(): v for k, v in getattr(module, "readers", {}).items()})
+    WRITERS.update({k.lower(): v for k, v in getattr(module, "writers", {}).items()})
+
+
+def _suffix(path: Path) -> str:
+    return path.suffix.lower() or "(no extension)"
+
+
+def reader(path: Path) -> Callable[..., Any]:
+    """The reader of ``path`` by its suffix; :class:`PatternError` naming the readable ones."""
+    try:
+        return READERS[path.suffix.lower()]
+    except KeyError:
+        raise PatternError(
+            f"{printable(str(path), 300)}: unknown crease-pattern format {_suffix(path)!r} "
+            f"(readable: {', '.join(READERS)})"
+        ) from None
+
+
+def writer(path: Path) -> Callable[..., Path]:
+    """The writer of ``path`` by its suffix; :class:`PatternError` naming the writable ones."""
+    try:
+        return WRITERS[path.suffix.lower()]
+    except KeyError:
+        raise PatternError(
+            f"{printable(str(path), 300)}: cannot write crease patterns as {_suffix(path)!r} "
+            f"(writable: {', '.join(WRITERS)}; .png through origami_cad.viz)"
+        ) from None
