@@ -77,7 +77,7 @@ def toy_format(tmp_path, monkeypatch):
     saved = dict(formats.READERS), dict(formats.WRITERS)
     formats.register(module)  # the registry line
     yield module
-    for registry, before in zip((formats.READERS, formats.WRITERS), saved):
+    for registry, before in zip((formats.READERS, formats.WRITERS), saved, strict=True):
         registry.clear()
         registry.update(before)
 
@@ -96,7 +96,7 @@ def test_a_toy_format_is_read_and_written_through_the_registry(tmp_path, toy_for
     assert np.allclose(again.vertices[again.edges], cp.vertices[cp.edges])
     # a malformed toy file is the reader's PatternError, naming the file
     (tmp_path / "bad.toy").write_text("1 2 3\n")
-    with pytest.raises(PatternError, match="bad.toy"):
+    with pytest.raises(PatternError, match=r"bad\.toy"):
         read_pattern(tmp_path / "bad.toy")
 
 
@@ -209,7 +209,7 @@ def _faults(tmp_path: Path) -> dict[type, list]:
             lambda: run_emulate([1, 1], seconds=0.1),  # servo IDs
             lambda: run_drive(
                 EXAMPLES / "arm_fold.toml", tmp_path / "l.csv", dry_run=True, load_scale=-1.0
-            ),  # fmt: skip
+            ),
             lambda: open_bus("dynamixel", "/dev/null", ids=[]),
         ],
     }
