@@ -417,9 +417,9 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     Its comments state the fold range the printed arm reaches and the ``fabricate``
     command that builds it with the fabrication parameters it was designed for.
     """
+    from origami_cad.pattern.design import dump_design
+
     terms = design.terms
-    lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
-    angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
     p_e = design.fold_ratio_end
     if task.fold_limit is not None:
         fab = f"# designed for creases that fold up to {task.fold_limit:g} deg (fold_limit)\n"
@@ -443,16 +443,7 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
         f"{terms.improper_states} improper states\n"
         f"{fab}"
         f"# build it with: {build}\n"
-        "[pattern]\n"
-        'kind = "transition-graph"\n'
-        f"unit_width = {task.unit_width or 36.0}   # mm\n"
-        f"copies = {copies}\n"
-        f"entry_flag = {design.entry_flag}\n"
-        f"start = [{task.start[0]}, {task.start[1]}]\n"
-        f"lengths = [{lengths}]   # mm\n"
-        f"shape_angles = [{angles}]   # deg\n"
-        f"hypar_base = {'true' if task.hypar_base else 'false'}\n"
-    )
+    ) + dump_design(design.tg(task, task.unit_width or 36.0, copies), digits=6)
 
 
 #: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.

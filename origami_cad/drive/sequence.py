@@ -43,7 +43,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.drive.errors import DriveError
 from origami_cad.drive.load import LoadCurve
 from origami_cad.errors import StringsError
@@ -57,6 +57,7 @@ __all__ = [
     "Sequence",
     "SequenceTSA",
     "check_time_scale",
+    "dump_sequence",
     "load_sequence",
     "run_sequence",
 ]
@@ -530,3 +531,38 @@ def run_sequence(
             if progress is not None:
                 progress(t, targets, state)
     return out
+
+
+def dump_sequence(seq: Sequence, *, header: str = "") -> str:
+    """A sequence file (TOML text) of ``seq`` that :func:`load_sequence` reads back.
+
+    Each TSA's ``mapping`` (fold ratio, contraction mm) and ``load`` (t s, N mm) are
+    written inline (also those read from a ``dcqc.json``), every number exactly.
+
+    >>> import tempfile, pathlib
+    >>> seq = load_sequence("examples/crawler_gait.toml")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "seq.toml"
+    >>> _ = path.write_text(dump_sequence(seq))
+    >>> back = load_sequence(path)
+    >>> back.keyframes == seq.keyframes, back.ids == seq.ids
+    (True, True)
+    """
+    lines = [header.rstrip("\n")] if header else []
+    head = {"repeat": seq.repeat, "rate": float(seq.rate), "current_limit": seq.current_limit}
+    lines += toml_table("sequence", head, comments={"rate": "Hz", "current_limit": "mA"})
+    for item in seq.tsas:
+        table = {
+            "id": item.dxl_id,
+            "name": item.name,
+            "length": item.tsa.length,
+            "radius": item.tsa.radius,
+            "max_helix_angle": item.tsa.max_helix_angle,
+            "mapping": item.mapping,
+            "load": item.load,
+        }
+        notes = {"length": "mm", "mapping": "[p, contraction mm]", "load": "[t s, N mm]"}
+        lines += ["", *toml_table("tsa", table, array=True, comments=notes)]
+    for frame in seq.keyframes:
+        table = {"t": float(frame.t), frame.kind: list(frame.values)}
+        lines += ["", *toml_table("keyframe", table, array=True)]
+    return "\n".join(lines) + "\n"

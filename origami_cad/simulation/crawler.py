@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.model import CreasePattern
@@ -54,6 +54,7 @@ __all__ = [
     "Leg",
     "PointMass",
     "Robot",
+    "dump_robot",
     "gait_loads",
     "gait_sequence_text",
     "gait_turns",
@@ -267,6 +268,57 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         p,
         pattern_path,
     )
+
+
+def _relative(path: Path | None, folder: Path, what: str) -> str:
+    if path is None:
+        raise SimulationError(f"the robot's {what} has no file to name")
+    return Path(os.path.relpath(path, folder)).as_posix()
+
+
+def dump_robot(
+    robot: Robot, folder: str | os.PathLike[str] | None = None, *, header: str = ""
+) -> str:
+    """A robot file (TOML text) of ``robot`` that :func:`load_robot` reads back.
+
+    The pattern and route files are named relative to ``folder``, where the robot file
+    goes (default: the folder it was read from); lengths mm, angles deg, masses g.
+    The ``[fabrication]`` holes are written only when they are not the routes' holes.
+
+    >>> robot = load_robot("examples/crawler/crawler.toml")
+    >>> text = dump_robot(robot)
+    >>> 'pattern = "crawler.fold"' in text and 'route = "route_fl.toml"' in text
+    True
+    """
+    base = Path(folder) if folder is not None else (robot.source or Path("x")).parent
+    base = base.resolve()
+    lines = [header.rstrip("\n")] if header else []
+    head = {
+        "pattern": _relative(robot.pattern_path, base, "pattern"),
+        "body": robot.body,
+        "blocker_angle": float(robot.blocker_angle),
+        "friction": float(robot.friction),
+    }
+    lines += toml_table("robot", head, comments={"blocker_angle": "deg"})
+    routed = tuple(
+        dict.fromkeys(p for leg in robot.legs for s in leg.route.strings for p in s.points)
+    )
+    if tuple(robot.holes) != routed:
+        holes = [list(h) for h in robot.holes]
+        lines += ["", *toml_table("fabrication", {"holes": holes}, comments={"holes": "mm"})]
+    for leg in robot.legs:
+        route = _relative(leg.route_path, base, f"leg {leg.name!r}'s route")
+        table = {"panel": leg.panel, "route": route, "servo": leg.servo, "name": leg.name}
+        lines += ["", *toml_table("leg", table, array=True)]
+    for m in robot.masses:
+        table = {"name": m.name, "panel": m.panel, "at": list(m.at), "grams": float(m.grams)}
+        lines += ["", *toml_table("mass", table, array=True, comments={"at": "mm"})]
+    adapter = {"at": list(robot.adapter_at), "heading": float(robot.adapter_heading)}
+    lines += ["", *toml_table("adapter", adapter, comments={"heading": "deg"}), "", "[gait]"]
+    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
+        frame = {"t": float(t), "p": [float(v) for v in p]}
+        lines += toml_table("gait.keyframe", frame, array=True)
+    return "\n".join(lines) + "\n"
 
 
 #: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).
