@@ -1,17 +1,8 @@
 """Deprecated: the DXF format moved to :mod:`origami_cad.pattern.formats.dxf`.
 
-This path keeps working for one release (it is the same module), with a
-``DeprecationWarning``.
+This path keeps working for one release (it is the same module), with a ``DeprecationWarning``.
 """
 
-import sys
-import warnings
+from origami_cad.pattern.formats import moved_module
 
-from origami_cad.pattern.formats import dxf as moved
-
-warnings.warn(
-    "origami_cad.pattern.dxf moved to origami_cad.pattern.formats.dxf",
-    DeprecationWarning,
-    stacklevel=2,
-)
-sys.modules[__name__] = moved
+moved_module(__name__, "dxf")

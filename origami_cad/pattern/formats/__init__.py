@@ -21,6 +21,8 @@ True
 
 from __future__ import annotations
 
+import sys
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -29,7 +31,7 @@ from origami_cad._toml import printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.formats import dxf, fold, svg
 
-__all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
+__all__ = ["MODULES", "READERS", "WRITERS", "moved_module", "reader", "register", "writer"]
 
 #: The format modules, one line each; their ``readers``/``writers`` make the registry.
 MODULES = (
@@ -38,6 +40,7 @@ MODULES = (
     svg,
 )
 
+MODULES_BY_NAME = {m.__name__.rsplit(".", 1)[-1]: m for m in MODULES}
 #: suffix -> ``read(path, mm_per_unit) -> CreasePattern``
 READERS: dict[str, Callable[..., Any]] = {k: v for m in MODULES for k, v in m.readers.items()}
 #: suffix -> ``write(cp, path) -> Path``
@@ -54,27 +57,31 @@ def register(module: Any) -> None:
     WRITERS.update({k.lower(): v for k, v in getattr(module, "writers", {}).items()})
 
 
-def _suffix(path: Path) -> str:
-    return path.suffix.lower() or "(no extension)"
+def _lookup(registry: dict, path: Path, what: str, known: str) -> Callable[..., Any]:
+    try:
+        return registry[path.suffix.lower()]
+    except KeyError:
+        suffix = path.suffix.lower() or "(no extension)"
+        raise PatternError(
+            f"{printable(str(path), 300)}: {what} {suffix!r} ({known}: {', '.join(registry)}"
+            f"{'; .png through origami_cad.viz' if registry is WRITERS else ''})"
+        ) from None
 
 
 def reader(path: Path) -> Callable[..., Any]:
     """The reader of ``path`` by its suffix; :class:`PatternError` naming the readable ones."""
-    try:
-        return READERS[path.suffix.lower()]
-    except KeyError:
-        raise PatternError(
-            f"{printable(str(path), 300)}: unknown crease-pattern format {_suffix(path)!r} "
-            f"(readable: {', '.join(READERS)})"
-        ) from None
+    return _lookup(READERS, path, "unknown crease-pattern format", "readable")
 
 
 def writer(path: Path) -> Callable[..., Path]:
     """The writer of ``path`` by its suffix; :class:`PatternError` naming the writable ones."""
-    try:
-        return WRITERS[path.suffix.lower()]
-    except KeyError:
-        raise PatternError(
-            f"{printable(str(path), 300)}: cannot write crease patterns as {_suffix(path)!r} "
-            f"(writable: {', '.join(WRITERS)}; .png through origami_cad.viz)"
-        ) from None
+    return _lookup(WRITERS, path, "cannot write crease patterns as", "writable")
+
+
+def moved_module(old: str, name: str) -> None:
+    """Make module ``old`` (an old path of format ``name``) the format's module, with a
+    ``DeprecationWarning``: the old import path keeps working for one release."""
+    warnings.warn(
+        f"{old} moved to origami_cad.pattern.formats.{name}", DeprecationWarning, stacklevel=3
+    )
+    sys.modules[old] = MODULES_BY_NAME[name]
