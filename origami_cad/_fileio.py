@@ -215,6 +215,34 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         src.unlink()
 
 
+def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> None:
+    """Say ``shown`` (the user's path) wherever ``exc`` names ``staged`` (our temporary one).
+
+    A check run on a staged file (a sequence read back, a 3MF validated) raises with the
+    temporary file's name, which is gone once the error is printed; the user must read
+    the path they gave. The message, its notes and an ``OSError``'s file names are
+    rewritten in place.
+    """
+    shown = str(shown).rstrip(os.sep) or str(shown)
+    names = {str(staged): shown}
+    real = os.path.realpath(staged)
+    names.setdefault(real, shown)
+
+    def fix(text):
+        if not isinstance(text, str):
+            return text
+        for old, new in names.items():
+            text = text.replace(old, new)
+        return text
+
+    exc.args = tuple(fix(a) for a in exc.args)
+    if isinstance(exc, OSError):
+        exc.filename, exc.filename2 = fix(exc.filename), fix(exc.filename2)
+    notes = getattr(exc, "__notes__", None)
+    if isinstance(notes, list):
+        notes[:] = [fix(n) for n in notes]
+
+
 def _make_temp(make: Callable[[], Path], created: list[Path], where: str) -> Path:
     """``make()``: a temporary file or folder; if that fails, the folders ``created``
     for it are removed and :class:`OutputError` says ``where: why``."""
@@ -254,9 +282,10 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
         yield tmp
         _raise_if_interrupted()
         _install(tmp, dest, st)
-    except BaseException:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
         _remove_created(created)
+        _user_paths(exc, tmp, path)
         raise
 
 
@@ -311,9 +340,10 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
         for rel, dest, st in plan:
             _ensure_folder(dest.parent, shown)
             _install(stage / rel, dest, st)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(stage, ignore_errors=True)
         _remove_created(created)
+        _user_paths(exc, stage, shown)
         raise
     shutil.rmtree(stage, ignore_errors=True)
 

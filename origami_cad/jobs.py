@@ -511,31 +511,67 @@ def _arm_route_text(design, task, tsa_length: float = 150.0) -> str:
 
 
 def _write_arm_files(results, task, settings, seconds: float, stage: Path):
-    """results.json, best.toml, the plots and route.toml; returns (files, the route's DCQC)."""
+    """results.json, best.toml, the plots and route.toml; returns (files, designs, the route's
+    DCQC): ``designs`` ranked with the winner first (the first tied design whose strings fold
+    it, see :func:`_chain_checked`)."""
     from origami_cad import __version__
     from origami_cad.design import task_to_dict
+    from origami_cad.design.search import FITNESS_TIE, ties
     from origami_cad.pattern.design import load_design
     from origami_cad.viz import save_pattern_png
     from origami_cad.viz.design_plots import save_convergence_png, save_trajectories_png
 
     files = [stage / n for n in ("results.json", "best.toml", "trajectories.png")]
-    files += [stage / "convergence.png", stage / "best_pattern.png"]
+    files += [stage / "convergence.png", stage / "best_pattern.png", stage / "route.toml"]
+    results, strings, refused = _chain_checked(results, task, files[-1])
     data = {
         "origami_cad_version": __version__,
         "task": task_to_dict(task, settings),
         "seconds": seconds,
+        "tie": {
+            "rule": "designs within fitness_tolerance of the best tie; of those, the largest "
+            "fold range p_e wins (within 1e-6), then the lowest run index; a design whose "
+            "strings cannot fold it to p_e is refused",
+            "fitness_tolerance": FITNESS_TIE,
+            "tied_runs": [r.run for r in ties(results)],
+            "refused": {str(run): why for run, why in refused.items()},
+        },
         "designs": [r.to_dict() for r in results],
     }
     with atomic_write(files[0], "w", encoding="utf-8") as fh:
         json.dump(data, fh, indent=1)
     with atomic_write(files[1], "w", encoding="utf-8") as fh:
         fh.write(_best_design_toml(results[0], task))
-    files.append(stage / "route.toml")
-    strings = _write_arm_route(results[0], task, files[-1])
     save_trajectories_png(results, task, files[2])
     save_convergence_png(results, files[3])
     save_pattern_png(load_design(files[1]).pattern, files[4], labels=True)
-    return files, strings
+    return files, results, strings, refused
+
+
+def _chain_checked(results, task, route: Path):
+    """The designs with the winner first: the first tied design whose route can be built and
+    whose strings fold it (DCQC) to its ``p_e``; the others tied are refused, with why.
+
+    Returns (designs, the winner's DCQC result, {run: reason} of the refused).
+    """
+    from origami_cad.design.search import ties
+    from origami_cad.drive.from_model import AT_TOLERANCE
+
+    refused: dict[int, str] = {}
+    for design in ties(results):
+        strings = _write_arm_route(design, task, route)
+        if isinstance(strings, Exception):
+            refused[design.run] = f"its string route cannot be built: {strings}"
+        elif float(strings.p[-1]) < design.fold_ratio_end - AT_TOLERANCE:
+            refused[design.run] = (
+                f"its strings fold it to p = {float(strings.p[-1]):.4f} only ({strings.stop}), "
+                f"short of its fold range's end p_e = {design.fold_ratio_end:.4f}"
+            )
+        else:
+            rest = [r for r in results if r is not design]
+            return [design, *rest], strings, refused
+    lines = "; ".join(f"run {run}: {why}" for run, why in refused.items())
+    raise DesignError(f"every design tied for the best was refused: {lines}")
 
 
 def _arm_numbers(best, settings, seconds: float, strings) -> list[tuple[str, str]]:
@@ -601,10 +637,14 @@ def run_design_arm(
             "the obstacles or the length range"
         )
     with atomic_directory(folder, inputs=[task]) as stage:
-        staged, strings = _write_arm_files(results, arm_task, settings, seconds, stage)
+        staged, results, strings, refused = _write_arm_files(
+            results, arm_task, settings, seconds, stage
+        )
         files = _moved(staged, stage, folder)
     best, t = results[0], results[0].terms
     numbers = _arm_numbers(best, settings, seconds, strings)
+    tied = _tie_line(results, refused)
+    numbers.insert(3, ("runs tied for the best (eq. 5 within 1e-3)", tied))
     summary = (
         f"best of {settings.runs} runs: run {best.run}, f = {best.fitness:.4f}, "
         f"|T_e(0) - P_start| = {t.d_start:.3g} mm, |T_e(p_e) - P_end| = "
@@ -619,15 +659,26 @@ def run_design_arm(
         numbers=numbers,
         messages=[
             summary,
-            *(
-                [f"warning: route.toml could not be simulated: {strings}"]
-                if isinstance(strings, Exception)
-                else []
-            ),
+            f"tied for the best: {tied}",
+            *(f"refused: run {run}: {why}" for run, why in refused.items()),
             *(f"wrote {p}" for p in files),
         ],
         result=results,
     )
+
+
+def _tie_line(results, refused: dict[int, str]) -> str:
+    """Which runs tie for the best, and how the winner was told apart from them."""
+    from origami_cad.design.search import ties
+
+    tied = ties(results)
+    if len(tied) < 2:
+        return f"none (run {results[0].run} alone)"
+    runs = ", ".join(
+        f"{r.run} (p_e {r.fold_ratio_end:.4f}{', refused' if r.run in refused else ''})"
+        for r in tied
+    )
+    return f"runs {runs}: run {results[0].run} wins with the largest fold range it can be folded to"
 
 
 # --------------------------------------------------------------------------- fabrication

@@ -4,7 +4,7 @@ The page lists every stage (``pattern``, ``kinematics``, ..., ``cli``, ``demo``)
 module of its own below them (``parallel``) with the ones it imports, ``A → B, C``.
 Every import of the package (lazy ones inside functions, and ``importlib.import_module``
 of a literal name, too) must be an arrow of that list, every arrow must be an import that
-exists, and the graph has no cycle. ``errors``, ``_fileio`` and ``_toml`` are the base
+exists, and the graph has no cycle. ``errors``, ``_fileio``, ``_libm`` and ``_toml`` are the base
 every node may use. Names starting with an underscore never cross a module boundary,
 in the package, its tests or its benchmarks.
 """
@@ -18,7 +18,13 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-BASE = {"origami_cad", "origami_cad.errors", "origami_cad._fileio", "origami_cad._toml"}
+BASE = {
+    "origami_cad",
+    "origami_cad.errors",
+    "origami_cad._fileio",
+    "origami_cad._libm",
+    "origami_cad._toml",
+}
 PAGE = ROOT / "docs" / "architecture.md"
 ARROW = re.compile(r"^(\w+)\s*→\s*(.*)$")
 DYNAMIC = {"import_module", "__import__"}  # importlib.import_module("..."), __import__("...")
@@ -172,7 +178,7 @@ def test_the_graph_names_every_node_and_has_no_cycle():
 
 
 def test_the_base_imports_no_stage():
-    for name in ("errors.py", "_fileio.py", "_toml.py"):
+    for name in ("errors.py", "_fileio.py", "_libm.py", "_toml.py"):
         for module, _, line in _imports(ROOT / "origami_cad" / name):
             assert _stage(_canonical(module)) is None, f"{name}:{line} imports {module}"
 

@@ -14,7 +14,15 @@ from origami_cad.design.fitness import (
     sample_angles,
 )
 from origami_cad.design.limits import panel_bias_violations
-from origami_cad.design.search import ArmDesign, decode, decode_bias, design_arm, run_one
+from origami_cad.design.search import (
+    ArmDesign,
+    decode,
+    decode_bias,
+    design_arm,
+    rank_designs,
+    run_one,
+    ties,
+)
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
 from origami_cad.kinematics.limits import crease_fold_limit, leg_fold_angles, reachable_fold_angle
 
@@ -33,8 +41,10 @@ __all__ = [
     "leg_fold_angles",
     "load_task",
     "panel_bias_violations",
+    "rank_designs",
     "reachable_fold_angle",
     "run_one",
     "sample_angles",
     "task_to_dict",
+    "ties",
 ]

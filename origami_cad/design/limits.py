@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad import _libm
 from origami_cad.kinematics import limits as _moved
 
 __all__ = ["panel_bias_violations"]
@@ -72,9 +73,9 @@ def panel_bias_violations(
     cot = np.zeros((d, n1 + 1))
     inset = np.zeros((d, n1 + 1))  # chamfer width along the main crease at each joint
     if n1 > 1:
-        cot[:, 1:-1] = 1.0 / np.tan(beta)
+        cot[:, 1:-1] = 1.0 / _libm.tan(beta)
         cot[:, 0], cot[:, -1] = cot[:, 1], cot[:, -2]
-        inset[:, 1:-1] = b / np.abs(np.sin(beta))
+        inset[:, 1:-1] = b / np.abs(_libm.sin(beta))
     lo, hi = b, half_width - b
     slope = cot[:, 1:] - cot[:, :-1]
     room = inset[:, :-1] + inset[:, 1:] + min_face

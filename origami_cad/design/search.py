@@ -22,7 +22,7 @@ are searched as two sub-searches: with ``entry_flag = "both"`` the runs
 alternate ``EF_0 = 1, 0, 1, ...``, so the ranking compares the two crease
 pattern families (their panels differ, their kinematics can match).
 
-Runs are independent and reproducible bit for bit: run ``k`` seeds both its
+Runs are independent and reproducible: run ``k`` seeds both its
 start point and CMA-ES with ``seed + k``; no ``outcmaes/`` files are written.
 :func:`run_one` is one such run, a module-level function of picklable
 arguments, so the runs can be mapped over any executor.
@@ -54,7 +54,54 @@ from origami_cad.design.task import ArmTask, SearchSettings
 from origami_cad.parallel import local_pool, start_context
 from origami_cad.pattern.tg import TGDesign
 
-__all__ = ["ArmDesign", "RunResult", "UnitBox", "decode", "decode_bias", "design_arm", "run_one"]
+__all__ = [
+    "COST_RESOLUTION",
+    "FITNESS_TIE",
+    "FOLD_RANGE_TIE",
+    "ArmDesign",
+    "RunResult",
+    "UnitBox",
+    "canonical_eigh",
+    "decode",
+    "decode_bias",
+    "design_arm",
+    "rank_designs",
+    "run_one",
+    "ties",
+]
+
+#: Designs whose fitness (eq. 5) is within this of the best tie: CMA-ES stops a run
+#: within 1e-4 of eq. 5's maximum, so every run that gets there is as good as the
+#: others. Between CPUs a run's fitness moves by about 1e-11 (see the module's
+#: notes), far below this.
+FITNESS_TIE = 1e-3
+
+#: Tied designs whose fold ranges ``p_e`` differ by less than this tie on it too
+#: (then the lowest run index wins).
+FOLD_RANGE_TIE = 1e-6
+
+#: CMA-ES ranks costs rounded to this (eq. 5 units; the fitness of a perfect arm is
+#: 60). A CPU's vectorised kernels change CMA-ES's own arithmetic (numpy's SIMD
+#: ``exp``) in the last bits, which moves a cost by about 1e-13; two samples whose
+#: costs differ by that little used to swap ranks on one machine and not on another,
+#: and the run went elsewhere. Rounded, they are equal on both (and CMA-ES orders equal
+#: costs by index), unless a cost lies within 1e-13 of a rounding boundary: about one
+#: sample in ten million. ``ftarget`` (1e-4 from the maximum) is far above it.
+COST_RESOLUTION = 1e-6
+
+
+def canonical_eigh(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.eigh`` with each eigenvector's sign fixed: its largest entry positive.
+
+    An eigenvector's sign is arbitrary, and LAPACK may return either for two matrices
+    that differ in their last bits (as CMA-ES's covariance does from one CPU's numpy
+    kernels to another's); CMA-ES then samples other points from the same random
+    numbers and the run goes elsewhere. Fixed signs make the samples depend on the
+    matrix, not on those bits.
+    """
+    d, b = np.linalg.eigh(C)
+    rows = np.argmax(np.abs(b), axis=0)
+    return d, b * np.where(b[rows, np.arange(b.shape[1])] < 0, -1.0, 1.0)
 
 
 class UnitBox:
@@ -221,6 +268,7 @@ def run_one(
         "maxiter": settings.max_generations,
         "tolfun": 1e-9,
         "tolflatfitness": 50,
+        "CMA_eigenmethod": canonical_eigh,
         # eq. 5 cannot exceed 60 + sum(w) / 10 (every distance 0): stop once within
         # 1e-4 of it (the distances are then below 1e-3 mm)
         "ftarget": -(60.0 + float(task.weights.sum()) / 10.0) + 1e-4,
@@ -239,6 +287,7 @@ def run_one(
             flags = np.full(len(pop), flag)
         lengths, beta = decode(task, pop)
         cost = arm_fitness(task, lengths, beta, flags, decode_bias(task, pop)).cost()
+        cost = np.round(cost / COST_RESOLUTION) * COST_RESOLUTION
         es.tell(genotypes, cost.tolist())
         k = int(np.argmin(cost))
         if cost[k] < best_cost:
@@ -288,8 +337,9 @@ def design_arm(
     Returns
     -------
     list of ArmDesign
-        One per run, feasible designs first, by decreasing fitness. Infeasible
-        runs (the chain always hit a prohibited area) are left out.
+        One per feasible run, ranked by :func:`rank_designs`: the designs that tie
+        for the best fitness first, by fold range then run index. Infeasible runs
+        (the chain always hit a prohibited area) are left out.
     """
     own = executor is None
     queue = None
@@ -315,8 +365,57 @@ def design_arm(
             executor.shutdown(wait=True, cancel_futures=True)
         if manager is not None:
             manager.shutdown()
-    feasible = [r for r in results if math.isfinite(r.fitness)]
-    return sorted(feasible, key=lambda r: (-r.fitness, r.run))
+    return rank_designs(results)
+
+
+def rank_designs(designs: list[ArmDesign]) -> list[ArmDesign]:
+    """Feasible designs, best first, by a rule that does not depend on the machine.
+
+    The designs within :data:`FITNESS_TIE` of the best fitness tie (:func:`ties`);
+    they come first, ordered by
+
+    1. the largest printable fold range ``p_e`` (``fold_ratio_end``: the arm that
+       folds furthest before a crease meets its eq. 6 limit), values within
+       :data:`FOLD_RANGE_TIE` counting as equal;
+    2. the lowest run index.
+
+    The others follow by decreasing fitness, then run index. A run's design can
+    differ from one CPU to another in its last bits (numpy's SIMD sin and cos), which
+    used to decide between tied designs; now only differences far larger than those
+    bits do. Infeasible designs (fitness not finite) are left out.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as D
+    >>> runs = [D(fitness=60.0, fold_ratio_end=0.3, run=0),
+    ...         D(fitness=60.0 - 1e-5, fold_ratio_end=0.4, run=1),
+    ...         D(fitness=59.0, fold_ratio_end=0.9, run=2)]
+    >>> [d.run for d in rank_designs(runs)]
+    [1, 0, 2]
+    """
+    feasible = [r for r in designs if math.isfinite(r.fitness)]
+    if not feasible:
+        return []
+    tied = ties(feasible)
+    chosen = {id(r) for r in tied}  # by identity: designs hold arrays, == is not a bool
+    rest = sorted((r for r in feasible if id(r) not in chosen), key=lambda r: (-r.fitness, r.run))
+    ordered: list[ArmDesign] = []
+    pool = sorted(tied, key=lambda r: r.run)
+    while pool:  # the largest p_e, or the first of those within FOLD_RANGE_TIE of it
+        top = max(r.fold_ratio_end for r in pool)
+        pick = next(r for r in pool if r.fold_ratio_end >= top - FOLD_RANGE_TIE)
+        ordered.append(pick)
+        pool = [r for r in pool if r is not pick]
+    return ordered + rest
+
+
+def ties(designs: list[ArmDesign]) -> list[ArmDesign]:
+    """The designs whose fitness is within :data:`FITNESS_TIE` of the best (in the given order)."""
+    finite = [r.fitness for r in designs if math.isfinite(r.fitness)]
+    if not finite:
+        return []
+    best = max(finite)
+    return [r for r in designs if math.isfinite(r.fitness) and r.fitness >= best - FITNESS_TIE]
 
 
 class _CallbackQueue:

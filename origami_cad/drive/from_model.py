@@ -33,6 +33,11 @@ from origami_cad.strings.tsa import TSAParams, onboard_contraction
 #: A keyframe's fold ratio may pass the model's range by this much (then it is its end).
 AT_TOLERANCE = 1e-3
 
+#: Decimals with which a sequence file holds fold ratios and contractions (mm). Mapping
+#: points are merged at this precision, so that what is written always reads back
+#: (strictly increasing fold ratios, non-decreasing contractions).
+DECIMALS = 6
+
 __all__ = [
     "fold_curve",
     "model_mapping",
@@ -174,13 +179,25 @@ def model_mapping(
             f"{where}: fold ratio {far[0]:g} is outside what its strings reach, "
             f"p = {lo:.4g} .. {hi:.4g}"
         )
-    grid = np.unique(np.r_[np.linspace(lo, hi, max(points, 2)), np.clip(at, lo, hi)])
-    grid = grid[np.r_[True, np.diff(grid) > 1e-9]]
-    theta = 2 * math.pi * turns_at(p, turns, grid)
+    # merged at the precision the file holds: two points that print alike are one point
+    grid = np.unique(
+        np.round(np.r_[np.linspace(lo, hi, max(points, 2)), np.clip(at, lo, hi)], DECIMALS)
+    )
+    if len(grid) < 2:
+        raise DriveError(
+            f"{where}: its strings fold it only from p = {lo:.6g} to {hi:.6g}, "
+            "too little for a mapping"
+        )
+    theta = 2 * math.pi * turns_at(p, turns, np.clip(grid, lo, hi))
     contraction = onboard_contraction(
         theta, tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
     )
-    return np.column_stack([grid, np.maximum.accumulate(contraction)])
+    return np.column_stack([grid, np.round(np.maximum.accumulate(contraction), DECIMALS)])
+
+
+def _fixed(value: float) -> str:
+    """``value`` at the sequence file's precision (:data:`DECIMALS`), trailing zeros kept."""
+    return f"{value:.{DECIMALS}f}"
 
 
 def sequence_toml(
@@ -202,7 +219,7 @@ def sequence_toml(
     lines += ["[sequence]", f"repeat = {int(repeat)}", f"rate = {rate:g}              # Hz", ""]
     for item in tsas:
         tsa: TSAParams = item["tsa"]
-        pairs = ", ".join(f"[{a:.6f}, {b:.6f}]" for a, b in item["mapping"])
+        pairs = ", ".join(f"[{_fixed(a)}, {_fixed(b)}]" for a, b in item["mapping"])
         name = str(item["name"]).replace("\\", "/").replace('"', "'")
         if item.get("comment"):
             lines.append(f"# {item['comment']}")
@@ -218,7 +235,7 @@ def sequence_toml(
         ]
     for t, values in keyframes:  # within each mapping (AT_TOLERANCE at its ends)
         vals = ", ".join(
-            f"{min(max(v, item['mapping'][0, 0]), item['mapping'][-1, 0]):.6g}"
+            _fixed(min(max(round(v, DECIMALS), item["mapping"][0, 0]), item["mapping"][-1, 0]))
             for v, item in zip(values, tsas, strict=True)
         )
         lines += ["[[keyframe]]", f"t = {t:g}", f"p = [{vals}]"]

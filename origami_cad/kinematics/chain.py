@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from origami_cad import _libm
+
 __all__ = [
     "chain_angles",
     "chain_joints",
@@ -36,9 +38,9 @@ def hypar_alpha0(theta: np.ndarray) -> np.ndarray:
     ``alpha_0 = arccos(sqrt(2 cos(theta/2) / (1 + cos(theta/2))))``,
     ``0 <= theta <= pi``; 0 when flat, pi/2 when fully folded.
     """
-    c = np.cos(np.asarray(theta, dtype=float) / 2.0)
+    c = _libm.cos(np.asarray(theta, dtype=float) / 2.0)
     c = np.clip(c, 0.0, 1.0)
-    return np.arccos(np.clip(np.sqrt(2.0 * c / (1.0 + c)), 0.0, 1.0))
+    return _libm.arccos(np.clip(np.sqrt(2.0 * c / (1.0 + c)), 0.0, 1.0))
 
 
 def half_turn_tangents(
@@ -53,8 +55,8 @@ def half_turn_tangents(
     n = beta.shape[1]
     flags_before = (ef0[:, None] + np.arange(n)[None, :]) % 2  # EF_0 .. EF_{n-1}
     sign = 1.0 - 2.0 * flags_before  # (-1)^EF
-    s = np.sin(_theta_2d(theta) / 2.0)  # (1, S) or (D, S)
-    return s[:, :, None] * (np.tan(beta) * sign)[:, None, :]
+    s = _libm.sin(_theta_2d(theta) / 2.0)  # (1, S) or (D, S)
+    return s[:, :, None] * (_libm.tan(beta) * sign)[:, None, :]
 
 
 def _theta_2d(theta: np.ndarray) -> np.ndarray:
@@ -92,7 +94,7 @@ def turning_angles(
     ndarray, shape (D, S, n)
         Turning angle at each joint, radians.
     """
-    return 2.0 * np.arctan(half_turn_tangents(theta, shape_angles, entry_flag))
+    return 2.0 * _libm.arctan(half_turn_tangents(theta, shape_angles, entry_flag))
 
 
 def chain_angles(

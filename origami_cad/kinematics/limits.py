@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from origami_cad import _libm
 from origami_cad.errors import FabricationError
 
 __all__ = [
@@ -70,7 +71,7 @@ def crease_fold_limit(bias, height, thickness):
     float or ndarray
         The largest fold angle before the chamfers meet, radians in (0, pi).
     """
-    return 2.0 * np.arctan(2.0 * np.asarray(bias, dtype=float) / (height - thickness))
+    return 2.0 * _libm.arctan(2.0 * np.asarray(bias, dtype=float) / (height - thickness))
 
 
 def bias_for_theta_max(theta: float, height: float, thickness: float) -> float:
@@ -106,8 +107,8 @@ def leg_fold_angles(theta, shape_angles) -> np.ndarray:
     ndarray
         Unsigned fold angle of the legs, radians in [0, pi].
     """
-    half = np.tan(np.asarray(theta, dtype=float) / 2.0)
-    return 2.0 * np.arctan2(half, np.abs(np.cos(shape_angles)))
+    half = _libm.tan(np.asarray(theta, dtype=float) / 2.0)
+    return 2.0 * _libm.arctan2(half, np.abs(_libm.cos(shape_angles)))
 
 
 def reachable_fold_angle(shape_angles, main_limit, leg_limit=None) -> np.ndarray:
@@ -134,8 +135,8 @@ def reachable_fold_angle(shape_angles, main_limit, leg_limit=None) -> np.ndarray
     main = np.broadcast_to(np.asarray(main_limit, dtype=float).reshape(-1), (beta.shape[0],))
     legs = main if leg_limit is None else np.asarray(leg_limit, dtype=float)
     legs = legs.reshape(-1, 1) if legs.ndim == 1 else legs
-    tan_half = np.tan(np.minimum(legs, np.pi) / 2.0)
-    ends = 2.0 * np.arctan(np.abs(np.cos(beta)) * tan_half)
+    tan_half = _libm.tan(np.minimum(legs, np.pi) / 2.0)
+    ends = 2.0 * _libm.arctan(np.abs(_libm.cos(beta)) * tan_half)
     if beta.shape[1] == 0:
         return main.copy()
     return np.minimum(main, ends.min(axis=1))

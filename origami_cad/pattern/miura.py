@@ -29,6 +29,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from origami_cad import _libm
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 
@@ -54,7 +55,7 @@ def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.
     row_height : float
         ``h``, half the unit width, mm.
     """
-    return row_height / np.tan(shape_angles)
+    return row_height / _libm.tan(shape_angles)
 
 
 def leg_gaps(lengths: np.ndarray, shape_angles: np.ndarray, row_height: float) -> np.ndarray:
