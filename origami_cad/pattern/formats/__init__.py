@@ -21,17 +21,19 @@ True
 
 from __future__ import annotations
 
+import importlib.abc
+import importlib.util
 import sys
 import warnings
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.formats import dxf, fold, svg
 
-__all__ = ["MODULES", "READERS", "WRITERS", "moved_module", "reader", "register", "writer"]
+__all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
 
 #: The format modules, one line each; their ``readers``/``writers`` make the registry.
 MODULES = (
@@ -78,10 +80,29 @@ def writer(path: Path) -> Callable[..., Path]:
     return _lookup(WRITERS, path, "cannot write crease patterns as", "writable")
 
 
-def moved_module(old: str, name: str) -> None:
-    """Make module ``old`` (an old path of format ``name``) the format's module, with a
-    ``DeprecationWarning``: the old import path keeps working for one release."""
-    warnings.warn(
-        f"{old} moved to origami_cad.pattern.formats.{name}", DeprecationWarning, stacklevel=3
-    )
-    sys.modules[old] = MODULES_BY_NAME[name]
+class _MovedFormats(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """The old paths ``origami_cad.pattern.dxf``, ``.svg`` and ``.fold``: importing one
+    gives the format's module here, with a ``DeprecationWarning`` (for one release)."""
+
+    OLD: ClassVar[dict[str, str]] = {f"origami_cad.pattern.{n}": n for n in ("dxf", "fold", "svg")}
+
+    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> Any:
+        if fullname not in self.OLD:
+            return None
+        return importlib.util.spec_from_loader(fullname, self)
+
+    def create_module(self, spec: Any) -> Any:
+        name = self.OLD[spec.name]
+        warnings.warn(
+            f"{spec.name} moved to origami_cad.pattern.formats.{name}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return MODULES_BY_NAME[name]
+
+    def exec_module(self, module: Any) -> None:
+        """The module is the format's, already run."""
+
+
+if not any(isinstance(f, _MovedFormats) for f in sys.meta_path):
+    sys.meta_path.append(_MovedFormats())
