@@ -632,7 +632,7 @@ def run_design_arm(
         results = design_arm(arm_task, settings, executor=executor, progress=progress)
     seconds = time.perf_counter() - t0
     if not results:
-        raise OptionsError(
+        raise DesignError(
             f"{task}: no feasible design: every run's chain touched a prohibited area; relax "
             "the obstacles or the length range"
         )
