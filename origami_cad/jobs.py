@@ -66,7 +66,6 @@ __all__ = [
 ]
 
 PathLike = str | os.PathLike[str]
-PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
 FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb")
 MAX_FRAMES = 10_000  # folded states in one file or animation
 GIF_FRAMES = 30  # frames of a simulation's animation
@@ -162,6 +161,13 @@ def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
         raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
 
 
+def _pattern_suffixes() -> tuple[str, ...]:
+    """What a pattern is written as: the registered formats' suffixes, and .png."""
+    from origami_cad.pattern.formats import WRITERS
+
+    return (*WRITERS, ".png")
+
+
 def _sources(*items) -> list:
     """Input paths, and the file a design was read from, that no output may replace."""
     return [s for s in (getattr(i, "source", i) for i in items) if s is not None]
@@ -251,7 +257,7 @@ def run_convert(
     """
     from origami_cad.pattern import read_pattern, size_warnings
 
-    _check_suffix(output, PATTERN_SUFFIXES, "a pattern")
+    _check_suffix(output, _pattern_suffixes(), "a pattern")
     check_outputs([source], files=[output])
     cp = read_pattern(source, unit=unit, scale=scale, width=width)
     _write_pattern_file(cp, Path(output), labels)
@@ -282,7 +288,7 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
     for out in outputs:
-        _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
+        _check_suffix(out, _pattern_suffixes(), "a pattern")
     check_outputs([design], files=outputs)
     loaded, warned = _sized_source(design)
     cp = loaded.pattern

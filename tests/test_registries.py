@@ -104,6 +104,9 @@ def test_a_toy_format_is_a_design_path_and_a_cli_output(tmp_path, toy_format, ca
     cp = miura_pattern(rows=2, columns=2, panel_length=20.0, panel_width=30.0, sector_angle=60.0)
     write_pattern(cp, tmp_path / "cp.toy")
     assert main(["check", str(tmp_path / "cp.toy")]) == 0, capsys.readouterr().err
+    out = tmp_path / "again.toy"
+    assert main(["convert", str(tmp_path / "cp.toy"), str(out)]) == 0
+    assert out.read_text() == (tmp_path / "cp.toy").read_text()
 
 
 def test_unknown_suffixes_name_the_known_formats(tmp_path, toy_format):
