@@ -77,10 +77,22 @@ def _dynamic_import(node: ast.Call) -> str | None:
     return None
 
 
+def _names_a_module(node: ast.AST) -> bool:
+    """A string constant that is the dotted name of a module of the package."""
+    return (
+        isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and re.fullmatch(r"origami_cad(\.\w+)+", node.value) is not None
+        and _is_module(node.value)
+    )
+
+
 def _imports(path: Path):
     """(imported module, imported names, line) of every import in a file, lazy ones too.
 
-    ``from origami_cad import jobs`` is an import of the module ``origami_cad.jobs``.
+        ``from origami_cad import jobs`` is an import of the module ``origami_cad.jobs``, and
+    ``importlib.import_module("origami_cad.x")`` of ``origami_cad.x``, as is the string
+    ``"origami_cad.x"`` (a module named for importlib).
     """
     tree = ast.parse(path.read_text(encoding="utf-8"))
     here = _module_name(path) if path.is_relative_to(ROOT / "origami_cad") else ""
@@ -100,6 +112,8 @@ def _imports(path: Path):
                     yield f"{module}.{name}", [], node.lineno
         elif isinstance(node, ast.Call) and (module := _dynamic_import(node)):
             yield module, [], node.lineno
+        elif _names_a_module(node):  # a module's name for importlib, kept in a variable
+            yield node.value, [], node.lineno
 
 
 def _sources(*folders: str) -> list[Path]:
@@ -206,12 +220,14 @@ def test_the_contract_sees_a_violation(tmp_path):
     src = tmp_path / "m.py"
     src.write_text(
         "import importlib\n"
+        "SOLVER = 'origami_cad.simulation.solver'\n"
         "def f():\n"
         "    from origami_cad.simulation import simulate\n"
-        "    return importlib.import_module('origami_cad.simulation.solver')\n"
+        "    importlib.import_module(SOLVER)\n"
+        "    return importlib.import_module('origami_cad.simulation.model')\n"
     )
-    found = [_stage(m) for m, _, _ in _imports(src)]
-    assert found == [None, "simulation", "simulation"]
+    found = sorted({(line, _stage(m)) for m, _, line in _imports(src)})
+    assert found == [(1, None), (2, "simulation"), (4, "simulation"), (6, "simulation")]
 
 
 def test_the_page_parser_reads_arrows_and_empty_nodes():
