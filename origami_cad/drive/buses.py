@@ -82,9 +82,7 @@ def bus_type(name: str) -> BusType:
     try:
         return BUSES[name]
     except (KeyError, TypeError):
-        raise DriveError(
-            f"unknown servo-bus protocol {name!r} (known: {', '.join(BUSES)})"
-        ) from None
+        raise DriveError(f"protocol must be one of {', '.join(BUSES)}, got {name!r}") from None
 
 
 def open_bus(
