@@ -537,12 +537,13 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path):
         "tie": {
             "rule": "designs within fitness_tolerance of the best tie; of those, the largest "
             "fold range p_e wins (within 1e-6), then the lowest run index; a design whose "
-            "strings cannot fold it to p_e is refused",
+            "route cannot be built or whose strings cannot fold it to p_e is refused and "
+            "never wins",
             "fitness_tolerance": FITNESS_TIE,
             "tied_runs": [r.run for r in ties(results)],
             "refused": {str(run): why for run, why in refused.items()},
         },
-        "designs": [r.to_dict() for r in results],
+        "designs": [{**r.to_dict(), "refused": refused.get(r.run)} for r in results],
     }
     with atomic_write(files[0], "w", encoding="utf-8") as fh:
         json.dump(data, fh, indent=1)
@@ -555,29 +556,33 @@ def _write_arm_files(results, task, settings, seconds: float, stage: Path):
 
 
 def _chain_checked(results, task, route: Path):
-    """The designs with the winner first: the first tied design whose route can be built and
-    whose strings fold it (DCQC) to its ``p_e``; the others tied are refused, with why.
+    """The designs with the winner first, and the winner's route written to ``route``.
+
+    Every design's route is built and folded by its strings (DCQC); a design whose route
+    cannot be built, or whose strings stop short of its ``p_e``, is refused, with why. The
+    winner is the first design in rank order that is not refused: a tied one when any is.
 
     Returns (designs, the winner's DCQC result, {run: reason} of the refused).
     """
-    from origami_cad.design.search import ties
     from origami_cad.drive.from_model import AT_TOLERANCE
 
     refused: dict[int, str] = {}
-    for design in ties(results):
+    for design in results:
         strings = _write_arm_route(design, task, route)
         if isinstance(strings, Exception):
-            refused[design.run] = f"its string route cannot be built: {strings}"
+            why = str(strings).replace(str(route), route.name)  # not the staged path
+            refused[design.run] = f"its string route cannot be built: {why}"
         elif float(strings.p[-1]) < design.fold_ratio_end - AT_TOLERANCE:
             refused[design.run] = (
                 f"its strings fold it to p = {float(strings.p[-1]):.4f} only ({strings.stop}), "
                 f"short of its fold range's end p_e = {design.fold_ratio_end:.4f}"
             )
-        else:
-            rest = [r for r in results if r is not design]
-            return [design, *rest], strings, refused
-    lines = "; ".join(f"run {run}: {why}" for run, why in refused.items())
-    raise DesignError(f"every design tied for the best was refused: {lines}")
+    winner = next((d for d in results if d.run not in refused), None)
+    if winner is None:
+        lines = "; ".join(f"run {run}: {why}" for run, why in refused.items())
+        raise DesignError(f"every design was refused: {lines}")
+    strings = _write_arm_route(winner, task, route)
+    return [winner, *(r for r in results if r is not winner)], strings, refused
 
 
 def _arm_numbers(best, settings, seconds: float, strings) -> list[tuple[str, str]]:

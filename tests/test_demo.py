@@ -1,4 +1,6 @@
-"""The main job: `origami-cad demo --quick` runs every step and writes one self-contained page."""
+"""The main job: `origami-cad demo` (what `make demo` runs, not `--quick`) runs every step and
+writes one self-contained page. The slowest test of the suite (about 4 minutes on 2 cores):
+the quick demo once hid a Fig. 8 failure that only the full one reaches (issue 27)."""
 
 from __future__ import annotations
 
@@ -23,9 +25,9 @@ class Links(HTMLParser):
                 self.refs.append(value)
 
 
-def test_quick_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
+def test_full_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
     out = tmp_path / "out"
-    assert main(["demo", "-o", str(out), "--quick"]) == 0
+    assert main(["demo", "-o", str(out)]) == 0, capsys.readouterr().err
     printed = capsys.readouterr().out
     for key in (s.key for s in STEPS):
         assert re.search(rf"\[{key}\] done in \d+\.\d s", printed)
@@ -60,7 +62,8 @@ RENAMED = {
 # or on the arm's design (issue 16 designs it for the fold range its printed creases allow)
 STABLE = {
     "fig2": ["shape angles beta_1..beta_4 (eq. 1)", "panels", "creases (M / V)", "pattern size"],
-    "fig3": ["runs x generations"],
+    # "runs x generations" was recorded from the quick demo (4 x 60); the full one runs the
+    # task's 10 x 400, checked below
     # issue 18 made the 6 x 4 sheet the paper's 120 x 120 mm (it was 130.9 x 120 mm), which
     # changed its volumes and mass
     "fig4": ["6 x 4 Miura: panels / holes", "6 x 4 Miura: theta_max, p_max (eq. 6)"],
@@ -85,6 +88,7 @@ def check_against_before(out: Path) -> None:
     expected = {RENAMED.get(f, f) for f in BEFORE["files"]}
     assert expected <= written, sorted(expected - written)
     numbers = _numbers((out / "index.html").read_text())
+    assert numbers["fig3"]["runs x generations"] == "10 x 400"
     for step, keys in STABLE.items():
         for key in keys:
             assert numbers[step][key] == BEFORE["numbers"][step][key], (step, key)

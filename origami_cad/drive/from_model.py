@@ -216,7 +216,12 @@ def sequence_toml(
     ratio kept within its TSA's mapping.
     """
     lines = [header.rstrip("\n")] if header else []
-    lines += ["[sequence]", f"repeat = {int(repeat)}", f"rate = {rate:g}              # Hz", ""]
+    lines += [
+        "[sequence]",
+        f"repeat = {int(repeat)}",
+        f"rate = {float(rate)!r}              # Hz",
+        "",
+    ]
     for item in tsas:
         tsa: TSAParams = item["tsa"]
         pairs = ", ".join(f"[{_fixed(a)}, {_fixed(b)}]" for a, b in item["mapping"])
@@ -238,5 +243,5 @@ def sequence_toml(
             _fixed(min(max(round(v, DECIMALS), item["mapping"][0, 0]), item["mapping"][-1, 0]))
             for v, item in zip(values, tsas, strict=True)
         )
-        lines += ["[[keyframe]]", f"t = {t:g}", f"p = [{vals}]"]
+        lines += ["[[keyframe]]", f"t = {float(t)!r}", f"p = [{vals}]"]  # exact: times increase
     return "\n".join(lines) + "\n"
