@@ -912,7 +912,7 @@ def _refine_task(geom: PlanGeometry, settings: PlanSettings, route: dict, seed: 
     """
     import cma
 
-    from origami_cad.design.search import canonical_eigh
+    from origami_cad._libm import canonical_eigh
 
     n = len(route["faces"])
     dim = int(route["count"].sum()) * 2 + (n if geom.placement.kind == "ring" else 0)
