@@ -141,6 +141,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("sequence", "--points", {"type": int, "help": "mapping points besides the keyframes"}),
     ("sequence", "--fixed-panel", {"help": "hold this panel in every route"}),
     ("arm-scene", "--steps", {"type": int, "help": "equal TSA steps (default: by take-up)"}),
+    ("robot", "--ratio", {"type": _finite, "help": "fold ratio p of robot.step"}),
     ("robot", "--no-renders", {"action": "store_false", "dest": "renders", "help": "no render"}),
     ("crawl", "--cycles", {"type": int, "help": "gait cycles to simulate"}),
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
@@ -163,6 +164,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("part", "--crease", {"type": int, "help": "crease edge index (blocker)"}),
     ("part demo", "--output", {"dest": "folder", "help": _FOLDER}),
     ("demo", "--quick", {**_FLAG, "help": "reduced budget (for tests)"}),
+    ("mjcf", "routes", {"nargs": "*", "metavar": "ROUTE", "help": "route files (a robot: none)"}),
 ]  # fmt: skip
 
 
@@ -183,6 +185,7 @@ _COMMANDS: dict[str, tuple[Callable[..., jobs.Outputs], tuple[str, ...], str | N
     "arm-scene": (jobs.run_arm_scene, ("task", "design", "route"), "folder"),
     "robot": (jobs.run_robot, ("robot",), "folder"),
     "crawl": (jobs.run_crawl, ("robot",), "folder"),
+    "mjcf": (jobs.run_mjcf, ("source",), "output"),
     "emulate": (jobs.run_emulate, (), None),
     "drive": (jobs.run_drive, ("sequence",), None),
     "part": (jobs.run_part, (), None),

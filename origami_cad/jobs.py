@@ -55,6 +55,7 @@ __all__ = [
     "run_emulate",
     "run_fabricate",
     "run_fold",
+    "run_mjcf",
     "run_part",
     "run_pattern",
     "run_plan_route",
@@ -66,7 +67,7 @@ __all__ = [
 ]
 
 PathLike = str | os.PathLike[str]
-FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb")
+FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb", ".step")
 MAX_FRAMES = 10_000  # folded states in one file or animation
 GIF_FRAMES = 30  # frames of a simulation's animation
 
@@ -320,7 +321,9 @@ def run_fold(
     scale: float | None = None,
     width: float | None = None,
 ) -> Outputs:
-    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif or .glb.
+    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif, .glb
+    or a .step of the printed structure folded at ``ratio`` (``Fabrication.assembly``; the
+    default fabrication parameters, with the pattern's own string holes).
 
     ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30),
     each lying on the table, centred on the flat sheet
@@ -357,6 +360,12 @@ def run_fold(
         write_fold(cp, out, frames=labelled)
     elif suffix == ".png":
         render_folded(cp, states[-1].coords, out, title=f"p = {ratio:g}", view=view)
+    elif suffix == ".step":
+        from origami_cad.fabrication import FabricationParams, fabricate
+        from origami_cad.fabrication.exports.step import export_step_tree
+
+        fab = fabricate(loaded, FabricationParams(holes="pattern"))
+        export_step_tree(fab.assembly(ratio), out)
     elif suffix == ".glb":
         from origami_cad.viz.gltf import FOLDING_SECONDS, folding_meshes, write_glb
 
@@ -369,7 +378,7 @@ def run_fold(
     plural = "s" if len(states) > 1 else ""
     return Outputs(
         files=[out],
-        images=[(out, caption)] if suffix != ".fold" else [],
+        images=[(out, caption)] if suffix not in (".fold", ".step") else [],
         messages=[
             *warned,
             *_flat_creases_note(cp, states[-1].fold_angles if ratio > 0 else None),
@@ -1784,7 +1793,9 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
     return images
 
 
-def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Outputs:
+def run_robot(
+    robot: PathLike, folder: PathLike, *, renders: bool = True, ratio: float = 0.0
+) -> Outputs:
     """The printable robot: the sheet's STLs, STEP, 3MF and its parts, robot.step, mass budget.
 
     The robot file (``examples/crawler/crawler.toml``) gives the pattern, the holes its
@@ -1794,16 +1805,19 @@ def run_robot(robot: PathLike, folder: PathLike, *, renders: bool = True) -> Out
     ``driver_adapter.stl``), ``robot.step`` (every solid named and coloured in place),
     ``robot.json`` (each solid's volume, mass and bounding box, the mass budget with the
     robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
-    ``robot.png``.
+    ``robot.png``. ``ratio``: the fold ratio of ``robot.step``'s sheet and parts (0: flat);
+    the added parts' STLs and ``robot.json``'s boxes follow it, the sheet's own files stay flat.
     """
     from origami_cad.fabrication import FabricationParams, fabricate
     from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
     from origami_cad.simulation.crawler import load_robot, robot_placements
 
+    if not 0.0 <= ratio <= 1.0:
+        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
-    assembly = robot_assembly(fab, **robot_placements(spec))
+    assembly = robot_assembly(fab, **robot_placements(spec), ratio=ratio)
     report = robot_report(assembly)
     overlaps = robot_overlaps(assembly)
     budget = _mass_budget(spec, fab, report)
@@ -1978,4 +1992,34 @@ def run_drive(
             *(f"wrote {p}" for p in files),
         ],
         result=done,
+    )
+
+
+def run_mjcf(source: PathLike, routes: Sequence[PathLike] = (), output: PathLike = "") -> Outputs:
+    """A MuJoCo model (MJCF) of a design and its routes, or of a robot file: model.xml.
+
+    Panels as bodies, creases as hinges (eq. 6 ranges), strings as tendons through the
+    holes, one TSA actuator per string (docs/mujoco.md). Written atomically.
+    """
+    from origami_cad.simulation.mjcf import to_mjcf
+
+    routes = list(routes or ())
+    check_outputs([source, *routes], files=[output])
+    _check_suffix(output, (".xml",), "an MJCF model")
+    xml = to_mjcf(source, routes)
+    with atomic_write(output, "w", encoding="utf-8") as fh:
+        fh.write(xml)
+    keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}
+    counts = {k: xml.count(v) for k, v in keys.items()} | {"spatial": xml.count("<spatial ")}
+    counts["panel"] //= 2  # two printed halves each
+    return Outputs(
+        files=[Path(output)],
+        numbers=[
+            (
+                "panels / hinges / loop constraints",
+                "{panel} / {hinge} / {connect}".format(**counts),
+            ),
+            ("strings (tendons, one TSA actuator each)", str(counts["spatial"])),
+        ],
+        messages=[f"wrote {output}"],
     )

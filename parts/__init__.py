@@ -1,9 +1,15 @@
 """Parametric hardware around the origami, as build123d parts (mm, z up, pattern frame).
 
 Installed as ``origami_cad.parts`` (the folder stays at the top of the repository).
-Every part has a typed parameter dataclass (units in its field docs) and is listed
-in :data:`~origami_cad.parts.registry.PARTS`, from which ``origami-cad part`` and
-its ``--list`` are generated:
+Every part is a build123d ``BasePartObject`` (:class:`TSAModule`, :class:`RingRail`,
+:class:`Blocker`, :class:`DriverAdapter`, all :class:`~.base.OrigamiPart`): it builds
+at its defaults with no argument, takes ``rotation``, ``align`` and ``mode`` as
+build123d's own parts do, adds itself to an active ``BuildPart`` (nothing it builds on
+the way leaks into the user's builder), has labelled children and named
+``RigidJoint`` s at its mounting features. Every part has a typed parameter
+dataclass (units in its field docs) and is listed in
+:data:`~origami_cad.parts.registry.PARTS`, from which ``origami-cad part`` and its
+``--list`` are generated:
 
 ==================  =========================================  =========================
 name                builder                                    parameters
@@ -15,8 +21,9 @@ name                builder                                    parameters
 ==================  =========================================  =========================
 """
 
-from .blocker import BlockerParams, blocker, blocker_frame
-from .driver_adapter import DriverAdapterParams, driver_adapter
+from .base import OrigamiPart
+from .blocker import Blocker, BlockerParams, blocker, blocker_frame
+from .driver_adapter import DriverAdapter, DriverAdapterParams, driver_adapter
 from .registry import (
     PARTS,
     PartSpec,
@@ -25,17 +32,22 @@ from .registry import (
     parse_part_options,
     parts_listing,
 )
-from .ring_rail import RingRailParams, ring_anchor_points, ring_rail
-from .tsa_module import SERVOS, TSAModuleParams, tsa_module
+from .ring_rail import RingRail, RingRailParams, ring_anchor_points, ring_rail
+from .tsa_module import SERVOS, TSAModule, TSAModuleParams, tsa_module
 
 __all__ = [
     "PARTS",
     "SERVOS",
+    "Blocker",
     "BlockerParams",
+    "DriverAdapter",
     "DriverAdapterParams",
+    "OrigamiPart",
     "PartSpec",
     "Placement",
+    "RingRail",
     "RingRailParams",
+    "TSAModule",
     "TSAModuleParams",
     "blocker",
     "blocker_frame",

@@ -14,16 +14,17 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from build123d import Location, Part, Plane, Polyline, extrude, make_face
+from build123d import Align, Compound, Location, Mode, Part, Plane, Polyline, extrude, make_face
 
 from origami_cad.errors import DesignError
 from origami_cad.fabrication.params import FabricationParams, theta_max
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.pattern.model import CreasePattern
 
+from .base import OrigamiPart
 from .parameters import resolve_params, spec
 
-__all__ = ["BlockerParams", "blocker", "blocker_frame"]
+__all__ = ["Blocker", "BlockerParams", "blocker", "blocker_frame"]
 
 
 @dataclass(frozen=True)
@@ -75,13 +76,13 @@ def blocker_frame(
     return a, direction, across, int(ef[0]), int(ef[1])
 
 
-def blocker(
-    plan: PanelPlan | None = None,
-    crease: int | None = None,
-    params: BlockerParams | None = None,
-    **values: Any,
-) -> Part:
-    """A blocker stopping a valley crease at ``angle`` degrees.
+class Blocker(OrigamiPart):
+    """A blocker stopping a valley crease at ``angle`` degrees (build123d part).
+
+    Joint ``crease`` (``RigidJoint``): on the crease axis, at its middle, on the crease
+    layer's upper surface (the hinge, z = (h + t) / 2; mirrored: z = (h - t) / 2), x across
+    the crease, y along it. It meets the ``blocker E`` joint of crease ``E`` of
+    :meth:`Fabrication.assembly <origami_cad.fabrication.Fabrication.assembly>`.
 
     Parameters
     ----------
@@ -95,15 +96,55 @@ def blocker(
     params : BlockerParams, optional
         The parameters (default ``BlockerParams()``); without a plan the blocker
         is built for a crease along +y through the origin, panel ``B`` on the +x side.
+    mountain : bool
+        Mirror it about the sheet's mid-plane z = h/2, onto the bottom face: the
+        blocker of a mountain crease (a mountain fold is a valley seen from below).
+    rotation, align, mode
+        As for build123d's own parts (degrees; ``Align``; ``Mode``).
     **values
-        Parameters to change, by name: ``blocker(plan, 3, angle=45)``.
+        Parameters to change, by name: ``Blocker(plan, 3, angle=45)``.
     """
-    p = resolve_params(BlockerParams, params, values)
-    if plan is not None:
-        fp = plan.params
-        p = resolve_params(
-            BlockerParams, p, {"bias": fp.bias, "height": fp.height, "thickness": fp.thickness}
-        )
+
+    def __init__(
+        self,
+        plan: PanelPlan | None = None,
+        crease: int | None = None,
+        params: BlockerParams | None = None,
+        *,
+        mountain: bool = False,
+        rotation: Any = (0, 0, 0),
+        align: Align | tuple[Align, Align, Align] | None = None,
+        mode: Mode = Mode.ADD,
+        **values: Any,
+    ):
+        p = resolve_params(BlockerParams, params, values)
+        if plan is not None:
+            fp = plan.params
+            p = resolve_params(
+                BlockerParams, p, {"bias": fp.bias, "height": fp.height, "thickness": fp.thickness}
+            )
+        part, seat = _build(p, plan, crease, mountain)
+        tree = Compound(children=[part])
+        tree.label = part.label
+        super().__init__(tree, {"crease": seat}, p, rotation, align, mode)
+
+
+def blocker(
+    plan: PanelPlan | None = None,
+    crease: int | None = None,
+    params: BlockerParams | None = None,
+    *,
+    mountain: bool = False,
+    **values: Any,
+) -> Blocker:
+    """A blocker stopping a valley crease at ``angle`` degrees: :class:`Blocker`."""
+    return Blocker(plan, crease, params, mountain=mountain, **values)
+
+
+def _build(
+    p: BlockerParams, plan: PanelPlan | None, crease: int | None, mountain: bool
+) -> tuple[Part, Location]:
+    """The blocker's solid and its ``crease`` joint, mm."""
     angle, length, reach, base, clearance = p.angle, p.length, p.reach, p.base, p.clearance
     bias, height, thickness = p.bias, p.height, p.thickness
     limit = math.degrees(theta_max(bias, height, thickness))
@@ -126,11 +167,16 @@ def blocker(
     # section in the (u, z) plane, extruded along the crease (y)
     solid = extrude(Plane.XZ * face, amount=-length)
     part = solid if isinstance(solid, Part) else Part(solid.wrapped)
+    seat = Location((0.0, length / 2, z_c))
+    if mountain:
+        part = Part(part.mirror(Plane.XY.offset(height / 2.0)).wrapped)
+        seat = Location((0.0, length / 2, height - z_c))
     if plan is not None and crease is not None:
         start, direction, _, _, _ = blocker_frame(plan.pattern, crease)
         end = plan.pattern.vertices[plan.pattern.edges[crease, 1]]
         mid = start + direction * (np.linalg.norm(end - start) - length) / 2
         yaw = math.degrees(math.atan2(direction[1], direction[0])) - 90.0
-        part = part.moved(Location((float(mid[0]), float(mid[1]), 0.0), (0, 0, 1), yaw))
+        place = Location((float(mid[0]), float(mid[1]), 0.0), (0, 0, 1), yaw)
+        part, seat = part.moved(place), place * seat
     part.label = f"blocker {angle:g} deg"
-    return part
+    return part, seat

@@ -5,13 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from build123d import Box, Cylinder, Location, Part
+from build123d import Align, Box, Compound, Cylinder, Location, Mode, Part
 
 from origami_cad.errors import DesignError
 
+from .base import OrigamiPart
 from .parameters import resolve_params, spec
 
-__all__ = ["DriverAdapterParams", "driver_adapter"]
+__all__ = ["DriverAdapter", "DriverAdapterParams", "driver_adapter"]
 
 
 @dataclass(frozen=True)
@@ -46,18 +47,44 @@ class DriverAdapterParams:
     pocket: float = field(default=1.2, metadata=spec("mm", "depth of the board pocket", low=0.0))
 
 
-def driver_adapter(params: DriverAdapterParams | None = None, **values: Any) -> Part:
+class DriverAdapter(OrigamiPart):
     """A plate with a pocket for the controller board, connector slots and mounting holes.
+
+    A build123d part (child ``plate``); joint ``mount`` (``RigidJoint``): the centre of
+    the plate's bottom face, z up, y along the plate's long side.
 
     Parameters
     ----------
     params : DriverAdapterParams, optional
         The parameters (default ``DriverAdapterParams()``).
+    rotation, align, mode
+        As for build123d's own parts (degrees; ``Align``; ``Mode``).
     **values
         Parameters to change, by name (Python values or text, see
-        :class:`DriverAdapterParams` for units): ``driver_adapter(connectors=6)``.
+        :class:`DriverAdapterParams` for units): ``DriverAdapter(connectors=6)``.
     """
-    p = resolve_params(DriverAdapterParams, params, values)
+
+    def __init__(
+        self,
+        params: DriverAdapterParams | None = None,
+        *,
+        rotation: Any = (0, 0, 0),
+        align: Align | tuple[Align, Align, Align] | None = None,
+        mode: Mode = Mode.ADD,
+        **values: Any,
+    ):
+        p = resolve_params(DriverAdapterParams, params, values)
+        tree, mount = _build(p)
+        super().__init__(tree, {"mount": mount}, p, rotation, align, mode)
+
+
+def driver_adapter(params: DriverAdapterParams | None = None, **values: Any) -> DriverAdapter:
+    """The driver adapter: :class:`DriverAdapter` (same parameters)."""
+    return DriverAdapter(params, **values)
+
+
+def _build(p: DriverAdapterParams) -> tuple[Compound, Location]:
+    """The adapter's tree and its ``mount`` joint, mm."""
     connectors, thickness, pocket, margin = p.connectors, p.thickness, p.pocket, p.margin
     board_width, board_length, pitch = p.board_width, p.board_length, p.pitch
     slot_width, slot_depth, mounting_hole = p.slot_width, p.slot_depth, p.mounting_hole
@@ -89,5 +116,7 @@ def driver_adapter(params: DriverAdapterParams | None = None, **values: Any) -> 
             )
     if not isinstance(part, Part):
         part = Part(part.wrapped)
-    part.label = f"driver adapter ({connectors} connectors)"
-    return part
+    part.label = "plate"
+    tree = Compound(children=[part])
+    tree.label = f"driver adapter ({connectors} connectors)"
+    return tree, Location((width / 2, length / 2, 0.0))

@@ -137,6 +137,7 @@ def build_part(
     pattern: PanelPlan | Design | CreasePattern | str | os.PathLike[str] | None = None,
     panel: str | None = None,
     crease: int | None = None,
+    **options: Any,
 ) -> Any:
     """Build a part of the library from its name and parameters.
 
@@ -154,6 +155,8 @@ def build_part(
         Panel label, for a part placed on a panel (``tsa-module``).
     crease : int, optional
         Crease edge index, for a part placed on a crease (``blocker``).
+    **options
+        Passed to the part's class as they are (``mountain=True`` for a blocker).
 
     Raises
     ------
@@ -170,16 +173,16 @@ def build_part(
     if pattern is None:
         if panel is not None or crease is not None:
             raise DesignError(f"part {name}: --panel and --crease need --pattern")
-        return spec.builder(params=params)
+        return spec.builder(params=params, **options)
     plan = pattern if isinstance(pattern, PanelPlan) else plan_panels(_source(pattern))
     if spec.placement is Placement.PANEL:
         if not panel:
             raise DesignError(f"part {name}: give the panel label (--panel) with --pattern")
-        return spec.builder(params=params, plan=plan, panel=panel)
+        return spec.builder(params=params, plan=plan, panel=panel, **options)
     if spec.placement is Placement.CREASE:
         if crease is None:
             raise DesignError(f"part {name}: give the crease edge (--crease) with --pattern")
-        return spec.builder(plan=plan, crease=crease, params=params)
+        return spec.builder(plan=plan, crease=crease, params=params, **options)
     raise DesignError(f"part {name} is not placed on a pattern: leave out --pattern")
 
 

@@ -14,12 +14,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from build123d import (
+    Align,
     Axis,
     Compound,
     Cylinder,
     Edge,
     Face,
     Location,
+    Mode,
     Part,
     Plane,
     Solid,
@@ -29,9 +31,10 @@ from build123d import (
 
 from origami_cad.errors import DesignError
 
+from .base import OrigamiPart
 from .parameters import resolve_params, spec
 
-__all__ = ["CLEARANCE", "WALL", "RingRailParams", "ring_anchor_points", "ring_rail"]
+__all__ = ["CLEARANCE", "WALL", "RingRail", "RingRailParams", "ring_anchor_points", "ring_rail"]
 
 
 #: Thickness of a carriage's walls, mm; the string eyelet goes through its inner wall.
@@ -106,23 +109,49 @@ def _sector(r0: float, r1: float, a0: float, a1: float, z0: float, z1: float) ->
     return Solid.extrude(face, Vector(0, 0, z1 - z0)).rotate(Axis.Z, a0)
 
 
-def ring_rail(params: RingRailParams | None = None, **values: Any) -> Compound:
-    """The rail (a ring) and its carriages, as an assembly with named children.
+class RingRail(OrigamiPart):
+    """The rail (a ring) and its carriages, a build123d part with named children.
 
-    Each carriage is an arc of the ring's own curvature: a top and two curved walls
-    around the rail, ``CLEARANCE`` (mm) from it everywhere (radially on both sides and
-    above), so it slides on the printed ring without interference.
+    Children ``rail``, ``carriage 1 (45 deg)``... Each carriage is an arc of the ring's
+    own curvature: a top and two curved walls around the rail, ``CLEARANCE`` (mm) from it
+    everywhere (radially on both sides and above), so it slides on the printed ring
+    without interference. Joints ``seat 1``, ``seat 2``... (``RigidJoint``): where each
+    carriage sits, on the ring's top at its mid-radius, x pointing out from the centre,
+    z up.
 
     Parameters
     ----------
     params : RingRailParams, optional
         The parameters (default ``RingRailParams()``; the paper's ring has a 70 mm
         inner radius).
+    rotation, align, mode
+        As for build123d's own parts (degrees; ``Align``; ``Mode``).
     **values
         Parameters to change, by name (Python values or text, see
-        :class:`RingRailParams` for units): ``ring_rail(angles=(0, 120, 240))``.
+        :class:`RingRailParams` for units): ``RingRail(angles=(0, 120, 240))``.
     """
-    p = resolve_params(RingRailParams, params, values)
+
+    def __init__(
+        self,
+        params: RingRailParams | None = None,
+        *,
+        rotation: Any = (0, 0, 0),
+        align: Align | tuple[Align, Align, Align] | None = None,
+        mode: Mode = Mode.ADD,
+        **values: Any,
+    ):
+        p = resolve_params(RingRailParams, params, values)
+        tree, seats = _build(p)
+        super().__init__(tree, seats, p, rotation, align, mode)
+
+
+def ring_rail(params: RingRailParams | None = None, **values: Any) -> RingRail:
+    """The ring rail and its carriages: :class:`RingRail` (same parameters)."""
+    return RingRail(params, **values)
+
+
+def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
+    """The rail's tree and its carriage seats, mm."""
     inner_diameter, width, height, angles = p.inner_diameter, p.width, p.height, p.angles
     centre, z_top, carriage_length = p.centre, p.z_top, p.carriage_length
     carriage_height, lock_screw, eyelet = p.carriage_height, p.lock_screw, p.eyelet
@@ -177,4 +206,8 @@ def ring_rail(params: RingRailParams | None = None, **values: Any) -> Compound:
         children.append(body)
     assembly = Compound(children=children)
     assembly.label = "ring rail"
-    return assembly
+    seats = {
+        f"seat {k + 1}": Location((cx, cy, z_top), (0, 0, 1), a) * Location((r_mid, 0.0, 0.0))
+        for k, a in enumerate(angles)
+    }
+    return assembly, seats

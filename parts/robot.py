@@ -18,12 +18,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from build123d import Color, Compound, Location, Plane, export_step, export_stl
+import shapely
+from build123d import Color, Compound, Location, export_stl
 
 from origami_cad._fileio import atomic_path
 from origami_cad.errors import DesignError
+from origami_cad.fabrication.assembly import MATERIAL_COLORS, moved_tree, solids_by_part
 from origami_cad.fabrication.build import Fabrication
-from origami_cad.fabrication.export import MATERIAL_COLORS
+from origami_cad.fabrication.exports.step import export_step_tree
 from origami_cad.fabrication.params import DENSITY_G_CM3
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 
@@ -39,6 +41,7 @@ __all__ = [
     "robot_assembly",
     "robot_overlaps",
     "robot_report",
+    "robot_tree",
     "write_robot_step",
     "write_robot_stls",
 ]
@@ -81,11 +84,17 @@ class FreePlacement:
 
 @dataclass
 class RobotAssembly:
-    """The robot's solids by name (build123d shapes; stay in ``parts``) and their materials."""
+    """The robot's solids by name (build123d shapes; stay in ``parts``) and their materials.
+
+    ``sheet`` is the printed sheet as an assembly (``Fabrication.assembly``) at the fold
+    ratio ``ratio``; ``solids`` holds its four parts (by part name) and the added parts.
+    """
 
     solids: dict[str, Any]
     materials: dict[str, str]
     kinds: dict[str, str]
+    sheet: Any = None
+    ratio: float = 0.0
 
 
 def robot_assembly(
@@ -93,8 +102,9 @@ def robot_assembly(
     modules: Sequence[ModulePlacement] = (),
     blockers: Sequence[BlockerPlacement] = (),
     free: Sequence[FreePlacement] = (),
+    ratio: float = 0.0,
 ) -> RobotAssembly:
-    """Place parts on a fabricated sheet; names must be unique.
+    """Place parts on a fabricated sheet, folded to ``ratio``; names must be unique.
 
     Parameters
     ----------
@@ -103,10 +113,19 @@ def robot_assembly(
         creases).
     modules, blockers, free : sequences of placements
         The TSA modules (on panels), blockers (on creases) and free-standing parts.
+    ratio : float
+        Fold ratio p in [0, 1] (0: flat, as printed): every part moves with the panel it
+        is bonded to (a blocker with the panel on its crease's left, a free part with the
+        panel under its centre), as the panels move in ``fab.assembly(ratio)``.
     """
+    from origami_cad.fabrication.assembly import sheet_motion
+
     plan = fab.plan
     cp = plan.pattern
     h = plan.params.height
+    sheet = fab.assembly(ratio)
+    motion = sheet_motion(cp, plan.params, ratio, fab.design).locations
+    by_part = solids_by_part(sheet)
     solids: dict[str, Any] = {}
     materials: dict[str, str] = {}
     kinds: dict[str, str] = {}
@@ -119,25 +138,32 @@ def robot_assembly(
         kinds[name] = kind
 
     for part in PART_NAMES:
-        add(part, fab.parts.compound(part), PART_MATERIALS[part], "structure")
+        add(part, Compound(by_part[part]), PART_MATERIALS[part], "structure")
     for m in modules:
         shape = build_part("tsa-module", m.values, pattern=plan, panel=m.panel)
-        add(m.name, shape, "PLA", "tsa-module")
+        face = cp.face_index(m.panel)
+        add(m.name, moved_tree(shape, motion[face]), "PLA", "tsa-module")
     for b in blockers:
         if cp.assignments[b.crease] not in ("M", "V"):
             raise DesignError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
-        shape = build_part("blocker", {**b.values, "angle": b.angle}, pattern=plan, crease=b.crease)
-        if cp.assignments[b.crease] == "M":
-            shape = shape.mirror(Plane.XY.offset(h / 2.0))
-        add(b.name, shape, "PLA", "blocker")
+        mountain = cp.assignments[b.crease] == "M"
+        values = {**b.values, "angle": b.angle}
+        shape = build_part("blocker", values, pattern=plan, crease=b.crease, mountain=mountain)
+        face = int(cp.edge_faces()[b.crease][0])
+        add(b.name, moved_tree(shape, motion[face]), "PLA", "blocker")
     for f in free:
         shape = build_part(f.part, f.values)
         box = shape.bounding_box()
         centre = (box.min + box.max) * 0.5
         shape = shape.moved(Location((-centre.X, -centre.Y, -box.min.Z)))
         shape = shape.moved(Location((f.at[0], f.at[1], h), (0, 0, 1), f.heading - 90.0))
-        add(f.name, shape, "PLA", f.part)
-    return RobotAssembly(solids, materials, kinds)
+        under = shapely.Point(f.at)
+        faces = [
+            k for k, poly in enumerate(cp.face_polygons()) if shapely.Polygon(poly).covers(under)
+        ]
+        loc = motion[faces[0]] if faces else Location()
+        add(f.name, moved_tree(shape, loc), "PLA", f.part)
+    return RobotAssembly(solids, materials, kinds, sheet, float(ratio))
 
 
 def robot_report(robot: RobotAssembly) -> dict[str, dict[str, Any]]:
@@ -207,18 +233,41 @@ def display_color(robot: RobotAssembly, name: str) -> str:
 def write_robot_step(
     robot: RobotAssembly, path: str | os.PathLike[str], label: str = "robot"
 ) -> Path:
-    """Write the robot as one STEP assembly of named, coloured parts (atomic)."""
+    """Write the robot as one STEP assembly of named, coloured parts (atomic).
+
+    The sheet is its assembly tree (panels by label, each solid in its material's colour,
+    the crease strips); each added part is a child named as placed, every solid of it in
+    its kind's colour (:data:`PART_COLORS`), so FreeCAD shows the colours with STEP
+    compound merge on or off.
+    """
+    return export_step_tree(robot_tree(robot, label), path)
+
+
+def robot_tree(robot: RobotAssembly, label: str = "robot") -> Compound:
+    """The robot as one labelled, coloured ``Compound`` tree: the sheet, then the parts."""
     children = []
+    if robot.sheet is not None:
+        sheet = moved_tree(robot.sheet, Location())
+        sheet.label = "sheet"
+        children.append(sheet)
     for name, shape in robot.solids.items():
-        shape.label = name
-        shape.color = _color(display_color(robot, name))
-        children.append(shape)
-    assembly = Compound(children=children)
-    assembly.label = label
-    with atomic_path(path) as tmp:
-        if export_step(assembly, str(tmp)) is False:
-            raise OSError(f"{path}: the STEP writer failed")
-    return Path(path)
+        if robot.sheet is not None and robot.kinds[name] == "structure":
+            continue
+        node = moved_tree(shape, Location())
+        node.label = name
+        color = _color(display_color(robot, name))
+        _paint(node, color)
+        children.append(node)
+    tree = Compound(children=children)
+    tree.label = label
+    return tree
+
+
+def _paint(node: Any, color: Color) -> None:
+    """Give ``node`` and every node below it the colour ``color``."""
+    node.color = color
+    for child in getattr(node, "children", ()) or ():
+        _paint(child, color)
 
 
 def write_robot_stls(

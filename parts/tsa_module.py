@@ -17,15 +17,28 @@ from typing import Any
 
 import shapely
 import shapely.affinity
-from build123d import Box, Compound, Cylinder, Location, Part, Plane, Polyline, extrude, make_face
+from build123d import (
+    Align,
+    Box,
+    Compound,
+    Cylinder,
+    Location,
+    Mode,
+    Part,
+    Plane,
+    Polyline,
+    extrude,
+    make_face,
+)
 
 from origami_cad.errors import DesignError
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
+from .base import OrigamiPart
 from .parameters import resolve_params, spec
 
-__all__ = ["SERVOS", "TSAModuleParams", "tsa_module"]
+__all__ = ["SERVOS", "TSAModule", "TSAModuleParams", "tsa_module"]
 
 #: Servo bodies: (width, length, height) of the case in mm and the horn axis's distance from
 #: the front end, from the manufacturer's published drawings.
@@ -79,7 +92,7 @@ class TSAModuleParams:
         metadata=spec(
             "mm",
             "on a panel: the mount reaches this far around the servo, hub and guide "
-            "(default: the panel's whole outer face, inset by 1 mm)",
+            "(default: on a panel its whole outer face, inset by 1 mm; alone 2 mm)",
             low=0.0,
         ),
     )
@@ -91,14 +104,16 @@ class TSAModuleParams:
     )
 
 
-def tsa_module(
-    params: TSAModuleParams | None = None,
-    *,
-    plan: PanelPlan | None = None,
-    panel: str | None = None,
-    **values: Any,
-) -> Compound:
-    """An onboard TSA module, as an assembly: ``servo``, ``hub``, ``guide``, ``mount``.
+class TSAModule(OrigamiPart):
+    """An onboard TSA module (build123d part): children ``servo``, ``hub``, ``guide``, ``mount``.
+
+    Joints (``RigidJoint``):
+
+    * ``mount``: the centre of the mount plate's bottom face, axes of the frame the module
+      was built in (on a panel: the pattern's; it meets the panel's ``mount`` joint of
+      :meth:`Fabrication.assembly <origami_cad.fabrication.Fabrication.assembly>`);
+    * ``hub``: the centre of the twist hub's outer face, z along the twist axis (out of
+      the servo), x up.
 
     Parameters
     ----------
@@ -110,13 +125,45 @@ def tsa_module(
         at the panel's holes, placed on the panel (z = h).
     panel : str, optional
         Label of the panel of ``plan`` to mount on.
+    rotation, align, mode
+        As for build123d's own parts (degrees; ``Align``; ``Mode``).
     **values
         Parameters to change, by name (Python values or text, see
-        :class:`TSAModuleParams` for units): ``tsa_module(servo="XL430")``.
+        :class:`TSAModuleParams` for units): ``TSAModule(servo="XL430")``.
     """
-    p = resolve_params(TSAModuleParams, params, values)
-    servo, body, horn_offset, tsa = p.servo, p.body, p.horn_offset, p.tsa
-    heading = p.heading
+
+    def __init__(
+        self,
+        params: TSAModuleParams | None = None,
+        *,
+        plan: PanelPlan | None = None,
+        panel: str | None = None,
+        rotation: Any = (0, 0, 0),
+        align: Align | tuple[Align, Align, Align] | None = None,
+        mode: Mode = Mode.ADD,
+        **values: Any,
+    ):
+        p = resolve_params(TSAModuleParams, params, values)
+        tree, joints = _build(p, plan, panel)
+        super().__init__(tree, joints, p, rotation, align, mode)
+
+
+def tsa_module(
+    params: TSAModuleParams | None = None,
+    *,
+    plan: PanelPlan | None = None,
+    panel: str | None = None,
+    **values: Any,
+) -> TSAModule:
+    """An onboard TSA module: :class:`TSAModule` (same parameters)."""
+    return TSAModule(params, plan=plan, panel=panel, **values)
+
+
+def _build(
+    p: TSAModuleParams, plan: PanelPlan | None, panel: str | None
+) -> tuple[Compound, dict[str, Location]]:
+    """The module's tree (servo, hub, guide, mount) and its joints, mm."""
+    servo, body, horn_offset = p.servo, p.body, p.horn_offset
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
@@ -128,19 +175,20 @@ def tsa_module(
     if horn_offset is None:
         horn_offset = spec.get("horn_offset", body[0] / 2)
     horn_d = spec.get("horn_diameter", 0.8 * body[0])
-    tsa = tsa or TSAParams()
+    tsa = p.tsa or TSAParams()
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
         raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
     reach = _reach(p, tsa, horn_d, horn_offset, length, h)
-    mount, cx, cy, z_base = _mount(p, plan, panel, length, w, reach)
+    mount, cx, cy, z_base = _mount(p, plan, panel, reach)
     # the servo lies on its side: its height runs along the twist axis (local x, horn face
     # at x = 0), its length across (local y, horn axis horn_offset from the front end)
     z0 = z_base + p.mount_thickness
     servo_box = Box(h, length, w, align=None).moved(Location((-h, -horn_offset, z0)))
     servo_part = servo_box if isinstance(servo_box, Part) else Part(servo_box.wrapped)
-    hub, guide = _hub_and_guide(p, tsa, horn_d, z0, z0 + w / 2)
-    shift = Location((cx, cy, 0), (0, 0, 1), heading)
+    axis_z = z0 + w / 2
+    hub, guide = _hub_and_guide(p, tsa, horn_d, z0, axis_z)
+    shift = Location((cx, cy, 0), (0, 0, 1), p.heading)
     children = []
     for name, part in (("servo", servo_part), ("hub", hub), ("guide", guide)):
         moved = part.moved(shift)
@@ -150,7 +198,12 @@ def tsa_module(
     children.append(mount)
     assembly = Compound(children=children)
     assembly.label = f"TSA module ({servo})"
-    return assembly
+    hub_face = Plane(origin=(1.0 + p.hub_thickness, 0.0, axis_z), x_dir=(0, 0, 1), z_dir=(1, 0, 0))
+    joints = {
+        "mount": Location((cx, cy, z_base)),
+        "hub": shift * Location(hub_face),
+    }
+    return assembly, joints
 
 
 def _reach(
@@ -166,16 +219,15 @@ def _mount(
     p: TSAModuleParams,
     plan: PanelPlan | None,
     panel: str | None,
-    length: float,
-    w: float,
     reach: tuple[float, float, float, float],
 ) -> tuple[Part, float, float, float]:
     """The mount plate and where the module stands: ``(mount, cx, cy, z_base)``, mm.
 
     On a planned panel: the panel's outer face inset by 1 mm with the panel's holes, at
     z = h (with ``mount_margin``: only the part of it within that margin of the module's
-    ``reach``, its footprint); otherwise a plate 4 mm larger than the servo around
-    ``p.centre``.
+    ``reach``, its footprint); otherwise the footprint of the servo, hub and guide grown by
+    ``mount_margin`` (default 2 mm), turned to the heading, around ``p.centre``: the servo
+    and the guide stand on it.
     """
     z_base = 0.0
     holes: list[tuple[float, float, float]] = []
@@ -188,18 +240,13 @@ def _mount(
         z_base = plan.params.height
         cx, cy = foot.centroid.x, foot.centroid.y
         if p.mount_margin is not None:
-            x0, y0, x1, y1 = reach
-            m = p.mount_margin
-            box = shapely.box(x0 - m, y0 - m, x1 + m, y1 + m)
-            box = shapely.affinity.translate(
-                shapely.affinity.rotate(box, p.heading, (0, 0)), cx, cy
-            )
-            foot = foot.intersection(box)
+            foot = foot.intersection(_footprint(p, reach, p.mount_margin, cx, cy))
             if not isinstance(foot, shapely.Polygon) or foot.is_empty:
                 raise DesignError(f"the TSA module's mount does not fit panel {panel!r}")
     else:
         cx, cy = p.centre
-        foot = shapely.box(cx - length / 2 - 4, cy - w / 2 - 4, cx + length / 2 + 4, cy + w / 2 + 4)
+        margin = 2.0 if p.mount_margin is None else p.mount_margin
+        foot = _footprint(p, reach, margin, cx, cy)
     mount = _prism(foot, z_base, z_base + p.mount_thickness)
     for x, y, d in holes:
         mount = mount - Cylinder(d / 2, p.mount_thickness + 2, align=None).moved(
@@ -208,6 +255,19 @@ def _mount(
     mount = mount if isinstance(mount, Part) else Part(mount.wrapped)
     mount.label = "mount"
     return mount, cx, cy, z_base
+
+
+def _footprint(
+    p: TSAModuleParams,
+    reach: tuple[float, float, float, float],
+    margin: float,
+    cx: float,
+    cy: float,
+) -> shapely.Polygon:
+    """The module's reach grown by ``margin`` (mm), turned to the heading, at ``(cx, cy)``."""
+    x0, y0, x1, y1 = reach
+    box = shapely.box(x0 - margin, y0 - margin, x1 + margin, y1 + margin)
+    return shapely.affinity.translate(shapely.affinity.rotate(box, p.heading, (0, 0)), cx, cy)
 
 
 def _hub_and_guide(

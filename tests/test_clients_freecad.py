@@ -49,15 +49,13 @@ def _rgb(hexa: str) -> list[float]:
     return [int(h[i : i + 2], 16) / 255 for i in (0, 2, 4)]
 
 
-@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
-def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
-    fab = fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
-    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+def _freecad(tmp_path, probe: str, step):
+    """Run a probe script (``{path}``: the STEP, ``{out}``: its JSON) in FreeCAD; its rows."""
     out = tmp_path / "objects.json"
     script = tmp_path / "probe.py"
-    script.write_text(SCRIPT.format(path=str(step), out=str(out)))
+    script.write_text(probe.format(path=str(step), out=str(out)))
     home = tmp_path / "home"
-    home.mkdir()
+    home.mkdir(exist_ok=True)
     env = {
         **os.environ,
         "QT_QPA_PLATFORM": "offscreen",
@@ -69,7 +67,14 @@ def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
         [FREECAD, str(script)], env=env, capture_output=True, text=True, timeout=600, check=False
     )
     assert out.is_file(), run.stdout[-2000:] + run.stderr[-2000:]
-    rows = json.loads(out.read_text())
+    return json.loads(out.read_text())
+
+
+@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
+def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
+    fab = fabricate(miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(shell=0.5))
+    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    rows = _freecad(tmp_path, SCRIPT, step)
     for name in PART_NAMES:
         expected = _rgb(MATERIAL_COLORS[PART_MATERIALS[name]])
         solids = [r for r in rows if r[1] == "Part::Feature" and r[0].startswith(f"{name} ")]
@@ -82,3 +87,68 @@ def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
         compounds = [r for r in rows if r[1] == "Part::Compound2" and r[0].startswith(name)]
         for label, _, _, colour in compounds:  # the part itself, not grey
             assert colour == pytest.approx(expected, abs=2e-3), label
+
+
+MODES_SCRIPT = """
+import json, sys, FreeCAD, FreeCADGui
+FreeCADGui.showMainWindow()
+import ImportGui
+rows = {{}}
+# compound merge off (the assembly as link groups), and on (with App::Part groups)
+for merge in (False, True):
+    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Import/hSTEP").SetBool(
+        "ReadShapeCompoundMode", merge)
+    doc = FreeCAD.newDocument()
+    ImportGui.insert({path!r}, doc.Name, merge=merge, useLinkGroup=not merge)
+    FreeCADGui.updateGui()
+    out = []
+    for o in doc.Objects:
+        if o.TypeId != "Part::Feature":
+            continue
+        shape = o.Shape
+        out.append([o.Label, len(shape.Solids), all(s.isValid() for s in shape.Solids),
+                    list(o.ViewObject.ShapeColor[:3]), shape.Volume])
+    rows["merge" if merge else "no merge"] = out
+with open({out!r}, "w") as fh:
+    json.dump(rows, fh)
+"""
+
+
+@pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")
+def test_freecad_reads_the_folded_assembly_and_a_part_in_both_merge_modes(tmp_path):
+    """Every solid of the folded sheet and of a TSA module beside it: valid, named as we
+    named it, in its colour, whether STEP compound merge is on or off."""
+    from build123d import Color, Compound
+    from origami_cad.parts import TSAModule
+
+    from origami_cad.fabrication.assembly import solids_by_part
+    from origami_cad.fabrication.exports.step import export_step_tree
+
+    fab = fabricate(miura_design(2, 2, 25.0, 25.0, 65.0))
+    sheet = fab.assembly(0.3)
+    module = TSAModule(plan=fab.plan, panel="c0r1s1")
+    sheet.children[3].joints["mount"].connect_to(module.joints["mount"])
+    for child in module.children:
+        child.color = Color(0.25, 0.25, 0.25)
+    robot = Compound(children=[sheet, module])
+    robot.label = "robot"
+    step = export_step_tree(robot, tmp_path / "folded.step")
+    want = {
+        leaf.label: (_rgb(MATERIAL_COLORS[PART_MATERIALS[part]]), leaf.volume)
+        for part, leaves in solids_by_part(sheet).items()
+        for leaf in leaves
+    }
+    want.update({c.label: ([0.25, 0.25, 0.25], c.volume) for c in module.children})
+    rows = _freecad(tmp_path, MODES_SCRIPT, step)
+    assert set(rows) == {"merge", "no merge"}
+    for mode, features in rows.items():
+        got = {
+            label: (solids, valid, colour, volume)
+            for label, solids, valid, colour, volume in features
+        }
+        assert set(got) == set(want), mode
+        for label, (colour, volume) in want.items():
+            solids, valid, shown, read = got[label]
+            assert solids == 1 and valid, (mode, label)
+            assert shown == pytest.approx(colour, abs=2e-3), (mode, label)
+            assert read == pytest.approx(volume, rel=1e-6), (mode, label)

@@ -201,7 +201,9 @@ def test_crawl_command(tmp_path, capsys):
 
 def _shared(a, b) -> float:
     """Volume two shapes share, mm^3 (a real boolean of the solids read back)."""
-    common = a & b
+    from build123d import Compound
+
+    common = Compound(a.solids()) & Compound(b.solids())
     return 0.0 if common is None else float(sum(s.volume for s in common.solids()))
 
 
@@ -217,31 +219,39 @@ def test_robot_step_holds_named_parts_that_do_not_interpenetrate(printed):
     from build123d import import_step
 
     out, _ = printed
+    from origami_cad.fabrication.assembly import solids_by_part
+
     back = import_step(out / "robot.step")
     solids = {c.label: c for c in back.children}
-    expected = {"infills", "midlayers", "shells", "creases", "driver_adapter"}
+    expected = {"sheet", "driver_adapter"}
     expected |= {
         f"tsa_module_{k}" for k in ("front_left", "front_right", "rear_left", "rear_right")
     }
     expected |= {f"blocker_{k}" for k in ("front_left", "front_right", "rear_left", "rear_right")}
     assert set(solids) == expected
-    # coloured: a part, or each child of an assembly part (a module: servo, hub, guide, mount)
-    for c in back.children:
-        assert c.color is not None or all(g.color is not None for g in c.children), c.label
-    assert tuple(solids["blocker_rear_left"].color)[:3] == pytest.approx(
-        (1.0, 0.498, 0.055), abs=0.01
-    )
+    # the sheet: a child per panel (its FOLD label) and the crease strips
+    panels = {c.label for c in solids["sheet"].children}
+    assert "creases" in panels and len(panels) == len(load_robot(ROBOT).pattern.faces) + 1
+    # coloured: every solid, the sheet's in its material's colour
+    for leaf in back.leaves:
+        assert leaf.color is not None, leaf.label
+    by_part = solids_by_part(solids["sheet"])
+    assert tuple(by_part["shells"][0].color)[:3] == pytest.approx((0.839, 0.153, 0.157), abs=0.01)
+    for leaf in solids["blocker_rear_left"].leaves:  # the blocker's solid, in orange
+        assert tuple(leaf.color)[:3] == pytest.approx((1.0, 0.498, 0.055), abs=0.01)
     # read back, every pair of parts (not the sheet's own four) shares no volume with another
-    names = sorted(n for n in solids if n not in ("infills", "midlayers", "shells", "creases"))
-    sheet = solids["shells"]
+    from build123d import Compound
+
+    names = sorted(n for n in solids if n != "sheet")
+    sheet = Compound(by_part["shells"])
     for i, a in enumerate(names):
         assert _shared(solids[a], sheet) < 1e-3, a
         for b in names[i + 1 :]:
             assert _shared(solids[a], solids[b]) < 1e-3, (a, b)
     # the check sees an overlap: the same blocker pushed 1 mm into the sheet
-    from build123d import Location
+    from build123d import Compound, Location
 
-    pushed = solids["blocker_front_left"].moved(Location((0, 0, 1.0)))
+    pushed = Compound(solids["blocker_front_left"].solids()).moved(Location((0, 0, 1.0)))
     assert _shared(pushed, sheet) > 1.0
     # every module stands on its leg, above the sheet's top face (z = h = 2.2 mm)
     for k in ("front_left", "rear_right"):

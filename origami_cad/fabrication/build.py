@@ -36,6 +36,21 @@ class Fabrication:
     plan: PanelPlan
     parts: Parts
     timings: dict[str, float] = field(default_factory=dict)
+    #: the design it was made from, when it came from one (folds it in :meth:`assembly`)
+    design: Design | None = None
+
+    def assembly(self, ratio: float = 0.0, design: Design | None = None) -> Any:
+        """The printed sheet as a build123d ``Compound`` tree with joints, folded to ``ratio``.
+
+        sheet -> one child per panel (labelled as the FOLD's ``faces_origami_cad:labels``)
+        holding its infill, shell and mid-layer solids, and ``creases``, the crease strips;
+        every solid in its material's colour. See
+        :func:`~origami_cad.fabrication.assembly.sheet_assembly` (``ratio`` in [0, 1],
+        ``design`` default :attr:`design`).
+        """
+        from origami_cad.fabrication.assembly import sheet_assembly
+
+        return sheet_assembly(self, ratio, design or self.design)
 
     @property
     def pattern(self) -> CreasePattern:
@@ -130,27 +145,23 @@ def fabricate(
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
-    return build_fabrication(plan_panels(source, params))
+    fab = build_fabrication(plan_panels(source, params))
+    fab.design = source if isinstance(source, Design) else None
+    return fab
 
 
 def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:
     """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD."""
-    from origami_cad.fabrication.export import export_3mf, export_step_assembly, export_stls
+    from origami_cad.fabrication.exports import WRITERS
     from origami_cad.pattern.formats.fold import write_fold
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    paths = dict(export_stls(fab.parts, out))
-    fab.timings["stl"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    paths["step"] = export_step_assembly(fab.parts, out / "assembly.step")
-    fab.timings["step"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    paths["3mf"] = export_3mf(
-        fab.parts, out / "print.3mf", name=fab.pattern.title or "origami", params=fab.params
-    )
-    fab.timings["3mf"] = time.perf_counter() - t0
+    paths: dict[str, Path] = {}
+    for fmt, write in WRITERS.items():
+        t0 = time.perf_counter()
+        paths.update(write(fab, out))
+        fab.timings[fmt] = time.perf_counter() - t0
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"
     with atomic_write(paths["json"], "w", encoding="utf-8") as fh:

@@ -23,7 +23,15 @@ from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import Hole
 
-__all__ = ["PART_MATERIALS", "PART_NAMES", "Parts", "build_parts", "half_solid"]
+__all__ = [
+    "PART_MATERIALS",
+    "PART_NAMES",
+    "Parts",
+    "build_parts",
+    "crease_sheet",
+    "half_solid",
+    "planar_prism",
+]
 
 #: The four parts, in the order of the exports.
 PART_NAMES = ("infills", "midlayers", "shells", "creases")
@@ -37,6 +45,13 @@ class Parts:
 
     solids: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
     halves: list[tuple[Solid, Solid]] = field(default_factory=list)  # (lower, upper) per panel
+    #: face index of the panel of each solid of ``infills``, ``midlayers``, ``shells``
+    owners: dict[str, list[int]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
+
+    def add(self, name: str, solids: list[Solid], face: int) -> None:
+        """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``."""
+        self.solids[name] += solids
+        self.owners[name] += [face] * len(solids)
 
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])
@@ -99,7 +114,9 @@ def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
     return list(result.solids()) if hasattr(result, "solids") else [result]
 
 
-def _planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
+def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
+    """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm."""
+
     def wire(ring) -> Wire:
         c = _distinct([(float(x), float(y)) for x, y in shapely.get_coordinates(ring)[:-1]])
         return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
@@ -107,6 +124,14 @@ def _planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
     inner = [wire(r) for r in poly.interiors]
     face = Face(wire(poly.exterior), inner)
     return Solid.extrude(face, Vector(0, 0, z1 - z0))
+
+
+def crease_sheet(
+    outlines: Sequence[PanelOutline], sheet_outline: shapely.Polygon | shapely.MultiPolygon
+):
+    """The crease layer's footprint: the sheet less every panel's mid-layer patch, mm."""
+    mids = shapely.union_all([shapely.Polygon(o.midlayer) for o in outlines])
+    return shapely.difference(sheet_outline, mids)
 
 
 def build_parts(
@@ -136,7 +161,6 @@ def build_parts(
     by_panel: dict[int, list[Hole]] = {}
     for hole, fi in zip(holes, np.asarray(hole_panels).tolist(), strict=True):
         by_panel.setdefault(fi, []).append(hole)
-    mid_polys = []
     for o in outlines:
         cyl = _cylinders(by_panel.get(o.index, []), 0.0, h)
         lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
@@ -145,13 +169,11 @@ def build_parts(
         lower_in = half_solid(o.infill_outer, s, o.infill_inner, z_layer_lo)
         upper_in = half_solid(o.infill_inner, z_layer_hi, o.infill_outer, h - s)
         for whole, core in ((lower, lower_in), (upper, upper_in)):
-            parts.solids["infills"] += _cut(core, cyl)
-            parts.solids["shells"] += _cut(whole - core, cyl)
-        mid_polys.append(shapely.Polygon(o.midlayer))
-        parts.solids["midlayers"] += _cut(
-            _planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi), cyl
-        )
-    sheet = shapely.difference(sheet_outline, shapely.union_all(mid_polys))
+            parts.add("infills", _cut(core, cyl), o.index)
+            parts.add("shells", _cut(whole - core, cyl), o.index)
+        mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
+        parts.add("midlayers", _cut(mid, cyl), o.index)
+    sheet = crease_sheet(outlines, sheet_outline)
     for poly in shapely.get_parts(sheet):
-        parts.solids["creases"].append(_planar_prism(poly, z_layer_lo, z_layer_hi))
+        parts.solids["creases"].append(planar_prism(poly, z_layer_lo, z_layer_hi))
     return parts

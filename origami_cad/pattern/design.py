@@ -26,6 +26,7 @@ replacing the unit the file declares) and/or ``scale`` (a factor), or ``width``
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -46,6 +47,7 @@ __all__ = [
     "load_design",
     "load_pattern_source",
     "miura_design",
+    "tg_design",
 ]
 
 KINDS = ("transition-graph", "miura", "file")
@@ -305,3 +307,22 @@ def load_pattern_source(
     if p.suffix.lower() == ".toml":
         return load_design(p, unit=unit, scale=scale, width=width)
     return Design(read_pattern(p, unit=unit, scale=scale, width=width), None, "file", p)
+
+
+def tg_design(
+    vectors: Sequence[Sequence[float]],
+    fold_ratio: float,
+    entry_flag: int = 1,
+    *,
+    title: str = "",
+    **options: Any,
+) -> Design:
+    """A TG-based design from transition vectors drawn at ``fold_ratio`` (eq. 1).
+
+    ``vectors`` are ``[length mm, absolute angle deg]``; ``options`` are those of
+    :func:`~origami_cad.pattern.tg.design_from_vectors` (``unit_width`` mm, ``copies``,
+    ``start`` mm, ``hypar_base``, ``min_turn`` deg, ``merge_small_turns``). The same
+    design as a ``kind = "transition-graph"`` file with these keys.
+    """
+    tg = design_from_vectors(vectors, fold_ratio, entry_flag, **options)
+    return Design(tg_pattern(tg, title=title), tg, "transition-graph")

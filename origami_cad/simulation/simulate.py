@@ -59,7 +59,7 @@ from origami_cad.strings.route import (
     rigid_fit,
 )
 
-__all__ = ["SimulationResult", "StopRules", "fold_ratio_fit", "simulate"]
+__all__ = ["SimulationResult", "StopRules", "fold_ratio_fit", "rigid_table", "simulate"]
 
 POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
@@ -165,7 +165,7 @@ def _distance_to_ring(p: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return np.linalg.norm(a + t[:, None] * ab - p, axis=1)
 
 
-def _rigid_table(design: Design) -> tuple[np.ndarray, np.ndarray] | None:
+def rigid_table(design: Design) -> tuple[np.ndarray, np.ndarray] | None:
     """Fold ratios and the rigid folding's crease angles (G, m), radians; None if unfoldable."""
     from origami_cad.kinematics.fold3d import fold_angles_from_coords
     from origami_cad.kinematics.folding import fold_coords, fold_sequence
@@ -464,7 +464,7 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
-    table = None if design is None else _rigid_table(design)
+    table = None if design is None else rigid_table(design)
     return _Run(cp, st, strings, ground, assembly, place, table, notes, x)
 
 

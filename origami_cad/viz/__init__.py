@@ -9,6 +9,6 @@ created off-screen.
 """
 
 from origami_cad.viz.pattern_plot import plot_pattern, save_pattern_png
-from origami_cad.viz.pyvista_mesh import show, to_pyvista
+from origami_cad.viz.pyvista_mesh import display_mode, show, to_pyvista
 
-__all__ = ["plot_pattern", "save_pattern_png", "show", "to_pyvista"]
+__all__ = ["display_mode", "plot_pattern", "save_pattern_png", "show", "to_pyvista"]

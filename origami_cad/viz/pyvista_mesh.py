@@ -9,7 +9,9 @@ or a script can read it back: ``block.field_data["color"]`` (sRGB, 3 bytes) and
 ``add_mesh(block, scalars="color", rgb=True)``); ``block.field_data["kind"]``
 says what it is (``panels``, ``mountain``, ``valley``, ``border``, ``cut``,
 ``string``, ``part``) and, for printed parts, ``field_data["material"]`` the
-material (``PLA`` or ``TPU``). Lengths are mm.
+material (``PLA`` or ``TPU``). A build123d shape (an assembly of
+``Fabrication.assembly``, a part, a user's compound) gives a block per solid leaf.
+Lengths are mm.
 
 Nothing changes pyvista's global state: :func:`show` creates its own plotter,
 off-screen when there is no display (``pyvista.OFF_SCREEN`` stays untouched).
@@ -34,7 +36,7 @@ from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.viz.gltf import CREASE_COLORS, PANEL_COLOR
 
-__all__ = ["STRING_COLOR", "display_mode", "show", "to_pyvista"]
+__all__ = ["SHAPE_COLOR", "STRING_COLOR", "display_mode", "show", "to_pyvista"]
 
 #: Display colour (sRGB hex) of the strings of a route.
 STRING_COLOR = "#8E44AD"
@@ -108,6 +110,55 @@ def _parts_blocks(fab):
     return blocks
 
 
+#: Display colour (sRGB hex) of a solid of a build123d shape that has no colour of its own.
+SHAPE_COLOR = "#B0B0B0"
+
+
+def _hex(color) -> str:
+    r, g, b = (round(255 * float(c)) for c in tuple(color)[:3])
+    return f"#{r:02X}{g:02X}{b:02X}"
+
+
+def _shape_blocks(shape):
+    """One block per leaf of a build123d shape or tree, in its (or its nearest ancestor's)
+    colour; a leaf of a sheet assembly also names its material."""
+    import pyvista as pv
+
+    from origami_cad.fabrication.assembly import leaf_part
+    from origami_cad.fabrication.exports.stl import solid_mesh
+    from origami_cad.fabrication.solids import PART_MATERIALS
+
+    blocks = pv.MultiBlock()
+    stack = [(shape, None)]
+    while stack:
+        node, inherited = stack.pop(0)
+        color = node.color if getattr(node, "color", None) is not None else inherited
+        children = list(getattr(node, "children", ()) or ())
+        if children:
+            stack[:0] = [(c, color) for c in children]
+            continue
+        meshes = [solid_mesh(s) for s in node.solids()]
+        if not meshes:
+            continue
+        verts, tris, offset = [], [], 0
+        for v, t in meshes:
+            verts.append(v)
+            tris.append(t + offset)
+            offset += len(v)
+        t = np.vstack(tris)
+        mesh = pv.PolyData(np.vstack(verts), np.column_stack([np.full(len(t), 3), t]).ravel())
+        part = leaf_part(node.label or "")
+        material = PART_MATERIALS[part] if part else ""
+        name, k = node.label or f"solid {len(blocks)}", 1
+        while name in blocks.keys():
+            k += 1
+            name = f"{node.label} ({k})"
+        blocks[name] = _paint(
+            mesh, _hex(color) if color is not None else SHAPE_COLOR, "part", material
+        )
+    return blocks
+
+
 def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int = -1):
     """Pyvista meshes of a pipeline result: a ``pyvista.MultiBlock`` of named blocks.
 
@@ -123,7 +174,10 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
         - a ``SimulationResult`` or ``DCQCResult``: state ``frame`` of ``pattern``
           (default the last; a DCQC result also draws its final strings);
         - a ``RouteSpec``: ``pattern`` flat (or at ``coords``) with the strings;
-        - a ``Fabrication``: the four printed parts coloured by material.
+        - a ``Fabrication``: the four printed parts coloured by material;
+        - a build123d shape or ``Compound`` tree: an assembly
+          (``Fabrication.assembly(ratio)``), a part (``TSAModule()``...), a user's
+          compound: one block per leaf, named by its label, in its colour.
     pattern : CreasePattern or Design, optional
         The pattern a state, result or route belongs to.
     coords : ndarray (n, 3), optional
@@ -136,11 +190,14 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
     pyvista.MultiBlock
         Blocks ``panels`` (polygons), ``mountain``, ``valley``, ``border``, ``cut``
         (lines; only the kinds present), ``string 0``, ``string 1``... (polylines),
-        or ``infills``, ``midlayers``, ``shells``, ``creases`` (triangles), each
-        with its colour in ``field_data["color"]`` and ``cell_data["color"]``.
+        or ``infills``, ``midlayers``, ``shells``, ``creases`` (triangles), or a
+        shape's leaves (``c0r0s0 infill 0``, ``servo``...: triangles), each with its
+        colour in ``field_data["color"]`` and ``cell_data["color"]``.
     """
     if hasattr(obj, "parts") and hasattr(obj, "plan"):  # a Fabrication
         return _parts_blocks(obj)
+    if hasattr(obj, "wrapped") and hasattr(obj, "solids"):  # a build123d shape
+        return _shape_blocks(obj)
     if isinstance(obj, CreasePattern) or hasattr(obj, "tg"):  # a pattern or a Design
         return _state_blocks(_pattern_of(obj), coords)
     cp = _pattern_of(pattern)

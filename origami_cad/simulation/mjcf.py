@@ -1,0 +1,415 @@
+"""Origami robots as MuJoCo models (MJCF): panels, crease hinges, string tendons, TSAs.
+
+:func:`to_mjcf` turns a design (a crease pattern and its routes) or a robot file into
+MJCF text. The construction, in SI units inside the model (m, kg, s, N; the project's
+mm, g and degrees are converted at this edge):
+
+* **Panels** are bodies, one per face, arranged along a breadth-first spanning tree of
+  the panel-adjacency graph from a root panel (the robot's body, the route's
+  ``fixed_panel``, else the panel nearest the sheet's centre). Every body's frame is
+  the pattern's frame in the flat state, so a geom, site or anchor is placed by its
+  pattern coordinates. Each panel carries two mesh geoms, the two printed halves of
+  :class:`~origami_cad.fabrication.PanelOutline` (outer face to the crease layer, the
+  footprints :func:`~origami_cad.fabrication.plan_panels` plans for the solids),
+  whose mass and inertia MuJoCo integrates from PLA's density
+  (``fabrication.params.DENSITY_G_CM3``).
+* **Creases** of the tree are hinge joints on the crease's axis, oriented so that a
+  positive joint angle is a valley fold (radians, the sign of ``fold_angles``), with the
+  crease's rotational stiffness ``E t^3 / (12 w)`` times its length
+  (:attr:`SimulationParams.crease_stiffness`), a damping and a range of
+  +-eq. 6's ``theta_max`` (the route's ``[fabrication]``) or the robot's blocker angle.
+* **Loops**: each crease not in the tree is closed by two ``connect`` equality
+  constraints, at its two end points (together a hinge).
+* **Strings** are spatial tendons through sites: the TSA's guide (fixed in the world,
+  or on the panel of an onboard TSA), then at each hole the exit on the side the string
+  reaches it, and the exit on the other side where the string changes face.
+* **TSAs**: one ``general`` actuator per string, on its tendon, whose control ``u`` is
+  the string the TSA has taken up, m (0 at the start): force = ``kp (T0 - u - length)
+  - kv velocity``, clamped to pulling only (``forcerange = [-200 N, 0]``), ``T0`` the
+  tendon's length as exported and ``kp`` the string's axial stiffness ``EA / L0``
+  (N/m). The servo's turns are mapped to ``u`` by
+  :func:`~origami_cad.simulation.mujoco_run.tsa_controls` with eq. 8 (ring) or the onboard
+  model, as the project's simulators consume string
+  (:meth:`~origami_cad.strings.TSAParams.consumed`): ``u = consumed(theta, x_dis) -
+  x_dis - (consumed(0, x0) - x0)``, ``x_dis`` the current guide-to-first-hole distance
+  and ``x0`` the exported one. MJCF's actuator gains are affine in the control and
+  eq. 8 is not, hence the user-side map; what it needs (the TSA's parameters, ``x0``)
+  is stored in the model as a ``custom`` numeric named after the actuator.
+* **Point masses** are massive spheres without contact; the **ground** is a plane
+  with the robot file's friction.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections import deque
+from dataclasses import dataclass
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from origami_cad.errors import OrigamiCadError
+from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
+from origami_cad.fabrication.plan import plan_panels
+from origami_cad.pattern.design import Design, load_pattern_source
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.simulation.crawler import Robot, load_robot
+from origami_cad.simulation.mjcf_strings import MJ, TSA_CODES, tendon_specs, tendon_xml
+from origami_cad.simulation.model import SimulationParams
+from origami_cad.strings.route import RouteSpec, load_route
+
+__all__ = ["MJ", "MjcfError", "MjcfSource", "load_mjcf_source", "to_mjcf"]
+
+
+class MjcfError(OrigamiCadError, ValueError):
+    """Input a MuJoCo model cannot be made from (names the string, hole, crease or TSA)."""
+
+
+@dataclass(frozen=True)
+class MjcfSource:
+    """What :func:`to_mjcf` exports: a pattern, its routes and, for a robot, the robot."""
+
+    design: Design | None
+    pattern: CreasePattern
+    routes: tuple[RouteSpec, ...]
+    robot: Robot | None = None
+
+
+def load_mjcf_source(source, routes=()) -> MjcfSource:
+    """A design/pattern file, a robot file (``[robot]`` table), a Design or a Robot.
+
+    ``routes`` are route files or :class:`RouteSpec` (a robot brings its legs' own).
+    """
+    robot = None
+    if isinstance(source, (str, os.PathLike)):
+        path = Path(source)
+        if path.suffix.lower() == ".toml" and "[robot]" in path.read_text(encoding="utf-8"):
+            robot = load_robot(path)
+        else:
+            source = load_pattern_source(path)
+    elif isinstance(source, Robot):
+        robot = source
+    if robot is not None:
+        design = Design(robot.pattern, None, "file", robot.pattern_path)
+        specs = [leg.route for leg in robot.legs]
+    else:
+        design = source if isinstance(source, Design) else Design(source, None, "file")
+        specs = []
+    cp = design.pattern
+    specs += [r if isinstance(r, RouteSpec) else load_route(r, cp) for r in routes]
+    return MjcfSource(design, cp, tuple(specs), robot)
+
+
+def _panel_graph(cp: CreasePattern) -> list[tuple[int, int, int]]:
+    """(crease, face a, face b) of every crease; refuses a crease not between two panels."""
+    ef = cp.edge_faces()
+    out = []
+    for e in np.flatnonzero(cp.edge_mask("M", "V", "F")):
+        a, b = (int(v) for v in ef[e])
+        if a < 0 or b < 0:
+            i, j = cp.edges[e]
+            raise MjcfError(
+                f"crease {e} ({cp.assignments[e]}, vertices {i}-{j}) is not between two "
+                "panels: a hinge needs a panel on each side"
+            )
+        out.append((int(e), a, b))
+    return out
+
+
+def _root(cp: CreasePattern, source: MjcfSource) -> int:
+    if source.robot is not None:
+        return cp.face_index(source.robot.body)
+    fixed = next((r.fixed_panel for r in source.routes if r.fixed_panel), None)
+    if fixed:
+        return cp.face_index(fixed)
+    centre = cp.vertices.mean(axis=0)
+    return int(np.argmin(np.linalg.norm(cp.face_centroids() - centre, axis=1)))
+
+
+def spanning_tree(cp: CreasePattern, root: int):
+    """Breadth-first tree of the panels: parent crease of each face and the loop creases.
+
+    Returns ``(order, parent, loops)``: faces in visiting order, ``parent[f] = (face,
+    crease)`` (the root's is ``(-1, -1)``), and the creases closing loops.
+    """
+    graph = _panel_graph(cp)
+    adj: dict[int, list[tuple[int, int]]] = {}
+    for e, a, b in graph:
+        adj.setdefault(a, []).append((b, e))
+        adj.setdefault(b, []).append((a, e))
+    parent, order, queue, used = {root: (-1, -1)}, [root], deque([root]), set()
+    while queue:
+        f = queue.popleft()
+        for g, e in adj.get(f, []):
+            if g not in parent:
+                parent[g] = (f, e)
+                used.add(e)
+                order.append(g)
+                queue.append(g)
+    missing = sorted(set(range(len(cp.faces))) - set(parent))
+    if missing:
+        raise MjcfError(
+            f"panel {cp.face_labels[missing[0]]} is joined to {cp.face_labels[root]} by no "
+            "chain of creases: one model needs one connected sheet"
+        )
+    return order, parent, [e for e, _, _ in graph if e not in used]
+
+
+def _check_routes(cp: CreasePattern, routes) -> None:
+    import shapely
+
+    polys = cp.face_polygons()
+    for r, spec in enumerate(routes):
+        if spec.tsa.model not in TSA_CODES:
+            raise MjcfError(
+                f"route {r + 1}: TSA model {spec.tsa.model!r} has no MJCF construction "
+                f"(only {', '.join(TSA_CODES)})"
+            )
+        for s, string in enumerate(spec.strings):
+            for name, face, (x, y) in zip(string.names, string.faces, string.points, strict=True):
+                poly = polys[face]
+                if not shapely.covers(poly, shapely.Point(x, y)):
+                    raise MjcfError(
+                        f"route {r + 1}, string {s + 1}: hole {name} at ({x:g}, {y:g}) mm is "
+                        f"not on its panel {cp.face_labels[face]}"
+                    )
+
+
+def _v(values, scale: float = MJ) -> str:
+    return " ".join(f"{float(v) * scale:.9g}" for v in values)
+
+
+def _fabrication(source: MjcfSource) -> FabricationParams:
+    return next(
+        (r.fabrication for r in source.routes if r.fabrication is not None), FabricationParams()
+    )
+
+
+def _meshes(source: MjcfSource, fab: FabricationParams) -> dict[int, list[np.ndarray]]:
+    """Vertices (mm) of each panel's two printed halves, centred on the crease layer."""
+    plan = plan_panels(source.design if source.design.tg else source.pattern, fab)
+    z_low, z_mid = -fab.height / 2.0, -fab.height / 2.0 + fab.half_height
+    z_up, z_top = z_mid + fab.thickness, fab.height / 2.0
+    out = {}
+    for o in plan.outlines:
+        lower = np.vstack([_lift(o.outer, z_low), _lift(o.inner, z_mid)])
+        upper = np.vstack([_lift(o.inner, z_up), _lift(o.outer, z_top)])
+        out[o.index] = [lower, upper]
+    return out
+
+
+def _lift(ring: np.ndarray, z: float) -> np.ndarray:
+    return np.column_stack([ring, np.full(len(ring), z)])
+
+
+def _hinge_axis(cp: CreasePattern, e: int, parent_face: int) -> tuple[np.ndarray, np.ndarray]:
+    """Point and unit axis of crease ``e`` (mm) such that +angle folds the child as a valley."""
+    i, j = cp.edges[e]
+    a, b = cp.vertices[i], cp.vertices[j]
+    axis = (b - a) / np.linalg.norm(b - a)
+    left = cp.edge_faces()[e, 0] == parent_face  # the parent lies left of a -> b
+    return np.r_[a, 0.0], np.r_[-axis if left else axis, 0.0]
+
+
+def _limits(source: MjcfSource, fab: FabricationParams, params: SimulationParams):
+    """Range of each crease, radians: eq. 6 (``theta_max``) or the robot's blockers."""
+    base = fab.theta_max if any(r.fabrication for r in source.routes) else None
+    base = math.radians(params.fold_limit) if base is None else base
+    limits = dict.fromkeys(range(source.pattern.n_edges), base)
+    if source.robot is not None:
+        for leg in source.robot.legs:
+            limits[leg.crease] = math.radians(source.robot.blocker_angle)
+    return limits
+
+
+def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list[str]:
+    cp = source.pattern
+    root = _root(cp, source)
+    order, parent, _ = spanning_tree(cp, root)
+    limits = _limits(source, fab, params)
+    lengths = cp.edge_lengths()
+    children: dict[int, list[int]] = {}
+    for f in order[1:]:
+        children.setdefault(parent[f][0], []).append(f)
+    lines: list[str] = []
+
+    def body(f: int, depth: int) -> None:
+        pad = "  " * depth
+        label = cp.face_labels[f]
+        z0 = fab.height / 2.0 + 1.0 if f == root and source.robot else 0.0
+        lines.append(f'{pad}<body name={quoteattr(label)} pos="0 0 {z0 * MJ:.9g}">')
+        if f == root and (source.robot or not (held or any(r.fixed_panel for r in source.routes))):
+            lines.append(f'{pad}  <freejoint name="root"/>')
+        elif f != root:
+            pf, e = parent[f]
+            at, axis = _hinge_axis(cp, e, pf)
+            k = params.crease_stiffness * lengths[e] * MJ  # N m / rad
+            c = damping * lengths[e] * MJ
+            lim = limits[e]
+            lines.append(
+                f'{pad}  <joint name="crease{e}" type="hinge" pos="{_v(at)}" '
+                f'axis="{_v(axis, 1.0)}" stiffness="{k:.6g}" damping="{c:.6g}" '
+                f'limited="true" range="{-lim:.6g} {lim:.6g}"/>'
+            )
+        for h, _ in enumerate(meshes[f]):
+            lines.append(f'{pad}  <geom mesh="{label}_{h}" class="panel"/>')
+        for name, grams, at in masses.get(f, []):
+            lines.append(
+                f'{pad}  <geom name={quoteattr(name)} type="sphere" size="0.004" pos="{_v(at)}" '
+                f'mass="{grams * 1e-3:.6g}" contype="0" conaffinity="0" rgba="0.2 0.2 0.2 1"/>'
+            )
+        for name, at in sites.get(f, []):
+            lines.append(f'{pad}  <site name="{name}" pos="{_v(at)}"/>')
+        for g in children.get(f, []):
+            body(g, depth + 1)
+        lines.append(f"{pad}</body>")
+
+    body(root, 2)
+    return lines
+
+
+def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
+    out: dict[int, list] = {}
+    if source.robot is None:
+        return out
+    cp = source.pattern
+    for m in source.robot.masses:
+        at = np.array([*m.at, fab.height / 2.0])
+        out.setdefault(cp.face_index(m.panel), []).append((m.name, m.grams, at))
+    return out
+
+
+def to_mjcf(
+    source,
+    routes=(),
+    *,
+    params: SimulationParams | None = None,
+    gravity: float = 9810.0,
+    ground: bool = True,
+    friction: float | None = None,
+    crease_damping: float = 2e-3,
+    timestep: float = 5e-4,
+    armature: float = 1e-6,
+) -> str:
+    """The MJCF model (XML text) of a design and its routes, or of a robot file.
+
+    Parameters
+    ----------
+    source : path, Design, CreasePattern or Robot
+        A design or pattern file, a robot file (its ``[robot]`` table, legs and
+        masses), or the loaded object.
+    routes : sequence of path or RouteSpec
+        Route files; a robot brings its own.
+    params : SimulationParams, optional
+        Crease and string materials (default: the first route's ``[fabrication]``).
+    gravity : float
+        Gravitational acceleration along -z, mm/s^2 (0: none).
+    ground : bool
+        A ground plane at z = 0 (the sheet's bottom face rests on it).
+    friction : float, optional
+        Coulomb coefficient (default: the robot file's, else ``params.friction``).
+    crease_damping : float
+        Viscous damping of a crease per unit length, N mm s / rad / mm.
+    timestep : float
+        Integration step, s.
+    armature : float
+        Rotor inertia added to every joint, kg m^2: keeps the mass matrix of the
+        light panels (about 1e-8 kg m^2 each) well conditioned.
+
+    Returns
+    -------
+    str
+        The MJCF document; nothing is written.
+
+    Raises
+    ------
+    MjcfError
+        A hole not on its panel, a crease not between two panels, a TSA model
+        without an MJCF construction.
+    """
+    src = source if isinstance(source, MjcfSource) else load_mjcf_source(source, routes)
+    if routes and src.robot is not None and not isinstance(source, MjcfSource):
+        raise MjcfError("a robot file names its own routes: give no route files with it")
+    cp = src.pattern
+    _panel_graph(cp)
+    _check_routes(cp, src.routes)
+    fab = _fabrication(src)
+    params = params or (
+        SimulationParams.for_route(src.routes[0]) if src.routes else SimulationParams()
+    )
+    mu = (
+        friction if friction is not None else (src.robot.friction if src.robot else params.friction)
+    )
+    meshes = _meshes(src, fab)
+    tendons = tendon_specs(src.routes, params)
+    sites: dict[int, list] = {}
+    for _, string_sites, *_ in tendons:
+        for face, name, at in string_sites:
+            sites.setdefault(face, []).append((name, at))
+    held = src.robot is None and not any(r.fixed_panel for r in src.routes) and not gravity
+    lines = _header_xml(cp, meshes, timestep, gravity, armature, mu)
+    lines += _world_xml(sites, ground, mu, held)
+    lines += _body_xml(src, fab, params, meshes, sites, _masses(src, fab), crease_damping, held)
+    lines += ["  </worldbody>", *_loops_xml(src), *tendon_xml(tendons), "</mujoco>"]
+    return "\n".join(lines) + "\n"
+
+
+def _header_xml(cp, meshes, timestep: float, gravity: float, armature: float, mu: float):
+    """Options, defaults (materials, constraint softness) and the panels' meshes."""
+    density = DENSITY_G_CM3["PLA"] * 1000.0  # kg/m^3
+    lines = [
+        f"<mujoco model={quoteattr(cp.title or 'origami')}>",
+        '  <compiler angle="radian" autolimits="true"/>',
+        f'  <option timestep="{timestep:.6g}" gravity="0 0 {-gravity * MJ:.6g}" '
+        'integrator="Euler" iterations="200" ls_iterations="50"/>',
+        "  <default>",
+        f'    <joint armature="{armature:.6g}" solreflimit="{2 * timestep:.6g} 1"/>',
+        f'    <equality solref="{2 * timestep:.6g} 1" solimp="0.99 0.999 0.001"/>',
+        f'    <default class="panel"><geom type="mesh" density="{density:.6g}" '
+        f'friction="{mu:.6g} 0.005 0.0001" rgba="0.85 0.75 0.45 1"/></default>',
+        '    <site size="0.0008" rgba="0.9 0.1 0.1 1"/>',
+        "  </default>",
+        '  <visual><global offwidth="1280" offheight="960"/></visual>',
+        "  <asset>",
+    ]
+    for f, halves in sorted(meshes.items()):
+        for h, verts in enumerate(halves):
+            lines.append(f'    <mesh name="{cp.face_labels[f]}_{h}" vertex="{_v(verts.ravel())}"/>')
+    return [*lines, "  </asset>"]
+
+
+def _world_xml(sites: dict, ground: bool, mu: float, held: bool) -> list[str]:
+    """The world: light, ground plane, and the fixed guides (on the ``ring`` if held).
+
+    A sheet free in the ring, pulled evenly, keeps its mean pose: the root panel is held
+    and the ring of guides follows the sheet (``mujoco_run.hold_mean_pose``).
+    """
+    lines = ["  <worldbody>", '    <light pos="0 0 1.5" dir="0 0 -1" directional="true"/>']
+    if ground:
+        lines.append(
+            f'    <geom name="ground" type="plane" size="2 2 0.01" friction="{mu:.6g} 0.005 0.0001"'
+            ' rgba="0.6 0.65 0.7 1"/>'
+        )
+    world = [f'    <site name="{name}" pos="{_v(at)}"/>' for name, at in sites.get(-1, [])]
+    if held:
+        world = ['    <body name="ring" mocap="true">', *("  " + w for w in world), "    </body>"]
+    return lines + world
+
+
+def _loops_xml(src: MjcfSource) -> list[str]:
+    cp = src.pattern
+    root = _root(cp, src)
+    _, _, loops = spanning_tree(cp, root)
+    ef = cp.edge_faces()
+    lines = ["  <equality>"]
+    for e in loops:
+        a, b = (cp.face_labels[int(f)] for f in ef[e])
+        for v in cp.edges[e]:
+            at = np.r_[cp.vertices[v], 0.0]
+            lines.append(
+                f'    <connect name="loop{e}_{v}" body1={quoteattr(a)} body2={quoteattr(b)} '
+                f'anchor="{_v(at)}"/>'
+            )
+    return [*lines, "  </equality>"] if len(lines) > 1 else []
