@@ -19,6 +19,7 @@ from typing import Any
 
 from origami_cad import __version__, jobs
 from origami_cad._fileio import Interrupted, handle_signals, interrupted
+from origami_cad._names import one_line
 from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = ["build_parser", "main"]
@@ -247,7 +248,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if extra:
         args.params = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
-    with handle_signals() if main_thread else contextlib.nullcontext():
+    # argv None: the console script, which exits next (a caller passing argv goes on)
+    with handle_signals(exiting=argv is None) if main_thread else contextlib.nullcontext():
         return _run(args)
 
 
@@ -294,8 +296,7 @@ def _interrupted() -> int:
 
 def _error(message: str) -> None:
     """Print one error line; control characters of user-supplied names are escaped."""
-    safe = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
-    print(f"origami-cad: error: {safe}", file=sys.stderr)
+    print(f"origami-cad: error: {one_line(message)}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

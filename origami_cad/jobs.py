@@ -31,7 +31,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
+from origami_cad._fileio import (
+    atomic_directory,
+    atomic_path,
+    atomic_write,
+    check_outputs,
+    finishing,
+)
+from origami_cad._names import one_line
 from origami_cad.errors import (
     DesignError,
     DriveError,
@@ -1076,7 +1083,8 @@ def run_plan_route(
     if not planned:
         raise StringsError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
     header = (
-        f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
+        f"# Planned by: origami-cad plan-route {one_line(pattern)} --tsa {one_line(tsa)} "
+        f"--strings {strings}"
         f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"
         f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
         f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
@@ -1235,7 +1243,8 @@ def run_simulate(
 
     if steps is not None and not 1 <= steps <= 100_000:
         raise OptionsError(f"the number of steps must lie in 1..100000, got {steps}")
-    check_outputs([pattern, route], folders=[folder])
+    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    check_outputs([pattern, route], files=[Path(folder) / n for n in names], folders=[folder])
     if friction is not None and friction < 0:
         raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
@@ -1247,7 +1256,6 @@ def run_simulate(
     limits = _blocker_limits(cp, blockers, pattern)
     kwargs = {"steps": steps, "fold_limits": limits or None, "progress": progress, "free": free}
     result = simulate(cp, spec, params, design=loaded, **kwargs)
-    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
         _write_simulation(stage, names, cp, spec, result, gif_frames)
     files = [Path(folder) / n for n in names]
@@ -1317,11 +1325,12 @@ def _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
         ]
     )
     header = (
-        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# Generated from the {model} model of {one_line(design)} folded by its strings, "
+        "not typed by\n"
         f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
         "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
         "# commands the turns the model needed. Regenerate with:\n"
-        f"#   {argv}\n"
+        f"#   {one_line(argv)}\n"
     )
     return header
 
@@ -1813,7 +1822,7 @@ def run_robot(
     from origami_cad.simulation.crawler import load_robot, robot_placements
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
@@ -1891,9 +1900,20 @@ def run_emulate(
     return Outputs()
 
 
-def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulate: dict | None):
+def _open_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None, log=None):
     """The servo bus of a sequence: on ``port``, or on a new emulator given ``emulate``
-    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
+    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads). If it
+    cannot be opened (an absent servo), the CSV ``log`` says why."""
+    from origami_cad.drive.sequence import log_not_started
+
+    try:
+        return _start_bus(stack, seq, port, protocol, baudrate, emulate)
+    except BaseException as exc:
+        log_not_started(log, seq, exc)
+        raise
+
+
+def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None):
     from origami_cad.drive import open_bus, open_emulator
 
     limits = {t.dxl_id: t.max_turns for t in seq.tsas}
@@ -1911,6 +1931,23 @@ def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulat
         emulated=emulate is not None,
     )
     return stack.enter_context(bus)
+
+
+def _drive_stopped(exc: BaseException, plot, names: dict[int, str], done=None) -> BaseException:
+    """After a run stopped early: the ``plot`` of its readings (``done``: all of them, when
+    only the shutdown failed), so log and plot stay one set; and the error to raise (a
+    stall names the TSA, not only its servo ID)."""
+    from origami_cad.drive import StallError
+    from origami_cad.drive.sequence import DriveLog
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    ran = done or getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
+    if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
+        with finishing():
+            save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
+    if isinstance(exc, StallError) and names.get(exc.servo):
+        return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
+    return exc
 
 
 def run_drive(
@@ -1938,7 +1975,6 @@ def run_drive(
 
     import numpy as np
 
-    from origami_cad.drive import StallError
     from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
@@ -1954,17 +1990,17 @@ def run_drive(
         raise DriveError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
-    names = {t.dxl_id: t.name for t in seq.tsas}
+    names, done = {t.dxl_id: t.name for t in seq.tsas}, None
     try:
         with contextlib.ExitStack() as stack:
-            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate, log)
             done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
-    except StallError as exc:  # name the TSA, not only its servo ID
-        name = names.get(exc.servo)
-        raise StallError(f"{name}: {exc}" if name else str(exc), exc.servo) from None
+    except BaseException as exc:  # the plot shows what ran; a stall names the TSA
+        raise _drive_stopped(exc, plot, names, done) from exc.__cause__
     files = [Path(log)]
     if plot:
-        save_drive_png(done, plot, names)
+        with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
+            save_drive_png(done, plot, names)
         files.append(Path(plot))
     # the largest lag is where a command jumps (to the first keyframe, a gait's step);
     # how closely the servos follow shows in the lag of 95 % of the readings

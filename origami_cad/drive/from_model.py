@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._names import one_line, toml_string
 from origami_cad.errors import DriveError
 from origami_cad.strings.tsa import TSAParams, onboard_contraction
 
@@ -225,13 +226,12 @@ def sequence_toml(
     for item in tsas:
         tsa: TSAParams = item["tsa"]
         pairs = ", ".join(f"[{_fixed(a)}, {_fixed(b)}]" for a, b in item["mapping"])
-        name = str(item["name"]).replace("\\", "/").replace('"', "'")
         if item.get("comment"):
-            lines.append(f"# {item['comment']}")
+            lines.append(f"# {one_line(item['comment'])}")
         lines += [
             "[[tsa]]",
             f"id = {int(item['id'])}",
-            f'name = "{name}"',
+            f"name = {toml_string(item['name'])}",
             f"length = {tsa.length:g}           # mm, twisted strands",
             f"radius = {tsa.radius:g}            # mm",
             f"max_helix_angle = {tsa.max_helix_angle:g}    # deg",

@@ -35,6 +35,7 @@ import itertools
 import json
 import math
 import os
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -43,8 +44,9 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._names import one_line
 from origami_cad._toml import Table, load_toml, toml_table
-from origami_cad.drive.errors import DriveError
+from origami_cad.drive.errors import DriveError, describe_exit, hold_ctrl_c
 from origami_cad.drive.load import LoadCurve
 from origami_cad.errors import StringsError
 from origami_cad.strings.tsa import TSAParams, onboard_angle
@@ -59,7 +61,10 @@ __all__ = [
     "check_time_scale",
     "dump_sequence",
     "load_sequence",
+    "log_not_started",
+    "note_stop",
     "run_sequence",
+    "stop_reason",
 ]
 
 
@@ -428,6 +433,13 @@ class DriveLog:
             self.measured[k, j], self.current[k, j] = state[i]
         return self.rows(k, k + 1)
 
+    def first(self, steps: int) -> DriveLog:
+        """The log of the first ``steps`` command cycles (those that ran)."""
+        cut = slice(0, steps)
+        return DriveLog(
+            self.ids, self.t[cut], self.target[cut], self.measured[cut], self.current[cut]
+        )
+
     @property
     def lag(self) -> np.ndarray:
         """How far each servo is behind its command, turns (S, n)."""
@@ -482,6 +494,15 @@ def _open_log(log, sequence: Sequence):
         yield fh
 
 
+def log_not_started(log, sequence: Sequence, exc: BaseException) -> None:
+    """Write the CSV ``log`` of a run that never began: its header and why
+    (``# not started: servo 7 did not answer a ping ...``); nothing without ``log``."""
+    with _open_log(log, sequence) as fh:
+        if fh is not None:
+            csv.DictWriter(fh, fieldnames=list(LOG_FIELDS)).writeheader()
+            note_stop(fh, exc)
+
+
 def run_sequence(
     sequence: Sequence,
     bus: Any,
@@ -500,7 +521,9 @@ def run_sequence(
     :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
     hardware error or a lost port leaves a valid CSV up to its last reading.
     It is opened (and checked) before the first command; a log path that is
-    the sequence file itself is refused.
+    the sequence file itself is refused. A run that stops early ends the log with
+    a comment saying why (:func:`note_stop`), and the exception carries the
+    readings of the cycles that ran as ``drive_log`` (a :class:`DriveLog`).
     """
     time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
@@ -516,21 +539,50 @@ def run_sequence(
             writer.writeheader()
             fh.flush()
         start = time.monotonic()
-        for k in range(steps):
-            t = k * period
-            delay = start + t / time_scale - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            targets = sequence.turns_at(t)
-            bus.set_turns(targets)
-            state = bus.read()
-            new = out.record(k, round(t, 6), targets, state)
-            if writer is not None:
-                writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
-                fh.flush()
-            if progress is not None:
-                progress(t, targets, state)
+        t, ran = 0.0, 0
+        try:
+            for k in range(steps):
+                t = k * period
+                delay = start + t / time_scale - time.monotonic()
+                if delay > 0:
+                    time.sleep(delay)
+                targets = sequence.turns_at(t)
+                bus.set_turns(targets)
+                state = bus.read()
+                new = out.record(k, round(t, 6), targets, state)
+                ran = k + 1
+                if writer is not None:
+                    writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
+                    fh.flush()
+                if progress is not None:
+                    progress(t, targets, state)
+        except BaseException as exc:
+            exc.drive_log = out.first(ran)  # what ran, for the caller (a plot of it)
+            if fh is not None:
+                with hold_ctrl_c():  # the reason's line is written whole
+                    note_stop(fh, exc, t)
+            raise
     return out
+
+
+def stop_reason(exc: BaseException) -> str:
+    """Why a run stopped, in one line naming the servo: the error, or the signal."""
+    signum = getattr(exc, "signum", None)
+    if signum is not None and signum == getattr(signal, "SIGTERM", None):
+        return "terminated (SIGTERM)"
+    return describe_exit(exc)
+
+
+def note_stop(fh, exc: BaseException, t: float | None = None) -> None:
+    """End the CSV log ``fh`` with the comment line saying why the run stopped.
+
+    ``# stopped at t = 1.25 s: servo 3: no status packet ...`` (``t``: the sequence
+    time of the command cycle that failed, s), or ``# not started: ...`` when no
+    command was sent. Readers skip it as a comment (``pandas.read_csv(comment="#")``).
+    """
+    when = "not started" if t is None else f"stopped at t = {t:g} s"
+    fh.write(f"# {when}: {one_line(stop_reason(exc))}\n")
+    fh.flush()
 
 
 def dump_sequence(seq: Sequence, *, header: str = "") -> str:

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._names import one_line, path_component, toml_string
 from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
@@ -60,6 +61,7 @@ __all__ = [
     "gait_turns",
     "leg_contraction",
     "leg_heading",
+    "leg_key",
     "load_robot",
     "robot_placements",
     "simulate_gait",
@@ -166,13 +168,37 @@ def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -
         if route.tsa.model != "onboard":
             raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
         servo = t.integer("servo", low=0, high=252)
-        name = t.string("name", panel)
+        name = _leg_name(t, panel)
         t.finish()
         legs.append(Leg(panel, face, crease, route, servo, name, route_path))
     ids = [leg.servo for leg in legs]
     if len(set(ids)) != len(ids):
         raise SimulationError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+    keys = [leg_key(leg.name).casefold() for leg in legs]
+    for i, key in enumerate(keys):
+        if key in keys[:i]:
+            raise SimulationError(
+                f"{p} [[leg]] #{i + 1}: key 'name': {legs[i].name!r} names the same files as "
+                f"[[leg]] #{keys.index(key) + 1} (names must differ, also in case and spaces)"
+            )
     return legs
+
+
+def _leg_name(t: Table, panel: str) -> str:
+    """The ``name`` of a ``[[leg]]`` (default: its panel label), refused unless it can be
+    part of a file name (``tsa_module_<name>.stl``: no ``/``, ``..``, control characters)."""
+    name = t.string("name", panel)
+    try:
+        path_component(leg_key(name))
+    except ValueError as exc:
+        given = "" if t.has("name") else " (the panel label, as no name is given)"
+        raise t.error("name", f"{exc}{given}; the leg's name names its part files") from None
+    return name
+
+
+def leg_key(name: str) -> str:
+    """A leg name as it appears in file and part names: spaces become ``_``."""
+    return name.replace(" ", "_")
 
 
 def _read_masses(p: Path, masses_raw: Any, cp: CreasePattern, rel: str) -> list[PointMass]:
@@ -353,12 +379,9 @@ def robot_placements(robot: Robot) -> dict[str, list]:
     """
     from origami_cad.parts.robot import BlockerPlacement, FreePlacement, ModulePlacement
 
-    def key(leg: Leg) -> str:
-        return leg.name.replace(" ", "_")
-
     modules = [
         ModulePlacement(
-            f"tsa_module_{key(leg)}",
+            f"tsa_module_{leg_key(leg.name)}",
             leg.panel,
             {
                 "servo": SERVO,
@@ -372,7 +395,7 @@ def robot_placements(robot: Robot) -> dict[str, list]:
         for leg in robot.legs
     ]
     blockers = [
-        BlockerPlacement(f"blocker_{key(leg)}", leg.crease, robot.blocker_angle)
+        BlockerPlacement(f"blocker_{leg_key(leg.name)}", leg.crease, robot.blocker_angle)
         for leg in robot.legs
     ]
     free = [
@@ -515,12 +538,12 @@ def gait_sequence_text(
     samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
     source = robot.source.name if robot.source else "the robot file"
     lines = [
-        f"# The gait of {source} as TSA commands, written by origami-cad crawl: each",
+        f"# The gait of {one_line(source)} as TSA commands, written by origami-cad crawl: each",
         "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
         "# strings measured through their holes), so fold ratios become motor turns;",
         "# each load is the TSA's torque in the simulated crawl (N mm, one cycle, the most",
         "# any simulated cycle needed), carried by the emulated servos of a dry run.",
-        *([f"#   {command}"] if command else []),
+        *([f"#   {one_line(command)}"] if command else []),
         "[sequence]",
         f"repeat = {repeat}",
         f"rate = {rate:g}              # Hz",
@@ -536,7 +559,7 @@ def gait_sequence_text(
             "",
             "[[tsa]]",
             f"id = {leg.servo}",
-            f'name = "{leg.name}"',
+            f"name = {toml_string(leg.name)}",
             f"length = {tsa.length:g}           # mm, twisted strands",
             f"radius = {tsa.radius:g}            # mm",
             f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._names import one_line, toml_string
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.panels import panel_outlines
 from origami_cad.fabrication.params import FabricationParams
@@ -1228,14 +1229,14 @@ def route_toml(geom: PlanGeometry, planned: PlannedRoute, header: str = "") -> s
     if spec.p_max is not None:
         lines.append(f"p_max = {spec.p_max:.6f}")
     if spec.fixed_panel:
-        lines.append(f'fixed_panel = "{spec.fixed_panel}"')
+        lines.append(f"fixed_panel = {toml_string(spec.fixed_panel)}")
     for s in spec.strings:
         lines += ["", "[[route.strings]]"]
         if s.anchor_face >= 0:
-            lines.append(f'anchor_panel = "{geom.labels[s.anchor_face]}"')
+            lines.append(f"anchor_panel = {toml_string(geom.labels[s.anchor_face])}")
         lines.append("anchor = [" + ", ".join(f"{v:.4f}" for v in s.anchor) + "]")
         holes = ", ".join(f"[{x:.4f}, {y:.4f}]" for x, y in s.points)
-        lines.append(f"holes = [{holes}]  # panels {', '.join(s.names)}")
+        lines.append(f"holes = [{holes}]  # panels {one_line(', '.join(s.names))}")
         sides = ", ".join('"top"' if v == TOP else '"bottom"' for v in s.sides)
         lines.append(f"sides = [{sides}]  # DCQC: above valleys, below mountains")
     return "\n".join(lines) + "\n"
