@@ -20,7 +20,7 @@ from typing import Any
 from origami_cad import __version__, jobs
 from origami_cad._fileio import Interrupted, handle_signals, interrupted
 from origami_cad._names import one_line
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = ["build_parser", "main"]
 
@@ -69,7 +69,7 @@ def _call(args: argparse.Namespace) -> jobs.Outputs:
         if args.list or not args.name:
             return jobs.Outputs(messages=[parts_listing()])
         if not args.folder:
-            raise DesignError("give the output folder with -o DIR")
+            raise OptionsError("give the output folder with -o DIR")
         args.params = parse_part_options(args.params)
     job = _COMMANDS[args.command][0]
     names = inspect.signature(job).parameters
@@ -148,7 +148,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
     ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
-    ("emulate drive", "--protocol", {"choices": ("dynamixel", "serial")}),
+    ("emulate drive", "--protocol", {"help": "servo bus: a name of origami_cad.drive.BUSES"}),
     ("emulate sequence", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2 (one per route)"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),

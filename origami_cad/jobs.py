@@ -39,7 +39,15 @@ from origami_cad._fileio import (
     finishing,
 )
 from origami_cad._names import one_line
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.errors import (
+    DesignError,
+    DriveError,
+    OptionsError,
+    OrigamiCadError,
+    SimulationError,
+    StringsError,
+)
+from origami_cad.parallel import open_executor
 
 __all__ = [
     "Outputs",
@@ -66,7 +74,6 @@ __all__ = [
 ]
 
 PathLike = str | os.PathLike[str]
-PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
 FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb", ".step")
 MAX_FRAMES = 10_000  # folded states in one file or animation
 GIF_FRAMES = 30  # frames of a simulation's animation
@@ -159,7 +166,14 @@ def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
     if len(allowed) == 1 and _is_stream(path):
         return  # one possible format: a device or pipe needs no extension
     if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
-        raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+        raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
+
+def _pattern_suffixes() -> tuple[str, ...]:
+    """What a pattern is written as: the registered formats' suffixes, and .png."""
+    from origami_cad.pattern.formats import WRITERS
+
+    return (*WRITERS, ".png")
 
 
 def _sources(*items) -> list:
@@ -251,7 +265,7 @@ def run_convert(
     """
     from origami_cad.pattern import read_pattern, size_warnings
 
-    _check_suffix(output, PATTERN_SUFFIXES, "a pattern")
+    _check_suffix(output, _pattern_suffixes(), "a pattern")
     check_outputs([source], files=[output])
     cp = read_pattern(source, unit=unit, scale=scale, width=width)
     _write_pattern_file(cp, Path(output), labels)
@@ -282,7 +296,7 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
     for out in outputs:
-        _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
+        _check_suffix(out, _pattern_suffixes(), "a pattern")
     check_outputs([design], files=outputs)
     loaded, warned = _sized_source(design)
     cp = loaded.pattern
@@ -335,9 +349,9 @@ def run_fold(
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     if not 1 <= frames <= MAX_FRAMES:
-        raise DesignError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
+        raise OptionsError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
     out = Path(output)
     suffix = out.suffix.lower()
     _check_suffix(out, FOLD_SUFFIXES, "the folded state")
@@ -425,9 +439,9 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     Its comments state the fold range the printed arm reaches and the ``fabricate``
     command that builds it with the fabrication parameters it was designed for.
     """
+    from origami_cad.pattern.design import dump_design
+
     terms = design.terms
-    lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
-    angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
     p_e = design.fold_ratio_end
     if task.fold_limit is not None:
         fab = f"# designed for creases that fold up to {task.fold_limit:g} deg (fold_limit)\n"
@@ -451,16 +465,7 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
         f"{terms.improper_states} improper states\n"
         f"{fab}"
         f"# build it with: {build}\n"
-        "[pattern]\n"
-        'kind = "transition-graph"\n'
-        f"unit_width = {task.unit_width or 36.0}   # mm\n"
-        f"copies = {copies}\n"
-        f"entry_flag = {design.entry_flag}\n"
-        f"start = [{task.start[0]}, {task.start[1]}]\n"
-        f"lengths = [{lengths}]   # mm\n"
-        f"shape_angles = [{angles}]   # deg\n"
-        f"hypar_base = {'true' if task.hypar_base else 'false'}\n"
-    )
+    ) + dump_design(design.tg(task, task.unit_width or 36.0, copies), digits=6)
 
 
 #: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
@@ -647,10 +652,10 @@ def run_design_arm(
     changes = {"runs": runs, "seed": seed, "max_generations": max_generations}
     for name, value in changes.items():
         if value is not None and value < (0 if name == "seed" else 1):
-            raise DesignError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
+            raise OptionsError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
     settings = dataclasses.replace(settings, **{k: v for k, v in changes.items() if v is not None})
     t0 = time.perf_counter()
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         results = design_arm(arm_task, settings, executor=executor, progress=progress)
     seconds = time.perf_counter() - t0
     if not results:
@@ -717,7 +722,7 @@ def fabrication_params(
 
     given = [v is not None for v in (bias, theta_max, p_max)]
     if sum(given) > 1:
-        raise DesignError("give only one of the bias, theta_max and p_max")
+        raise OptionsError("give only one of the bias, theta_max and p_max")
     kw = {k: v for k, v in kw.items() if v is not None}
     height = kw.get("height", FabricationParams.height)
     thickness = kw.get("thickness", FabricationParams.thickness)
@@ -812,7 +817,7 @@ def run_fabricate(
     if params is None:
         params = fabrication_params(**overrides)
     elif any(v is not None for v in overrides.values()):
-        raise DesignError("give either fabrication parameters or their keywords, not both")
+        raise OptionsError("give either fabrication parameters or their keywords, not both")
     loaded, warned = _sized_source(design, unit, scale, width)
     fab = fabricate(loaded, params)
     label = name or Path(design).stem
@@ -993,35 +998,6 @@ def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Ou
     )
 
 
-def _executor(scheduler: str | None):
-    """A context giving the executor of a search: None (a local process pool), or a Dask
-    cluster's executor for ``scheduler`` (an address such as ``tcp://10.0.0.5:8786``).
-    """
-    import contextlib
-
-    if scheduler is None:
-        return contextlib.nullcontext(None)
-    try:
-        from distributed import Client
-    except ImportError:
-        raise DesignError(
-            "--scheduler needs dask.distributed: pip install 'origami-cad[dask]'"
-        ) from None
-    try:
-        client = Client(scheduler, timeout="20s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise DesignError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-
-    @contextlib.contextmanager
-    def held():
-        try:
-            yield client.get_executor()
-        finally:
-            client.close()
-
-    return held()
-
-
 def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
     """``ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
     from origami_cad.strings import TSAParams
@@ -1029,7 +1005,7 @@ def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
 
     kind, _, panel = tsa.partition(":")
     if kind not in ("ring", "onboard") or (kind == "onboard") != bool(panel):
-        raise DesignError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
+        raise OptionsError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
     return TSAPlacement(kind, panel or None, ring_radius, ring_height, tsa=TSAParams(model=kind))
 
 
@@ -1097,7 +1073,7 @@ def run_plan_route(
     t0, cpu0 = time.perf_counter(), time.process_time()
     settings = _plan_budget(budget)
     geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
             executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
@@ -1105,7 +1081,7 @@ def run_plan_route(
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:
-        raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
+        raise StringsError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
     header = (
         f"# Planned by: origami-cad plan-route {one_line(pattern)} --tsa {one_line(tsa)} "
         f"--strings {strings}"
@@ -1144,7 +1120,7 @@ def _plan_budget(budget: str | None):
     except ValueError:
         values = []
     if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and v > 0 for v in values):
-        raise DesignError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
+        raise OptionsError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
     return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
 
 
@@ -1199,9 +1175,9 @@ def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
     limits = {}
     for edge, degrees in dict(blockers or {}).items():
         if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
-            raise DesignError(f"blocker on edge {edge}: not a crease of {source}")
+            raise OptionsError(f"blocker on edge {edge}: not a crease of {source}")
         if not (math.isfinite(degrees) and 0 < degrees <= 180):
-            raise DesignError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
+            raise OptionsError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
         limits[int(edge)] = float(degrees)
     return limits
 
@@ -1266,11 +1242,11 @@ def run_simulate(
     from origami_cad.strings import load_route
 
     if steps is not None and not 1 <= steps <= 100_000:
-        raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
+        raise OptionsError(f"the number of steps must lie in 1..100000, got {steps}")
     names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     check_outputs([pattern, route], files=[Path(folder) / n for n in names], folders=[folder])
     if friction is not None and friction < 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
     loaded, warned = _sized_source(pattern, unit, scale, width)
     cp = loaded.pattern
@@ -1322,7 +1298,7 @@ def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_pane
 
     if fixed_panel is not None:
         if fixed_panel not in loaded.pattern.face_labels:
-            raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
+            raise OptionsError(f"fixed panel: no panel labelled {fixed_panel!r}")
         spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
     params = SimulationParams.for_route(spec)
     if model == "dcqc":
@@ -1363,13 +1339,13 @@ def _check_sequence_options(output, model: str, points: int, rate: float, repeat
     """Clear errors for the options of ``sequence`` (before any model runs)."""
     _check_suffix(output, (".toml",), "a sequence")
     if model not in SEQUENCE_MODELS:
-        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+        raise OptionsError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
     if not 2 <= points <= 1000:
-        raise DesignError(f"points must lie in 2..1000, got {points}")
+        raise OptionsError(f"points must lie in 2..1000, got {points}")
     if not (math.isfinite(rate) and 0 < rate <= 1000):
-        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+        raise OptionsError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
     if not 1 <= repeat <= 1_000_000:
-        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+        raise OptionsError(f"repeat must lie in 1..1000000, got {repeat}")
 
 
 def _route_tsa(loaded, path, model: str, fixed_panel, servo: int, at, points: int):
@@ -1452,7 +1428,7 @@ def run_sequence(
     _check_sequence_options(output, model, points, rate, repeat)
     ids = list(ids) if ids else list(range(1, len(routes) + 1))
     if len(ids) != len(routes):
-        raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
+        raise DriveError(f"{len(ids)} servo IDs for {len(routes)} routes")
     frames = parse_keyframes(keyframes, len(routes))
     loaded = load_pattern_source(design)
     tsas, numbers, results = [], [], []
@@ -1631,11 +1607,11 @@ PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
 
 def _check_crawl_options(cycles: int, steps: int, friction: float | None) -> None:
     if not 1 <= cycles <= 100:
-        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+        raise OptionsError(f"the number of cycles must lie in 1..100, got {cycles}")
     if not 1 <= steps <= 1000:
-        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+        raise OptionsError(f"the steps between keyframes must lie in 1..1000, got {steps}")
     if friction is not None and not friction >= 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
 
 
 def _crawl_command(robot, folder, cycles, steps, reverse, friction) -> str:
@@ -1846,7 +1822,7 @@ def run_robot(
     from origami_cad.simulation.crawler import load_robot, robot_placements
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
@@ -1908,13 +1884,13 @@ def run_emulate(
     echo: Callable[[str], None] = print,
 ) -> Outputs:
     """Emulate servos on a pseudo-terminal until Ctrl-C, or for ``seconds`` (0: forever)."""
-    from origami_cad.drive import DynamixelEmulator, SerialEmulator
+    from origami_cad.drive import open_emulator
 
     if len(set(ids)) != len(ids) or not ids or any(not 0 <= i <= 252 for i in ids):
-        raise DesignError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
+        raise DriveError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
     if not (math.isfinite(seconds) and seconds >= 0):
-        raise DesignError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
-    emu = DynamixelEmulator(list(ids)) if protocol == "dynamixel" else SerialEmulator(list(ids))
+        raise OptionsError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
+    emu = open_emulator(protocol, list(ids))
     with emu:
         echo(f"{protocol} emulator with servos {list(ids)} on {emu.port}")
         echo(f"connect with --port {emu.port}; Ctrl-C to stop")
@@ -1938,34 +1914,22 @@ def _open_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | No
 
 
 def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None):
-    from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
+    from origami_cad.drive import open_bus, open_emulator
 
-    if emulate is not None:
-        emu = (
-            DynamixelEmulator(
-                seq.ids,
-                time_scale=emulate["time_scale"],
-                loads=seq.loads(emulate["load_scale"]),
-            )
-            if protocol == "dynamixel"
-            else SerialEmulator(seq.ids, time_scale=emulate["time_scale"])
-        )
-        port = stack.enter_context(emu).port
     limits = {t.dxl_id: t.max_turns for t in seq.tsas}
-    if protocol == "dynamixel":
-        bus = DynamixelBus(
-            port,
-            baudrate,
-            seq.ids,
-            max_turns=limits,
-            current_limit_ma=seq.current_limit,
-            profile_velocity=0,
-            reply_slack=0.5 if emulate is not None else 0.0,
-        )
-    else:
-        bus = SerialBus(
-            port, baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
-        )
+    if emulate is not None:
+        loads = seq.loads(emulate["load_scale"])
+        emu = open_emulator(protocol, seq.ids, time_scale=emulate["time_scale"], loads=loads)
+        port = stack.enter_context(emu).port
+    bus = open_bus(
+        protocol,
+        port,
+        baudrate,
+        seq.ids,
+        max_turns=limits,
+        current_limit_ma=seq.current_limit,
+        emulated=emulate is not None,
+    )
     return stack.enter_context(bus)
 
 
@@ -2020,10 +1984,10 @@ def run_drive(
     if dry_run:
         speed = check_time_scale(speed, "speed")
         if not (math.isfinite(load_scale) and 0 <= load_scale <= 1e6):
-            raise DesignError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
+            raise DriveError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
     seq = load_sequence(sequence)
     if not dry_run and not port:
-        raise DesignError("give the servos' port, or use a dry run on the emulator")
+        raise DriveError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
     names, done = {t.dxl_id: t.name for t in seq.tsas}, None

@@ -31,7 +31,7 @@ from origami_cad.drive import (
 from origami_cad.drive.errors import HardwareError, PortLostError, StallError, TorqueOffError
 from origami_cad.drive.sequence import LOG_FIELDS, check_time_scale, load_sequence, run_sequence
 from origami_cad.drive.serial import frame, unframe
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.errors import OrigamiCadError
 
 IDS = [1, 2, 3]
 
@@ -631,7 +631,7 @@ def test_bad_sequence_values_are_refused_naming_file_table_and_key(tmp_path, old
     at = text.find(old, text.find(old) + 1) if text.count(old) > 1 else text.find(old)
     assert at >= 0, old
     path.write_text(text[:at] + new + text[at + len(old) :])
-    with pytest.raises(DesignError) as info:
+    with pytest.raises(DriveError) as info:
         load_sequence(path)
     message = str(info.value)
     assert message.startswith(str(path)) and where in message
@@ -652,18 +652,18 @@ def test_bad_dcqc_mapping_files_are_refused(tmp_path):
     }
     for content, expected in cases.items():
         (tmp_path / "r.json").write_text(content)
-        with pytest.raises(DesignError, match=expected) as info:
+        with pytest.raises(DriveError, match=expected) as info:
             load_sequence(path)
         assert "[[tsa]] #1: key 'mapping'" in str(info.value)
 
 
 @pytest.mark.parametrize("value", [0, -1, float("nan"), float("inf"), 1e300, True, "2"])
 def test_time_scale_must_be_finite_and_positive(tmp_path, value, capsys):
-    with pytest.raises(DesignError, match="time_scale must be a number in"):
+    with pytest.raises(DriveError, match="time_scale must be a number in"):
         check_time_scale(value)
     seq = load_sequence(write_sequence(tmp_path, IDS))
     with SerialEmulator(IDS) as emu, SerialBus(emu.port, ids=IDS) as bus:
-        with pytest.raises(DesignError):
+        with pytest.raises(DriveError):
             run_sequence(seq, bus, time_scale=value)
         assert emu.received == len(IDS)  # pings only: no goal was sent
     if not isinstance(value, bool | str):

@@ -21,7 +21,7 @@ from build123d import Axis, Compound, Edge, Vertex, import_step
 from matplotlib.image import imread
 
 from origami_cad.cli import main
-from origami_cad.errors import DesignError, PatternError
+from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication import (
     FabricationParams,
     LimitStatus,
@@ -306,7 +306,7 @@ def test_panels_png_shows_the_sheet(tmp_path, small_fab):
     ],
 )
 def test_bad_parameters_are_named(kwargs, message):
-    with pytest.raises((DesignError, PatternError), match=message):
+    with pytest.raises((FabricationError, PatternError), match=message):
         fabricate(miura_design(2, 3, 30.0, 30.0, 65.0).pattern, FabricationParams(**kwargs))
 
 

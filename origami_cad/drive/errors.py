@@ -7,13 +7,9 @@ import signal
 import threading
 from collections.abc import Iterator
 
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import DriveError, OrigamiCadError
 
 __all__ = ["DriveError", "HardwareError", "PortLostError", "StallError", "TorqueOffError"]
-
-
-class DriveError(OrigamiCadError, RuntimeError):
-    """Communication or safety failure, naming the servo or port and the cause."""
 
 
 class StallError(DriveError):

@@ -153,7 +153,7 @@ def fabricate(
 def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:
     """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD."""
     from origami_cad.fabrication.exports import WRITERS
-    from origami_cad.pattern.fold import write_fold
+    from origami_cad.pattern.formats.fold import write_fold
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)

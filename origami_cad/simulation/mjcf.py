@@ -50,7 +50,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
@@ -63,7 +63,7 @@ from origami_cad.strings.route import RouteSpec, load_route
 __all__ = ["MJ", "MjcfError", "MjcfSource", "load_mjcf_source", "to_mjcf"]
 
 
-class MjcfError(OrigamiCadError, ValueError):
+class MjcfError(SimulationError):
     """Input a MuJoCo model cannot be made from (names the string, hole, crease or TSA)."""
 
 

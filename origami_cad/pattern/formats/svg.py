@@ -675,3 +675,9 @@ def _element_segments(
             if not np.allclose(a, b):
                 segments.append((a[:2], b[:2], letter, angle))
     return segments
+
+
+# the registry entries of this format, merged by :mod:`origami_cad.pattern.formats`:
+# a reader is ``read(path, mm_per_unit) -> CreasePattern``, a writer ``write(cp, path) -> Path``
+readers = {".svg": read_svg}
+writers = {".svg": write_svg}
