@@ -267,7 +267,9 @@ def test_the_crawler_moves_forward_under_its_gait():
     play_gait(model, data, robot, float(robot.gait_t[-1]), start=3.0)
     dx = (data.xpos[body] - x0) * 1e3
     print(f"crawler in MuJoCo: {dx[0]:.1f} mm forward, {dx[1]:.1f} mm sideways per cycle")
-    assert dx[0] > 0.5
+    # with Coulomb's cone and stiff friction the feet stick (3 mm a cycle without:
+    # docs/mujoco.md); the quasi-static crawl makes 36.6 mm
+    assert dx[0] > 20.0 and abs(dx[1]) < 5.0
 
 
 # --------------------------------------------------------------------------- bad input

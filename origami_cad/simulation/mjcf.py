@@ -8,11 +8,13 @@ mm, g and degrees are converted at this edge):
   the panel-adjacency graph from a root panel (the robot's body, the route's
   ``fixed_panel``, else the panel nearest the sheet's centre). Every body's frame is
   the pattern's frame in the flat state, so a geom, site or anchor is placed by its
-  pattern coordinates. Each panel carries two mesh geoms, the two printed halves of
-  :class:`~origami_cad.fabrication.PanelOutline` (outer face to the crease layer, the
-  footprints :func:`~origami_cad.fabrication.plan_panels` plans for the solids),
-  whose mass and inertia MuJoCo integrates from PLA's density
-  (``fabrication.params.DENSITY_G_CM3``).
+  pattern coordinates. Each panel shows its printed solids as visual mesh geoms (PLA
+  infills and mid-layer, TPU shells and its share of the crease sheet, holes cut where
+  the strings run: :func:`~.mjcf_solids.panel_solids`, which fabricates the sheet) and
+  collides through two convex mesh geoms, the convex hulls of its two printed halves
+  (outer face to the crease layer). Its ``inertial`` (mass, centre of mass, full
+  inertia) is the exact volume integral of those solids at each material's density
+  (``fabrication.params.DENSITY_G_CM3``) plus its point masses.
 * **Creases** of the tree are hinge joints on the crease's axis, oriented so that a
   positive joint angle is a valley fold (radians, the sign of ``fold_angles``), with the
   crease's rotational stiffness ``E t^3 / (12 w)`` times its length
@@ -155,8 +157,11 @@ class Contact:
         return out
 
 
-#: The contact model of the exports (see docs/mujoco.md, the crawler's stride).
-STICK_SLIP = Contact()
+#: The contact model of the exports: MuJoCo's elliptic cone is Coulomb's (the pyramid
+#: approximates it) and ``impratio = 10`` makes friction ten times stiffer than the normal
+#: contact, so that a sticking foot does not creep: the crawler's stride went from 3.1 to
+#: 48.9 mm per cycle (docs/mujoco.md, the measured table).
+STICK_SLIP = Contact(cone="elliptic", impratio=10.0)
 
 
 def _panel_graph(cp: CreasePattern) -> list[tuple[int, int, int]]:
@@ -344,7 +349,7 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
             lines.append(f'{pad}  <geom mesh="{label}_{h}" class="panel"/>')
         for k, (material, _, _) in enumerate(solids[f].meshes):
             lines.append(f'{pad}  <geom mesh="{label}_v{k}" class="{material}"/>')
-        for name, grams, at in masses.get(f, []):
+        for name, _, at in masses.get(f, []):
             lines.append(
                 f'{pad}  <geom name={quoteattr(name)} type="sphere" size="0.004" pos="{_v(at)}" '
                 'contype="0" conaffinity="0" rgba="0.2 0.2 0.2 1"/>'
