@@ -263,9 +263,9 @@ def test_the_crawler_moves_forward_under_its_gait():
     model, data = load_model(to_mjcf(robot, timestep=1e-3))
     body = model.body(robot.body).id
     play_gait(model, data, robot, 3.0)  # stand up on the strings
-    x0 = data.xpos[body].copy()
+    x0 = data.xipos[body].copy()  # the body panel's centre of mass
     play_gait(model, data, robot, float(robot.gait_t[-1]), start=3.0)
-    dx = (data.xpos[body] - x0) * 1e3
+    dx = (data.xipos[body] - x0) * 1e3
     print(f"crawler in MuJoCo: {dx[0]:.1f} mm forward, {dx[1]:.1f} mm sideways per cycle")
     # with Coulomb's cone and stiff friction the feet stick (3 mm a cycle without:
     # docs/mujoco.md); the quasi-static crawl makes 36.6 mm

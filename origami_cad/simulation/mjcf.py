@@ -159,8 +159,8 @@ class Contact:
 
 #: The contact model of the exports: MuJoCo's elliptic cone is Coulomb's (the pyramid
 #: approximates it) and ``impratio = 10`` makes friction ten times stiffer than the normal
-#: contact, so that a sticking foot does not creep: the crawler's stride went from 3.1 to
-#: 48.9 mm per cycle (docs/mujoco.md, the measured table).
+#: contact, so that a sticking foot does not creep: the crawler's stride went from 1.5 to
+#: 46.8 mm per cycle (docs/mujoco.md, the measured table).
 STICK_SLIP = Contact(cone="elliptic", impratio=10.0)
 
 
