@@ -17,11 +17,15 @@ import numpy as np
 import shapely
 
 from origami_cad.fabrication import fabricate
-from origami_cad.fabrication.exports.stl import solid_mesh
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, crease_sheet, planar_prism
 
-__all__ = ["MassProps", "PanelSolids", "panel_solids", "solid_props"]
+__all__ = ["MESH_TOLERANCE", "MassProps", "PanelSolids", "panel_solids", "solid_props"]
+
+#: Tessellation of the visual meshes: chordal (mm) and angular (rad) tolerance, coarser
+#: than the STL exports' (0.01 mm, 0.1 rad) and four times faster; the mass properties
+#: do not depend on it (they integrate the B-rep).
+MESH_TOLERANCE = (0.05, 0.3)
 
 
 @dataclass(frozen=True)
@@ -76,7 +80,7 @@ class PanelSolids:
 
     def add(self, material: str, solid, z_shift: float) -> None:
         """Add a solid (mm) of ``material`` ("PLA" or "TPU"), lowered by ``z_shift`` mm."""
-        verts, tris = solid_mesh(solid)
+        verts, tris = _mesh(solid)
         self.meshes.append((material, verts - [0.0, 0.0, z_shift], tris))
         p = solid_props(solid, DENSITY_G_CM3[material])
         p = MassProps(p.mass, p.com - [0.0, 0.0, z_shift], p.inertia)
@@ -103,3 +107,15 @@ def panel_solids(source, params: FabricationParams) -> tuple[dict[int, PanelSoli
             if isinstance(piece, shapely.Polygon) and piece.area > 1e-6:
                 out[face].add(PART_MATERIALS["creases"], planar_prism(piece, z0, z1), half)
     return out, float(fab.report()["total_mass_g"])
+
+
+def _mesh(solid) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (mm, welded at 1e-6 mm) and triangles of a solid at :data:`MESH_TOLERANCE`."""
+    points, triangles = solid.tessellate(*MESH_TOLERANCE)
+    v = np.array([(p.X, p.Y, p.Z) for p in points], dtype=float).reshape(-1, 3)
+    _, first, inverse = np.unique(
+        np.round(v / 1e-6).astype(np.int64), axis=0, return_index=True, return_inverse=True
+    )
+    t = inverse.reshape(-1)[np.asarray(triangles, dtype=np.int64).reshape(-1, 3)]
+    keep = (t[:, 0] != t[:, 1]) & (t[:, 1] != t[:, 2]) & (t[:, 2] != t[:, 0])
+    return v[first], t[keep]
