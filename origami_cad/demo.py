@@ -20,7 +20,7 @@ from origami_cad.errors import OrigamiCadError
 from origami_cad.jobs import Outputs
 from origami_cad.viz.report import StepReport, write_report
 
-__all__ = ["STEPS", "Step", "examples_dir", "run_demo", "run_step"]
+__all__ = ["STEPS", "Step", "examples_dir", "mujoco_frame", "run_demo", "run_step"]
 
 
 def examples_dir() -> Path:
@@ -122,7 +122,30 @@ def fig7(out: Path, quick: bool) -> list[Outputs]:
     )
     done.numbers.insert(1, ("dry-run time acceleration", f"{speed:g} x"))
     chained.append(done)
+    chained.append(mujoco_frame(robot, out / "mujoco_mid_stride.png"))
     return chained
+
+
+def mujoco_frame(robot: Path, png: Path) -> Outputs:
+    """The crawler exported to MuJoCo (``oc.to_mjcf``) 11 s into its gait, rendered off-screen.
+
+    Without the ``mujoco`` extra or an off-screen GL context (EGL, OSMesa) the report says
+    why instead of showing the frame.
+    """
+    from origami_cad._fileio import atomic_path
+
+    try:
+        from origami_cad.simulation.mjcf import MjcfError
+        from origami_cad.simulation.mujoco_run import render_gait_frame
+    except ImportError as exc:
+        return Outputs(numbers=[("MuJoCo frame", f"not rendered: {exc}")])
+    try:
+        with atomic_path(png) as tmp:
+            render_gait_frame(robot, tmp)
+    except (MjcfError, ImportError) as exc:
+        return Outputs(numbers=[("MuJoCo frame", f"not rendered: {exc}")])
+    caption = "The crawler in MuJoCo (oc.to_mjcf), 11 s into its gait: mid-stride"
+    return Outputs(files=[png], images=[(png, caption)])
 
 
 def fig8(out: Path, quick: bool) -> list[Outputs]:
@@ -193,7 +216,9 @@ STEPS: list[Step] = [
          "drive sequence: mappings from the string model, and each servo's load, the TSA "
          "torque of the simulated crawl. The servo logs: examples/crawler_gait.toml (that "
          "file, made by the crawl job) on four emulated XL330 servos (Dynamixel Protocol "
-         "2.0 over a pseudo-terminal), each carrying its simulated load.",
+         "2.0 over a pseudo-terminal), each carrying its simulated load. Last, the same robot "
+         "exported to MuJoCo (panels as bodies, creases as hinges, strings as tendons, TSAs "
+         "as actuators) and rendered off-screen mid-stride.",
          fig7),
     Step("fig8", "Fig. 8 - the designed arm, printed and folded by its strings",
          "The winner of Fig. 3 with the string route design-arm wrote for it: one onboard TSA "
