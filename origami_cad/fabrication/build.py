@@ -14,6 +14,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
+from origami_cad.errors import DesignError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import CreaseLimits, PanelPlan, plan_panels
@@ -38,6 +39,8 @@ class Fabrication:
     timings: dict[str, float] = field(default_factory=dict)
     #: the design it was made from, when it came from one (folds it in :meth:`assembly`)
     design: Design | None = None
+    #: the slicer ``print.3mf`` is laid out for (``export_3mf``'s ``slicer``)
+    slicer: str = "prusa"
 
     def assembly(self, ratio: float = 0.0, design: Design | None = None) -> Any:
         """The printed sheet as a build123d ``Compound`` tree with joints, folded to ``ratio``.
@@ -150,10 +153,22 @@ def fabricate(
     return fab
 
 
-def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:
-    """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD."""
+def write_fabrication(
+    fab: Fabrication, folder: str | os.PathLike[str], slicer: str | None = None
+) -> dict[str, Path]:
+    """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD.
+
+    ``slicer`` (``"prusa"``, ``"bambu"`` or ``"orca"``; default :attr:`Fabrication.slicer`)
+    is the slicer ``print.3mf`` is laid out for.
+    """
     from origami_cad.fabrication.exports import WRITERS
+    from origami_cad.fabrication.exports.threemf import SLICERS
     from origami_cad.pattern.fold import write_fold
+
+    if slicer is not None:
+        if slicer not in SLICERS:
+            raise DesignError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
+        fab.slicer = slicer
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
