@@ -125,6 +125,8 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fabricate", "--hole", {"nargs": 2, "type": _finite, "action": "append",
                              "metavar": ("X", "Y"), "help": "a hole at X Y, mm; repeat"}),
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
+    ("fabricate", "--slicer", {"choices": ("prusa", "bambu", "orca"),
+                               "help": "the slicer print.3mf is laid out for"}),
     ("simulate", "--steps", {"type": int, "help": "actuation steps over the route's turns"}),
     ("simulate", "--blocker", {"action": "append", "metavar": "EDGE:DEG", "type": _blocker,
                                "dest": "blockers", "help": "stop crease EDGE at DEG deg (repeat)"}),

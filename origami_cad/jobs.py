@@ -783,6 +783,7 @@ def run_fabricate(
     unit: str | None = None,
     scale: float | None = None,
     width: float | None = None,
+    slicer: str = "prusa",
     **overrides: Any,
 ) -> Outputs:
     """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
@@ -794,6 +795,7 @@ def run_fabricate(
     exploded and section pictures; ``name`` prefixes the key numbers (for
     reports holding several structures).
     ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``slicer`` (prusa, bambu or orca) is the slicer print.3mf is laid out for.
     """
     from origami_cad.fabrication import fabricate, write_fabrication
     from origami_cad.viz.fabrication_plots import save_panels_png
@@ -810,7 +812,7 @@ def run_fabricate(
     fab = fabricate(loaded, params)
     label = name or Path(design).stem
     with atomic_directory(folder, inputs=_sources(design, loaded)) as stage:
-        write_fabrication(fab, stage)
+        write_fabrication(fab, stage, slicer=slicer)
         write_parts_glb(stage, stage / "parts.glb")
         save_panels_png(fab, stage / "panels.png")
         images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
