@@ -6,6 +6,8 @@ import itertools
 import json
 import math
 import os
+import re
+import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -225,6 +227,38 @@ def test_exports_read_back(tmp_path, small_fab):
     assert report["theta_max_deg"] == pytest.approx(146.6, abs=0.05)
     assert report["parts"]["shells"]["material"] == "TPU"
     assert report["parts"]["infills"]["mass_g"] == pytest.approx(vols["infills"] / 1000 * 1.24)
+
+
+ADMESH = shutil.which("admesh")
+
+
+def test_each_stl_is_one_watertight_mesh(tmp_path, small_fab):
+    """Issue 30: neighbouring shells met on the crease lines (76 edges of four triangles)."""
+    from origami_cad.fabrication.panels import CREASE_GAP
+
+    paths = write_fabrication(small_fab, tmp_path)
+    for name in PART_NAMES:
+        mesh = trimesh.load(paths[name])  # welded by position, as every STL reader does
+        assert mesh.is_watertight and mesh.is_winding_consistent, name
+        _, uses = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+        assert set(uses.tolist()) == {2}, name
+    # the stated gap: each panel's halves stop CREASE_GAP / 2 short of its creases
+    for o in small_fab.outlines:
+        crease = np.flatnonzero(o.crease_edge)
+        poly = shapely.Polygon(o.polygon).exterior
+        for k in crease:
+            mid = (o.inner[k] + o.inner[(k + 1) % len(o.inner)]) / 2
+            assert poly.distance(shapely.Point(mid)) == pytest.approx(CREASE_GAP / 2, abs=1e-9)
+    if ADMESH is None:
+        pytest.skip("admesh is not installed")
+    for name in PART_NAMES:
+        run = subprocess.run([ADMESH, str(paths[name])], capture_output=True, text=True, check=True)
+        stats = dict(re.findall(r"^(\w[\w ]*?)\s*:\s*(\d+)", run.stdout, flags=re.M))
+        for key in ("Total disconnected facets", "Degenerate facets", "Edges fixed",
+                    "Facets removed", "Facets added",
+                    "Facets reversed", "Backwards edges"):  # fmt: skip
+            assert stats[key] == "0", (name, key)
+        assert int(stats["Number of parts"]) == len(small_fab.parts.solids[name]), name
 
 
 def test_crease_limits_from_the_rigid_folding(small_fab):
