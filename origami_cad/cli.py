@@ -127,6 +127,8 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("fabricate", "--renders", {**_FLAG, "help": "also render the assembled parts"}),
     ("fabricate", "--slicer", {"choices": ("prusa", "bambu", "orca"),
                                "help": "the slicer print.3mf is laid out for"}),
+    ("fabricate", "--bed", {"nargs": 2, "type": _finite, "metavar": ("X", "Y"),
+                            "help": "print bed, mm: a larger sheet is refused"}),
     ("simulate", "--steps", {"type": int, "help": "actuation steps over the route's turns"}),
     ("simulate", "--blocker", {"action": "append", "metavar": "EDGE:DEG", "type": _blocker,
                                "dest": "blockers", "help": "stop crease EDGE at DEG deg (repeat)"}),

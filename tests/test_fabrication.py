@@ -12,6 +12,7 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ET
 import zipfile
+from dataclasses import replace
 from pathlib import Path
 
 import lib3mf
@@ -337,11 +338,65 @@ def test_panels_png_shows_the_sheet(tmp_path, small_fab):
         ({"bias": 16.0}, "too small for the inner bias"),
         ({"holes": [(500.0, 500.0)]}, "not on any panel"),
         ({"holes": [(15.0, 1.0)]}, "does not fit the operation region of panel c0r0s0"),
+        ({"height": 0.4}, r"eq\. 6"),
+        ({"shell": 0.9}, r"thinner than a panel half \(h - t\) / 2 = 0\.9 mm"),
     ],
 )
 def test_bad_parameters_are_named(kwargs, message):
     with pytest.raises((DesignError, PatternError), match=message):
         fabricate(miura_design(2, 3, 30.0, 30.0, 65.0).pattern, FabricationParams(**kwargs))
+
+
+def test_a_hole_too_large_for_its_panel_names_the_room_and_only_a_bias_that_fits():
+    params = FabricationParams(hole_diameter=25.0)
+    with pytest.raises(PatternError) as err:  # 6 x 4 Miura: no bias makes room
+        plan_panels(load_design(EXAMPLES / "miura_6x4.toml"), params)
+    message = str(err.value)
+    assert "a 25 mm hole does not fit its operation region (room for" in message
+    assert "bias" not in message  # the hole is the limit, not the bias
+    with pytest.raises(PatternError) as err:  # larger panels: a smaller bias makes room
+        plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), params)
+    (best,) = re.findall(r"use bias = ([\d.]+)", str(err.value))
+    plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), replace(params, bias=float(best)))
+
+
+@pytest.mark.parametrize(
+    "p_max, theta_max, message",
+    [(1.2, None, r"p_max must lie in \(0, 1\) \(eq\. 6"), (None, 180.0, r"\(0, 180\) deg \(eq\. 6\)")],
+)
+def test_eq6_limits_of_p_max_and_theta_max_are_named(p_max, theta_max, message):
+    from origami_cad.jobs import fabrication_params
+
+    with pytest.raises(DesignError, match=message):
+        fabrication_params(p_max=p_max, theta_max=theta_max)
+    with pytest.raises(DesignError, match="must exceed the crease thickness"):
+        bias_for_theta_max(1.0, 0.4, 0.4)
+
+
+def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys):
+    from origami_cad.fabrication import check_bed
+
+    # 100 x 100 panels of 20 mm: 2 m across, thousands of panels; refused up front
+    huge = miura_design(100, 100, 20.0, 20.0, 65.0)
+    with pytest.raises(DesignError, match=r"larger than the 200 x 200 mm print bed"):
+        fabricate(huge, bed=(200.0, 200.0))
+    small = miura_design(2, 3, 30.0, 30.0, 65.0).pattern  # 104 x 60 mm
+    check_bed(small, (110.0, 70.0))
+    check_bed(small, (70.0, 110.0))  # either way round
+    with pytest.raises(DesignError, match=r"104\.0 x 60\.0 mm: larger than the 100 x 100 mm"):
+        check_bed(small, (100.0, 100.0))
+    with pytest.raises(DesignError, match="two sizes > 0 mm"):
+        check_bed(small, (0.0, 100.0))
+    # the command refuses by default at 200 x 200 mm and names the option
+    design = tmp_path / "long.toml"
+    design.write_text(
+        '[pattern]\nkind = "miura"\nrows = 2\ncolumns = 12\npanel_length = 20.0\n'
+        "panel_width = 20.0\nsector_angle = 65.0\n"
+    )
+    assert main(["fabricate", str(design), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "larger than the 200 x 200 mm print bed" in err and "--bed X Y" in err
+    assert not (tmp_path / "out").exists()
 
 
 def test_cli_writes_everything_or_nothing(tmp_path, capsys):

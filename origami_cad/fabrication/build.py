@@ -17,7 +17,13 @@ from origami_cad._fileio import atomic_write
 from origami_cad.errors import DesignError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
-from origami_cad.fabrication.plan import CreaseLimits, PanelPlan, plan_panels
+from origami_cad.fabrication.plan import (
+    DEFAULT_BED,
+    CreaseLimits,
+    PanelPlan,
+    check_bed,
+    plan_panels,
+)
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts, build_parts
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
@@ -136,19 +142,28 @@ def build_fabrication(plan: PanelPlan) -> Fabrication:
 
 
 def fabricate(
-    source: CreasePattern | Design, params: FabricationParams | None = None
+    source: CreasePattern | Design,
+    params: FabricationParams | None = None,
+    bed: tuple[float, float] | None = None,
 ) -> Fabrication:
     """Plan the panels of a crease pattern (or design) and build its printable solids.
 
     ``build_fabrication(plan_panels(source, params))``; use :func:`plan_panels`
-    alone when no solid is needed (plots, hole positions, part placement).
+    alone when no solid is needed (plots, hole positions, part placement). With
+    ``bed`` (x, y in mm), a sheet that does not lie flat on it is refused before any
+    work (:func:`check_bed`); without, it is only warned about against
+    :data:`DEFAULT_BED`.
 
     Raises
     ------
+    DesignError
+        The sheet is larger than ``bed``.
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
-    fab = build_fabrication(plan_panels(source, params))
+    if bed is not None:
+        check_bed(source.pattern if isinstance(source, Design) else source, bed)
+    fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED))
     fab.design = source if isinstance(source, Design) else None
     return fab
 

@@ -25,6 +25,7 @@ from origami_cad.errors import DesignError
 __all__ = [
     "DENSITY_G_CM3",
     "FabricationParams",
+    "bias_for_p_max",
     "bias_for_theta_max",
     "theta_max",
 ]
@@ -46,8 +47,22 @@ def theta_max(bias: float, height: float, thickness: float) -> float:
 def bias_for_theta_max(theta: float, height: float, thickness: float) -> float:
     """Eq. 6 inverted: the inner bias ``b`` (mm) that gives ``theta_max = theta`` (radians)."""
     if not 0.0 < theta < math.pi:
-        raise DesignError(f"theta_max must lie in (0, 180) deg, got {math.degrees(theta):g}")
+        raise DesignError(
+            f"theta_max must lie in (0, 180) deg (eq. 6), got {math.degrees(theta):g}"
+        )
+    if height <= thickness:
+        raise DesignError(
+            f"height h = {height:g} mm must exceed the crease thickness t = {thickness:g} mm "
+            "(eq. 6: theta_max = 2 atan(2b / (h - t)))"
+        )
     return (height - thickness) / 2.0 * math.tan(theta / 2.0)
+
+
+def bias_for_p_max(p_max: float, height: float, thickness: float) -> float:
+    """Eq. 6 inverted for ``p_max = theta_max / pi`` in (0, 1): the inner bias ``b``, mm."""
+    if not 0.0 < p_max < 1.0:
+        raise DesignError(f"p_max must lie in (0, 1) (eq. 6: theta_max / 180 deg), got {p_max:g}")
+    return bias_for_theta_max(p_max * math.pi, height, thickness)
 
 
 @dataclass(frozen=True)
@@ -97,12 +112,12 @@ class FabricationParams:
         if self.height <= self.thickness:
             raise DesignError(
                 f"height h = {self.height:g} mm must exceed the crease thickness "
-                f"t = {self.thickness:g} mm"
+                f"t = {self.thickness:g} mm (eq. 6: theta_max = 2 atan(2b / (h - t)))"
             )
-        if self.shell >= self.half_height:
+        if self.shell >= self.half_height - 1e-6:
             raise DesignError(
                 f"shell s = {self.shell:g} mm must be thinner than a panel half "
-                f"(h - t) / 2 = {self.half_height:g} mm"
+                f"(h - t) / 2 = {self.half_height:g} mm (no infill would be left)"
             )
         if isinstance(self.holes, str):
             if self.holes not in ("auto", "pattern", "none"):
