@@ -77,7 +77,9 @@ def fig4(out: Path, quick: bool) -> list[Outputs]:
     winner = out.parent / "fig3" / "best.toml"
     if winner.exists():
         # the arm's sheet is about 250 mm long: printed on a 300 x 300 mm bed
-        arm = jobs.run_fabricate(winner, out / "arm", renders=True, name="arm winner", bed=(300, 300))
+        arm = jobs.run_fabricate(
+            winner, out / "arm", renders=True, name="arm winner", bed=(300, 300)
+        )
         chained.append(arm)
     return chained
 

@@ -49,13 +49,13 @@ def _objects(model: ET.Element) -> dict[int, ET.Element]:
     return {int(o.get("id")): o for o in model.iterfind("m:resources/m:object", NS)}
 
 
-def _mesh_volume(obj: ET.Element) -> tuple[int, float]:
+def _mesh_volume(obj: ET.Element) -> float:
     verts = np.array([[float(v.get(k)) for k in "xyz"] for v in obj.iterfind(".//m:vertex", NS)])
     tris = np.array(
         [[int(t.get(k)) for k in ("v1", "v2", "v3")] for t in obj.iterfind(".//m:triangle", NS)]
     )
     a, b, c = verts[tris[:, 0]], verts[tris[:, 1]], verts[tris[:, 2]]
-    return len(tris), float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
 def _config_volumes(zf: zipfile.ZipFile, object_id: int) -> tuple[dict, list[dict]]:
@@ -130,7 +130,7 @@ def bbs_import(path, prefixes) -> tuple[list[dict], dict | None]:
         md = data["metadata"] if data else {}
         extruder = int(md.get("extruder", object_extruder))  # rule 6
         extruder = 1 if extruder > top else extruder
-        count, volume = _mesh_volume(objects[sub])
+        volume = _mesh_volume(objects[sub])
         volumes.append({"name": md.get("name"), "extruder": extruder, "volume": volume})
     return volumes, config
 

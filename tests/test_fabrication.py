@@ -362,7 +362,10 @@ def test_a_hole_too_large_for_its_panel_names_the_room_and_only_a_bias_that_fits
 
 @pytest.mark.parametrize(
     "p_max, theta_max, message",
-    [(1.2, None, r"p_max must lie in \(0, 1\) \(eq\. 6"), (None, 180.0, r"\(0, 180\) deg \(eq\. 6\)")],
+    [
+        (1.2, None, r"p_max must lie in \(0, 1\) \(eq\. 6"),
+        (None, 180.0, r"\(0, 180\) deg \(eq\. 6\)"),
+    ],
 )
 def test_eq6_limits_of_p_max_and_theta_max_are_named(p_max, theta_max, message):
     from origami_cad.jobs import fabrication_params

@@ -31,7 +31,13 @@ from __future__ import annotations
 import json
 from xml.sax.saxutils import quoteattr
 
-__all__ = ["APPLICATIONS", "IDENTITY", "model_settings_config", "project_settings_config"]
+__all__ = [
+    "APPLICATIONS",
+    "IDENTITY",
+    "config_strings",
+    "model_settings_config",
+    "project_settings_config",
+]
 
 #: The ``Application`` each flavour carries: the importer's prefix and a version its
 #: ``Semver::parse`` reads (Bambu Studio writes ``BambuStudio-`` + ``01.09.00.00``-style
@@ -42,7 +48,8 @@ APPLICATIONS = {"bambu": "BambuStudio-01.09.00.00", "orca": "OrcaSlicer-2.2.0"}
 IDENTITY = "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"
 
 
-def _strings(values) -> list[str]:
+def config_strings(values) -> list[str]:
+    """Values as the JSON settings hold them: strings, floats in ``%g``."""
     return [f"{v:g}" if isinstance(v, float) else str(v) for v in values]
 
 
@@ -54,7 +61,7 @@ def project_settings_config(settings: dict[str, object], version: str) -> str:
     deg C, heights mm, volumetric speeds mm^3/s. One 0.4 mm nozzle fed the two
     filaments (an AMS), as the Bambu printers and Orca's defaults have.
     """
-    bed = _strings(settings["bed_temperature"])
+    bed = config_strings(settings["bed_temperature"])
     names = [f"origami_cad {m}" for m in settings["materials"]]
     return json.dumps(
         {
@@ -66,13 +73,15 @@ def project_settings_config(settings: dict[str, object], version: str) -> str:
             "filament_settings_id": names,
             "filament_type": ["TPU" if t == "FLEX" else t for t in settings["filament_type"]],
             "filament_colour": list(settings["filament_colour"]),
-            "nozzle_temperature": _strings(settings["temperature"]),
-            "nozzle_temperature_initial_layer": _strings(settings["first_layer_temperature"]),
+            "nozzle_temperature": config_strings(settings["temperature"]),
+            "nozzle_temperature_initial_layer": config_strings(settings["first_layer_temperature"]),
             "hot_plate_temp": bed,
             "hot_plate_temp_initial_layer": bed,
             "textured_plate_temp": bed,
             "textured_plate_temp_initial_layer": bed,
-            "filament_max_volumetric_speed": _strings(settings["filament_max_volumetric_speed"]),
+            "filament_max_volumetric_speed": config_strings(
+                settings["filament_max_volumetric_speed"]
+            ),
             "nozzle_diameter": ["0.4"],
         },
         indent=1,

@@ -29,7 +29,7 @@ from origami_cad.errors import DesignError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS
 from origami_cad.fabrication.exports.bambu3mf import (
     APPLICATIONS,
-    _strings,
+    config_strings,
     model_settings_config,
     project_settings_config,
 )
@@ -139,11 +139,13 @@ def _bambu_project_config(settings: dict[str, object]) -> str:
             "layer_height": f"{settings['layer_height']:g}",
             "initial_layer_print_height": f"{settings['first_layer_height']:g}",
             "filament_type": ["TPU" if t == "FLEX" else t for t in settings["filament_type"]],
-            "nozzle_temperature": _strings(settings["temperature"]),
-            "nozzle_temperature_initial_layer": _strings(settings["first_layer_temperature"]),
-            "hot_plate_temp": _strings(settings["bed_temperature"]),
-            "hot_plate_temp_initial_layer": _strings(settings["bed_temperature"]),
-            "filament_max_volumetric_speed": _strings(settings["filament_max_volumetric_speed"]),
+            "nozzle_temperature": config_strings(settings["temperature"]),
+            "nozzle_temperature_initial_layer": config_strings(settings["first_layer_temperature"]),
+            "hot_plate_temp": config_strings(settings["bed_temperature"]),
+            "hot_plate_temp_initial_layer": config_strings(settings["bed_temperature"]),
+            "filament_max_volumetric_speed": config_strings(
+                settings["filament_max_volumetric_speed"]
+            ),
             "filament_colour": list(settings["filament_colour"]),
             "nozzle_diameter": ["0.4", "0.4"],
         },
@@ -262,8 +264,7 @@ def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str]:
         object_id, material = k + 2, PART_MATERIALS[n]
         pindex = list(MATERIAL_COLORS).index(material)
         model.append(
-            f'  <object id="{object_id}" type="model" name="{escape(n)}" pid="1" '
-            f'pindex="{pindex}">'
+            f'  <object id="{object_id}" type="model" name="{escape(n)}" pid="1" pindex="{pindex}">'
         )
         model += [*_mesh_lines(*meshes[n]), "  </object>"]
         parts.append((object_id, n, EXTRUDERS[material]))
