@@ -24,7 +24,7 @@ def run() -> list[tuple[str, float, str]]:
     model, data = load_model(xml)
     body = model.body(robot.body).id
     play_gait(model, data, robot, 3.0)
-    x0, t2 = data.xpos[body, 0], time.perf_counter()
+    x0, t2 = data.xipos[body, 0], time.perf_counter()
     play_gait(model, data, robot, float(robot.gait_t[-1]), start=3.0)
     t3 = time.perf_counter()
     quasi = simulate_gait(robot, cycles=1, steps=3)
@@ -34,7 +34,7 @@ def run() -> list[tuple[str, float, str]]:
         ("export the crawler to MJCF, s", t1 - t0, ""),
         ("MuJoCo: simulated s per wall s (1 ms steps)", cycle / (t3 - t2), "> 1 (real time)"),
         ("MuJoCo: one 32 s gait cycle, wall s", t3 - t2, ""),
-        ("MuJoCo: forward per cycle, mm", (data.xpos[body, 0] - x0) * 1e3, ""),
+        ("MuJoCo: forward per cycle, mm", (data.xipos[body, 0] - x0) * 1e3, ""),
         ("quasi-static crawl: one cycle (3 steps), wall s", t4 - t3, ""),
         ("quasi-static crawl: forward per cycle, mm", quasi.displacement_per_cycle()[0], ""),
     ]

@@ -55,7 +55,7 @@ def run(seconds: float, folder: Path) -> dict:
         tsa_controls(model, data, rest + scale * (turns - rest), acts)
         mujoco.mj_step(model, data)
         if not log or data.time - log[-1][0] >= 0.05:
-            log.append((data.time, *(data.xpos[body] * 1e3), error))
+            log.append((data.time, *(data.xipos[body] * 1e3), error))
     t, x, y, _, yaw = np.array(log).T
     folder.mkdir(parents=True, exist_ok=True)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))

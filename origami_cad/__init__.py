@@ -26,7 +26,7 @@ _API = {
     "CreasePattern": "origami_cad.pattern.model",
     "read_pattern": "origami_cad.pattern.io",
     "write_pattern": "origami_cad.pattern.io",
-    "write_fold": "origami_cad.pattern.fold",
+    "write_fold": "origami_cad.pattern.formats.fold",
     "Design": "origami_cad.pattern.design",
     "load_design": "origami_cad.pattern.design",
     "miura_design": "origami_cad.pattern.design",
@@ -125,7 +125,7 @@ if TYPE_CHECKING:  # for type checkers and the docs' name check; at run time: __
     from origami_cad.kinematics.placement import place_on_table
     from origami_cad.parts import Blocker, DriverAdapter, RingRail, TSAModule
     from origami_cad.pattern.design import Design, load_design, miura_design, tg_design
-    from origami_cad.pattern.fold import write_fold
+    from origami_cad.pattern.formats.fold import write_fold
     from origami_cad.pattern.io import read_pattern, write_pattern
     from origami_cad.pattern.model import CreasePattern
     from origami_cad.pattern.tg import TGDesign

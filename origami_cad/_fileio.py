@@ -22,9 +22,13 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import hashlib
+import json
 import os
+import re
 import shutil
 import signal
+import socket
 import stat
 import sys
 import tempfile
@@ -41,8 +45,11 @@ __all__ = [
     "atomic_path",
     "atomic_write",
     "check_outputs",
+    "clean_stale",
+    "finishing",
     "handle_signals",
     "interrupted",
+    "referenced_files",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -95,13 +102,16 @@ def _quiet_unraisable(unraisable) -> None:
 
 
 @contextlib.contextmanager
-def handle_signals() -> Iterator[None]:
+def handle_signals(exiting: bool = False) -> Iterator[None]:
     """Within the block, SIGINT and SIGTERM raise :class:`Interrupted` and are remembered.
 
     Used by the command-line tool (main thread only). The remembered signal
     makes every pending atomic output refuse to complete, so an interrupt that a
     library swallowed (a VTK callback, a worker loop) still leaves nothing behind.
-    The previous handlers are restored and the memory cleared on leaving.
+    The previous handlers are restored and the memory cleared on leaving; with
+    ``exiting`` (the process ends after the block), further signals are ignored
+    instead: the command has finished (or been interrupted), and a Ctrl-C while the
+    interpreter shuts down must not replace its exit code by a death by SIGINT.
     """
     _received.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -109,8 +119,22 @@ def handle_signals() -> Iterator[None]:
         yield
     finally:
         for sig, handler in previous.items():
-            signal.signal(sig, handler)
+            signal.signal(sig, signal.SIG_IGN if exiting else handler)
         _received.clear()
+
+
+@contextlib.contextmanager
+def finishing() -> Iterator[None]:
+    """Within the block, outputs complete although an interrupt came, and further
+    SIGINT and SIGTERM wait (main thread): for what a stopped run still owes its
+    user (``drive``'s plot of the readings its log kept). The interrupt stays noted."""
+    saved = list(_received)
+    _received.clear()
+    try:
+        with _signals_held() as held:
+            yield
+    finally:
+        _received[:] = saved + [s for s in held if s not in saved]
 
 
 def _raise_if_interrupted() -> None:
@@ -167,12 +191,66 @@ def _remove_created(created: Iterable[Path]) -> None:
             p.rmdir()  # only if still empty
 
 
+#: This machine, as the temporary names carry it (a folder may be shared over a network).
+_HOST = hashlib.sha1(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:6]
+#: A temporary name: ``.oc-HOST-PID-random``, so a later run can tell whether its
+#: process is gone (:func:`clean_stale`).
+_STALE = re.compile(r"\.oc-([0-9a-f]{6})-([0-9]+)-")
+
+
+def _prefix() -> str:
+    return f".oc-{_HOST}-{os.getpid()}-"
+
+
 def _temp_file(folder: Path, suffix: str) -> Path:
     # short prefix and suffix: a target name near the file-system limit must not
     # make the temporary name too long
-    fd, tmp = tempfile.mkstemp(prefix=".oc-", suffix=suffix[-16:], dir=folder)
+    fd, tmp = tempfile.mkstemp(prefix=_prefix(), suffix=suffix[-16:], dir=folder)
     os.close(fd)
     return Path(tmp)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True  # another user's process (or a number no process can have: keep)
+    return True
+
+
+def clean_stale(folder: PathLike) -> list[Path]:
+    """Remove the temporary files and staging folders that killed runs left in ``folder``.
+
+    Only names this package makes (``.oc-HOST-PID-...``), made on this machine by a
+    process that no longer runs (``kill -9``, a power cut). A staging folder caught
+    while putting its files in place is rolled back first (its journal), so the
+    outputs are all the old ones. Returns what was removed.
+    """
+    removed = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    # staging folders first: their journals need the old files kept beside the targets
+    entries.sort(key=lambda e: not e.is_dir(follow_symlinks=False))
+    for entry in entries:
+        m = _STALE.match(entry.name)
+        if m is None or m.group(1) != _HOST:
+            continue
+        pid = int(m.group(2))
+        if pid == os.getpid() or _alive(pid):
+            continue
+        path = Path(entry.path)
+        with contextlib.suppress(OSError):
+            if entry.is_dir(follow_symlinks=False):
+                _recover(path)
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+            removed.append(path)
+    return removed
 
 
 def _target(path: PathLike) -> tuple[Path, os.stat_result | None]:
@@ -273,6 +351,7 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
         tmp_dir = Path(tempfile.gettempdir())  # a device's folder (/dev) is no place for it
     else:
         tmp_dir = dest.parent
+        clean_stale(tmp_dir)
     tmp = _make_temp(
         lambda: _temp_file(tmp_dir, Path(path).suffix or ".tmp"),
         created,
@@ -297,25 +376,33 @@ def atomic_write(path: PathLike, mode: str = "w", **kwargs) -> Iterator[IO]:
 
 
 def _staged_files(stage: Path) -> list[Path]:
-    return sorted(p.relative_to(stage) for p in stage.rglob("*") if not p.is_dir())
+    return sorted(
+        p.relative_to(stage)
+        for p in stage.rglob("*")
+        if not p.is_dir() and not p.name.startswith(".oc-")  # a nested write cut short
+    )
 
 
 @contextlib.contextmanager
 def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterator[Path]:
-    """Yield a temporary folder; on success its files are put into ``path``.
+    """Yield a temporary folder; on success its files are put into ``path``, all at once.
 
     For commands that write several files. Only the command's own files are
     written into ``path``: every other file or folder already there is kept.
-    Each file is complete when it appears. On an exception (or an interrupt)
-    nothing is written, and a folder created for the output is removed again.
+    The files replace the old ones as one set (:func:`_commit`): after an
+    exception, an interrupt, a full disk or even ``kill -9`` (rolled back by the
+    next run, :func:`clean_stale`) the folder holds all the old files or all the
+    new ones, never a mix. On an exception nothing is written, and a folder
+    created for the output is removed again.
 
     Parameters
     ----------
     path : path-like
         The output folder; created if missing. A link to a folder is followed.
     inputs : sequence of path-like
-        The command's input files: an output file that resolves to one of them
-        is an error (checked before anything is put in place).
+        The command's input files: an output file that resolves to one of them, or to
+        a file one of them names (:func:`referenced_files`), is an error (checked
+        before anything is put in place).
 
     Raises
     ------
@@ -328,29 +415,30 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
     if folder.exists() and not folder.is_dir():
         raise OutputError(f"{shown}: exists and is not a folder; give a folder for the outputs")
     created = _ensure_folder(folder, shown)
-    stage = _make_temp(
-        lambda: Path(tempfile.mkdtemp(prefix=".oc-", dir=folder)),
+    clean_stale(folder)
+    root = _make_temp(
+        lambda: Path(tempfile.mkdtemp(prefix=_prefix(), dir=folder)),
         created,
         f"{shown}: cannot write in this folder",
     )
+    stage = root / "files"
     try:
+        stage.mkdir()
         yield stage
         _raise_if_interrupted()
         plan = _plan_install(stage, folder, shown, inputs)
-        for rel, dest, st in plan:
-            _ensure_folder(dest.parent, shown)
-            _install(stage / rel, dest, st)
+        _commit(root, stage, plan, shown)
     except BaseException as exc:
-        shutil.rmtree(stage, ignore_errors=True)
+        shutil.rmtree(root, ignore_errors=True)
         _remove_created(created)
         _user_paths(exc, stage, shown)
         raise
-    shutil.rmtree(stage, ignore_errors=True)
+    shutil.rmtree(root, ignore_errors=True)
 
 
 def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[PathLike]):
     """Where each staged file goes; every check done before anything moves."""
-    protected = {_real(p) for p in inputs}
+    protected = _protected(inputs)
     plan = []
     for rel in _staged_files(stage):
         out = folder / rel
@@ -361,12 +449,226 @@ def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[P
                 f"{shown}: {rel.as_posix()} is a folder there; the output file cannot replace it"
             ) from None
         if dest in protected:
-            raise OutputError(
-                f"{shown}: the output {rel.as_posix()} would overwrite the input {dest}; "
-                "choose another output folder"
-            )
+            raise OutputError(f"{shown}: the output {rel.as_posix()} {protected[dest]}")
         plan.append((rel, dest, st))
     return plan
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[list[int]]:
+    """Within the block, SIGINT and SIGTERM are noted, not raised (main thread only).
+
+    The list yielded holds the signals that came; the caller decides what they undo.
+    """
+    held: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield held
+        return
+    previous = {
+        sig: signal.signal(sig, lambda signum, frame: held.append(signum))
+        for sig in (signal.SIGINT, signal.SIGTERM)
+    }
+    try:
+        yield held
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        if held and previous[held[0]] is _on_signal:  # the command reports it
+            _received.extend(held)
+
+
+def _same_device(a: Path, b: Path) -> bool:
+    try:
+        return os.stat(a).st_dev == os.stat(b).st_dev
+    except OSError:
+        return False
+
+
+def _prepare_commit(root: Path, stage: Path, plan, entries: list[dict]) -> list:
+    """Before anything is replaced: each new file ready beside its target, each old
+    one kept under a second name (a hard link), and the journal that lists them.
+
+    Fills ``entries`` (the journal's) and returns the writes into devices or pipes.
+    """
+    streams = []
+    for rel, dest, st in plan:
+        src = stage / rel
+        if st is not None and not stat.S_ISREG(st.st_mode):
+            streams.append((src, dest, st))
+            continue
+        _ensure_folder(dest.parent, dest)
+        os.chmod(src, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
+        entry = {"dest": str(dest), "new": str(src), "backup": None, "id": None}
+        entries.append(entry)
+        if not _same_device(src, dest.parent):  # another file system: copy beside it first
+            tmp = _temp_file(dest.parent, dest.suffix)
+            entry["new"] = str(tmp)
+            shutil.copyfile(src, tmp)
+            os.chmod(tmp, 0o666 & ~_umask())
+        if st is not None:
+            backup = _temp_file(dest.parent, ".old")
+            backup.unlink()
+            entry["backup"] = str(backup)
+            try:
+                os.link(dest, backup)
+            except OSError:  # a file system without hard links
+                shutil.copy2(dest, backup)
+        new = os.stat(entry["new"])
+        entry["id"] = [new.st_dev, new.st_ino]
+    _write_journal(root, {"pid": os.getpid(), "state": "commit", "entries": entries})
+    return streams
+
+
+def _write_journal(root: Path, data: dict) -> None:
+    tmp = root / "journal.tmp"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(data, fh)
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, root / "journal.json")
+
+
+def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
+    """Put the staged files in place as one set, or not at all.
+
+    Each target's old file is first kept under a second name and the list written to
+    ``journal.json``; then every new file is renamed over its target, with Ctrl-C and
+    SIGTERM held. If a rename fails, or a signal came meanwhile, every target is given
+    back its old file (or removed if it had none) and the error or interrupt raised.
+    A process killed meanwhile leaves the journal, which the next run rolls back.
+    """
+    entries: list[dict] = []
+    try:
+        streams = _prepare_commit(root, stage, plan, entries)
+        with _signals_held() as held:
+            try:
+                for e in entries:
+                    os.replace(e["new"], e["dest"])
+            except BaseException:
+                _roll_back(entries)
+                raise
+            if held:
+                _roll_back(entries)
+        if held:
+            raise Interrupted(held[0])
+        _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
+    except OSError as exc:
+        raise OutputError(f"{shown}: the outputs cannot be put in place ({exc.strerror})") from None
+    finally:
+        _remove_kept(entries, root)
+    for src, dest, st in streams:
+        _install(src, dest, st)
+
+
+def _remove_kept(entries: list[dict], root: Path) -> None:
+    """Remove the old files kept and the new files copied beside their targets."""
+    for e in entries:
+        for key in ("backup", "new"):
+            path = e.get(key)
+            if path and _STALE.match(Path(path).name) and not Path(path).is_relative_to(root):
+                with contextlib.suppress(OSError):
+                    os.unlink(path)
+
+
+def _ours(entry: dict) -> bool:
+    """Whether the target of a journal entry holds the new file this run put there."""
+    try:
+        st = os.stat(entry["dest"], follow_symlinks=False)
+    except OSError:
+        return False
+    return [st.st_dev, st.st_ino] == list(entry["id"])
+
+
+def _roll_back(entries: list[dict]) -> None:
+    """Give each target replaced by a journal's entry its old file back (or remove it)."""
+    for e in entries:
+        if not _ours(e):
+            continue  # not replaced yet (or since changed by someone else): leave it
+        if e["backup"] is not None:
+            os.replace(e["backup"], e["dest"])
+        else:
+            os.unlink(e["dest"])
+
+
+def _recover(root: Path) -> None:
+    """Roll back the commit a killed run left half done (its ``journal.json``)."""
+    try:
+        journal = json.loads((root / "journal.json").read_text(encoding="utf-8"))
+        entries = journal["entries"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return  # killed before the commit began: nothing was replaced
+    with contextlib.suppress(OSError, KeyError, TypeError, AttributeError):
+        if journal.get("state") == "commit":
+            _roll_back(entries)
+        _remove_kept(entries, root)
+
+
+def referenced_files(inputs: Sequence[PathLike]) -> dict[Path, tuple[PathLike, str]]:
+    """The files the input files name, found transitively: ``{file: (input, key)}``.
+
+    A TOML input names a file by any string value that resolves, relative to its
+    folder, to an existing file (a design's ``[pattern] path``, a robot's pattern and
+    routes, a sequence's ``mapping``); a named TOML file is searched in turn. The
+    inputs themselves are not listed. Unreadable inputs are skipped (their reader
+    reports them).
+    """
+    found: dict[Path, tuple[PathLike, str]] = {}
+    seen = {_real(p) for p in inputs}
+    todo = [(Path(p), p) for p in inputs]
+    while todo and len(seen) < MAX_REFERENCED:
+        path, shown = todo.pop()
+        for key, target in _named_files(path):
+            if target in seen:
+                continue
+            seen.add(target)
+            found[target] = (shown, key)
+            if target.suffix.lower() == ".toml":
+                todo.append((target, target))
+    return found
+
+
+#: Most files :func:`referenced_files` follows.
+MAX_REFERENCED = 1000
+#: Largest TOML file searched for file names, bytes.
+MAX_SEARCHED = 10_000_000
+
+
+def _named_files(path: Path) -> Iterator[tuple[str, Path]]:
+    """``(key, file)`` for each string value of a TOML file that names an existing file."""
+    import tomllib
+
+    if path.suffix.lower() != ".toml":
+        return
+    try:
+        if os.stat(path).st_size > MAX_SEARCHED:
+            return
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return
+    base = _real(path).parent
+    stack: list[tuple[str, object]] = [("", data)]
+    while stack:
+        key, value = stack.pop()
+        if isinstance(value, dict):
+            stack += [(f"{key}.{k}" if key else str(k), v) for k, v in value.items()]
+        elif isinstance(value, list):
+            stack += [(f"{key}[{i}]", v) for i, v in enumerate(value)]
+        elif isinstance(value, str) and 0 < len(value) < 4096 and "\0" not in value:
+            with contextlib.suppress(OSError, ValueError):
+                target = _real(base / value)
+                if target.is_file():
+                    yield key, target
+
+
+def _protected(inputs: Sequence[PathLike]) -> dict[Path, str]:
+    """Every file no output may replace, with the end of the sentence refusing it."""
+    protected = {
+        ref: f"would overwrite {ref}, which the input {src} names (key '{key}'); "
+        "choose another output"
+        for ref, (src, key) in referenced_files(inputs).items()
+    }
+    protected |= {_real(p): "would overwrite the input" for p in inputs}
+    return protected
 
 
 def check_outputs(
@@ -379,7 +681,8 @@ def check_outputs(
     Parameters
     ----------
     inputs : sequence of path-like
-        Files the command reads.
+        Files the command reads; the files they name (:func:`referenced_files`) are
+        protected too.
     files : sequence of path-like
         Files the command writes.
     folders : sequence of path-like
@@ -388,9 +691,9 @@ def check_outputs(
     Raises
     ------
     OutputError
-        An output resolves to an input, two outputs are the same file, a file
-        output is an existing folder, a folder output is an existing file, or a
-        parent of an output is a file.
+        An output resolves to an input or a file an input names, two outputs are
+        the same file, a file output is an existing folder, a folder output is an
+        existing file, or a parent of an output is a file.
 
     Examples
     --------
@@ -404,12 +707,12 @@ def check_outputs(
     ...
     origami_cad.errors.OutputError: ...d.toml: the output would overwrite the input
     """
-    protected = {_real(p): p for p in inputs}
+    protected = _protected(inputs)
     seen: dict[Path, PathLike] = {}
     for out in list(files) + list(folders):
         real = _real(out)
         if real in protected:
-            raise OutputError(f"{out}: the output would overwrite the input")
+            raise OutputError(f"{out}: the output {protected[real]}")
         if real in seen:
             raise OutputError(f"{out}: given twice as an output")
         seen[real] = out

@@ -11,6 +11,8 @@ The functions here apply Python's :mod:`math` (the C library's ``libm``, one ele
 at a time) to every element: the same bits whether or not numpy's SIMD kernels are
 enabled (``NPY_DISABLE_CPU_FEATURES``). Their cost is about 60 ns an element: use
 them where a result feeds a search, not on large meshes. Angles are radians.
+:func:`canonical_eigh` is the eigen-decomposition both CMA-ES searches (the arm's and the
+route planner's) use, so it sits here, below both.
 
 >>> import numpy as np
 >>> x = np.linspace(-3.0, 3.0, 7)
@@ -27,7 +29,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["arccos", "arctan", "arctan2", "cos", "sin", "tan"]
+__all__ = ["arccos", "arctan", "arctan2", "canonical_eigh", "cos", "sin", "tan"]
 
 
 def _unary(f: Callable[[float], float]) -> Callable[[np.ndarray], np.ndarray]:
@@ -59,3 +61,17 @@ def arctan2(y, x) -> np.ndarray:
     a, b = np.broadcast_arrays(np.asarray(y, dtype=float), np.asarray(x, dtype=float))
     vals = map(math.atan2, a.ravel().tolist(), b.ravel().tolist())
     return np.fromiter(vals, dtype=float, count=a.size).reshape(a.shape)
+
+
+def canonical_eigh(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``numpy.linalg.eigh`` with each eigenvector's sign fixed: its largest entry positive.
+
+    An eigenvector's sign is arbitrary, and LAPACK may return either for two matrices
+    that differ in their last bits (as CMA-ES's covariance does from one CPU's numpy
+    kernels to another's); CMA-ES then samples other points from the same random
+    numbers and the run goes elsewhere. Fixed signs make the samples depend on the
+    matrix, not on those bits.
+    """
+    d, b = np.linalg.eigh(C)
+    rows = np.argmax(np.abs(b), axis=0)
+    return d, b * np.where(b[rows, np.arange(b.shape[1])] < 0, -1.0, 1.0)

@@ -1,10 +1,12 @@
-"""Strict reading of the package's TOML input files.
+"""Strict reading of the package's TOML input files, and the writing of them.
 
 Every file format of the package (designs, arm tasks, routes, sequences) is a
 TOML file read through :class:`Table`, so unknown keys, missing keys, wrong
 types and out-of-range values all give the same kind of message, naming the
 file, the table and the key. :func:`parse_file` reads any input file (TOML, the
 FOLD format's JSON) with the same messages for a file that cannot be read.
+:func:`toml_value` and :func:`toml_table` write the values and tables of those files
+(each format's writer sits next to its reader and uses them).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import json
 import math
 import os
 import tomllib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +29,8 @@ __all__ = [
     "load_toml",
     "parse_file",
     "printable",
+    "toml_table",
+    "toml_value",
 ]
 
 _MISSING = object()
@@ -110,10 +114,10 @@ def _read_toml(path: Path) -> dict[str, Any]:
         return tomllib.load(fh)
 
 
-def load_toml(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """Parse a TOML file; :class:`DesignError` naming the file on any problem."""
+def load_toml(path: str | os.PathLike[str], error: type[Exception] = DesignError) -> dict[str, Any]:
+    """Parse a TOML file; ``error`` (default :class:`DesignError`) naming the file on a problem."""
     too_deep = "not valid TOML (arrays or tables nested too deeply)"
-    return parse_file(path, _read_toml, fmt="TOML", too_deep=too_deep)[0]
+    return parse_file(path, _read_toml, error=error, fmt="TOML", too_deep=too_deep)[0]
 
 
 def _finite_number(v: Any) -> bool:
@@ -146,13 +150,17 @@ class Table:
         The parsed table.
     where : str
         How to name it in messages, e.g. ``"design.toml [pattern]"``.
+    error : type
+        The exception class of its messages (the reading stage's, e.g.
+        :class:`~origami_cad.errors.StringsError` for a route file); its tables share it.
     """
 
-    def __init__(self, data: Any, where: str) -> None:
+    def __init__(self, data: Any, where: str, error: type[Exception] = DesignError) -> None:
         if not isinstance(data, dict):
-            raise DesignError(f"{where}: expected a table, got {_type_name(data)}")
+            raise error(f"{where}: expected a table, got {_type_name(data)}")
         self.data = data
         self.where = where
+        self.error_class = error
         self.used: set[str] = set()
 
     def has(self, key: str) -> bool:
@@ -163,12 +171,12 @@ class Table:
         if key in self.data:
             return self.data[key]
         if default is _MISSING:
-            raise DesignError(f"{self.where}: missing key '{key}'")
+            raise self.error_class(f"{self.where}: missing key '{key}'")
         return default
 
-    def error(self, key: str, message: str) -> DesignError:
+    def error(self, key: str, message: str) -> Exception:
         """An error about ``key`` (to raise)."""
-        return DesignError(f"{self.where}: key '{key}': {message}")
+        return self.error_class(f"{self.where}: key '{key}': {message}")
 
     def number(
         self,
@@ -286,6 +294,7 @@ class Table:
             f"{self.where.rstrip(']')}.{key}]"
             if self.where.endswith("]")
             else f"{self.where} [{key}]",
+            self.error_class,
         )
 
     def finish(self) -> None:
@@ -295,4 +304,57 @@ class Table:
             shown = ", ".join(_shown(k) for k in unknown[:5])
             if len(unknown) > 5:
                 shown += f" and {len(unknown) - 5} more"
-            raise DesignError(f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} {shown}")
+            raise self.error_class(
+                f"{self.where}: unknown key{'s' if len(unknown) > 1 else ''} {shown}"
+            )
+
+
+def toml_value(value: Any, digits: int | None = None) -> str:
+    """``value`` as TOML: a boolean, integer, float, string or (nested) list of them.
+
+    Floats are written exactly (``repr``: read back, they are the same number), or with
+    ``digits`` decimals; NumPy scalars and arrays count as floats and lists.
+
+    >>> toml_value([1, 2.5, "a\\b", True]), toml_value((1 / 3, 2.0), digits=3)
+    ('[1, 2.5, "a\\\\b", true]', '[0.333, 2.000]')
+    """
+    if hasattr(value, "tolist"):  # NumPy array or scalar
+        value = value.tolist()
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise ValueError(f"TOML files of the package hold finite numbers, got {value}")
+        return repr(value) if digits is None else f"{value:.{digits}f}"
+    if isinstance(value, str):
+        # a TOML basic string: JSON's escapes are TOML's, and DEL must be escaped too
+        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(toml_value(v, digits) for v in value) + "]"
+    raise TypeError(f"no TOML form for {type(value).__name__}")
+
+
+def toml_table(
+    name: str | None,
+    items: Mapping[str, Any],
+    *,
+    array: bool = False,
+    comments: Mapping[str, str] | None = None,
+    digits: Mapping[str, int] | None = None,
+) -> list[str]:
+    """The lines of one TOML table ``[name]`` (``[[name]]`` with ``array``); None values
+    are left out, ``comments`` follow their key's value, ``digits`` rounds a key's floats.
+
+    >>> toml_table("route", {"max_turns": 20.0, "p_max": None}, comments={"max_turns": "turns"})
+    ['[route]', 'max_turns = 20.0   # turns']
+    """
+    lines = [] if name is None else [f"[[{name}]]" if array else f"[{name}]"]
+    for key, value in items.items():
+        if value is None:
+            continue
+        line = f"{key} = {toml_value(value, (digits or {}).get(key))}"
+        note = (comments or {}).get(key)
+        lines.append(f"{line}   # {note}" if note else line)
+    return lines

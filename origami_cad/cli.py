@@ -19,7 +19,8 @@ from typing import Any
 
 from origami_cad import __version__, jobs
 from origami_cad._fileio import Interrupted, handle_signals, interrupted
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad._names import one_line
+from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = ["build_parser", "main"]
 
@@ -68,7 +69,7 @@ def _call(args: argparse.Namespace) -> jobs.Outputs:
         if args.list or not args.name:
             return jobs.Outputs(messages=[parts_listing()])
         if not args.folder:
-            raise DesignError("give the output folder with -o DIR")
+            raise OptionsError("give the output folder with -o DIR")
         args.params = parse_part_options(args.params)
     job = _COMMANDS[args.command][0]
     names = inspect.signature(job).parameters
@@ -151,7 +152,7 @@ _OPTIONS: list[tuple[str, str, dict[str, Any]]] = [
     ("crawl", "--steps", {"type": int, "help": "quasi-static steps between keyframes"}),
     ("crawl", "--reverse", {**_FLAG, "help": "play the gait backwards"}),
     ("crawl", "--friction", {"type": _finite, "help": "Coulomb coefficient (robot file's)"}),
-    ("emulate drive", "--protocol", {"choices": ("dynamixel", "serial")}),
+    ("emulate drive", "--protocol", {"help": "servo bus: a name of origami_cad.drive.BUSES"}),
     ("emulate sequence", "--ids", {"type": _ids, "help": "servo IDs, e.g. 1,2 (one per route)"}),
     ("emulate", "--seconds", {"type": _finite, "help": "0: until Ctrl-C"}),
     ("drive", "--port", {"help": "serial port of the servos"}),
@@ -251,7 +252,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if extra:
         args.params = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
-    with handle_signals() if main_thread else contextlib.nullcontext():
+    # argv None: the console script, which exits next (a caller passing argv goes on)
+    with handle_signals(exiting=argv is None) if main_thread else contextlib.nullcontext():
         return _run(args)
 
 
@@ -298,8 +300,7 @@ def _interrupted() -> int:
 
 def _error(message: str) -> None:
     """Print one error line; control characters of user-supplied names are escaped."""
-    safe = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
-    print(f"origami-cad: error: {safe}", file=sys.stderr)
+    print(f"origami-cad: error: {one_line(message)}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

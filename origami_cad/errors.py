@@ -3,16 +3,38 @@
 Every error a user can cause by giving bad input is an :class:`OrigamiCadError`;
 its message names the file, key, entity, panel or servo and what is wrong, so the
 command-line tool can print it as one line and exit with code 2.
+
+One class per stage, so that a handler catches the faults of one stage only::
+
+    OrigamiCadError
+    ├── PatternError       crease patterns and their files (.fold, .dxf, .svg)
+    ├── DesignError        design and arm-task files, the arm's design search
+    ├── FabricationError   fabrication parameters (eq. 6), panels, parts
+    ├── StringsError       TSAs, string routes and route files, the route planner
+    ├── SimulationError    the bar-and-hinge simulation, robot files, crawling
+    ├── DriveError         sequence files, servo buses, the emulator (drive/)
+    ├── OptionsError       a command-line option or a keyword out of range
+    └── OutputError        an output path that cannot be written safely
+
+The finer driving faults (``StallError``, ``PortLostError``, ...) derive from
+:class:`DriveError` and live in :mod:`origami_cad.drive.errors`.
+
+>>> issubclass(DriveError, OrigamiCadError), issubclass(DriveError, DesignError)
+(True, False)
 """
 
 from __future__ import annotations
 
 __all__ = [
     "DesignError",
+    "DriveError",
+    "FabricationError",
+    "OptionsError",
     "OrigamiCadError",
     "OutputError",
     "PatternError",
     "SimulationError",
+    "StringsError",
 ]
 
 
@@ -25,11 +47,28 @@ class PatternError(OrigamiCadError, ValueError):
 
 
 class DesignError(OrigamiCadError, ValueError):
-    """A design or task description (usually a TOML file) is malformed."""
+    """A design or task description (usually a TOML file) is malformed, or the arm's
+    design search cannot run with it."""
+
+
+class FabricationError(OrigamiCadError, ValueError):
+    """Fabrication parameters (eq. 6, panels, holes) or a part's parameters are unusable."""
+
+
+class StringsError(OrigamiCadError, ValueError):
+    """A TSA, a string route (or its file) or a route search is malformed or impossible."""
 
 
 class SimulationError(OrigamiCadError, ValueError):
-    """A simulation cannot be set up or run with the given parameters."""
+    """A simulation (or a robot file it runs) cannot be set up or run with the given parameters."""
+
+
+class DriveError(OrigamiCadError, RuntimeError):
+    """A driving fault: a sequence file, a servo bus or its port, naming the servo or port."""
+
+
+class OptionsError(OrigamiCadError, ValueError):
+    """A command-line option (or the keyword behind it) is malformed or out of range."""
 
 
 class OutputError(OrigamiCadError, ValueError):

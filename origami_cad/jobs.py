@@ -31,8 +31,23 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad._fileio import atomic_directory, atomic_path, atomic_write, check_outputs
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad._fileio import (
+    atomic_directory,
+    atomic_path,
+    atomic_write,
+    check_outputs,
+    finishing,
+)
+from origami_cad._names import one_line
+from origami_cad.errors import (
+    DesignError,
+    DriveError,
+    OptionsError,
+    OrigamiCadError,
+    SimulationError,
+    StringsError,
+)
+from origami_cad.parallel import open_executor
 
 __all__ = [
     "Outputs",
@@ -59,7 +74,6 @@ __all__ = [
 ]
 
 PathLike = str | os.PathLike[str]
-PATTERN_SUFFIXES = (".fold", ".dxf", ".svg", ".png")
 FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb", ".step")
 MAX_FRAMES = 10_000  # folded states in one file or animation
 GIF_FRAMES = 30  # frames of a simulation's animation
@@ -152,7 +166,14 @@ def _check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
     if len(allowed) == 1 and _is_stream(path):
         return  # one possible format: a device or pipe needs no extension
     if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
-        raise DesignError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+        raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
+
+def _pattern_suffixes() -> tuple[str, ...]:
+    """What a pattern is written as: the registered formats' suffixes, and .png."""
+    from origami_cad.pattern.formats import WRITERS
+
+    return (*WRITERS, ".png")
 
 
 def _sources(*items) -> list:
@@ -244,7 +265,7 @@ def run_convert(
     """
     from origami_cad.pattern import read_pattern, size_warnings
 
-    _check_suffix(output, PATTERN_SUFFIXES, "a pattern")
+    _check_suffix(output, _pattern_suffixes(), "a pattern")
     check_outputs([source], files=[output])
     cp = read_pattern(source, unit=unit, scale=scale, width=width)
     _write_pattern_file(cp, Path(output), labels)
@@ -275,7 +296,7 @@ def run_check(source: PathLike, *, angle_tolerance: float = 1e-6, verbose: bool 
 def run_pattern(design: PathLike, outputs: Sequence[PathLike], *, labels: bool = False) -> Outputs:
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
     for out in outputs:
-        _check_suffix(out, PATTERN_SUFFIXES, "a pattern")
+        _check_suffix(out, _pattern_suffixes(), "a pattern")
     check_outputs([design], files=outputs)
     loaded, warned = _sized_source(design)
     cp = loaded.pattern
@@ -328,9 +349,9 @@ def run_fold(
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     if not 1 <= frames <= MAX_FRAMES:
-        raise DesignError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
+        raise OptionsError(f"the number of frames must lie in 1..{MAX_FRAMES}, got {frames}")
     out = Path(output)
     suffix = out.suffix.lower()
     _check_suffix(out, FOLD_SUFFIXES, "the folded state")
@@ -418,9 +439,9 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
     Its comments state the fold range the printed arm reaches and the ``fabricate``
     command that builds it with the fabrication parameters it was designed for.
     """
+    from origami_cad.pattern.design import dump_design
+
     terms = design.terms
-    lengths = ", ".join(f"{v:.6f}" for v in design.lengths)
-    angles = ", ".join(f"{v:.6f}" for v in design.shape_angles)
     p_e = design.fold_ratio_end
     if task.fold_limit is not None:
         fab = f"# designed for creases that fold up to {task.fold_limit:g} deg (fold_limit)\n"
@@ -444,16 +465,7 @@ def _best_design_toml(design, task, copies: int = 3) -> str:
         f"{terms.improper_states} improper states\n"
         f"{fab}"
         f"# build it with: {build}\n"
-        "[pattern]\n"
-        'kind = "transition-graph"\n'
-        f"unit_width = {task.unit_width or 36.0}   # mm\n"
-        f"copies = {copies}\n"
-        f"entry_flag = {design.entry_flag}\n"
-        f"start = [{task.start[0]}, {task.start[1]}]\n"
-        f"lengths = [{lengths}]   # mm\n"
-        f"shape_angles = [{angles}]   # deg\n"
-        f"hypar_base = {'true' if task.hypar_base else 'false'}\n"
-    )
+    ) + dump_design(design.tg(task, task.unit_width or 36.0, copies), digits=6)
 
 
 #: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
@@ -640,10 +652,10 @@ def run_design_arm(
     changes = {"runs": runs, "seed": seed, "max_generations": max_generations}
     for name, value in changes.items():
         if value is not None and value < (0 if name == "seed" else 1):
-            raise DesignError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
+            raise OptionsError(f"{name} must be >= {0 if name == 'seed' else 1}, got {value}")
     settings = dataclasses.replace(settings, **{k: v for k, v in changes.items() if v is not None})
     t0 = time.perf_counter()
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         results = design_arm(arm_task, settings, executor=executor, progress=progress)
     seconds = time.perf_counter() - t0
     if not results:
@@ -710,7 +722,7 @@ def fabrication_params(
 
     given = [v is not None for v in (bias, theta_max, p_max)]
     if sum(given) > 1:
-        raise DesignError("give only one of the bias, theta_max and p_max")
+        raise OptionsError("give only one of the bias, theta_max and p_max")
     kw = {k: v for k, v in kw.items() if v is not None}
     height = kw.get("height", FabricationParams.height)
     thickness = kw.get("thickness", FabricationParams.thickness)
@@ -809,7 +821,7 @@ def run_fabricate(
     if params is None:
         params = fabrication_params(**overrides)
     elif any(v is not None for v in overrides.values()):
-        raise DesignError("give either fabrication parameters or their keywords, not both")
+        raise OptionsError("give either fabrication parameters or their keywords, not both")
     loaded, warned = _sized_source(design, unit, scale, width)
     fab = fabricate(loaded, params, bed=tuple(map(float, bed)))
     label = name or Path(design).stem
@@ -990,35 +1002,6 @@ def run_string_models(design: PathLike, route: PathLike, folder: PathLike) -> Ou
     )
 
 
-def _executor(scheduler: str | None):
-    """A context giving the executor of a search: None (a local process pool), or a Dask
-    cluster's executor for ``scheduler`` (an address such as ``tcp://10.0.0.5:8786``).
-    """
-    import contextlib
-
-    if scheduler is None:
-        return contextlib.nullcontext(None)
-    try:
-        from distributed import Client
-    except ImportError:
-        raise DesignError(
-            "--scheduler needs dask.distributed: pip install 'origami-cad[dask]'"
-        ) from None
-    try:
-        client = Client(scheduler, timeout="20s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise DesignError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-
-    @contextlib.contextmanager
-    def held():
-        try:
-            yield client.get_executor()
-        finally:
-            client.close()
-
-    return held()
-
-
 def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
     """``ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
     from origami_cad.strings import TSAParams
@@ -1026,7 +1009,7 @@ def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
 
     kind, _, panel = tsa.partition(":")
     if kind not in ("ring", "onboard") or (kind == "onboard") != bool(panel):
-        raise DesignError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
+        raise OptionsError(f"--tsa must be 'ring' or 'onboard:PANEL', got {tsa!r}")
     return TSAPlacement(kind, panel or None, ring_radius, ring_height, tsa=TSAParams(model=kind))
 
 
@@ -1094,7 +1077,7 @@ def run_plan_route(
     t0, cpu0 = time.perf_counter(), time.process_time()
     settings = _plan_budget(budget)
     geom = plan_geometry(loaded, placement, target_p=target_p, settings=settings)
-    with _executor(scheduler) as executor:
+    with open_executor(scheduler) as executor:
         planned = plan_routes(
             loaded, placement, strings, target_p=target_p, candidates=candidates, seed=seed,
             executor=executor, progress=progress, geometry=geom, check=max(verify, 1),
@@ -1102,9 +1085,10 @@ def run_plan_route(
         )  # fmt: skip
     seconds = time.perf_counter() - t0
     if not planned:
-        raise DesignError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
+        raise StringsError(f"{pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
     header = (
-        f"# Planned by: origami-cad plan-route {pattern} --tsa {tsa} --strings {strings}"
+        f"# Planned by: origami-cad plan-route {one_line(pattern)} --tsa {one_line(tsa)} "
+        f"--strings {strings}"
         f"{f' --target-p {target_p:g}' if target_p is not None else ''} --seed {seed}\n"
         f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
         f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
@@ -1140,7 +1124,7 @@ def _plan_budget(budget: str | None):
     except ValueError:
         values = []
     if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and v > 0 for v in values):
-        raise DesignError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
+        raise OptionsError(f"--budget: expected TURNS or TURNS,NMM (positive), got {budget!r}")
     return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
 
 
@@ -1195,9 +1179,9 @@ def _blocker_limits(cp, blockers, source: PathLike) -> dict[int, float]:
     limits = {}
     for edge, degrees in dict(blockers or {}).items():
         if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
-            raise DesignError(f"blocker on edge {edge}: not a crease of {source}")
+            raise OptionsError(f"blocker on edge {edge}: not a crease of {source}")
         if not (math.isfinite(degrees) and 0 < degrees <= 180):
-            raise DesignError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
+            raise OptionsError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
         limits[int(edge)] = float(degrees)
     return limits
 
@@ -1262,10 +1246,11 @@ def run_simulate(
     from origami_cad.strings import load_route
 
     if steps is not None and not 1 <= steps <= 100_000:
-        raise DesignError(f"the number of steps must lie in 1..100000, got {steps}")
-    check_outputs([pattern, route], folders=[folder])
+        raise OptionsError(f"the number of steps must lie in 1..100000, got {steps}")
+    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    check_outputs([pattern, route], files=[Path(folder) / n for n in names], folders=[folder])
     if friction is not None and friction < 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
     given = {"gravity": gravity, "ground": ground, "friction": friction}
     loaded, warned = _sized_source(pattern, unit, scale, width)
     cp = loaded.pattern
@@ -1275,7 +1260,6 @@ def run_simulate(
     limits = _blocker_limits(cp, blockers, pattern)
     kwargs = {"steps": steps, "fold_limits": limits or None, "progress": progress, "free": free}
     result = simulate(cp, spec, params, design=loaded, **kwargs)
-    names = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
     with atomic_directory(folder, inputs=_sources(pattern, route, loaded)) as stage:
         _write_simulation(stage, names, cp, spec, result, gif_frames)
     files = [Path(folder) / n for n in names]
@@ -1318,7 +1302,7 @@ def _string_model(loaded, spec, model: str, steps: int | None = None, fixed_pane
 
     if fixed_panel is not None:
         if fixed_panel not in loaded.pattern.face_labels:
-            raise DesignError(f"fixed panel: no panel labelled {fixed_panel!r}")
+            raise OptionsError(f"fixed panel: no panel labelled {fixed_panel!r}")
         spec = dataclasses.replace(spec, fixed_panel=fixed_panel)
     params = SimulationParams.for_route(spec)
     if model == "dcqc":
@@ -1345,11 +1329,12 @@ def _sequence_header(design, routes, output, model, fixed_panel, ids, keyframes)
         ]
     )
     header = (
-        f"# Generated from the {model} model of {design} folded by its strings, not typed by\n"
+        f"# Generated from the {model} model of {one_line(design)} folded by its strings, "
+        "not typed by\n"
         f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
         "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
         "# commands the turns the model needed. Regenerate with:\n"
-        f"#   {argv}\n"
+        f"#   {one_line(argv)}\n"
     )
     return header
 
@@ -1358,13 +1343,13 @@ def _check_sequence_options(output, model: str, points: int, rate: float, repeat
     """Clear errors for the options of ``sequence`` (before any model runs)."""
     _check_suffix(output, (".toml",), "a sequence")
     if model not in SEQUENCE_MODELS:
-        raise DesignError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
+        raise OptionsError(f"model must be one of {', '.join(SEQUENCE_MODELS)}, got {model!r}")
     if not 2 <= points <= 1000:
-        raise DesignError(f"points must lie in 2..1000, got {points}")
+        raise OptionsError(f"points must lie in 2..1000, got {points}")
     if not (math.isfinite(rate) and 0 < rate <= 1000):
-        raise DesignError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
+        raise OptionsError(f"rate must lie in (0, 1000] Hz, got {rate:g}")
     if not 1 <= repeat <= 1_000_000:
-        raise DesignError(f"repeat must lie in 1..1000000, got {repeat}")
+        raise OptionsError(f"repeat must lie in 1..1000000, got {repeat}")
 
 
 def _route_tsa(loaded, path, model: str, fixed_panel, servo: int, at, points: int):
@@ -1447,7 +1432,7 @@ def run_sequence(
     _check_sequence_options(output, model, points, rate, repeat)
     ids = list(ids) if ids else list(range(1, len(routes) + 1))
     if len(ids) != len(routes):
-        raise DesignError(f"{len(ids)} servo IDs for {len(routes)} routes")
+        raise DriveError(f"{len(ids)} servo IDs for {len(routes)} routes")
     frames = parse_keyframes(keyframes, len(routes))
     loaded = load_pattern_source(design)
     tsas, numbers, results = [], [], []
@@ -1626,11 +1611,11 @@ PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
 
 def _check_crawl_options(cycles: int, steps: int, friction: float | None) -> None:
     if not 1 <= cycles <= 100:
-        raise DesignError(f"the number of cycles must lie in 1..100, got {cycles}")
+        raise OptionsError(f"the number of cycles must lie in 1..100, got {cycles}")
     if not 1 <= steps <= 1000:
-        raise DesignError(f"the steps between keyframes must lie in 1..1000, got {steps}")
+        raise OptionsError(f"the steps between keyframes must lie in 1..1000, got {steps}")
     if friction is not None and not friction >= 0:
-        raise DesignError(f"the friction coefficient must be >= 0, got {friction:g}")
+        raise SimulationError(f"the friction coefficient must be >= 0, got {friction:g}")
 
 
 def _crawl_command(robot, folder, cycles, steps, reverse, friction) -> str:
@@ -1841,7 +1826,7 @@ def run_robot(
     from origami_cad.simulation.crawler import load_robot, robot_placements
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise OptionsError(f"the fold ratio must lie in [0, 1], got {ratio}")
     check_outputs([robot], folders=[folder])
     spec = load_robot(robot)
     fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
@@ -1903,13 +1888,13 @@ def run_emulate(
     echo: Callable[[str], None] = print,
 ) -> Outputs:
     """Emulate servos on a pseudo-terminal until Ctrl-C, or for ``seconds`` (0: forever)."""
-    from origami_cad.drive import DynamixelEmulator, SerialEmulator
+    from origami_cad.drive import open_emulator
 
     if len(set(ids)) != len(ids) or not ids or any(not 0 <= i <= 252 for i in ids):
-        raise DesignError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
+        raise DriveError(f"servo IDs must be distinct and in 0..252, got {list(ids)}")
     if not (math.isfinite(seconds) and seconds >= 0):
-        raise DesignError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
-    emu = DynamixelEmulator(list(ids)) if protocol == "dynamixel" else SerialEmulator(list(ids))
+        raise OptionsError(f"the duration must be a finite number of seconds >= 0, got {seconds}")
+    emu = open_emulator(protocol, list(ids))
     with emu:
         echo(f"{protocol} emulator with servos {list(ids)} on {emu.port}")
         echo(f"connect with --port {emu.port}; Ctrl-C to stop")
@@ -1919,38 +1904,54 @@ def run_emulate(
     return Outputs()
 
 
-def _open_bus(stack, seq, port: str | None, protocol: str, baudrate: int, emulate: dict | None):
+def _open_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None, log=None):
     """The servo bus of a sequence: on ``port``, or on a new emulator given ``emulate``
-    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
-    from origami_cad.drive import DynamixelBus, DynamixelEmulator, SerialBus, SerialEmulator
+    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads). If it
+    cannot be opened (an absent servo), the CSV ``log`` says why."""
+    from origami_cad.drive.sequence import log_not_started
 
-    if emulate is not None:
-        emu = (
-            DynamixelEmulator(
-                seq.ids,
-                time_scale=emulate["time_scale"],
-                loads=seq.loads(emulate["load_scale"]),
-            )
-            if protocol == "dynamixel"
-            else SerialEmulator(seq.ids, time_scale=emulate["time_scale"])
-        )
-        port = stack.enter_context(emu).port
+    try:
+        return _start_bus(stack, seq, port, protocol, baudrate, emulate)
+    except BaseException as exc:
+        log_not_started(log, seq, exc)
+        raise
+
+
+def _start_bus(stack, seq, port, protocol: str, baudrate: int, emulate: dict | None):
+    from origami_cad.drive import open_bus, open_emulator
+
     limits = {t.dxl_id: t.max_turns for t in seq.tsas}
-    if protocol == "dynamixel":
-        bus = DynamixelBus(
-            port,
-            baudrate,
-            seq.ids,
-            max_turns=limits,
-            current_limit_ma=seq.current_limit,
-            profile_velocity=0,
-            reply_slack=0.5 if emulate is not None else 0.0,
-        )
-    else:
-        bus = SerialBus(
-            port, baudrate, seq.ids, max_turns=limits, current_limit_ma=seq.current_limit
-        )
+    if emulate is not None:
+        loads = seq.loads(emulate["load_scale"])
+        emu = open_emulator(protocol, seq.ids, time_scale=emulate["time_scale"], loads=loads)
+        port = stack.enter_context(emu).port
+    bus = open_bus(
+        protocol,
+        port,
+        baudrate,
+        seq.ids,
+        max_turns=limits,
+        current_limit_ma=seq.current_limit,
+        emulated=emulate is not None,
+    )
     return stack.enter_context(bus)
+
+
+def _drive_stopped(exc: BaseException, plot, names: dict[int, str], done=None) -> BaseException:
+    """After a run stopped early: the ``plot`` of its readings (``done``: all of them, when
+    only the shutdown failed), so log and plot stay one set; and the error to raise (a
+    stall names the TSA, not only its servo ID)."""
+    from origami_cad.drive import StallError
+    from origami_cad.drive.sequence import DriveLog
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    ran = done or getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
+    if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
+        with finishing():
+            save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
+    if isinstance(exc, StallError) and names.get(exc.servo):
+        return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
+    return exc
 
 
 def run_drive(
@@ -1978,7 +1979,6 @@ def run_drive(
 
     import numpy as np
 
-    from origami_cad.drive import StallError
     from origami_cad.drive.sequence import check_time_scale, load_sequence, run_sequence
     from origami_cad.viz.drive_plots import save_drive_png
 
@@ -1988,23 +1988,23 @@ def run_drive(
     if dry_run:
         speed = check_time_scale(speed, "speed")
         if not (math.isfinite(load_scale) and 0 <= load_scale <= 1e6):
-            raise DesignError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
+            raise DriveError(f"the load scale must be a number in [0, 1e6], got {load_scale}")
     seq = load_sequence(sequence)
     if not dry_run and not port:
-        raise DesignError("give the servos' port, or use a dry run on the emulator")
+        raise DriveError("give the servos' port, or use a dry run on the emulator")
     scale = speed if dry_run else 1.0
     emulate = {"time_scale": scale, "load_scale": load_scale} if dry_run else None
-    names = {t.dxl_id: t.name for t in seq.tsas}
+    names, done = {t.dxl_id: t.name for t in seq.tsas}, None
     try:
         with contextlib.ExitStack() as stack:
-            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate)
+            bus = _open_bus(stack, seq, port, protocol, baudrate, emulate, log)
             done = run_sequence(seq, bus, log, time_scale=scale, progress=progress)
-    except StallError as exc:  # name the TSA, not only its servo ID
-        name = names.get(exc.servo)
-        raise StallError(f"{name}: {exc}" if name else str(exc), exc.servo) from None
+    except BaseException as exc:  # the plot shows what ran; a stall names the TSA
+        raise _drive_stopped(exc, plot, names, done) from exc.__cause__
     files = [Path(log)]
     if plot:
-        save_drive_png(done, plot, names)
+        with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
+            save_drive_png(done, plot, names)
         files.append(Path(plot))
     # the largest lag is where a command jumps (to the first keyframe, a gait's step);
     # how closely the servos follow shows in the lag of 95 % of the readings

@@ -17,7 +17,7 @@ from origami_cad.design import load_task
 from origami_cad.design.arm_route import arm_chain_path, arm_route_toml
 from origami_cad.drive.from_model import fold_curve, parse_keyframes, turns_at
 from origami_cad.drive.sequence import load_sequence
-from origami_cad.errors import DesignError
+from origami_cad.errors import DriveError
 from origami_cad.kinematics import chain_points, tessellation_vertices
 from origami_cad.pattern.design import load_design
 from origami_cad.strings import StopReason, load_route, simulate_dcqc
@@ -160,5 +160,5 @@ def test_sequence_bad_inputs_exit_2_and_write_nothing(tmp_path, capsys):
     miura = EXAMPLES / "miura_6x4.toml"
     code = main(["sequence", str(miura), str(ring), "-o", str(out), "--keyframes", "0:0", "5:0.2"])
     assert code == 2 and "onboard" in capsys.readouterr().err
-    with pytest.raises(DesignError, match="2 fold ratios for 1 TSAs"):
+    with pytest.raises(DriveError, match="2 fold ratios for 1 TSAs"):
         parse_keyframes(["0:0,0.1", "1:0.2"], 1)

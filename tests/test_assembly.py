@@ -19,7 +19,7 @@ from build123d import import_step
 
 import origami_cad as oc
 from origami_cad.cli import main
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication import FabricationParams, fabricate
 from origami_cad.fabrication.assembly import MATERIAL_COLORS, leaf_part, solids_by_part
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
@@ -69,7 +69,7 @@ def test_the_flat_assembly_is_the_fabricated_sheet_panel_by_panel(fab):
 
 def test_bad_fold_ratios_are_refused(fab):
     for ratio in (1.5, -0.1):
-        with pytest.raises(DesignError, match="fold ratio"):
+        with pytest.raises(FabricationError, match="fold ratio"):
             fab.assembly(ratio)
 
 
@@ -183,7 +183,7 @@ def test_the_robot_folded_keeps_its_parts_on_their_panels(fab, tmp_path):
         folded.solids["module"].bounding_box().min.Z, abs=1e-6
     )
     assert all(leaf.color is not None for leaf in back.leaves)
-    with pytest.raises(DesignError, match="fold ratio"):
+    with pytest.raises(FabricationError, match="fold ratio"):
         robot_assembly(fab, ratio=-0.1)
 
 

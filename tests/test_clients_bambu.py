@@ -33,7 +33,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
 from origami_cad.fabrication.export import EXTRUDERS, export_3mf
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
@@ -204,9 +204,9 @@ def test_the_prusa_flavour_in_bambu_and_orca_is_one_volume_without_settings(flav
 def test_write_fabrication_chooses_the_flavour_and_refuses_an_unknown_one(fab, tmp_path):
     path = write_fabrication(fab, tmp_path / "bambu", slicer="bambu")["3mf"]
     assert bbs_import(path, BAMBU)[1] is not None
-    with pytest.raises(DesignError, match="prusa, bambu, orca"):
+    with pytest.raises(FabricationError, match="prusa, bambu, orca"):
         write_fabrication(fab, tmp_path / "x", slicer="cura")
-    with pytest.raises(DesignError, match="prusa, bambu, orca"):
+    with pytest.raises(FabricationError, match="prusa, bambu, orca"):
         export_3mf(fab.parts, tmp_path / "x.3mf", slicer="cura")
     assert not (tmp_path / "x.3mf").exists()
     fab.slicer = "prusa"

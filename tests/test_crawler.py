@@ -15,7 +15,7 @@ from conftest import gif_motion, ink, panel_frames
 from origami_cad.cli import main
 from origami_cad.drive.errors import StallError
 from origami_cad.drive.sequence import load_sequence
-from origami_cad.errors import DesignError
+from origami_cad.errors import SimulationError
 from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.check import check_pattern
@@ -157,7 +157,7 @@ def test_a_gait_past_the_blockers_is_refused(tmp_path):
     copy_crawler(tmp_path, leave_out=("crawler.toml",))
     bad = tmp_path / "crawler.toml"
     bad.write_text(text, encoding="utf-8")
-    with pytest.raises(DesignError, match="past its blocker"):
+    with pytest.raises(SimulationError, match="past its blocker"):
         load_robot(bad)
 
 

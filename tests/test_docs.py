@@ -96,7 +96,8 @@ def cited_names(page: Path) -> list[str]:
             and not re.fullmatch(r"[A-Za-z]_\w{1,2}", token)  # maths: v_0, T_s, T_e
         ):
             out.append(token)
-    for block in re.findall(r"```\n(.*?)```", text, flags=re.S):
+    fences = re.findall(r"^```(\w*)\n(.*?)^```", text, flags=re.S | re.M)  # paired fences
+    for block in (body for lang, body in fences if not lang):  # the diagrams
         out += re.findall(r"\b\w+\.py\b", block)
     return out
 

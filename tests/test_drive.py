@@ -34,7 +34,6 @@ from origami_cad.drive.protocol2 import (
 )
 from origami_cad.drive.sequence import load_sequence, run_sequence
 from origami_cad.drive.serial import crc8, frame, unframe
-from origami_cad.errors import DesignError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 IDS = [1, 2, 3, 4]
@@ -221,11 +220,11 @@ def test_sequence_checks(tmp_path):
     text = (EXAMPLES / "crawler_gait.toml").read_text()
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("p = [0.306, 0.306, 0.167, 0.167]", "p = [0.306, 0.306, 0.167]"))
-    with pytest.raises(DesignError, match="expected 4 numbers"):
+    with pytest.raises(DriveError, match="expected 4 numbers"):
         load_sequence(bad)
     bad.write_text(text.replace("max_helix_angle = 75", "max_helix_angle = 18", 1))
     with pytest.raises(
-        DesignError, match=r"\[\[keyframe\]\] #2: key 'p' \(t = 6 s\): servo 1 \(front left\)"
+        DriveError, match=r"\[\[keyframe\]\] #2: key 'p' \(t = 6 s\): servo 1 \(front left\)"
     ):
         load_sequence(bad)
     seq = load_sequence(EXAMPLES / "arm_fold.toml")
@@ -359,7 +358,7 @@ def test_load_curves_in_a_sequence_are_checked(tmp_path):
     for new, message in cases:
         bad = tmp_path / "bad.toml"
         bad.write_text(text.replace(line, new))
-        with pytest.raises(DesignError, match=re.escape(message)):
+        with pytest.raises(DriveError, match=re.escape(message)):
             load_sequence(bad)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import os
 import random
+import re
 import signal
 import threading
 from pathlib import Path
@@ -30,7 +31,7 @@ from origami_cad.drive import (
 from origami_cad.drive.errors import HardwareError, PortLostError, StallError, TorqueOffError
 from origami_cad.drive.sequence import LOG_FIELDS, check_time_scale, load_sequence, run_sequence
 from origami_cad.drive.serial import frame, unframe
-from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.errors import OrigamiCadError
 
 IDS = [1, 2, 3]
 
@@ -110,10 +111,25 @@ def replug_at(emu, link: Path, packet: int) -> None:
     emu.at_packet(packet, replug)
 
 
-def assert_valid_log(path: Path, ids) -> list[dict[str, str]]:
-    """The CSV log reads back whole: header, complete rows, one row per servo per cycle."""
+def log_note(path: Path) -> str | None:
+    """The comment line ending a log (why the run stopped), or None; only the last line
+    may be a comment."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    notes = [k for k, line in enumerate(lines) if line.startswith("#")]
+    assert notes in ([], [len(lines) - 1]), lines[-3:]
+    return lines[-1] if notes else None
+
+
+def assert_valid_log(path: Path, ids, stopped: str | None = None) -> list[dict[str, str]]:
+    """The CSV log reads back whole: header, complete rows, one row per servo per cycle.
+
+    ``stopped``: a pattern the last line, the comment saying why the run stopped, matches.
+    """
+    note = log_note(path)
+    if stopped is not None:
+        assert note is not None and re.search(stopped, note), note
     with path.open(newline="") as fh:
-        rows = list(csv.DictReader(fh))
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
     with path.open(newline="") as fh:
         assert next(csv.reader(fh)) == list(LOG_FIELDS)
     for row in rows:
@@ -278,6 +294,9 @@ def test_an_absent_servo_enables_no_torque_at_all(tmp_path, capsys):
         assert "servo 7 did not answer a ping" in err and emu.port in err
         assert "no torque was enabled" in err
         assert_all_off(emu)
+        # the log says why nothing ran, naming the servo
+        note = r"^# not started: servo 7 did not answer a ping .*no torque was enabled"
+        assert assert_valid_log(tmp_path / "l.csv", [1, 7], stopped=note) == []
         # servo 1 never had its torque enabled: its goal was never moved either
         assert emu.servos[1].value(11) == 3  # still in position mode: nothing configured
         # the same through the library, with two missing servos named at once
@@ -307,7 +326,8 @@ def test_a_servo_that_stops_answering_mid_run_is_named_and_the_others_are_off(tm
         assert info.value.servos == [3]
         emu.servos[3].drop = 0
         assert_all_off(emu)  # servo 3 got the SyncWrite, but could not confirm it
-    rows = assert_valid_log(tmp_path / "log.csv", IDS)
+    note = r"^# stopped at t = [0-9.]+ s: servo 3: no status packet \(timeout\)"
+    rows = assert_valid_log(tmp_path / "log.csv", IDS, stopped=note)
     assert 0 < len(rows) <= len(IDS) * 4  # the cycles before the fault
 
 
@@ -322,7 +342,7 @@ def test_an_overload_status_stops_the_run_at_once(tmp_path, capsys, servo):
         assert code == 2 and err.count("\n") == 0
         assert f"servo {servo}: hardware error: overload (sync read)" in err
         assert_all_off(emu)
-    rows = assert_valid_log(log, IDS)
+    rows = assert_valid_log(log, IDS, stopped=rf"servo {servo}: hardware error: overload")
     # the overload came with the 5th sync read: that reading already saw the alert
     assert 0 < len(rows) <= len(IDS) * 4
 
@@ -394,7 +414,8 @@ def test_faults_leave_a_valid_log_up_to_the_fault(tmp_path):
                 with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
                     run_sequence(seq, bus, log, time_scale=SCALE)
             assert_all_off(emu)
-        assert 0 < len(assert_valid_log(log, IDS)) <= len(IDS) * 6, name
+        why = assert_valid_log(log, IDS, stopped=r"^# stopped at .*(CRC error|no status packet)")
+        assert 0 < len(why) <= len(IDS) * 6, name
     # a stall
     log = tmp_path / "stall.csv"
     with DynamixelEmulator(IDS, time_scale=SCALE, load_turns={2: 0.5}) as emu:
@@ -402,7 +423,7 @@ def test_faults_leave_a_valid_log_up_to_the_fault(tmp_path):
             with DynamixelBus(emu.port, ids=IDS, profile_velocity=0, current_limit_ma=1000) as bus:
                 run_sequence(seq, bus, log, time_scale=SCALE)
         assert_all_off(emu)
-    rows = assert_valid_log(log, IDS)
+    rows = assert_valid_log(log, IDS, stopped=r"^# stopped at .*: servo 2: current 1500 mA")
     assert 0 < len(rows) < len(IDS) * 31
     # Ctrl-C between cycles: the log has every finished cycle
     log = tmp_path / "ctrl-c.csv"
@@ -416,7 +437,7 @@ def test_faults_leave_a_valid_log_up_to_the_fault(tmp_path):
             with DynamixelBus(emu.port, ids=IDS, profile_velocity=0) as bus:
                 run_sequence(seq, bus, log, time_scale=SCALE, progress=interrupt)
         assert_all_off(emu)
-    rows = assert_valid_log(log, IDS)
+    rows = assert_valid_log(log, IDS, stopped=r"^# stopped at t = 0\.2 s: interrupted \(Ctrl-C\)$")
     assert len(rows) == len(IDS) * 11
     assert float(rows[-1]["t_s"]) == pytest.approx(10 / RATE)
 
@@ -516,11 +537,15 @@ def test_serial_stale_reply_of_an_interrupted_command_is_skipped(monkeypatch):
 def test_serial_absent_motor_lost_port_and_stall(tmp_path, capsys):
     seq = write_sequence(tmp_path, [1, 7])
     with SerialEmulator([1, 2]) as emu:
-        code = main(["drive", str(seq), "--port", emu.port, "--protocol", "serial"])
+        log = tmp_path / "absent.csv"
+        argv = ["drive", str(seq), "--port", emu.port, "--protocol", "serial", "--log", str(log)]
+        code = main(argv)
         err = capsys.readouterr().err.strip()
         assert code == 2 and err.count("\n") == 0
         assert "motor 7" in err and "no motor was enabled" in err
         assert_motors_off(emu)
+    note = r"^# not started: motor 7: .*no motor was enabled"
+    assert assert_valid_log(log, [1, 7], stopped=note) == []
     seq = write_sequence(tmp_path, IDS)
     log = tmp_path / "serial.csv"
     port = tmp_path / "ttyACM0"
@@ -606,7 +631,7 @@ def test_bad_sequence_values_are_refused_naming_file_table_and_key(tmp_path, old
     at = text.find(old, text.find(old) + 1) if text.count(old) > 1 else text.find(old)
     assert at >= 0, old
     path.write_text(text[:at] + new + text[at + len(old) :])
-    with pytest.raises(DesignError) as info:
+    with pytest.raises(DriveError) as info:
         load_sequence(path)
     message = str(info.value)
     assert message.startswith(str(path)) and where in message
@@ -627,18 +652,18 @@ def test_bad_dcqc_mapping_files_are_refused(tmp_path):
     }
     for content, expected in cases.items():
         (tmp_path / "r.json").write_text(content)
-        with pytest.raises(DesignError, match=expected) as info:
+        with pytest.raises(DriveError, match=expected) as info:
             load_sequence(path)
         assert "[[tsa]] #1: key 'mapping'" in str(info.value)
 
 
 @pytest.mark.parametrize("value", [0, -1, float("nan"), float("inf"), 1e300, True, "2"])
 def test_time_scale_must_be_finite_and_positive(tmp_path, value, capsys):
-    with pytest.raises(DesignError, match="time_scale must be a number in"):
+    with pytest.raises(DriveError, match="time_scale must be a number in"):
         check_time_scale(value)
     seq = load_sequence(write_sequence(tmp_path, IDS))
     with SerialEmulator(IDS) as emu, SerialBus(emu.port, ids=IDS) as bus:
-        with pytest.raises(DesignError):
+        with pytest.raises(DriveError):
             run_sequence(seq, bus, time_scale=value)
         assert emu.received == len(IDS)  # pings only: no goal was sent
     if not isinstance(value, bool | str):

@@ -19,7 +19,7 @@ from origami_cad.pattern import (
     read_pattern,
     write_pattern,
 )
-from origami_cad.pattern.dxf import read_dxf, write_dxf
+from origami_cad.pattern.formats.dxf import read_dxf, write_dxf
 
 SQUARE = [(0, 0), (100, 0), (100, 100), (0, 100)]
 

@@ -18,8 +18,8 @@ from origami_cad.pattern import (
     read_pattern,
     write_pattern,
 )
-from origami_cad.pattern.dxf import read_dxf, write_dxf
-from origami_cad.pattern.svg import read_svg, write_svg
+from origami_cad.pattern.formats.dxf import read_dxf, write_dxf
+from origami_cad.pattern.formats.svg import read_svg, write_svg
 
 DATA = Path(__file__).resolve().parent / "data"
 SQUARE = [(0, 0), (100, 0), (100, 100), (0, 100)]

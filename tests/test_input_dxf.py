@@ -15,7 +15,7 @@ from conftest import refused as refused_by
 
 from origami_cad.errors import PatternError
 from origami_cad.pattern import miura_pattern, read_pattern, write_pattern
-from origami_cad.pattern.dxf import MAX_ENTITIES, read_dxf
+from origami_cad.pattern.formats.dxf import MAX_ENTITIES, read_dxf
 
 
 def new_doc(units=4):

@@ -244,8 +244,8 @@ def test_input_paths_that_are_not_regular_files(tmp_path, kind):
     import os
 
     from origami_cad.pattern import read_pattern
-    from origami_cad.pattern.dxf import read_dxf
-    from origami_cad.pattern.svg import read_svg
+    from origami_cad.pattern.formats.dxf import read_dxf
+    from origami_cad.pattern.formats.svg import read_svg
 
     path = {
         "long": tmp_path / ("n" * 400 + ".fold"),

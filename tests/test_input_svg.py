@@ -17,7 +17,7 @@ from conftest import refused as refused_by
 
 from origami_cad.errors import PatternError
 from origami_cad.pattern import CreasePattern, miura_pattern, read_pattern, write_pattern
-from origami_cad.pattern.svg import read_svg
+from origami_cad.pattern.formats.svg import read_svg
 from origami_cad.viz.report import StepReport, write_report
 
 HEAD = '<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">'

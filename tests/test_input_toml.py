@@ -11,7 +11,7 @@ import pytest
 from conftest import refused as refused_by
 
 from origami_cad.design.task import load_task
-from origami_cad.errors import DesignError
+from origami_cad.errors import DesignError, StringsError
 from origami_cad.pattern import miura_pattern
 from origami_cad.pattern.design import load_design
 from origami_cad.strings.route import load_route
@@ -188,7 +188,8 @@ def test_the_base_route_loads(tmp_path, cp):
     ],
 )
 def test_bad_route_files(tmp_path, cp, kw, fragments):
-    refused(lambda p: load_route(p, cp), write(tmp_path, route(**kw)), *fragments)
+    path = write(tmp_path, route(**kw))
+    refused_by(lambda p: load_route(p, cp), path, *fragments, error=StringsError)
 
 
 def test_huge_lists_of_unknown_keys_give_a_short_message(tmp_path):

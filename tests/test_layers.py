@@ -1,15 +1,18 @@
-"""The architecture as a contract: stages import only the stages above them.
+"""The architecture as a contract: the dependency graph of ``docs/architecture.md``.
 
-The order is the guide's (``docs/architecture.md``): pattern, kinematics, design,
-fabrication, strings, parts, simulation, drive, viz, jobs, then the CLI and the
-demo. ``errors``, ``_fileio`` and ``_toml`` are the base every stage may use.
-Names starting with an underscore never cross a module boundary, in the package,
-its tests or its benchmarks.
+The page lists every stage (``pattern``, ``kinematics``, ..., ``cli``, ``demo``) and
+module of its own below them (``parallel``) with the ones it imports, ``A → B, C``.
+Every import of the package (lazy ones inside functions, and ``importlib.import_module``
+of a literal name, too) must be an arrow of that list, every arrow must be an import that
+exists, and the graph has no cycle. ``errors``, ``_fileio``, ``_libm``, ``_names`` and
+``_toml`` are the base every node may use. Names starting with an underscore never cross
+a module boundary, in the package, its tests or its benchmarks.
 """
 
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -20,24 +23,26 @@ BASE = {
     "origami_cad.errors",
     "origami_cad._fileio",
     "origami_cad._libm",
+    "origami_cad._names",
     "origami_cad._toml",
 }
-ORDER = [
-    "pattern",
-    "kinematics",
-    "design",
-    "fabrication",
-    "strings",
-    "parts",
-    "simulation",
-    "drive",
-    "viz",
-    "jobs",
-    "cli",
-    "demo",
-]
-# the one edge against the order: the CLI dispatches the `demo` command
-ALLOWED = {("cli", "demo")}
+PAGE = ROOT / "docs" / "architecture.md"
+ARROW = re.compile(r"^(\w+)\s*→\s*(.*)$")
+DYNAMIC = {"import_module", "__import__"}  # importlib.import_module("..."), __import__("...")
+
+
+def documented_graph(text: str | None = None) -> dict[str, set[str]]:
+    """The graph the page draws: the lines ``A → B, C`` of its "dependency graph" block."""
+    text = PAGE.read_text(encoding="utf-8") if text is None else text
+    block = re.search(r"## The dependency graph.*?```text\n(.*?)```", text, flags=re.S)
+    assert block, "docs/architecture.md has no ```text block under '## The dependency graph'"
+    graph: dict[str, set[str]] = {}
+    for line in block.group(1).splitlines():
+        match = ARROW.match(line.strip())
+        if match:
+            targets = {t.strip() for t in match.group(2).split("#")[0].split(",")}
+            graph[match.group(1)] = targets - {""}
+    return graph
 
 
 def _module_name(path: Path) -> str:
@@ -56,8 +61,40 @@ def _stage(module: str) -> str | None:
     return module.split(".")[1]
 
 
+def _is_module(dotted: str) -> bool:
+    path = ROOT / Path(*_canonical(dotted).split("."))
+    if dotted.startswith(("parts", "origami_cad.parts")):
+        path = ROOT / Path(*_canonical(dotted).split(".")[1:])
+    return path.with_suffix(".py").exists() or (path / "__init__.py").exists()
+
+
+def _dynamic_import(node: ast.Call) -> str | None:
+    """The literal module name of ``importlib.import_module("...")`` or ``__import__``."""
+    func = node.func
+    name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", None)
+    if name in DYNAMIC and node.args and isinstance(node.args[0], ast.Constant):
+        value = node.args[0].value
+        return value if isinstance(value, str) else None
+    return None
+
+
+def _names_a_module(node: ast.AST) -> bool:
+    """A string constant that is the dotted name of a module of the package."""
+    return (
+        isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and re.fullmatch(r"origami_cad(\.\w+)+", node.value) is not None
+        and _is_module(node.value)
+    )
+
+
 def _imports(path: Path):
-    """(imported module, imported names, line) of every import in a file, lazy ones too."""
+    """(imported module, imported names, line) of every import in a file, lazy ones too.
+
+        ``from origami_cad import jobs`` is an import of the module ``origami_cad.jobs``, and
+    ``importlib.import_module("origami_cad.x")`` of ``origami_cad.x``, as is the string
+    ``"origami_cad.x"`` (a module named for importlib).
+    """
     tree = ast.parse(path.read_text(encoding="utf-8"))
     here = _module_name(path) if path.is_relative_to(ROOT / "origami_cad") else ""
     for node in ast.walk(tree):
@@ -69,7 +106,15 @@ def _imports(path: Path):
             if node.level:  # relative import
                 base = here.split(".")[: -node.level + (path.name == "__init__.py")]
                 module = ".".join([*base, module])
-            yield module, [a.name for a in node.names], node.lineno
+            names = [a.name for a in node.names]
+            yield module, names, node.lineno
+            for name in names:
+                if _canonical(module) in BASE and _is_module(f"{module}.{name}"):
+                    yield f"{module}.{name}", [], node.lineno
+        elif isinstance(node, ast.Call) and (module := _dynamic_import(node)):
+            yield module, [], node.lineno
+        elif _names_a_module(node):  # a module's name for importlib, kept in a variable
+            yield node.value, [], node.lineno
 
 
 def _sources(*folders: str) -> list[Path]:
@@ -80,25 +125,75 @@ def _canonical(module: str) -> str:
     return "origami_cad." + module if module == "parts" or module.startswith("parts.") else module
 
 
-def test_every_stage_imports_only_the_stages_above_it():
-    files = _sources("origami_cad", "parts")
-    assert len(files) > 40
-    bad = []
-    for path in files:
+def code_graph() -> dict[tuple[str, str], list[str]]:
+    """Every import from one node to another: (importer, imported) -> where."""
+    edges: dict[tuple[str, str], list[str]] = {}
+    for path in _sources("origami_cad", "parts"):
         stage = _stage(_module_name(path))
         if stage is None:
             continue
         for module, _, line in _imports(path):
             target = _stage(_canonical(module))
-            if target is None or target == stage or (stage, target) in ALLOWED:
-                continue
-            if target not in ORDER or ORDER.index(target) > ORDER.index(stage):
-                bad.append(f"{path.relative_to(ROOT)}:{line}: {stage} imports {module}")
+            if target is not None and target != stage:
+                edges.setdefault((stage, target), []).append(f"{path.relative_to(ROOT)}:{line}")
+    return edges
+
+
+def test_every_import_is_an_arrow_of_the_documented_graph():
+    assert len(_sources("origami_cad", "parts")) > 40
+    graph = documented_graph()
+    bad = [
+        f"{where[0]}: {a} imports {b}, no arrow {a} → {b} in docs/architecture.md"
+        for (a, b), where in sorted(code_graph().items())
+        if b not in graph.get(a, ())
+    ]
     assert not bad, "\n".join(bad)
 
 
+def test_every_documented_arrow_is_an_import_that_exists():
+    edges = code_graph()
+    missing = [
+        f"{a} → {b}" for a, ts in documented_graph().items() for b in ts if (a, b) not in edges
+    ]
+    assert not missing, f"docs/architecture.md draws arrows no import makes: {missing}"
+
+
+def test_every_arrow_of_the_data_table_is_an_import_that_exists():
+    """The page's "what crosses each boundary" rows ``a → b, c`` (b and c import a)."""
+    rows = re.findall(r"^\| (\w+) → ([\w, ]+) \|", PAGE.read_text(encoding="utf-8"), re.M)
+    rows = [(a, b) for a, b in rows if a != "from"]  # the header
+    assert len(rows) >= 6
+    edges = code_graph()
+    missing = [
+        f"{a} → {b}"
+        for a, targets in rows
+        for b in map(str.strip, targets.split(","))
+        if (b, a) not in edges
+    ]
+    assert not missing, f"docs/architecture.md's data table draws arrows no import makes: {missing}"
+
+
+def test_the_graph_names_every_node_and_has_no_cycle():
+    graph = documented_graph()
+    nodes = {_stage(_module_name(p)) for p in _sources("origami_cad", "parts")} - {None}
+    assert nodes == set(graph), (
+        f"nodes in the code but not the page (or back): {nodes ^ set(graph)}"
+    )
+    done: set[str] = set()
+
+    def visit(node: str, path: tuple[str, ...]) -> None:
+        assert node not in path, f"cycle: {' → '.join((*path, node))}"
+        if node not in done:
+            for target in graph[node]:
+                visit(target, (*path, node))
+            done.add(node)
+
+    for node in graph:
+        visit(node, ())
+
+
 def test_the_base_imports_no_stage():
-    for name in ("errors.py", "_fileio.py", "_toml.py"):
+    for name in ("errors.py", "_fileio.py", "_libm.py", "_names.py", "_toml.py"):
         for module, _, line in _imports(ROOT / "origami_cad" / name):
             assert _stage(_canonical(module)) is None, f"{name}:{line} imports {module}"
 
@@ -119,10 +214,23 @@ def test_no_private_name_crosses_a_module(folder):
 
 
 def test_the_contract_sees_a_violation(tmp_path):
-    """The checker itself: a kinematics module importing the simulation is caught."""
-    stage = _stage("origami_cad.kinematics.chain")
-    target = _stage(_canonical("origami_cad.simulation.solver"))
-    assert ORDER.index(target) > ORDER.index(stage)
+    """The checker itself: a kinematics module importing the simulation, directly or
+    through importlib, is an import the graph has no arrow for."""
+    graph = documented_graph()
+    assert "simulation" not in graph["kinematics"]
     src = tmp_path / "m.py"
-    src.write_text("def f():\n    from origami_cad.simulation import simulate\n")
-    assert [m for m, _, _ in _imports(src)] == ["origami_cad.simulation"]
+    src.write_text(
+        "import importlib\n"
+        "SOLVER = 'origami_cad.simulation.solver'\n"
+        "def f():\n"
+        "    from origami_cad.simulation import simulate\n"
+        "    importlib.import_module(SOLVER)\n"
+        "    return importlib.import_module('origami_cad.simulation.model')\n"
+    )
+    found = sorted({(line, _stage(m)) for m, _, line in _imports(src)})
+    assert found == [(1, None), (2, "simulation"), (4, "simulation"), (6, "simulation")]
+
+
+def test_the_page_parser_reads_arrows_and_empty_nodes():
+    text = "## The dependency graph\n\n```text\nb   →\na   → b, c  # note\n```\n"
+    assert documented_graph(text) == {"a": {"b", "c"}, "b": set()}

@@ -147,7 +147,7 @@ def test_the_route_planners_top_candidates_each_fold_through_route_and_simulate(
         path.write_text(route_toml(geom, route, f"# rank {rank}"), encoding="utf-8")
         assert main(["route", str(boat), str(path), "-o", str(tmp_path / f"dcqc{rank}")]) == 0
         folded = json.loads((tmp_path / f"dcqc{rank}" / "dcqc.json").read_text())
-        assert folded["valid"] and folded["p"][-1] == pytest.approx(geom.target_p, abs=1e-3)
+        assert folded["valid"] and folded["states"]["p"][-1] >= geom.target_p - 1e-3
         argv = ["simulate", str(boat), str(path), "-o", str(tmp_path / f"sim{rank}")]
         assert main([*argv, "--steps", "24"]) == 0, capsys.readouterr().err
         assert (tmp_path / f"sim{rank}" / "simulation.json").is_file()

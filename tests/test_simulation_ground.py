@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from conftest import three_hole_string
 
-from origami_cad.errors import DesignError, SimulationError
+from origami_cad.errors import SimulationError, StringsError
 from origami_cad.pattern import CreasePattern
 from origami_cad.simulation import SimulationParams, simulate
 from origami_cad.simulation.cables import StringSet, string_derivatives
@@ -163,10 +163,10 @@ holes = [[30.0, 20.0]]
     route = load_route(path, cp)
     assert route.strings[0].anchor_face == 0
     path.write_text(text.replace("[10.0, 20.0, 6.0]", "[80.0, 20.0, 6.0]"))
-    with pytest.raises(DesignError, match=r"anchor.*not on panel"):
+    with pytest.raises(StringsError, match=r"anchor.*not on panel"):
         load_route(path, cp)
     path.write_text(text.replace(f'"{label}"', '"nope"'))
-    with pytest.raises(DesignError, match=r"anchor_panel.*no panel labelled 'nope'"):
+    with pytest.raises(StringsError, match=r"anchor_panel.*no panel labelled 'nope'"):
         load_route(path, cp)
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from origami_cad.cli import main
-from origami_cad.errors import DesignError, OutputError
+from origami_cad.errors import DriveError, OutputError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -32,7 +32,7 @@ def test_sequence_readback_error_names_the_users_file(tmp_path, monkeypatch, cap
     import origami_cad.drive.sequence as sequence
 
     def refuse(path):  # the reader refusing the staged file, as in issue 27
-        raise DesignError(f"{path} [[tsa]] #1: key 'mapping': fold ratios must increase")
+        raise DriveError(f"{path} [[tsa]] #1: key 'mapping': fold ratios must increase")
 
     monkeypatch.setattr(sequence, "load_sequence", refuse)
     out = tmp_path / "fig8" / "arm_fold.toml"

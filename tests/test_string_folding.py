@@ -302,12 +302,12 @@ def test_route_file_limits_and_fabrication_are_read(tmp_path):
     assert params.hinge_zone == 7.0 and params.panel_thickness == 2.2
     bad = tmp_path / "bad.toml"
     bad.write_text("[fabrication]\nbias = -1\n[route]\n[[route.strings]]\nanchor = [0, 0, 1]\n")
-    from origami_cad.errors import DesignError
+    from origami_cad.errors import StringsError
 
-    with pytest.raises(DesignError, match="key 'bias'"):
+    with pytest.raises(StringsError, match="key 'bias'"):
         load_route(bad, design.pattern)
     bad.write_text("[route]\nmax_tension = 0\n[[route.strings]]\nanchor = [0, 0, 1]\n")
-    with pytest.raises(DesignError, match="key 'max_tension'"):
+    with pytest.raises(StringsError, match="key 'max_tension'"):
         load_route(bad, design.pattern)
 
 

@@ -12,7 +12,7 @@ from conftest import colour_pixels, ink, panel_frames
 from scipy.optimize import brentq
 
 from origami_cad.cli import main
-from origami_cad.errors import DesignError
+from origami_cad.errors import StringsError
 from origami_cad.pattern.design import Design, load_design
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.strings import (
@@ -45,7 +45,7 @@ def test_eq8_by_hand_on_both_branches():
     # theta = 3 pi: (18 + 2 pi 0.5)^2 / 4
     expected = math.sqrt(3600 + (18 + 2 * math.pi * 0.5) ** 2 / 4)
     assert ring_length(3 * math.pi, x, d1, d2, ds) == pytest.approx(expected)
-    with pytest.raises(DesignError):
+    with pytest.raises(StringsError):
         ring_length(-1.0, x, d1, d2, ds)
 
 
@@ -62,11 +62,11 @@ def test_onboard_model_closed_form_inverse_and_limits():
     assert onboard_compliant_length(50.0, 10.0, length, r, 500.0) > length - onboard_contraction(
         50.0, length, r
     )
-    with pytest.raises(DesignError, match="exceeds"):
+    with pytest.raises(StringsError, match="exceeds"):
         onboard_contraction(length / r, length, r)  # theta r = L0
-    with pytest.raises(DesignError, match="exceeds"):
+    with pytest.raises(StringsError, match="exceeds"):
         onboard_angle(length, length, r)
-    with pytest.raises(DesignError):
+    with pytest.raises(StringsError):
         onboard_compliant_length(1e6, 0.0, length, r, 500.0)
 
 
@@ -172,16 +172,16 @@ def test_wrong_side_routing_is_flagged_and_does_not_fold(miura, tmp_path):
 def test_route_file_errors_name_the_key(miura, tmp_path):
     path = tmp_path / "r.toml"
     path.write_text('[route]\n[[route.strings]]\nanchor = [0, 0, 10]\nholes = ["nope"]\n')
-    with pytest.raises(DesignError, match="no panel labelled 'nope'"):
+    with pytest.raises(StringsError, match="no panel labelled 'nope'"):
         load_route(path, miura.pattern)
     path.write_text('[route]\n[[route.strings]]\nanchor = [0, 0]\nholes = ["c0r0s0"]\n')
-    with pytest.raises(DesignError, match="key 'anchor'"):
+    with pytest.raises(StringsError, match="key 'anchor'"):
         load_route(path, miura.pattern)
     path.write_text(
         '[tsa]\nmodel = "spring"\n[route]\n[[route.strings]]\nanchor = [0, 0, 1]\n'
         'holes = ["c0r0s0"]\n'
     )
-    with pytest.raises(DesignError, match="key 'model'"):
+    with pytest.raises(StringsError, match="key 'model'"):
         load_route(path, miura.pattern)
 
 

@@ -30,7 +30,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))
 
 from origami_cad.pattern import CreasePattern  # noqa: E402
-from origami_cad.pattern.fold import write_fold  # noqa: E402
+from origami_cad.pattern.formats.fold import write_fold  # noqa: E402
 
 #: Half the body's length (x) and width (y), mm.
 BODY_X, BODY_Y = 90.0, 100.0

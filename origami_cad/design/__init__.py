@@ -13,12 +13,7 @@ from origami_cad.design.fitness import (
     arm_fitness,
     sample_angles,
 )
-from origami_cad.design.limits import (
-    crease_fold_limit,
-    leg_fold_angles,
-    panel_bias_violations,
-    reachable_fold_angle,
-)
+from origami_cad.design.limits import panel_bias_violations
 from origami_cad.design.search import (
     ArmDesign,
     decode,
@@ -29,6 +24,7 @@ from origami_cad.design.search import (
     ties,
 )
 from origami_cad.design.task import ArmTask, SearchSettings, load_task, task_to_dict
+from origami_cad.kinematics.limits import crease_fold_limit, leg_fold_angles, reachable_fold_angle
 
 __all__ = [
     "INFEASIBLE_COST",

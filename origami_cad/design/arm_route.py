@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from origami_cad._names import toml_string
 from origami_cad.errors import DesignError
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 
@@ -149,7 +150,7 @@ def _string_lines(
     holes = ", ".join(f'"c{copy}r{row}s{k}"' for k in range(1, n + 1))
     return [
         f"[[route.strings]]            # along panel row r{row} of copy {copy}",
-        f'anchor_panel = "{base}"     # the onboard TSA on the base panel',
+        f"anchor_panel = {toml_string(base)}     # the onboard TSA on the base panel",
         f"anchor = [{x:.4f}, {y:.4f}, {mount_height:g}]",
         f"holes = [{holes}]",
         'sides = "auto"               # DCQC: above valleys, below mountains',

@@ -3,7 +3,7 @@
 The printed arm folds only as far as its creases allow (eq. 6): for each design,
 the end of its fold range ``theta_e`` is the largest main-crease angle at which
 no crease, legs included, passes its limit
-(:func:`~origami_cad.design.limits.reachable_fold_angle`). ``theta`` is sampled
+(:func:`~origami_cad.kinematics.limits.reachable_fold_angle`). ``theta`` is sampled
 from 0 to ``theta_e`` (``task.samples`` states, both ends included) and the TG
 chain is evaluated with eqs. 2-4. Then
 
@@ -45,10 +45,11 @@ from typing import Any
 import numpy as np
 
 from origami_cad.design.kernel import population_terms
-from origami_cad.design.limits import panel_bias_violations, reachable_fold_angle
+from origami_cad.design.limits import panel_bias_violations
 from origami_cad.design.predicates import area_edges
 from origami_cad.design.task import ArmTask
 from origami_cad.kinematics.chain import half_turn_tangents, hypar_alpha0
+from origami_cad.kinematics.limits import reachable_fold_angle
 from origami_cad.pattern.miura import leg_gaps
 
 __all__ = [

@@ -49,9 +49,10 @@ from typing import Any
 import cma
 import numpy as np
 
+from origami_cad._libm import canonical_eigh
 from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
-from origami_cad.design.parallel import local_pool, start_context
 from origami_cad.design.task import ArmTask, SearchSettings
+from origami_cad.parallel import local_pool, start_context
 from origami_cad.pattern.tg import TGDesign
 
 __all__ = [
@@ -88,20 +89,6 @@ FOLD_RANGE_TIE = 1e-6
 #: costs by index), unless a cost lies within 1e-13 of a rounding boundary: about one
 #: sample in ten million. ``ftarget`` (1e-4 from the maximum) is far above it.
 COST_RESOLUTION = 1e-6
-
-
-def canonical_eigh(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``numpy.linalg.eigh`` with each eigenvector's sign fixed: its largest entry positive.
-
-    An eigenvector's sign is arbitrary, and LAPACK may return either for two matrices
-    that differ in their last bits (as CMA-ES's covariance does from one CPU's numpy
-    kernels to another's); CMA-ES then samples other points from the same random
-    numbers and the run goes elsewhere. Fixed signs make the samples depend on the
-    matrix, not on those bits.
-    """
-    d, b = np.linalg.eigh(C)
-    rows = np.argmax(np.abs(b), axis=0)
-    return d, b * np.where(b[rows, np.arange(b.shape[1])] < 0, -1.0, 1.0)
 
 
 class UnitBox:

@@ -50,12 +50,12 @@ from typing import Any
 import numpy as np
 import shapely
 
-from origami_cad._toml import Table, load_toml
-from origami_cad.design.limits import crease_fold_limit
+from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
+from origami_cad.kinematics.limits import crease_fold_limit
 
-__all__ = ["ArmTask", "SearchSettings", "load_task", "task_to_dict"]
+__all__ = ["ArmTask", "SearchSettings", "dump_task", "load_task", "task_to_dict"]
 
 #: Vertices of the polygon that stands for a circular obstacle.
 CIRCLE_SEGMENTS = 128
@@ -107,7 +107,7 @@ class ArmTask:
     bias, height, thickness : float
         ``b``, ``h``, ``t`` of eq. 6 of the printed arm, mm: every crease
         stops at ``theta_max`` and the fitness is evaluated over the fold
-        range this leaves (:mod:`origami_cad.design.limits`).
+        range this leaves (:mod:`origami_cad.kinematics.limits`).
     fold_limit : float or None
         The largest fold angle of every crease in degrees, instead of eq. 6
         (180: no limit, the paper's range 0 <= p <= 1).
@@ -353,6 +353,72 @@ def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
         msg = str(exc)
         raise DesignError(msg if msg.startswith(str(p)) else f"{p}: {msg}") from None
     return task, settings
+
+
+def _area_tables(areas: tuple[Any, ...], name: str) -> list[str]:
+    """``[[arm.warning]]`` / ``[[arm.prohibited]]`` tables: each polygon and its holes, mm."""
+    lines: list[str] = []
+    for area in areas:
+        ring = shapely.get_coordinates(area.exterior).tolist()
+        holes = [shapely.get_coordinates(h).tolist() for h in area.interiors]
+        lines += ["", *toml_table(name, {"polygon": ring, "holes": holes or None}, array=True)]
+    return lines
+
+
+def dump_task(task: ArmTask, settings: SearchSettings | None = None, *, header: str = "") -> str:
+    """An arm task file (TOML text) that :func:`load_task` reads back (lengths mm, angles deg).
+
+    A circular area is written as the polygon it was read as (:data:`CIRCLE_SEGMENTS`
+    vertices); without ``settings`` the file has no ``[search]`` table (the defaults).
+
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "task.toml"
+    >>> task = ArmTask(points=[[250.0, 0.0], [120.0, 60.0], [50.0, 133.3]], weights=[2.0])
+    >>> _ = path.write_text(dump_task(task, SearchSettings(runs=3)))
+    >>> back, settings = load_task(path)
+    >>> back.weights.tolist(), settings.runs
+    ([2.0], 3)
+    """
+    arm = {
+        "start": [float(v) for v in task.start],
+        "points": task.points.tolist(),
+        "weights": task.weights.tolist() if task.weights.size else None,
+        "alpha": float(task.alpha),
+        "vectors": int(task.vectors),
+        "length_range": [float(v) for v in task.length_range],
+        "shape_angle_range": [float(v) for v in task.shape_angle_range],
+        "entry_flag": "both" if task.entry_flag is None else int(task.entry_flag),
+        "hypar_base": bool(task.hypar_base),
+        "samples": int(task.samples),
+        "unit_width": float(task.unit_width),
+        "min_leg_gap": float(task.min_leg_gap),
+    }
+    limit = (
+        {"fold_limit": float(task.fold_limit)}
+        if task.fold_limit is not None
+        else {"bias": task.bias, "height": task.height, "thickness": task.thickness}
+    )
+    fab = {
+        **limit,
+        "codesign": bool(task.codesign),
+        "max_bias": float(task.max_bias),
+        "min_panel_face": float(task.min_panel_face),
+    }
+    lines = [header.rstrip("\n")] if header else []
+    lines += toml_table("arm", arm, comments={"start": "T_s, mm", "points": "mm"})
+    lines += _area_tables(task.warning, "arm.warning")
+    lines += _area_tables(task.prohibited, "arm.prohibited")
+    lines += ["", *toml_table("fabrication", {k: v for k, v in fab.items()})]
+    if settings is not None:
+        search = {
+            "runs": settings.runs,
+            "seed": settings.seed,
+            "popsize": settings.popsize,
+            "max_generations": settings.max_generations,
+            "sigma0": float(settings.sigma0),
+        }
+        lines += ["", *toml_table("search", search)]
+    return "\n".join(lines) + "\n"
 
 
 def task_to_dict(task: ArmTask, settings: SearchSettings | None = None) -> dict[str, Any]:

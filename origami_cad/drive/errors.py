@@ -7,13 +7,9 @@ import signal
 import threading
 from collections.abc import Iterator
 
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import DriveError, OrigamiCadError
 
 __all__ = ["DriveError", "HardwareError", "PortLostError", "StallError", "TorqueOffError"]
-
-
-class DriveError(OrigamiCadError, RuntimeError):
-    """Communication or safety failure, naming the servo or port and the cause."""
 
 
 class StallError(DriveError):
@@ -75,22 +71,28 @@ def port_error_text(exc: BaseException) -> str:
 
 @contextlib.contextmanager
 def hold_ctrl_c() -> Iterator[None]:
-    """Hold Ctrl-C (SIGINT) while the servos are being switched off; raise it afterwards.
+    """Hold Ctrl-C (SIGINT) and SIGTERM while the servos are being switched off; deliver
+    them afterwards to the handler that was installed (Python's raises
+    ``KeyboardInterrupt``; a program's own handler runs then, once per signal kind).
 
-    Only in the main thread and only over Python's default handler (a program
-    that installed its own keeps it). An error in the body wins over a held Ctrl-C.
+    Only in the main thread, and only for signals handled in Python (not ignored, not
+    the system default). An error in the body wins over a held signal.
     """
-    if (
-        threading.current_thread() is not threading.main_thread()
-        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
-    ):
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
+    previous = {
+        sig: handler
+        for sig in (signal.SIGINT, signal.SIGTERM)
+        if callable(handler := signal.getsignal(sig))
+    }
     pressed: list[int] = []
-    signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    for sig in previous:
+        signal.signal(sig, lambda signum, frame: pressed.append(signum))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-    if pressed:
-        raise KeyboardInterrupt
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    for sig in dict.fromkeys(pressed):
+        previous[sig](sig, None)

@@ -27,7 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.errors import DesignError
+from origami_cad._names import one_line, toml_string
+from origami_cad.errors import DriveError
 from origami_cad.strings.tsa import TSAParams, onboard_contraction
 
 #: A keyframe's fold ratio may pass the model's range by this much (then it is its end).
@@ -56,7 +57,7 @@ def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple
     """
     out: list[tuple[float, tuple[float, ...]]] = []
     if len(items) > 100_000:
-        raise DesignError(f"{len(items)} keyframes; at most 100000")
+        raise DriveError(f"{len(items)} keyframes; at most 100000")
     for k, text in enumerate(items):
         head, sep, tail = str(text).partition(":")
         try:
@@ -65,26 +66,26 @@ def parse_keyframes(items: Sequence[str], count: int) -> list[tuple[float, tuple
             t = float(head)
             values = tuple(float(v) for v in tail.split(","))
         except ValueError:
-            raise DesignError(
+            raise DriveError(
                 f"keyframe {k + 1} {text!r}: expected TIME:P or TIME:P1,P2,... (s, fold ratios)"
             ) from None
         if len(values) == 1:
             values = values * count
         if len(values) != count:
-            raise DesignError(
+            raise DriveError(
                 f"keyframe {k + 1} {text!r}: {len(values)} fold ratios for {count} TSAs"
             )
         if not (math.isfinite(t) and 0 <= t <= 1e7):
-            raise DesignError(f"keyframe {k + 1} {text!r}: time must be a number in [0, 1e7] s")
+            raise DriveError(f"keyframe {k + 1} {text!r}: time must be a number in [0, 1e7] s")
         if not all(math.isfinite(v) and 0.0 <= v <= 1.0 for v in values):
-            raise DesignError(f"keyframe {k + 1} {text!r}: fold ratios must lie in [0, 1]")
+            raise DriveError(f"keyframe {k + 1} {text!r}: fold ratios must lie in [0, 1]")
         if out and t <= out[-1][0]:
-            raise DesignError(f"keyframe {k + 1} {text!r}: times must increase")
+            raise DriveError(f"keyframe {k + 1} {text!r}: times must increase")
         out.append((t, values))
     if len(out) < 2:
-        raise DesignError("give at least two keyframes (TIME:P ...)")
+        raise DriveError("give at least two keyframes (TIME:P ...)")
     if out[0][0] != 0:
-        raise DesignError(f"keyframe 1 {items[0]!r}: the first keyframe must be at t = 0")
+        raise DriveError(f"keyframe 1 {items[0]!r}: the first keyframe must be at t = 0")
     return out
 
 
@@ -100,7 +101,7 @@ def fold_curve(p: np.ndarray, turns: np.ndarray) -> tuple[np.ndarray, np.ndarray
     ok = np.isfinite(p) & np.isfinite(turns)
     p, turns = p[ok], turns[ok]
     if not len(p):
-        raise DesignError("the model has no state with a fold ratio")
+        raise DriveError("the model has no state with a fold ratio")
     best = np.maximum.accumulate(p)
     keep = np.r_[True, best[1:] > best[:-1] + 1e-9]
     return p[keep], turns[keep]
@@ -166,7 +167,7 @@ def model_mapping(
         Increasing fold ratios and non-decreasing contractions, mm.
     """
     if tsa.model != "onboard":
-        raise DesignError(
+        raise DriveError(
             f"{where}: its TSA is a {tsa.model!r} TSA; a sequence drives onboard TSAs "
             '(model = "onboard" in the route\'s [tsa])'
         )
@@ -175,7 +176,7 @@ def model_mapping(
     at = np.asarray(list(at), dtype=float)
     far = at[(at < lo - AT_TOLERANCE) | (at > hi + AT_TOLERANCE)]
     if len(far):
-        raise DesignError(
+        raise DriveError(
             f"{where}: fold ratio {far[0]:g} is outside what its strings reach, "
             f"p = {lo:.4g} .. {hi:.4g}"
         )
@@ -184,7 +185,7 @@ def model_mapping(
         np.round(np.r_[np.linspace(lo, hi, max(points, 2)), np.clip(at, lo, hi)], DECIMALS)
     )
     if len(grid) < 2:
-        raise DesignError(
+        raise DriveError(
             f"{where}: its strings fold it only from p = {lo:.6g} to {hi:.6g}, "
             "too little for a mapping"
         )
@@ -225,13 +226,12 @@ def sequence_toml(
     for item in tsas:
         tsa: TSAParams = item["tsa"]
         pairs = ", ".join(f"[{_fixed(a)}, {_fixed(b)}]" for a, b in item["mapping"])
-        name = str(item["name"]).replace("\\", "/").replace('"', "'")
         if item.get("comment"):
-            lines.append(f"# {item['comment']}")
+            lines.append(f"# {one_line(item['comment'])}")
         lines += [
             "[[tsa]]",
             f"id = {int(item['id'])}",
-            f'name = "{name}"',
+            f"name = {toml_string(item['name'])}",
             f"length = {tsa.length:g}           # mm, twisted strands",
             f"radius = {tsa.radius:g}            # mm",
             f"max_helix_angle = {tsa.max_helix_angle:g}    # deg",

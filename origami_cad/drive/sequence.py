@@ -35,6 +35,7 @@ import itertools
 import json
 import math
 import os
+import signal
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -43,10 +44,11 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._toml import Table, load_toml
-from origami_cad.drive.errors import DriveError
+from origami_cad._names import one_line
+from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad.drive.errors import DriveError, describe_exit, hold_ctrl_c
 from origami_cad.drive.load import LoadCurve
-from origami_cad.errors import DesignError
+from origami_cad.errors import StringsError
 from origami_cad.strings.tsa import TSAParams, onboard_angle
 
 __all__ = [
@@ -57,8 +59,12 @@ __all__ = [
     "Sequence",
     "SequenceTSA",
     "check_time_scale",
+    "dump_sequence",
     "load_sequence",
+    "log_not_started",
+    "note_stop",
     "run_sequence",
+    "stop_reason",
 ]
 
 
@@ -91,7 +97,7 @@ class SequenceTSA:
                 self.tsa.radius,
                 math.radians(self.tsa.max_helix_angle),
             )
-        except DesignError as exc:
+        except StringsError as exc:
             raise DriveError(f"servo {self.dxl_id} ({self.name}): {exc}") from None
         return float(theta) / (2 * math.pi)
 
@@ -248,7 +254,7 @@ def _name(t: Table, default: str) -> str:
 
 
 def check_time_scale(time_scale: Any, what: str = "time_scale") -> float:
-    """``time_scale`` (the CLI's ``--speed``) as a float; :class:`DesignError` unless finite, > 0.
+    """``time_scale`` (the CLI's ``--speed``) as a float; :class:`DriveError` unless finite, > 0.
 
     At most 1000: beyond it the emulated servos cannot keep up and the run
     would only measure the host's scheduling.
@@ -259,27 +265,27 @@ def check_time_scale(time_scale: Any, what: str = "time_scale") -> float:
         or not math.isfinite(time_scale)
         or not 0 < time_scale <= 1000
     ):
-        raise DesignError(f"{what} must be a number in (0, 1000], got {time_scale!r}")
+        raise DriveError(f"{what} must be a number in (0, 1000], got {time_scale!r}")
     return float(time_scale)
 
 
 def load_sequence(path: str | os.PathLike[str]) -> Sequence:
     """Read a sequence file; errors name the file, table and key."""
     p = Path(path)
-    top = Table(load_toml(p), str(p))
+    top = Table(load_toml(p, DriveError), str(p), DriveError)
     seq = top.table("sequence", {})
     raw_tsas = top.data.get("tsa")
     raw_frames = top.data.get("keyframe")
     top.used |= {"tsa", "keyframe"}
     top.finish()
     if not isinstance(raw_tsas, list) or not raw_tsas:
-        raise DesignError(f"{p}: expected at least one [[tsa]] table")
+        raise DriveError(f"{p}: expected at least one [[tsa]] table")
     if not isinstance(raw_frames, list) or len(raw_frames) < 2:
-        raise DesignError(f"{p}: expected at least two [[keyframe]] tables")
+        raise DriveError(f"{p}: expected at least two [[keyframe]] tables")
     if len(raw_tsas) > 253:
-        raise DesignError(f"{p}: {len(raw_tsas)} [[tsa]] tables; a bus holds at most 253 servos")
+        raise DriveError(f"{p}: {len(raw_tsas)} [[tsa]] tables; a bus holds at most 253 servos")
     if len(raw_frames) > 100_000:
-        raise DesignError(f"{p}: {len(raw_frames)} [[keyframe]] tables; at most 100000")
+        raise DriveError(f"{p}: {len(raw_frames)} [[keyframe]] tables; at most 100000")
     tsas = _read_tsas(raw_tsas, p)
     frames = _read_keyframes(raw_frames, p, len(tsas))
     sequence = Sequence(
@@ -296,14 +302,14 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
     seq.finish()
     steps = sequence.cycle * sequence.repeat * sequence.rate
     if steps > MAX_STEPS:
-        raise DesignError(
+        raise DriveError(
             f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
             f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
         )
     _check_reachable(p, tsas, frames)
     for k, tsa in enumerate(tsas):
         if tsa.load is not None and tsa.load[-1, 0] > sequence.cycle + 1e-9:
-            raise DesignError(
+            raise DriveError(
                 f"{p} [[tsa]] #{k + 1}: key 'load': it runs to {tsa.load[-1, 0]:g} s, "
                 f"past the cycle's {sequence.cycle:g} s"
             )
@@ -315,7 +321,7 @@ def _read_tsas(raw_tsas: list, p: Path) -> list[SequenceTSA]:
     tsas: list[SequenceTSA] = []
     first_table: dict[int, int] = {}
     for k, item in enumerate(raw_tsas):
-        t = Table(item, f"{p} [[tsa]] #{k + 1}")
+        t = Table(item, f"{p} [[tsa]] #{k + 1}", DriveError)
         dxl_id = t.integer("id", low=0, high=252)
         if dxl_id in first_table:
             raise t.error(
@@ -351,19 +357,19 @@ def _read_keyframes(raw_frames: list, p: Path, n_tsas: int) -> list[Keyframe]:
     """
     frames = []
     for k, item in enumerate(raw_frames):
-        t = Table(item, f"{p} [[keyframe]] #{k + 1}")
+        t = Table(item, f"{p} [[keyframe]] #{k + 1}", DriveError)
         when = t.number("t", low=0, high=1e7)
         kinds = [name for name in ("p", "contraction", "turns") if t.has(name)]
         if len(kinds) != 1:
-            raise DesignError(f"{t.where}: give exactly one of 'p', 'contraction', 'turns'")
+            raise DriveError(f"{t.where}: give exactly one of 'p', 'contraction', 'turns'")
         values = t.numbers(kinds[0], length=n_tsas)
         t.finish()
         frames.append(Keyframe(when, kinds[0], tuple(values)))
     if frames[0].t != 0:
-        raise DesignError(f"{p} [[keyframe]] #1: key 't': the first keyframe must be at t = 0")
+        raise DriveError(f"{p} [[keyframe]] #1: key 't': the first keyframe must be at t = 0")
     for k, (a, b) in enumerate(itertools.pairwise(frames)):
         if b.t <= a.t:
-            raise DesignError(
+            raise DriveError(
                 f"{p} [[keyframe]] #{k + 2}: key 't': {b.t:g} s does not come after the "
                 f"previous keyframe's {a.t:g} s (times must increase)"
             )
@@ -371,7 +377,7 @@ def _read_keyframes(raw_frames: list, p: Path, n_tsas: int) -> list[Keyframe]:
 
 
 def _check_reachable(p: Path, tsas: list[SequenceTSA], frames: list[Keyframe]) -> None:
-    """Raise :class:`DesignError` for a keyframe that asks a servo for more turns than
+    """Raise :class:`DriveError` for a keyframe that asks a servo for more turns than
     its TSA can make (or none it can reach), naming the keyframe, key and servo.
     """
     for k, frame in enumerate(frames):
@@ -380,9 +386,9 @@ def _check_reachable(p: Path, tsas: list[SequenceTSA], frames: list[Keyframe]) -
             try:
                 turns = Sequence._turns(tsa, frame, j)
             except DriveError as exc:
-                raise DesignError(f"{where} (t = {frame.t:g} s): {exc}") from None
+                raise DriveError(f"{where} (t = {frame.t:g} s): {exc}") from None
             if not math.isfinite(turns) or abs(turns) > tsa.max_turns:
-                raise DesignError(
+                raise DriveError(
                     f"{where} (t = {frame.t:g} s) asks servo {tsa.dxl_id} ({tsa.name}) "
                     f"for {turns:.4g} turns, beyond its TSA's {tsa.max_turns:.4g}"
                 )
@@ -427,6 +433,13 @@ class DriveLog:
             self.measured[k, j], self.current[k, j] = state[i]
         return self.rows(k, k + 1)
 
+    def first(self, steps: int) -> DriveLog:
+        """The log of the first ``steps`` command cycles (those that ran)."""
+        cut = slice(0, steps)
+        return DriveLog(
+            self.ids, self.t[cut], self.target[cut], self.measured[cut], self.current[cut]
+        )
+
     @property
     def lag(self) -> np.ndarray:
         """How far each servo is behind its command, turns (S, n)."""
@@ -469,16 +482,25 @@ def _open_log(log, sequence: Sequence):
     if sequence.source is not None and path.exists():
         with contextlib.suppress(OSError):
             if path.samefile(sequence.source):
-                raise DesignError(f"{path}: the log would overwrite the sequence file itself")
+                raise DriveError(f"{path}: the log would overwrite the sequence file itself")
     if path.exists() and not (path.is_file() or path.is_char_device() or path.is_fifo()):
-        raise DesignError(f"{path}: the log must be a file, not a folder")
+        raise DriveError(f"{path}: the log must be a file, not a folder")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fh = open(path, "w", newline="", encoding="utf-8")
     except OSError as exc:
-        raise DesignError(f"{path}: the log cannot be written ({exc.strerror or exc})") from None
+        raise DriveError(f"{path}: the log cannot be written ({exc.strerror or exc})") from None
     with fh:
         yield fh
+
+
+def log_not_started(log, sequence: Sequence, exc: BaseException) -> None:
+    """Write the CSV ``log`` of a run that never began: its header and why
+    (``# not started: servo 7 did not answer a ping ...``); nothing without ``log``."""
+    with _open_log(log, sequence) as fh:
+        if fh is not None:
+            csv.DictWriter(fh, fieldnames=list(LOG_FIELDS)).writeheader()
+            note_stop(fh, exc)
 
 
 def run_sequence(
@@ -499,7 +521,9 @@ def run_sequence(
     :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
     hardware error or a lost port leaves a valid CSV up to its last reading.
     It is opened (and checked) before the first command; a log path that is
-    the sequence file itself is refused.
+    the sequence file itself is refused. A run that stops early ends the log with
+    a comment saying why (:func:`note_stop`), and the exception carries the
+    readings of the cycles that ran as ``drive_log`` (a :class:`DriveLog`).
     """
     time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
@@ -515,18 +539,82 @@ def run_sequence(
             writer.writeheader()
             fh.flush()
         start = time.monotonic()
-        for k in range(steps):
-            t = k * period
-            delay = start + t / time_scale - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-            targets = sequence.turns_at(t)
-            bus.set_turns(targets)
-            state = bus.read()
-            new = out.record(k, round(t, 6), targets, state)
-            if writer is not None:
-                writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
-                fh.flush()
-            if progress is not None:
-                progress(t, targets, state)
+        t, ran = 0.0, 0
+        try:
+            for k in range(steps):
+                t = k * period
+                delay = start + t / time_scale - time.monotonic()
+                if delay > 0:
+                    time.sleep(delay)
+                targets = sequence.turns_at(t)
+                bus.set_turns(targets)
+                state = bus.read()
+                new = out.record(k, round(t, 6), targets, state)
+                ran = k + 1
+                if writer is not None:
+                    writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
+                    fh.flush()
+                if progress is not None:
+                    progress(t, targets, state)
+        except BaseException as exc:
+            exc.drive_log = out.first(ran)  # what ran, for the caller (a plot of it)
+            if fh is not None:
+                with hold_ctrl_c():  # the reason's line is written whole
+                    note_stop(fh, exc, t)
+            raise
     return out
+
+
+def stop_reason(exc: BaseException) -> str:
+    """Why a run stopped, in one line naming the servo: the error, or the signal."""
+    signum = getattr(exc, "signum", None)
+    if signum is not None and signum == getattr(signal, "SIGTERM", None):
+        return "terminated (SIGTERM)"
+    return describe_exit(exc)
+
+
+def note_stop(fh, exc: BaseException, t: float | None = None) -> None:
+    """End the CSV log ``fh`` with the comment line saying why the run stopped.
+
+    ``# stopped at t = 1.25 s: servo 3: no status packet ...`` (``t``: the sequence
+    time of the command cycle that failed, s), or ``# not started: ...`` when no
+    command was sent. Readers skip it as a comment (``pandas.read_csv(comment="#")``).
+    """
+    when = "not started" if t is None else f"stopped at t = {t:g} s"
+    fh.write(f"# {when}: {one_line(stop_reason(exc))}\n")
+    fh.flush()
+
+
+def dump_sequence(seq: Sequence, *, header: str = "") -> str:
+    """A sequence file (TOML text) of ``seq`` that :func:`load_sequence` reads back.
+
+    Each TSA's ``mapping`` (fold ratio, contraction mm) and ``load`` (t s, N mm) are
+    written inline (also those read from a ``dcqc.json``), every number exactly.
+
+    >>> import tempfile, pathlib
+    >>> seq = load_sequence("examples/crawler_gait.toml")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "seq.toml"
+    >>> _ = path.write_text(dump_sequence(seq))
+    >>> back = load_sequence(path)
+    >>> back.keyframes == seq.keyframes, back.ids == seq.ids
+    (True, True)
+    """
+    lines = [header.rstrip("\n")] if header else []
+    head = {"repeat": seq.repeat, "rate": float(seq.rate), "current_limit": seq.current_limit}
+    lines += toml_table("sequence", head, comments={"rate": "Hz", "current_limit": "mA"})
+    for item in seq.tsas:
+        table = {
+            "id": item.dxl_id,
+            "name": item.name,
+            "length": item.tsa.length,
+            "radius": item.tsa.radius,
+            "max_helix_angle": item.tsa.max_helix_angle,
+            "mapping": item.mapping,
+            "load": item.load,
+        }
+        notes = {"length": "mm", "mapping": "[p, contraction mm]", "load": "[t s, N mm]"}
+        lines += ["", *toml_table("tsa", table, array=True, comments=notes)]
+    for frame in seq.keyframes:
+        table = {"t": float(frame.t), frame.kind: list(frame.values)}
+        lines += ["", *toml_table("keyframe", table, array=True)]
+    return "\n".join(lines) + "\n"

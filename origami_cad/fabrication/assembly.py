@@ -56,7 +56,7 @@ from build123d import (
     Solid,
 )
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, crease_sheet, planar_prism
 from origami_cad.pattern.model import CreasePattern
@@ -111,7 +111,7 @@ def face_motions(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
     """
     coords = np.asarray(coords, dtype=float)
     if coords.shape != (cp.n_vertices, 3):
-        raise DesignError(
+        raise FabricationError(
             f"a state of this pattern has {cp.n_vertices} vertices, got {coords.shape}"
         )
     flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
@@ -175,12 +175,12 @@ def sheet_motion(
     from origami_cad.pattern.design import Design
 
     if not 0.0 <= ratio <= 1.0:
-        raise DesignError(f"the fold ratio must lie in [0, 1], got {ratio}")
+        raise FabricationError(f"the fold ratio must lie in [0, 1], got {ratio}")
     design = design if design is not None else Design(pattern, None, "file")
     if design.pattern.n_vertices != pattern.n_vertices or len(design.pattern.faces) != len(
         pattern.faces
     ):
-        raise DesignError("the design does not match the fabricated pattern")
+        raise FabricationError("the design does not match the fabricated pattern")
     if ratio == 0.0:
         coords = np.column_stack([pattern.vertices, np.zeros(pattern.n_vertices)])
         angles = np.zeros(pattern.n_edges)

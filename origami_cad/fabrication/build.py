@@ -14,7 +14,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import (
@@ -156,7 +156,7 @@ def fabricate(
 
     Raises
     ------
-    DesignError
+    FabricationError
         The sheet is larger than ``bed``.
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
@@ -178,11 +178,11 @@ def write_fabrication(
     """
     from origami_cad.fabrication.exports import WRITERS
     from origami_cad.fabrication.exports.threemf import SLICERS
-    from origami_cad.pattern.fold import write_fold
+    from origami_cad.pattern.formats.fold import write_fold
 
     if slicer is not None:
         if slicer not in SLICERS:
-            raise DesignError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
+            raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
         fab.slicer = slicer
 
     out = Path(folder)

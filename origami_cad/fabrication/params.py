@@ -19,8 +19,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from origami_cad.design.limits import crease_fold_limit
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
+from origami_cad.kinematics.limits import bias_for_theta_max, crease_fold_limit
 
 __all__ = [
     "DENSITY_G_CM3",
@@ -34,35 +34,23 @@ __all__ = [
 DENSITY_G_CM3 = {"PLA": 1.24, "TPU": 1.21}
 
 
+def bias_for_p_max(p_max: float, height: float, thickness: float) -> float:
+    """Eq. 6 inverted for ``p_max = theta_max / pi`` in (0, 1): the inner bias ``b``, mm."""
+    if not 0.0 < p_max < 1.0:
+        raise FabricationError(
+            f"p_max must lie in (0, 1) (eq. 6: theta_max / 180 deg), got {p_max:g}"
+        )
+    return bias_for_theta_max(p_max * math.pi, height, thickness)
+
+
 def theta_max(bias: float, height: float, thickness: float) -> float:
     """Eq. 6: the largest fold angle before neighbouring chamfers meet, radians.
 
     ``theta_max = 2 atan(2 b / (h - t))`` with inner bias ``b``, shell height ``h``
     and crease thickness ``t`` (all mm). The one implementation, element-wise, is
-    :func:`origami_cad.design.limits.crease_fold_limit` (the arm's design uses it).
+    :func:`origami_cad.kinematics.limits.crease_fold_limit` (the arm's design uses it).
     """
     return float(crease_fold_limit(bias, height, thickness))
-
-
-def bias_for_theta_max(theta: float, height: float, thickness: float) -> float:
-    """Eq. 6 inverted: the inner bias ``b`` (mm) that gives ``theta_max = theta`` (radians)."""
-    if not 0.0 < theta < math.pi:
-        raise DesignError(
-            f"theta_max must lie in (0, 180) deg (eq. 6), got {math.degrees(theta):g}"
-        )
-    if height <= thickness:
-        raise DesignError(
-            f"height h = {height:g} mm must exceed the crease thickness t = {thickness:g} mm "
-            "(eq. 6: theta_max = 2 atan(2b / (h - t)))"
-        )
-    return (height - thickness) / 2.0 * math.tan(theta / 2.0)
-
-
-def bias_for_p_max(p_max: float, height: float, thickness: float) -> float:
-    """Eq. 6 inverted for ``p_max = theta_max / pi`` in (0, 1): the inner bias ``b``, mm."""
-    if not 0.0 < p_max < 1.0:
-        raise DesignError(f"p_max must lie in (0, 1) (eq. 6: theta_max / 180 deg), got {p_max:g}")
-    return bias_for_theta_max(p_max * math.pi, height, thickness)
 
 
 @dataclass(frozen=True)
@@ -104,31 +92,31 @@ class FabricationParams:
         for name in ("bias", "height", "thickness", "shell", "hole_diameter"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise DesignError(f"{name} must be a number > 0 mm, got {value!r}")
+                raise FabricationError(f"{name} must be a number > 0 mm, got {value!r}")
         for name in ("midlayer_bias", "border_margin"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise DesignError(f"{name} must be a number >= 0 mm, got {value!r}")
+                raise FabricationError(f"{name} must be a number >= 0 mm, got {value!r}")
         if self.height <= self.thickness:
-            raise DesignError(
+            raise FabricationError(
                 f"height h = {self.height:g} mm must exceed the crease thickness "
                 f"t = {self.thickness:g} mm (eq. 6: theta_max = 2 atan(2b / (h - t)))"
             )
         if self.shell >= self.half_height - 1e-6:
-            raise DesignError(
+            raise FabricationError(
                 f"shell s = {self.shell:g} mm must be thinner than a panel half "
                 f"(h - t) / 2 = {self.half_height:g} mm (no infill would be left)"
             )
         if isinstance(self.holes, str):
             if self.holes not in ("auto", "pattern", "none"):
-                raise DesignError(
+                raise FabricationError(
                     f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
                 )
         else:
             pts = list(self.holes)
             for i, p in enumerate(pts):
                 if len(p) != 2 or not all(math.isfinite(float(v)) for v in p):
-                    raise DesignError(f"holes[{i}] must be a point [x, y] in mm, got {p!r}")
+                    raise FabricationError(f"holes[{i}] must be a point [x, y] in mm, got {p!r}")
             object.__setattr__(self, "holes", tuple((float(p[0]), float(p[1])) for p in pts))
 
     @property

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.errors import DesignError, PatternError
+from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication.panels import PanelOutline, panel_outlines, plan_holes
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.design import Design
@@ -293,14 +293,16 @@ def check_bed(cp: CreasePattern, bed: tuple[float, float] = DEFAULT_BED) -> None
 
     Raises
     ------
-    DesignError
+    FabricationError
         Naming the sheet's size and the bed's.
     """
     if len(bed) != 2 or not all(math.isfinite(b) and b > 0 for b in bed):
-        raise DesignError(f"the print bed must be two sizes > 0 mm, got {tuple(bed)!r}")
+        raise FabricationError(f"the print bed must be two sizes > 0 mm, got {tuple(bed)!r}")
     excess = _bed_excess(cp, bed)
     if excess:
-        raise DesignError(f"{excess}; give the bed it prints on (--bed X Y) or scale the pattern")
+        raise FabricationError(
+            f"{excess}; give the bed it prints on (--bed X Y) or scale the pattern"
+        )
 
 
 def _bed_warning(cp: CreasePattern, bed: tuple[float, float]) -> tuple[str, ...]:

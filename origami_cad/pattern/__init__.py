@@ -10,7 +10,7 @@ Examples
 
 from origami_cad.errors import PatternError
 from origami_cad.pattern.check import check_pattern
-from origami_cad.pattern.fold import folded_frame, read_fold, read_fold_frames, write_fold
+from origami_cad.pattern.formats.fold import folded_frame, read_fold, read_fold_frames, write_fold
 from origami_cad.pattern.io import (
     READ_FORMATS,
     UNITS,
@@ -42,3 +42,12 @@ __all__ = [
     "write_fold",
     "write_pattern",
 ]
+
+
+def __getattr__(name: str):
+    """``origami_cad.pattern.dxf`` (``.svg``, ``.fold``): the format modules' old paths."""
+    if name in ("dxf", "fold", "svg"):
+        import importlib
+
+        return importlib.import_module(f"origami_cad.pattern.{name}")  # warns: moved
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

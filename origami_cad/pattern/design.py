@@ -31,9 +31,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from origami_cad._toml import Table, input_file, load_toml, printable
+from origami_cad._toml import Table, input_file, load_toml, printable, toml_table
 from origami_cad.errors import DesignError, PatternError
-from origami_cad.pattern.io import READ_FORMATS, read_pattern
+from origami_cad.pattern.formats import READERS
+from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
@@ -42,6 +43,7 @@ __all__ = [
     "KINDS",
     "SIZE_OPTIONS",
     "Design",
+    "dump_design",
     "load_design",
     "load_pattern_source",
     "miura_design",
@@ -181,8 +183,8 @@ def load_design(
             target = (p.parent / rel).resolve()
         except (OSError, ValueError, RuntimeError) as exc:
             raise table.error("path", f"{shown!r} cannot be used ({exc})") from None
-        if target.suffix.lower() not in READ_FORMATS:
-            raise table.error("path", f"{shown!r} is not a {', '.join(READ_FORMATS)} file")
+        if target.suffix.lower() not in READERS:
+            raise table.error("path", f"{shown!r} is not a {', '.join(READERS)} file")
         try:
             input_file(target, PatternError)
         except PatternError as exc:
@@ -190,6 +192,50 @@ def load_design(
         return Design(read_pattern(target, **options), None, kind, p)
     except PatternError as exc:
         raise DesignError(f"{p}: {exc}") from None
+
+
+def dump_design(
+    design: TGDesign | str | os.PathLike[str], *, header: str = "", digits: int | None = None
+) -> str:
+    """A design file (TOML text) that :func:`load_design` reads back.
+
+    Parameters
+    ----------
+    design : TGDesign or path
+        A TG tessellation (``kind = "transition-graph"``, its lengths in mm and shape
+        angles in degrees), or the path of a pattern file (``kind = "file"``, as
+        written: relative to where the design file goes).
+    header : str
+        Comment lines put first (each starting with ``#``).
+    digits : int, optional
+        Decimals of the lengths and shape angles (default: exact).
+
+    Examples
+    --------
+    >>> tg = TGDesign((60.0, 50.0), (70.0,), 1, 36.0, 3)
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "d.toml"
+    >>> _ = path.write_text(dump_design(tg))
+    >>> load_design(path).tg == tg
+    True
+    """
+    lines = [header.rstrip("\n")] if header else []
+    if not isinstance(design, TGDesign):
+        path = Path(design).as_posix()
+        return "\n".join([*lines, *toml_table("pattern", {"kind": "file", "path": path})]) + "\n"
+    table = {
+        "kind": "transition-graph",
+        "unit_width": float(design.unit_width),
+        "copies": int(design.copies),
+        "entry_flag": int(design.entry_flag),
+        "start": [float(v) for v in design.start],
+        "lengths": [float(v) for v in design.lengths],
+        "shape_angles": [float(v) for v in design.shape_angles],
+        "hypar_base": bool(design.hypar_base),
+    }
+    units = {"unit_width": "mm", "lengths": "mm", "shape_angles": "deg"}
+    rounded = {} if digits is None else {"lengths": digits, "shape_angles": digits}
+    return "\n".join([*lines, *toml_table("pattern", table, comments=units, digits=rounded)]) + "\n"
 
 
 def _tg_design(table: Table) -> TGDesign:

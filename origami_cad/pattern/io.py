@@ -1,12 +1,8 @@
-"""Format dispatch: read and write crease patterns by file extension.
+"""Reading and writing crease patterns by file extension, in mm.
 
-=========  ==================  ======================================
-extension  module              notes
-=========  ==================  ======================================
-``.fold``  :mod:`.fold`        FOLD 1.2 (JSON), lossless
-``.dxf``   :mod:`.dxf`         layers Mountain/Valley/Cut/Border, mm
-``.svg``   :mod:`.svg`         Origami Simulator colour convention
-=========  ==================  ======================================
+The formats (``.fold``, ``.dxf``, ``.svg``) are registered in
+:mod:`origami_cad.pattern.formats`, one module each; here are the entry points, the
+units and the size checks shared by all of them.
 
 PNG pictures of a pattern are drawn by :func:`origami_cad.viz.plot_pattern`.
 """
@@ -19,6 +15,7 @@ from pathlib import Path
 
 from origami_cad._toml import input_file, printable
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats import READERS, WRITERS, reader, writer
 from origami_cad.pattern.model import CreasePattern, Problem, Severity
 
 __all__ = [
@@ -32,8 +29,9 @@ __all__ = [
     "write_pattern",
 ]
 
-READ_FORMATS = (".fold", ".dxf", ".svg")
-WRITE_FORMATS = (".fold", ".dxf", ".svg")
+#: the suffixes :func:`read_pattern` and :func:`write_pattern` know (of the registry)
+READ_FORMATS = tuple(READERS)
+WRITE_FORMATS = tuple(WRITERS)
 
 
 #: units a file's coordinates may be declared in: millimetres per unit
@@ -68,20 +66,6 @@ def mm_per_unit(unit: str | float) -> float:
     if not (math.isfinite(value) and value > 0):
         raise PatternError(f"a unit must be a length > 0 mm, got {value:g}")
     return value
-
-
-def _read_file(p: Path, suffix: str, per_unit: float | None) -> CreasePattern:
-    if suffix == ".fold":
-        from origami_cad.pattern.fold import read_fold
-
-        return read_fold(p, per_unit)
-    if suffix == ".dxf":
-        from origami_cad.pattern.dxf import read_dxf
-
-        return read_dxf(p, per_unit)
-    from origami_cad.pattern.svg import read_svg
-
-    return read_svg(p, per_unit)
 
 
 def read_pattern(
@@ -122,12 +106,7 @@ def read_pattern(
         an option is not a length; the message names the file and what is wrong.
     """
     p = Path(path)
-    suffix = p.suffix.lower()
-    if suffix not in READ_FORMATS:
-        raise PatternError(
-            f"{printable(str(p), 300)}: unknown crease-pattern format "
-            f"{suffix or '(no extension)'!r} (readable: {', '.join(READ_FORMATS)})"
-        )
+    read = reader(p)
     if width is not None and (unit is not None or scale is not None):
         raise PatternError("give the width alone, or the unit and/or the scale, not both")
     for name, value in (("scale", scale), ("width", width)):
@@ -135,7 +114,7 @@ def read_pattern(
             raise PatternError(f"the {name} must be a number > 0, got {value:g}")
     per_unit = None if unit is None else mm_per_unit(unit)
     p, name = input_file(p, PatternError)
-    cp = _read_file(p, suffix, per_unit)
+    cp = read(p, per_unit)
     x0, _, x1, _ = cp.bounds
     if width is not None and not x1 > x0:
         raise PatternError(f"{name}: the pattern has no width to scale to {width:g} mm")
@@ -177,22 +156,9 @@ def size_warnings(cp: CreasePattern) -> list[str]:
 
 
 def write_pattern(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
-    """Write ``cp`` to ``path``; the format follows the extension. Atomic."""
+    """Write ``cp`` to ``path``; the format follows the extension (:data:`.formats.WRITERS`).
+
+    Atomic. :class:`PatternError` for an extension no format writes, naming those that do.
+    """
     p = Path(path)
-    suffix = p.suffix.lower()
-    if suffix == ".fold":
-        from origami_cad.pattern.fold import write_fold
-
-        return write_fold(cp, p)
-    if suffix == ".dxf":
-        from origami_cad.pattern.dxf import write_dxf
-
-        return write_dxf(cp, p)
-    if suffix == ".svg":
-        from origami_cad.pattern.svg import write_svg
-
-        return write_svg(cp, p)
-    raise PatternError(
-        f"{p}: cannot write crease patterns as {suffix or '(no extension)'!r} "
-        f"(writable: {', '.join(WRITE_FORMATS)}; .png through origami_cad.viz)"
-    )
+    return writer(p)(cp, p)

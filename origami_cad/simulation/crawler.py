@@ -25,8 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._toml import Table, load_toml
-from origami_cad.errors import DesignError, PatternError
+from origami_cad._names import one_line, path_component, toml_string
+from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
@@ -54,11 +55,13 @@ __all__ = [
     "Leg",
     "PointMass",
     "Robot",
+    "dump_robot",
     "gait_loads",
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
     "leg_heading",
+    "leg_key",
     "load_robot",
     "robot_placements",
     "simulate_gait",
@@ -136,18 +139,18 @@ def _robot_pattern(p: Path, robot: Table) -> tuple[CreasePattern, Path, str]:
     try:
         cp = read_pattern(pattern_path)
     except PatternError as exc:
-        raise DesignError(f"{p}: [robot] pattern: {exc}") from None
+        raise SimulationError(f"{p}: [robot] pattern: {exc}") from None
     return cp, pattern_path, rel
 
 
 def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -> list[Leg]:
     """The ``[[leg]]`` tables: a panel sharing one crease with ``body``, an onboard route."""
     if not isinstance(legs_raw, list) or not legs_raw:
-        raise DesignError(f"{p}: expected at least one [[leg]] table")
+        raise SimulationError(f"{p}: expected at least one [[leg]] table")
     body_face = cp.face_index(body)
     legs = []
     for i, item in enumerate(legs_raw):
-        t = Table(item, f"{p} [[leg]] #{i + 1}")
+        t = Table(item, f"{p} [[leg]] #{i + 1}", SimulationError)
         panel = t.string("panel")
         if panel not in cp.face_labels:
             raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
@@ -160,25 +163,49 @@ def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -
             raise t.error("route", f"{route_path}: no such file")
         try:
             route = load_route(route_path, cp)
-        except DesignError as exc:
+        except StringsError as exc:
             raise t.error("route", str(exc)) from None
         if route.tsa.model != "onboard":
             raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
         servo = t.integer("servo", low=0, high=252)
-        name = t.string("name", panel)
+        name = _leg_name(t, panel)
         t.finish()
         legs.append(Leg(panel, face, crease, route, servo, name, route_path))
     ids = [leg.servo for leg in legs]
     if len(set(ids)) != len(ids):
-        raise DesignError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+        raise SimulationError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
+    keys = [leg_key(leg.name).casefold() for leg in legs]
+    for i, key in enumerate(keys):
+        if key in keys[:i]:
+            raise SimulationError(
+                f"{p} [[leg]] #{i + 1}: key 'name': {legs[i].name!r} names the same files as "
+                f"[[leg]] #{keys.index(key) + 1} (names must differ, also in case and spaces)"
+            )
     return legs
+
+
+def _leg_name(t: Table, panel: str) -> str:
+    """The ``name`` of a ``[[leg]]`` (default: its panel label), refused unless it can be
+    part of a file name (``tsa_module_<name>.stl``: no ``/``, ``..``, control characters)."""
+    name = t.string("name", panel)
+    try:
+        path_component(leg_key(name))
+    except ValueError as exc:
+        given = "" if t.has("name") else " (the panel label, as no name is given)"
+        raise t.error("name", f"{exc}{given}; the leg's name names its part files") from None
+    return name
+
+
+def leg_key(name: str) -> str:
+    """A leg name as it appears in file and part names: spaces become ``_``."""
+    return name.replace(" ", "_")
 
 
 def _read_masses(p: Path, masses_raw: Any, cp: CreasePattern, rel: str) -> list[PointMass]:
     """The ``[[mass]]`` tables: grams at a point (mm) of a named panel."""
     masses = []
     for i, item in enumerate(masses_raw if isinstance(masses_raw, list) else [masses_raw]):
-        t = Table(item, f"{p} [[mass]] #{i + 1}")
+        t = Table(item, f"{p} [[mass]] #{i + 1}", SimulationError)
         name = t.string("name")
         panel = t.string("panel")
         if panel not in cp.face_labels:
@@ -199,21 +226,21 @@ def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndar
     gait.used.add("keyframe")
     gait.finish()
     if not isinstance(frames, list) or len(frames) < 2:
-        raise DesignError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
+        raise SimulationError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
     times, ratios = [], []
     for i, item in enumerate(frames):
-        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}")
+        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}", SimulationError)
         times.append(t.number("t", low=0))
         ratios.append(
             t.numbers("p", length=legs, check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
         )
         t.finish()
     if np.any(np.diff(times) <= 0):
-        raise DesignError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
+        raise SimulationError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
     limit = blocker / 180.0
     worst = max(max(r) for r in ratios)
     if worst > limit + 1e-9:
-        raise DesignError(
+        raise SimulationError(
             f"{p}: [[gait.keyframe]] p = {worst:g} folds a leg past its blocker "
             f"({blocker:g} deg = p {limit:.3f})"
         )
@@ -221,9 +248,9 @@ def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndar
 
 
 def load_robot(path: str | os.PathLike[str]) -> Robot:
-    """Read a robot file; errors name the file, table and key (:class:`DesignError`)."""
+    """Read a robot file; errors name the file, table and key (:class:`SimulationError`)."""
     p = Path(path)
-    top = Table(load_toml(p), str(p))
+    top = Table(load_toml(p, SimulationError), str(p), SimulationError)
     robot = top.table("robot")
     fab = top.table("fabrication", {})
     adapter = top.table("adapter", {})
@@ -269,6 +296,57 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
     )
 
 
+def _relative(path: Path | None, folder: Path, what: str) -> str:
+    if path is None:
+        raise SimulationError(f"the robot's {what} has no file to name")
+    return Path(os.path.relpath(path, folder)).as_posix()
+
+
+def dump_robot(
+    robot: Robot, folder: str | os.PathLike[str] | None = None, *, header: str = ""
+) -> str:
+    """A robot file (TOML text) of ``robot`` that :func:`load_robot` reads back.
+
+    The pattern and route files are named relative to ``folder``, where the robot file
+    goes (default: the folder it was read from); lengths mm, angles deg, masses g.
+    The ``[fabrication]`` holes are written only when they are not the routes' holes.
+
+    >>> robot = load_robot("examples/crawler/crawler.toml")
+    >>> text = dump_robot(robot)
+    >>> 'pattern = "crawler.fold"' in text and 'route = "route_fl.toml"' in text
+    True
+    """
+    base = Path(folder) if folder is not None else (robot.source or Path("x")).parent
+    base = base.resolve()
+    lines = [header.rstrip("\n")] if header else []
+    head = {
+        "pattern": _relative(robot.pattern_path, base, "pattern"),
+        "body": robot.body,
+        "blocker_angle": float(robot.blocker_angle),
+        "friction": float(robot.friction),
+    }
+    lines += toml_table("robot", head, comments={"blocker_angle": "deg"})
+    routed = tuple(
+        dict.fromkeys(p for leg in robot.legs for s in leg.route.strings for p in s.points)
+    )
+    if tuple(robot.holes) != routed:
+        holes = [list(h) for h in robot.holes]
+        lines += ["", *toml_table("fabrication", {"holes": holes}, comments={"holes": "mm"})]
+    for leg in robot.legs:
+        route = _relative(leg.route_path, base, f"leg {leg.name!r}'s route")
+        table = {"panel": leg.panel, "route": route, "servo": leg.servo, "name": leg.name}
+        lines += ["", *toml_table("leg", table, array=True)]
+    for m in robot.masses:
+        table = {"name": m.name, "panel": m.panel, "at": list(m.at), "grams": float(m.grams)}
+        lines += ["", *toml_table("mass", table, array=True, comments={"at": "mm"})]
+    adapter = {"at": list(robot.adapter_at), "heading": float(robot.adapter_heading)}
+    lines += ["", *toml_table("adapter", adapter, comments={"heading": "deg"}), "", "[gait]"]
+    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
+        frame = {"t": float(t), "p": [float(v) for v in p]}
+        lines += toml_table("gait.keyframe", frame, array=True)
+    return "\n".join(lines) + "\n"
+
+
 #: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).
 SERVO = "XL330"
 #: Thickness of a leg module's mount plate, mm (thin: the leg panel carries the load).
@@ -301,12 +379,9 @@ def robot_placements(robot: Robot) -> dict[str, list]:
     """
     from origami_cad.parts.robot import BlockerPlacement, FreePlacement, ModulePlacement
 
-    def key(leg: Leg) -> str:
-        return leg.name.replace(" ", "_")
-
     modules = [
         ModulePlacement(
-            f"tsa_module_{key(leg)}",
+            f"tsa_module_{leg_key(leg.name)}",
             leg.panel,
             {
                 "servo": SERVO,
@@ -320,7 +395,7 @@ def robot_placements(robot: Robot) -> dict[str, list]:
         for leg in robot.legs
     ]
     blockers = [
-        BlockerPlacement(f"blocker_{key(leg)}", leg.crease, robot.blocker_angle)
+        BlockerPlacement(f"blocker_{leg_key(leg.name)}", leg.crease, robot.blocker_angle)
         for leg in robot.legs
     ]
     free = [
@@ -409,7 +484,7 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
     """TSA turns (K, legs) for fold ratios (K, legs) (default: the gait's keyframes).
 
     Through :func:`leg_contraction` and the inverse of the onboard TSA model
-    (``onboard_angle``); raises :class:`DesignError` beyond what the strands give.
+    (``onboard_angle``); raises :class:`SimulationError` beyond what the strands give.
     """
     ratios = robot.gait_p if ratios is None else np.atleast_2d(ratios)
     out = np.zeros(ratios.shape)
@@ -463,12 +538,12 @@ def gait_sequence_text(
     samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
     source = robot.source.name if robot.source else "the robot file"
     lines = [
-        f"# The gait of {source} as TSA commands, written by origami-cad crawl: each",
+        f"# The gait of {one_line(source)} as TSA commands, written by origami-cad crawl: each",
         "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
         "# strings measured through their holes), so fold ratios become motor turns;",
         "# each load is the TSA's torque in the simulated crawl (N mm, one cycle, the most",
         "# any simulated cycle needed), carried by the emulated servos of a dry run.",
-        *([f"#   {command}"] if command else []),
+        *([f"#   {one_line(command)}"] if command else []),
         "[sequence]",
         f"repeat = {repeat}",
         f"rate = {rate:g}              # Hz",
@@ -484,7 +559,7 @@ def gait_sequence_text(
             "",
             "[[tsa]]",
             f"id = {leg.servo}",
-            f'name = "{leg.name}"',
+            f"name = {toml_string(leg.name)}",
             f"length = {tsa.length:g}           # mm, twisted strands",
             f"radius = {tsa.radius:g}            # mm",
             f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",
@@ -604,7 +679,7 @@ def _point_weights(cp: CreasePattern, st, masses: tuple[PointMass, ...], g: floa
                 w[tri] += lam * m.grams * 1e-6 * g  # g -> kg, mm/s^2 -> N (kg mm/s^2 / 1000)
                 break
         else:
-            raise DesignError(f"mass {m.name!r} at {m.at} lies on no panel")
+            raise SimulationError(f"mass {m.name!r} at {m.at} lies on no panel")
     return w
 
 

@@ -8,11 +8,13 @@ mm, g and degrees are converted at this edge):
   the panel-adjacency graph from a root panel (the robot's body, the route's
   ``fixed_panel``, else the panel nearest the sheet's centre). Every body's frame is
   the pattern's frame in the flat state, so a geom, site or anchor is placed by its
-  pattern coordinates. Each panel carries two mesh geoms, the two printed halves of
-  :class:`~origami_cad.fabrication.PanelOutline` (outer face to the crease layer, the
-  footprints :func:`~origami_cad.fabrication.plan_panels` plans for the solids),
-  whose mass and inertia MuJoCo integrates from PLA's density
-  (``fabrication.params.DENSITY_G_CM3``).
+  pattern coordinates. Each panel shows its printed solids as visual mesh geoms (PLA
+  infills and mid-layer, TPU shells and its share of the crease sheet, holes cut where
+  the strings run: :func:`~.mjcf_solids.panel_solids`, which fabricates the sheet) and
+  collides through two convex mesh geoms, the convex hulls of its two printed halves
+  (outer face to the crease layer). Its ``inertial`` (mass, centre of mass, full
+  inertia) is the exact volume integral of those solids at each material's density
+  (``fabrication.params.DENSITY_G_CM3``) plus its point masses.
 * **Creases** of the tree are hinge joints on the crease's axis, oriented so that a
   positive joint angle is a valley fold (radians, the sign of ``fold_angles``), with the
   crease's rotational stiffness ``E t^3 / (12 w)`` times its length
@@ -41,6 +43,7 @@ mm, g and degrees are converted at this edge):
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from collections import deque
@@ -50,20 +53,30 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from origami_cad.errors import OrigamiCadError
-from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
+from origami_cad.errors import SimulationError
+from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.crawler import Robot, load_robot
+from origami_cad.simulation.mjcf_solids import MassProps, panel_solids
 from origami_cad.simulation.mjcf_strings import MJ, TSA_CODES, tendon_specs, tendon_xml
 from origami_cad.simulation.model import SimulationParams
 from origami_cad.strings.route import RouteSpec, load_route
 
-__all__ = ["MJ", "MjcfError", "MjcfSource", "load_mjcf_source", "to_mjcf"]
+__all__ = [
+    "MJ",
+    "STICK_SLIP",
+    "Contact",
+    "MjcfError",
+    "MjcfSource",
+    "load_mjcf_source",
+    "printed_panels",
+    "to_mjcf",
+]
 
 
-class MjcfError(OrigamiCadError, ValueError):
+class MjcfError(SimulationError):
     """Input a MuJoCo model cannot be made from (names the string, hole, crease or TSA)."""
 
 
@@ -100,6 +113,55 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     cp = design.pattern
     specs += [r if isinstance(r, RouteSpec) else load_route(r, cp) for r in routes]
     return MjcfSource(design, cp, tuple(specs), robot)
+
+
+@dataclass(frozen=True)
+class Contact:
+    """How contacts resist sliding: MuJoCo's friction cone and contact softness.
+
+    Attributes
+    ----------
+    cone : str
+        ``"pyramidal"`` (MuJoCo's default) or ``"elliptic"``.
+    condim : int
+        3: sliding friction only (no torsional or rolling).
+    impratio : float
+        Ratio of frictional to normal constraint impedance (> 1: stiffer friction,
+        less creep in sticking).
+    time_constant : float or None
+        Contact ``solref`` time constant, s (None: MuJoCo's 0.02 s; it is clamped to
+        two time steps).
+    noslip_iterations : int
+        Iterations of MuJoCo's no-slip solver (0: none), which removes the creep of
+        sticking contacts that the soft constraints leave.
+    """
+
+    cone: str = "pyramidal"
+    condim: int = 3
+    impratio: float = 1.0
+    time_constant: float | None = None
+    noslip_iterations: int = 0
+
+    def option_xml(self) -> str:
+        """The ``<option>`` attributes."""
+        return (
+            f'cone="{self.cone}" impratio="{self.impratio:.6g}" '
+            f'noslip_iterations="{self.noslip_iterations}"'
+        )
+
+    def geom_xml(self, timestep: float) -> str:
+        """The contact attributes of a geom (timestep, s)."""
+        out = f'condim="{self.condim}"'
+        if self.time_constant is not None:
+            out += f' solref="{max(self.time_constant, 2 * timestep):.6g} 1"'
+        return out
+
+
+#: The contact model of the exports: MuJoCo's elliptic cone is Coulomb's (the pyramid
+#: approximates it) and ``impratio = 10`` makes friction ten times stiffer than the normal
+#: contact, so that a sticking foot does not creep: the crawler's stride went from 1.5 to
+#: 46.8 mm per cycle (docs/mujoco.md, the measured table).
+STICK_SLIP = Contact(cone="elliptic", impratio=10.0)
 
 
 def _panel_graph(cp: CreasePattern) -> list[tuple[int, int, int]]:
@@ -188,7 +250,11 @@ def _fabrication(source: MjcfSource) -> FabricationParams:
 
 
 def _meshes(source: MjcfSource, fab: FabricationParams) -> dict[int, list[np.ndarray]]:
-    """Vertices (mm) of each panel's two printed halves, centred on the crease layer."""
+    """Vertices (mm) of each panel's two collision hulls, centred on the crease layer.
+
+    The convex hulls of the two printed halves (outer face to the crease layer, the
+    footprints :func:`~origami_cad.fabrication.plan_panels` plans for the solids).
+    """
     plan = plan_panels(source.design if source.design.tg else source.pattern, fab)
     z_low, z_mid = -fab.height / 2.0, -fab.height / 2.0 + fab.half_height
     z_up, z_top = z_mid + fab.thickness, fab.height / 2.0
@@ -198,6 +264,29 @@ def _meshes(source: MjcfSource, fab: FabricationParams) -> dict[int, list[np.nda
         upper = np.vstack([_lift(o.inner, z_up), _lift(o.outer, z_top)])
         out[o.index] = [lower, upper]
     return out
+
+
+_SOLIDS: dict = {}
+
+
+def printed_panels(source: MjcfSource, fab: FabricationParams | None = None):
+    """The printed solids of every panel (:func:`~.mjcf_solids.panel_solids`), cached.
+
+    The holes are cut where the routes' strings run (the robot file's ``holes``); the
+    result is kept per pattern and parameters, as fabricating takes seconds.
+    """
+    fab = fab or _fabrication(source)
+    if source.robot is not None:
+        holes = source.robot.holes
+    else:
+        points = (p for r in source.routes for st in r.strings for p in st.points)
+        holes = tuple(dict.fromkeys((float(x), float(y)) for x, y in points)) or fab.holes
+    fab = dataclasses.replace(fab, holes=holes)
+    cp = source.pattern
+    key = (cp.vertices.tobytes(), repr(cp.faces), fab, source.design.tg is not None)
+    if key not in _SOLIDS:
+        _SOLIDS[key] = panel_solids(source.design if source.design.tg else cp, fab)
+    return _SOLIDS[key]
 
 
 def _lift(ring: np.ndarray, z: float) -> np.ndarray:
@@ -225,6 +314,7 @@ def _limits(source: MjcfSource, fab: FabricationParams, params: SimulationParams
 
 
 def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list[str]:
+    """The tree of panel bodies: joint, inertial, collision and visual geoms, sites."""
     cp = source.pattern
     root = _root(cp, source)
     order, parent, _ = spanning_tree(cp, root)
@@ -234,6 +324,7 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
     for f in order[1:]:
         children.setdefault(parent[f][0], []).append(f)
     lines: list[str] = []
+    solids, _ = printed_panels(source, fab)
 
     def body(f: int, depth: int) -> None:
         pad = "  " * depth
@@ -253,12 +344,15 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
                 f'axis="{_v(axis, 1.0)}" stiffness="{k:.6g}" damping="{c:.6g}" '
                 f'limited="true" range="{-lim:.6g} {lim:.6g}"/>'
             )
+        lines.append(pad + "  " + _inertial_xml(solids[f].props, masses.get(f, [])))
         for h, _ in enumerate(meshes[f]):
             lines.append(f'{pad}  <geom mesh="{label}_{h}" class="panel"/>')
-        for name, grams, at in masses.get(f, []):
+        for k, (material, _, _) in enumerate(solids[f].meshes):
+            lines.append(f'{pad}  <geom mesh="{label}_v{k}" class="{material}"/>')
+        for name, _, at in masses.get(f, []):
             lines.append(
                 f'{pad}  <geom name={quoteattr(name)} type="sphere" size="0.004" pos="{_v(at)}" '
-                f'mass="{grams * 1e-3:.6g}" contype="0" conaffinity="0" rgba="0.2 0.2 0.2 1"/>'
+                'contype="0" conaffinity="0" rgba="0.2 0.2 0.2 1"/>'
             )
         for name, at in sites.get(f, []):
             lines.append(f'{pad}  <site name="{name}" pos="{_v(at)}"/>')
@@ -268,6 +362,18 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
 
     body(root, 2)
     return lines
+
+
+def _inertial_xml(props: MassProps, masses) -> str:
+    """A body's ``<inertial>``: its printed solids and point masses (g, mm -> SI)."""
+    for _, grams, at in masses:
+        props = props + MassProps.point(grams, at)
+    i = props.inertia * 1e-9  # g mm^2 -> kg m^2
+    full = (i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2])
+    return (
+        f'<inertial pos="{_v(props.com)}" mass="{props.mass * 1e-3:.9g}" '
+        f'fullinertia="{_v(full, 1.0)}"/>'
+    )
 
 
 def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
@@ -292,6 +398,7 @@ def to_mjcf(
     crease_damping: float = 2e-3,
     timestep: float = 5e-4,
     armature: float = 1e-6,
+    contact: Contact | None = None,
 ) -> str:
     """The MJCF model (XML text) of a design and its routes, or of a robot file.
 
@@ -317,6 +424,8 @@ def to_mjcf(
     armature : float
         Rotor inertia added to every joint, kg m^2: keeps the mass matrix of the
         light panels (about 1e-8 kg m^2 each) well conditioned.
+    contact : Contact, optional
+        The friction cone and contact softness (default :data:`STICK_SLIP`).
 
     Returns
     -------
@@ -349,26 +458,32 @@ def to_mjcf(
         for face, name, at in string_sites:
             sites.setdefault(face, []).append((name, at))
     held = src.robot is None and not any(r.fixed_panel for r in src.routes) and not gravity
-    lines = _header_xml(cp, meshes, timestep, gravity, armature, mu)
-    lines += _world_xml(sites, ground, mu, held)
+    contact = contact or STICK_SLIP
+    visuals = printed_panels(src, fab)[0]
+    lines = _header_xml(cp, meshes, visuals, timestep, gravity, armature, mu, contact)
+    lines += _world_xml(sites, ground, mu, held, contact, timestep)
     lines += _body_xml(src, fab, params, meshes, sites, _masses(src, fab), crease_damping, held)
     lines += ["  </worldbody>", *_loops_xml(src), *tendon_xml(tendons), "</mujoco>"]
     return "\n".join(lines) + "\n"
 
 
-def _header_xml(cp, meshes, timestep: float, gravity: float, armature: float, mu: float):
-    """Options, defaults (materials, constraint softness) and the panels' meshes."""
-    density = DENSITY_G_CM3["PLA"] * 1000.0  # kg/m^3
+def _header_xml(cp, meshes, visuals, timestep, gravity, armature, mu, contact: Contact):
+    """Options, defaults (materials, constraint softness, contacts) and the panels' meshes."""
     lines = [
         f"<mujoco model={quoteattr(cp.title or 'origami')}>",
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{timestep:.6g}" gravity="0 0 {-gravity * MJ:.6g}" '
-        'integrator="Euler" iterations="200" ls_iterations="50"/>',
+        f'integrator="Euler" iterations="200" ls_iterations="50" {contact.option_xml()}/>',
         "  <default>",
         f'    <joint armature="{armature:.6g}" solreflimit="{2 * timestep:.6g} 1"/>',
         f'    <equality solref="{2 * timestep:.6g} 1" solimp="0.99 0.999 0.001"/>',
-        f'    <default class="panel"><geom type="mesh" density="{density:.6g}" '
-        f'friction="{mu:.6g} 0.005 0.0001" rgba="0.85 0.75 0.45 1"/></default>',
+        '    <default class="PLA"><geom type="mesh" contype="0" conaffinity="0" group="1" '
+        'rgba="0.85 0.75 0.45 1"/></default>',
+        '    <default class="TPU"><geom type="mesh" contype="0" conaffinity="0" group="1" '
+        'rgba="0.25 0.45 0.8 1"/></default>',
+        '    <default class="panel"><geom type="mesh" group="3" '
+        f'friction="{mu:.6g} 0.005 0.0001" {contact.geom_xml(timestep)} '
+        'rgba="0.85 0.75 0.45 0.3"/></default>',
         '    <site size="0.0008" rgba="0.9 0.1 0.1 1"/>',
         "  </default>",
         '  <visual><global offwidth="1280" offheight="960"/></visual>',
@@ -377,10 +492,16 @@ def _header_xml(cp, meshes, timestep: float, gravity: float, armature: float, mu
     for f, halves in sorted(meshes.items()):
         for h, verts in enumerate(halves):
             lines.append(f'    <mesh name="{cp.face_labels[f]}_{h}" vertex="{_v(verts.ravel())}"/>')
+    for f, panel in sorted(visuals.items()):
+        for k, (_, verts, tris) in enumerate(panel.meshes):
+            lines.append(
+                f'    <mesh name="{cp.face_labels[f]}_v{k}" vertex="{_v(verts.ravel())}" '
+                f'face="{" ".join(map(str, tris.ravel()))}"/>'
+            )
     return [*lines, "  </asset>"]
 
 
-def _world_xml(sites: dict, ground: bool, mu: float, held: bool) -> list[str]:
+def _world_xml(sites: dict, ground: bool, mu: float, held: bool, contact, timestep):
     """The world: light, ground plane, and the fixed guides (on the ``ring`` if held).
 
     A sheet free in the ring, pulled evenly, keeps its mean pose: the root panel is held
@@ -390,7 +511,7 @@ def _world_xml(sites: dict, ground: bool, mu: float, held: bool) -> list[str]:
     if ground:
         lines.append(
             f'    <geom name="ground" type="plane" size="2 2 0.01" friction="{mu:.6g} 0.005 0.0001"'
-            ' rgba="0.6 0.65 0.7 1"/>'
+            f' {contact.geom_xml(timestep)} rgba="0.6 0.65 0.7 1"/>'
         )
     world = [f'    <site name="{name}" pos="{_v(at)}"/>' for name, at in sites.get(-1, [])]
     if held:

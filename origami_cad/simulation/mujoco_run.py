@@ -195,9 +195,10 @@ def play_gait(model, data, robot, seconds: float, start: float = 0.0) -> None:
     from origami_cad.simulation.crawler import gait_turns
 
     acts, keys, times = tsa_actuators(model), gait_turns(robot), robot.gait_t
-    end = data.time + seconds
+    begin = data.time
+    end = begin + seconds
     while data.time < end:
-        tc = (data.time + start) % float(times[-1])
+        tc = (data.time - begin + start) % float(times[-1])
         turns = [np.interp(tc, times, keys[:, k]) for k in range(len(robot.legs))]
         tsa_controls(model, data, turns, acts)
         mujoco.mj_step(model, data)

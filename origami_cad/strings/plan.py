@@ -48,12 +48,13 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.design.parallel import local_pool
-from origami_cad.errors import DesignError
+from origami_cad._names import one_line, toml_string
+from origami_cad.errors import StringsError
 from origami_cad.fabrication.panels import panel_outlines
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
+from origami_cad.parallel import local_pool
 from origami_cad.pattern.design import Design
 from origami_cad.strings.dcqc import fold_limit
 from origami_cad.strings.route import (
@@ -112,11 +113,11 @@ class TSAPlacement:
 
     def __post_init__(self) -> None:
         if self.kind not in ("ring", "onboard"):
-            raise DesignError(f"--tsa must be 'ring' or 'onboard:PANEL', got {self.kind!r}")
+            raise StringsError(f"--tsa must be 'ring' or 'onboard:PANEL', got {self.kind!r}")
         if self.kind == "onboard" and not self.panel:
-            raise DesignError("an onboard TSA needs its panel: --tsa onboard:PANEL")
+            raise StringsError("an onboard TSA needs its panel: --tsa onboard:PANEL")
         if self.kind == "ring" and not (self.radius > 0 and self.guides >= 4):
-            raise DesignError("a ring TSA needs a radius > 0 mm and at least 4 guides")
+            raise StringsError("a ring TSA needs a radius > 0 mm and at least 4 guides")
 
 
 @dataclass(frozen=True)
@@ -272,7 +273,7 @@ def target_ratio(
     """
     if target_p is not None:
         if not p0 < target_p <= limit + 1e-12:
-            raise DesignError(
+            raise StringsError(
                 f"--target-p {target_p:g} must lie in ({p0:g}, {limit:.4f}] (the fold limit)"
             )
         return float(target_p)
@@ -282,7 +283,7 @@ def target_ratio(
     edges = np.array([int(e) for e in target_angles], dtype=int)
     want = np.radians(np.abs([float(v) for v in target_angles.values()]))
     if np.any((edges < 0) | (edges >= cp.n_edges)):
-        raise DesignError(f"target angles: no crease {edges.tolist()} in the pattern")
+        raise StringsError(f"target angles: no crease {edges.tolist()} in the pattern")
 
     def short(p: float) -> bool:
         got = np.abs(np.radians(fold_design(design, p).fold_angles[edges]))
@@ -292,7 +293,7 @@ def target_ratio(
     reached = [k for k, p in enumerate(ratios) if not short(float(p))]
     if not reached:
         worst = int(edges[0])
-        raise DesignError(
+        raise StringsError(
             f"target angles: crease {worst} does not reach its angle before the fold "
             f"limit p = {limit:.4f}"
         )
@@ -390,11 +391,11 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
     for x, y in existing:
         fi = cp.face_of_point(float(x), float(y))
         if fi < 0:
-            raise DesignError(f"existing hole ({x:g}, {y:g}) mm is not on any panel")
+            raise StringsError(f"existing hole ({x:g}, {y:g}) mm is not on any panel")
         faces.append(fi)
         points.append(np.array([x, y], dtype=float))
     if not faces:
-        raise DesignError("no panel has room for a hole (all free, or regions too small)")
+        raise StringsError("no panel has room for a hole (all free, or regions too small)")
     return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(regions)
 
 
@@ -450,7 +451,7 @@ def plan_geometry(
     settings = settings or PlanSettings()
     for label in [*free_panels, *([placement.panel] if placement.panel else [])]:
         if label not in cp.face_labels:
-            raise DesignError(f"no panel labelled {label!r} in the pattern")
+            raise StringsError(f"no panel labelled {label!r} in the pattern")
     limit = fold_limit(design, RouteSpec(placement.tsa, (), fabrication=fab)).p
     p_end = target_ratio(design, limit, target_p, target_angles)
     ratios = p_end * np.linspace(0.0, 1.0, settings.grid) ** 1.5  # denser near flat
@@ -812,7 +813,7 @@ def _combine(geom, settings, pool: dict, n_strings: int, progress=None):
         ok = _compatible(geom, pool, used, routes)
         b, p = np.nonzero(ok)
         if not len(b):
-            raise DesignError(
+            raise StringsError(
                 f"no {n_strings} strings fit together (on a ring no two may share a panel "
                 "or a guide): ask for fewer strings"
             )
@@ -912,7 +913,7 @@ def _refine_task(geom: PlanGeometry, settings: PlanSettings, route: dict, seed: 
     """
     import cma
 
-    from origami_cad.design.search import canonical_eigh
+    from origami_cad._libm import canonical_eigh
 
     n = len(route["faces"])
     dim = int(route["count"].sum()) * 2 + (n if geom.placement.kind == "ring" else 0)
@@ -1043,9 +1044,9 @@ def plan_routes(
         Valid routes, best first (at most ``settings.keep``).
     """
     if n_strings < 1:
-        raise DesignError(f"--strings must be >= 1, got {n_strings}")
+        raise StringsError(f"--strings must be >= 1, got {n_strings}")
     if candidates < 1:
-        raise DesignError(f"--candidates must be >= 1, got {candidates}")
+        raise StringsError(f"--candidates must be >= 1, got {candidates}")
     settings = replace(settings or PlanSettings(), candidates=int(candidates))
     geom = geometry or plan_geometry(
         design,
@@ -1073,7 +1074,7 @@ def _search(geom, settings, n_strings: int, seed: int, executor, progress) -> li
     found = run_tasks(executor, _beam_task, [(geom, settings, s) for s in _starts(geom)], tick)
     pool = _merge(found)
     if not len(pool["cost"]):
-        raise DesignError(
+        raise StringsError(
             "no string satisfies DCQC from flat to the target: every hole sequence lengthens "
             "or cuts a panel (try another TSA place or a smaller target)"
         )
@@ -1228,14 +1229,14 @@ def route_toml(geom: PlanGeometry, planned: PlannedRoute, header: str = "") -> s
     if spec.p_max is not None:
         lines.append(f"p_max = {spec.p_max:.6f}")
     if spec.fixed_panel:
-        lines.append(f'fixed_panel = "{spec.fixed_panel}"')
+        lines.append(f"fixed_panel = {toml_string(spec.fixed_panel)}")
     for s in spec.strings:
         lines += ["", "[[route.strings]]"]
         if s.anchor_face >= 0:
-            lines.append(f'anchor_panel = "{geom.labels[s.anchor_face]}"')
+            lines.append(f"anchor_panel = {toml_string(geom.labels[s.anchor_face])}")
         lines.append("anchor = [" + ", ".join(f"{v:.4f}" for v in s.anchor) + "]")
         holes = ", ".join(f"[{x:.4f}, {y:.4f}]" for x, y in s.points)
-        lines.append(f"holes = [{holes}]  # panels {', '.join(s.names)}")
+        lines.append(f"holes = [{holes}]  # panels {one_line(', '.join(s.names))}")
         sides = ", ".join('"top"' if v == TOP else '"bottom"' for v in s.sides)
         lines.append(f"sides = [{sides}]  # DCQC: above valleys, below mountains")
     return "\n".join(lines) + "\n"

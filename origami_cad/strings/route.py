@@ -52,7 +52,8 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml
+from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml, toml_table
+from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.strings.tsa import TSAParams
@@ -63,6 +64,7 @@ __all__ = [
     "anchor_points",
     "auto_holes",
     "cutting_segments",
+    "dump_route",
     "frame_orientation",
     "hole_exits",
     "hole_frames",
@@ -154,7 +156,7 @@ def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     """Read a route file for the pattern ``cp``; errors name the file, key and string."""
     p = Path(path)
-    top = Table(load_toml(p), str(p))
+    top = Table(load_toml(p, StringsError), str(p), StringsError)
     tsa_t = top.table("tsa", {})
     fab_t = top.table("fabrication") if top.has("fabrication") else None
     route = top.table("route")
@@ -169,10 +171,65 @@ def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     route.finish()
     auto = functools.cache(functools.partial(auto_holes, cp, settings.pop("hole_diameter")))
     strings = tuple(
-        _read_string(Table(item, f"{p} [[route.strings]] #{si + 1}"), si, cp, auto)
+        _read_string(Table(item, f"{p} [[route.strings]] #{si + 1}", StringsError), si, cp, auto)
         for si, item in enumerate(raw)
     )
     return RouteSpec(tsa, strings, **settings, fabrication=fabrication)
+
+
+def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
+    """A route file (TOML text) of ``spec`` on pattern ``cp`` that :func:`load_route` reads back.
+
+    Every value is written as the spec holds it (lengths mm, angles deg): the holes as
+    their points (with their names in a comment: an automatic hole keeps its place,
+    whatever the hole diameter), the sides explicitly, the anchor's panel by its label.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from origami_cad.pattern.design import load_design
+    >>> cp = load_design("examples/miura_6x4.toml").pattern
+    >>> spec = load_route("examples/miura_route.toml", cp)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "route.toml"
+    >>> _ = path.write_text(dump_route(spec, cp))
+    >>> back = load_route(path, cp)
+    >>> back.strings[0].points == spec.strings[0].points, back.tsa == spec.tsa
+    (True, True)
+    """
+    tsa = spec.tsa
+    keys = ("d1", "d2", "string_width", "x_dis") if tsa.model == "ring" else ("length", "radius")
+    lines = [header.rstrip("\n")] if header else []
+    lines += toml_table(
+        "tsa",
+        {"model": tsa.model, **{k: getattr(tsa, k) for k in keys},
+         "max_helix_angle": tsa.max_helix_angle},
+    )  # fmt: skip
+    fab = spec.fabrication
+    if fab is not None:
+        keys = ("bias", "height", "thickness", "midlayer_bias")
+        lines += ["", *toml_table("fabrication", {k: getattr(fab, k) for k in keys})]
+    finite = {k: getattr(spec, k) for k in ("max_tension", "max_torque")}
+    settings = {
+        "thickness": spec.thickness,
+        "take_up": spec.take_up,
+        "step": math.degrees(spec.step),
+        "max_turns": spec.max_turns,
+        **{k: v for k, v in finite.items() if math.isfinite(v)},
+        "p0": spec.p0,
+        "p_max": spec.p_max,
+        "fixed_panel": spec.fixed_panel,
+    }
+    lines += ["", *toml_table("route", settings, comments={"step": "deg"})]
+    for s in spec.strings:
+        table = {
+            "anchor_panel": cp.face_labels[s.anchor_face] if s.anchor_face >= 0 else None,
+            "anchor": list(s.anchor),
+            "holes": [list(p) for p in s.points],
+            "sides": ["top" if v == TOP else "bottom" for v in s.sides],
+        }
+        panels = f"panels {', '.join(s.names)}"
+        lines += ["", *toml_table("route.strings", table, array=True, comments={"holes": panels})]
+    return "\n".join(lines) + "\n"
 
 
 def _read_fabrication(fab_t: Table) -> FabricationParams:

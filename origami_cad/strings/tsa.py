@@ -1,7 +1,7 @@
 """Twisted string actuators: the paper's ring-device model (eq. 8) and the standard model.
 
 Units: mm and radians inside; :class:`TSAParams` reads degrees and turns at
-the edges. Every function raises :class:`~origami_cad.errors.DesignError`
+the edges. Every function raises :class:`~origami_cad.errors.StringsError`
 instead of returning NaN when asked for more than the strands can give.
 
 Examples
@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import StringsError
 
 __all__ = [
     "TSAParams",
@@ -66,7 +66,7 @@ def ring_length(theta_s: Any, x_dis: Any, d1: float, d2: float, d_s: float) -> n
     """
     theta = np.asarray(theta_s, dtype=float)
     if np.any(theta < 0):
-        raise DesignError("the TSA rotation theta_s must be >= 0")
+        raise StringsError("the TSA rotation theta_s must be >= 0")
     x = np.asarray(x_dis, dtype=float)
     first = ((d2 - d1 * np.cos(theta)) ** 2 + (d1 * np.sin(theta)) ** 2) / 4.0
     wound = (d2 + d1 + (theta - math.pi) * d_s) ** 2 / 4.0
@@ -99,7 +99,7 @@ def ring_length_derivatives(
     """
     theta = np.asarray(theta_s, dtype=float)
     if np.any(theta < 0):
-        raise DesignError("the TSA rotation theta_s must be >= 0")
+        raise StringsError("the TSA rotation theta_s must be >= 0")
     x = np.asarray(x_dis, dtype=float)
     first = theta < math.pi
     wound = d2 + d1 + (theta - math.pi) * d_s
@@ -115,7 +115,7 @@ def _check_twist(theta: np.ndarray, length: float, radius: float, max_helix: flo
     limit = length * math.sin(max_helix)
     worst = float(np.max(np.abs(theta))) * radius
     if worst >= limit:
-        raise DesignError(
+        raise StringsError(
             f"a twist of {float(np.max(np.abs(theta))) / (2 * math.pi):.3g} turns exceeds what "
             f"strands of {length:g} mm and radius {radius:g} mm can give (theta r = {worst:.4g} "
             f"mm must stay below L0 sin(max helix angle) = {limit:.4g} mm)"
@@ -150,10 +150,10 @@ def onboard_angle(
     """Inverse of :func:`onboard_contraction`: the motor angle (radians) for a contraction (mm)."""
     x = np.asarray(contraction, dtype=float)
     if np.any(x < 0):
-        raise DesignError("a TSA contraction must be >= 0 mm")
+        raise StringsError("a TSA contraction must be >= 0 mm")
     max_x = length - length * math.cos(max_helix)
     if np.any(x >= max_x):
-        raise DesignError(
+        raise StringsError(
             f"a contraction of {float(np.max(x)):.4g} mm exceeds what strands of {length:g} mm "
             f"can give at the maximum helix angle ({max_x:.4g} mm)"
         )
@@ -179,7 +179,7 @@ def onboard_compliant_length(
     t = np.asarray(theta, dtype=float)
     stretched = length * (1.0 + np.asarray(force, dtype=float) / stiffness)
     if np.any(t * radius >= stretched):
-        raise DesignError("the twist exceeds what the stretched strands can give")
+        raise StringsError("the twist exceeds what the stretched strands can give")
     return np.sqrt(stretched**2 - (t * radius) ** 2)
 
 
@@ -204,12 +204,12 @@ class TSAParams:
 
     def __post_init__(self) -> None:
         if self.model not in ("ring", "onboard"):
-            raise DesignError(f"[tsa] model must be 'ring' or 'onboard', got {self.model!r}")
+            raise StringsError(f"[tsa] model must be 'ring' or 'onboard', got {self.model!r}")
         for name in ("d1", "d2", "string_width", "length", "radius"):
             if not getattr(self, name) > 0:
-                raise DesignError(f"[tsa] {name} must be > 0 mm")
+                raise StringsError(f"[tsa] {name} must be > 0 mm")
         if not 0 < self.max_helix_angle < 90:
-            raise DesignError("[tsa] max_helix_angle must lie in (0, 90) deg")
+            raise StringsError("[tsa] max_helix_angle must lie in (0, 90) deg")
 
     def consumed(self, theta_s: Any, x_dis: Any) -> np.ndarray:
         """Length of string between the TSA and the first hole after twisting ``theta_s``, mm.

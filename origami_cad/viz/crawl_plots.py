@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from origami_cad._names import plot_text
 from origami_cad.viz.figure import png_subplots
 
 __all__ = ["save_crawl_gait_png", "save_crawl_loads_png", "save_crawl_position_png"]
@@ -61,8 +62,8 @@ def save_crawl_loads_png(
     """Each TSA's torque (N mm) and its largest string tension (N) against time (s)."""
     with png_subplots(path, 2, 1, figsize=(7.0, 5.5), sharex=True) as (_, (at, af)):
         for k, name in enumerate(names):
-            at.plot(t, torque[:, k], label=name)
-            af.plot(t, tensions[:, k, :].max(axis=1), label=name)
+            at.plot(t, torque[:, k], label=plot_text(name))
+            af.plot(t, tensions[:, k, :].max(axis=1), label=plot_text(name))
         _label(at, af, "TSA torque (N mm)", "largest string tension (N)", {"ncol": 2})
     return Path(path)
 
@@ -83,10 +84,10 @@ def save_crawl_gait_png(
     """
     with png_subplots(path, 2, 1, figsize=(7.0, 5.5), sharex=True) as (_, (af, at)):
         for k, name in enumerate(names):
-            (line,) = af.plot(t, fold[:, k], label=name)
+            (line,) = af.plot(t, fold[:, k], label=plot_text(name))
             if commanded is not None:
                 af.plot(t, 180.0 * commanded[:, k], "--", color=line.get_color(), lw=0.8)
-            at.plot(t, turns[:, k], label=name)
+            at.plot(t, turns[:, k], label=plot_text(name))
         af.set_title("solid: simulated, dashed: the gait's keyframes", fontsize=8, loc="left")
         _label(af, at, "leg fold angle (deg)", "TSA twist (turns)", {"ncol": 2})
     return Path(path)

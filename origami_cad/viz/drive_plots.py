@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from origami_cad._names import plot_text
 from origami_cad.viz.figure import png_subplots
 
 __all__ = ["save_drive_png"]
@@ -29,7 +30,7 @@ def save_drive_png(
             ax.plot(log.t, log.target[:, j], "--", color="#555555", label="commanded")
             ax.plot(log.t, log.measured[:, j], "-", color="#1f4fd6", label="measured")
             ax.set_ylabel("turns")
-            label = (names or {}).get(i, "")
+            label = plot_text((names or {}).get(i, ""))
             ax.set_title(f"servo {i} {label}".strip(), fontsize=9, loc="left")
             ax.grid(True, alpha=0.3)
             twin = ax.twinx()

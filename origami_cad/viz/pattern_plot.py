@@ -11,6 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Circle
 
+from origami_cad._names import plot_text
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.viz.figure import new_axes, png_subplots
 
@@ -68,7 +69,7 @@ def plot_pattern(
         ax.add_patch(Circle((hole.x, hole.y), hole.diameter / 2, fill=False, color="#2ca02c"))
     if labels:
         for (x, y), text in zip(cp.face_centroids(), cp.face_labels, strict=True):
-            ax.text(x, y, text, ha="center", va="center", fontsize=6, color="#555555")
+            ax.text(x, y, plot_text(text), ha="center", va="center", fontsize=6, color="#555555")
     x0, y0, x1, y1 = cp.bounds
     pad = 0.03 * max(x1 - x0, y1 - y0, 1e-9)
     ax.set_xlim(x0 - pad, x1 + pad)
@@ -76,7 +77,7 @@ def plot_pattern(
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(cp.title if title is None else title)
+    ax.set_title(plot_text(cp.title) if title is None else title)
     if legend:
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     return ax

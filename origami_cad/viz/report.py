@@ -8,7 +8,6 @@ package (``glb_viewer.js``, inlined): the page needs no network and no server.
 from __future__ import annotations
 
 import base64
-import html
 import importlib.resources
 import os
 import re
@@ -17,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._names import html_text
 
 __all__ = ["MAX_EMBEDDED_BYTES", "StepReport", "view_figure", "viewer_script", "write_report"]
 
@@ -44,12 +44,9 @@ class StepReport:
 
 #: characters an HTML page cannot hold (C0 controls but tab/newline/return, DEL, lone
 #: surrogates): replaced by U+FFFD so that no message breaks the page or its encoding
-_NOT_HTML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ud800-\udfff]")
 
 
-def _text(value: object) -> str:
-    """Any text made safe for HTML content and quoted attributes."""
-    return html.escape(_NOT_HTML.sub("\ufffd", str(value)), quote=True)
+_text = html_text  # any text made safe for HTML content and quoted attributes
 
 
 def _href(path: str) -> str:

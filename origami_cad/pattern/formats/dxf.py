@@ -790,3 +790,9 @@ def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
     cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
     cp.notes = (*cp.notes, *unit_notes)
     return cp.with_holes(holes) if holes else cp
+
+
+# the registry entries of this format, merged by :mod:`origami_cad.pattern.formats`:
+# a reader is ``read(path, mm_per_unit) -> CreasePattern``, a writer ``write(cp, path) -> Path``
+readers = {".dxf": read_dxf}
+writers = {".dxf": write_dxf}

@@ -576,3 +576,9 @@ def read_fold_frames(path: str | os.PathLike[str]) -> list[np.ndarray]:
             c = np.column_stack([c, np.zeros(len(c))])
         out.append(c)
     return out
+
+
+# the registry entries of this format, merged by :mod:`origami_cad.pattern.formats`:
+# a reader is ``read(path, mm_per_unit) -> CreasePattern``, a writer ``write(cp, path) -> Path``
+readers = {".fold": read_fold}
+writers = {".fold": write_fold}

@@ -35,12 +35,12 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
-import xml.sax.saxutils
 from pathlib import Path
 
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._names import xml_text
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
@@ -93,12 +93,6 @@ _NUMBER = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 
 
 #: characters XML 1.0 cannot hold, even escaped (control characters, lone surrogates)
-_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-
-
-def _xml_text(text: str) -> str:
-    """``text`` escaped for XML content or attributes; characters XML cannot hold become U+FFFD."""
-    return xml.sax.saxutils.escape(_NOT_XML.sub("\ufffd", str(text)), {'"': "&quot;"})
 
 
 def _fmt(v: float) -> str:
@@ -170,7 +164,7 @@ def write_svg(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
         f'{_fmt(k * h)}">',
     ]
     if cp.title:
-        lines.append(f"<title>{_xml_text(cp.title)}</title>")
+        lines.append(f"<title>{xml_text(cp.title)}</title>")
     width = 0.002 * max(w, h) * k
     v = cp.vertices * k
     for (a, b), letter, angle in zip(cp.edges, cp.assignments, cp.fold_angles, strict=True):
@@ -681,3 +675,9 @@ def _element_segments(
             if not np.allclose(a, b):
                 segments.append((a[:2], b[:2], letter, angle))
     return segments
+
+
+# the registry entries of this format, merged by :mod:`origami_cad.pattern.formats`:
+# a reader is ``read(path, mm_per_unit) -> CreasePattern``, a writer ``write(cp, path) -> Path``
+readers = {".svg": read_svg}
+writers = {".svg": write_svg}
