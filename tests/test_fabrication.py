@@ -384,7 +384,7 @@ def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys
     small = miura_design(2, 3, 30.0, 30.0, 65.0).pattern  # 104 x 60 mm
     check_bed(small, (110.0, 70.0))
     check_bed(small, (70.0, 110.0))  # either way round
-    with pytest.raises(DesignError, match=r"104\.0 x 60\.0 mm: larger than the 100 x 100 mm"):
+    with pytest.raises(FabricationError, match=r"104\.0 x 60\.0 mm: larger than the 100 x 100 mm"):
         check_bed(small, (100.0, 100.0))
     with pytest.raises(FabricationError, match="two sizes > 0 mm"):
         check_bed(small, (0.0, 100.0))

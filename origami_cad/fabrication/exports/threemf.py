@@ -264,7 +264,8 @@ def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str]:
         object_id, material = k + 2, PART_MATERIALS[n]
         pindex = list(MATERIAL_COLORS).index(material)
         model.append(
-            f'  <object id="{object_id}" type="model" name="{xml_text(n)}" pid="1" pindex="{pindex}">'
+            f'  <object id="{object_id}" type="model" name="{xml_text(n)}" pid="1" '
+            f'pindex="{pindex}">'
         )
         model += [*_mesh_lines(*meshes[n]), "  </object>"]
         parts.append((object_id, n, EXTRUDERS[material]))
