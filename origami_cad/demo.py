@@ -76,7 +76,11 @@ def fig4(out: Path, quick: bool) -> list[Outputs]:
     chained = [jobs.run_fabricate(miura, out / "miura", renders=True, name="6 x 4 Miura")]
     winner = out.parent / "fig3" / "best.toml"
     if winner.exists():
-        chained.append(jobs.run_fabricate(winner, out / "arm", renders=True, name="arm winner"))
+        # the arm's sheet is about 250 mm long: printed on a 300 x 300 mm bed
+        arm = jobs.run_fabricate(
+            winner, out / "arm", renders=True, name="arm winner", bed=(300, 300)
+        )
+        chained.append(arm)
     return chained
 
 

@@ -718,7 +718,7 @@ def fabrication_params(
 
     Other keywords are ``FabricationParams`` fields; ``None`` values keep their defaults.
     """
-    from origami_cad.fabrication import FabricationParams, bias_for_theta_max
+    from origami_cad.fabrication import FabricationParams, bias_for_p_max, bias_for_theta_max
 
     given = [v is not None for v in (bias, theta_max, p_max)]
     if sum(given) > 1:
@@ -729,7 +729,7 @@ def fabrication_params(
     if theta_max is not None:
         bias = bias_for_theta_max(math.radians(theta_max), height, thickness)
     elif p_max is not None:
-        bias = bias_for_theta_max(p_max * math.pi, height, thickness)
+        bias = bias_for_p_max(p_max, height, thickness)
     if bias is not None:
         kw["bias"] = bias
     return FabricationParams(**kw)
@@ -795,6 +795,8 @@ def run_fabricate(
     unit: str | None = None,
     scale: float | None = None,
     width: float | None = None,
+    slicer: str = "prusa",
+    bed: Sequence[float] = (200.0, 200.0),
     **overrides: Any,
 ) -> Outputs:
     """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
@@ -806,6 +808,8 @@ def run_fabricate(
     exploded and section pictures; ``name`` prefixes the key numbers (for
     reports holding several structures).
     ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``slicer`` (prusa, bambu or orca) is the slicer print.3mf is laid out for;
+    ``bed`` (x, y in mm) the print bed: a larger sheet is refused before any work.
     """
     from origami_cad.fabrication import fabricate, write_fabrication
     from origami_cad.viz.fabrication_plots import save_panels_png
@@ -819,10 +823,10 @@ def run_fabricate(
     elif any(v is not None for v in overrides.values()):
         raise OptionsError("give either fabrication parameters or their keywords, not both")
     loaded, warned = _sized_source(design, unit, scale, width)
-    fab = fabricate(loaded, params)
+    fab = fabricate(loaded, params, bed=tuple(map(float, bed)))
     label = name or Path(design).stem
     with atomic_directory(folder, inputs=_sources(design, loaded)) as stage:
-        write_fabrication(fab, stage)
+        write_fabrication(fab, stage, slicer=slicer)
         write_parts_glb(stage, stage / "parts.glb")
         save_panels_png(fab, stage / "panels.png")
         images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]

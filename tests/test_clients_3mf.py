@@ -1,12 +1,10 @@
-"""The 3MF read back as slicers read it: lib3mf (strict), Bambu/Orca's config, PrusaSlicer.
+"""The 3MF read back as slicers read it: lib3mf (strict), PrusaSlicer, Bambu Studio, Orca.
 
-- lib3mf in strict mode: every mesh object valid, manifold and oriented;
-- ``Metadata/model_settings.config`` parsed the way Bambu Studio / OrcaSlicer's
-  importer does (a ``<part>`` with ``lastid > 0`` is a triangle range of its object,
-  any other is a reference to a sub-object): every part is a range, the ranges tile
-  the object's triangles, each part on its material's extruder;
-- PrusaSlicer's CLI (when installed): ``--info`` and ``--export-gcode`` honour the
-  parts, the extruders and the settings carried in the file.
+- lib3mf in strict mode: every mesh object of every flavour valid, manifold and oriented;
+- PrusaSlicer's ``Slic3r_PE_model.config``: the triangle ranges tile the object, each
+  part on its material's extruder; its CLI (when installed): ``--info`` and
+  ``--export-gcode`` honour the parts, the extruders and the settings carried in the file;
+- Bambu Studio / OrcaSlicer: see ``tests/test_clients_bambu.py`` (their importer's rules).
 """
 
 from __future__ import annotations
@@ -27,6 +25,7 @@ import pytest
 from origami_cad.fabrication import FabricationParams, fabricate
 from origami_cad.fabrication.export import (
     EXTRUDERS,
+    SLICERS,
     export_3mf,
     layer_height,
     slicer_settings,
@@ -48,12 +47,14 @@ def three_mf(fab, tmp_path_factory):
     return export_3mf(fab.parts, tmp_path_factory.mktemp("3mf") / "print.3mf", params=fab.params)
 
 
-def test_lib3mf_strict_every_mesh_object_is_valid_manifold_and_oriented(three_mf):
+@pytest.mark.parametrize("slicer", SLICERS)
+def test_lib3mf_strict_every_mesh_object_is_valid_manifold_and_oriented(fab, slicer, tmp_path):
+    path = export_3mf(fab.parts, tmp_path / "print.3mf", params=fab.params, slicer=slicer)
     wrapper = lib3mf.get_wrapper()
     model = wrapper.CreateModel()
     reader = model.QueryReader("3mf")
     reader.SetStrictModeActive(True)
-    reader.ReadFromFile(str(three_mf))
+    reader.ReadFromFile(str(path))
     assert reader.GetWarningCount() == 0
     objects = model.GetMeshObjects()
     count = 0
@@ -80,23 +81,18 @@ def _edge_uses(tris: np.ndarray) -> np.ndarray:
     return counts
 
 
-def test_model_settings_config_parsed_as_bambu_and_orca_do(three_mf, fab):
+def test_prusa_model_config_ranges_tile_the_object(three_mf, fab):
+    """PrusaSlicer's ``Slic3r_PE_model.config``: each ``<volume>`` a triangle range."""
     with zipfile.ZipFile(three_mf) as zf:
-        config = ET.fromstring(zf.read("Metadata/model_settings.config"))
+        config = ET.fromstring(zf.read("Metadata/Slic3r_PE_model.config"))
         model_xml = ET.fromstring(zf.read("3D/3dmodel.model"))
     objects = config.findall("object")
     assert len(objects) == 1
-    obj_id = objects[0].get("id")
-    _, tris = _mesh_of(model_xml, obj_id)  # the config's object is a mesh object
+    _, tris = _mesh_of(model_xml, objects[0].get("id"))  # the config's object is a mesh object
     parts = []
-    for part in objects[0].findall("part"):
-        first = int(part.get("firstid", "0") or 0)
-        last = int(part.get("lastid", "0") or 0)
-        # Bambu's importer: lastid > 0 is a triangle range, else a sub-object reference
-        assert last > 0, f"part {part.get('id')} would be read as a sub-object reference"
-        assert part.get("subtype") == "normal_part"
-        meta = {m.get("key"): m.get("value") for m in part.findall("metadata")}
-        parts.append((first, last, meta))
+    for volume in objects[0].findall("volume"):
+        meta = {m.get("key"): m.get("value") for m in volume.findall("metadata")}
+        parts.append((int(volume.get("firstid")), int(volume.get("lastid")), meta))
     assert [m["name"] for _, _, m in parts] == list(PART_NAMES)
     for _, _, meta in parts:
         assert meta["extruder"] == str(EXTRUDERS[PART_MATERIALS[meta["name"]]])

@@ -6,10 +6,13 @@ import itertools
 import json
 import math
 import os
+import re
+import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
 import zipfile
+from dataclasses import replace
 from pathlib import Path
 
 import lib3mf
@@ -21,7 +24,7 @@ from build123d import Axis, Compound, Edge, Vertex, import_step
 from matplotlib.image import imread
 
 from origami_cad.cli import main
-from origami_cad.errors import FabricationError, PatternError
+from origami_cad.errors import FabricationError, OrigamiCadError, PatternError
 from origami_cad.fabrication import (
     FabricationParams,
     LimitStatus,
@@ -227,6 +230,38 @@ def test_exports_read_back(tmp_path, small_fab):
     assert report["parts"]["infills"]["mass_g"] == pytest.approx(vols["infills"] / 1000 * 1.24)
 
 
+ADMESH = shutil.which("admesh")
+
+
+def test_each_stl_is_one_watertight_mesh(tmp_path, small_fab):
+    """Issue 30: neighbouring shells met on the crease lines (76 edges of four triangles)."""
+    from origami_cad.fabrication.panels import CREASE_GAP
+
+    paths = write_fabrication(small_fab, tmp_path)
+    for name in PART_NAMES:
+        mesh = trimesh.load(paths[name])  # welded by position, as every STL reader does
+        assert mesh.is_watertight and mesh.is_winding_consistent, name
+        _, uses = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+        assert set(uses.tolist()) == {2}, name
+    # the stated gap: each panel's halves stop CREASE_GAP / 2 short of its creases
+    for o in small_fab.outlines:
+        crease = np.flatnonzero(o.crease_edge)
+        poly = shapely.Polygon(o.polygon).exterior
+        for k in crease:
+            mid = (o.inner[k] + o.inner[(k + 1) % len(o.inner)]) / 2
+            assert poly.distance(shapely.Point(mid)) == pytest.approx(CREASE_GAP / 2, abs=1e-9)
+    if ADMESH is None:
+        pytest.skip("admesh is not installed")
+    for name in PART_NAMES:
+        run = subprocess.run([ADMESH, str(paths[name])], capture_output=True, text=True, check=True)
+        stats = dict(re.findall(r"^(\w[\w ]*?)\s*:\s*(\d+)", run.stdout, flags=re.M))
+        for key in ("Total disconnected facets", "Degenerate facets", "Edges fixed",
+                    "Facets removed", "Facets added",
+                    "Facets reversed", "Backwards edges"):  # fmt: skip
+            assert stats[key] == "0", (name, key)
+        assert int(stats["Number of parts"]) == len(small_fab.parts.solids[name]), name
+
+
 def test_crease_limits_from_the_rigid_folding(small_fab):
     limits = small_fab.limits
     assert limits.status is LimitStatus.FOLDABLE and limits.foldable
@@ -303,11 +338,66 @@ def test_panels_png_shows_the_sheet(tmp_path, small_fab):
         ({"bias": 16.0}, "too small for the inner bias"),
         ({"holes": [(500.0, 500.0)]}, "not on any panel"),
         ({"holes": [(15.0, 1.0)]}, "does not fit the operation region of panel c0r0s0"),
+        ({"height": 0.4}, r"eq\. 6"),
+        ({"shell": 0.9}, r"thinner than a panel half \(h - t\) / 2 = 0\.9 mm"),
     ],
 )
 def test_bad_parameters_are_named(kwargs, message):
     with pytest.raises((FabricationError, PatternError), match=message):
         fabricate(miura_design(2, 3, 30.0, 30.0, 65.0).pattern, FabricationParams(**kwargs))
+
+
+def test_a_hole_too_large_for_its_panel_names_the_room_and_only_a_bias_that_fits():
+    params = FabricationParams(hole_diameter=25.0)
+    with pytest.raises(PatternError) as err:  # 6 x 4 Miura: no bias makes room
+        plan_panels(load_design(EXAMPLES / "miura_6x4.toml"), params)
+    message = str(err.value)
+    assert "a 25 mm hole does not fit its operation region (room for" in message
+    assert "bias" not in message  # the hole is the limit, not the bias
+    with pytest.raises(PatternError) as err:  # larger panels: a smaller bias makes room
+        plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), params)
+    (best,) = re.findall(r"use bias = ([\d.]+)", str(err.value))
+    plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), replace(params, bias=float(best)))
+
+
+@pytest.mark.parametrize(
+    "p_max, theta_max, message",
+    [
+        (1.2, None, r"p_max must lie in \(0, 1\) \(eq\. 6"),
+        (None, 180.0, r"theta_max must lie in \(0, 180\) deg"),
+    ],
+)
+def test_eq6_limits_of_p_max_and_theta_max_are_named(p_max, theta_max, message):
+    from origami_cad.jobs import fabrication_params
+
+    with pytest.raises(OrigamiCadError, match=message):
+        fabrication_params(p_max=p_max, theta_max=theta_max)
+
+
+def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys):
+    from origami_cad.fabrication import check_bed
+
+    # 100 x 100 panels of 20 mm: 2 m across, thousands of panels; refused up front
+    huge = miura_design(100, 100, 20.0, 20.0, 65.0)
+    with pytest.raises(FabricationError, match=r"larger than the 200 x 200 mm print bed"):
+        fabricate(huge, bed=(200.0, 200.0))
+    small = miura_design(2, 3, 30.0, 30.0, 65.0).pattern  # 104 x 60 mm
+    check_bed(small, (110.0, 70.0))
+    check_bed(small, (70.0, 110.0))  # either way round
+    with pytest.raises(FabricationError, match=r"104\.0 x 60\.0 mm: larger than the 100 x 100 mm"):
+        check_bed(small, (100.0, 100.0))
+    with pytest.raises(FabricationError, match="two sizes > 0 mm"):
+        check_bed(small, (0.0, 100.0))
+    # the command refuses by default at 200 x 200 mm and names the option
+    design = tmp_path / "long.toml"
+    design.write_text(
+        '[pattern]\nkind = "miura"\nrows = 2\ncolumns = 12\npanel_length = 20.0\n'
+        "panel_width = 20.0\nsector_angle = 65.0\n"
+    )
+    assert main(["fabricate", str(design), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "larger than the 200 x 200 mm print bed" in err and "--bed X Y" in err
+    assert not (tmp_path / "out").exists()
 
 
 def test_cli_writes_everything_or_nothing(tmp_path, capsys):

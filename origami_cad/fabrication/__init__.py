@@ -24,19 +24,23 @@ from origami_cad.fabrication.panels import (
 from origami_cad.fabrication.params import (
     DENSITY_G_CM3,
     FabricationParams,
+    bias_for_p_max,
     bias_for_theta_max,
     theta_max,
 )
 from origami_cad.fabrication.plan import (
+    DEFAULT_BED,
     CreaseLimits,
     LimitStatus,
     PanelPlan,
+    check_bed,
     crease_limits,
     largest_bias,
     plan_panels,
 )
 
 __all__ = [
+    "DEFAULT_BED",
     "DENSITY_G_CM3",
     "CreaseLimits",
     "Fabrication",
@@ -44,8 +48,10 @@ __all__ = [
     "LimitStatus",
     "PanelOutline",
     "PanelPlan",
+    "bias_for_p_max",
     "bias_for_theta_max",
     "build_fabrication",
+    "check_bed",
     "crease_limits",
     "fabricate",
     "largest_bias",

@@ -14,9 +14,16 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
-from origami_cad.fabrication.plan import CreaseLimits, PanelPlan, plan_panels
+from origami_cad.fabrication.plan import (
+    DEFAULT_BED,
+    CreaseLimits,
+    PanelPlan,
+    check_bed,
+    plan_panels,
+)
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts, build_parts
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
@@ -38,6 +45,8 @@ class Fabrication:
     timings: dict[str, float] = field(default_factory=dict)
     #: the design it was made from, when it came from one (folds it in :meth:`assembly`)
     design: Design | None = None
+    #: the slicer ``print.3mf`` is laid out for (``export_3mf``'s ``slicer``)
+    slicer: str = "prusa"
 
     def assembly(self, ratio: float = 0.0, design: Design | None = None) -> Any:
         """The printed sheet as a build123d ``Compound`` tree with joints, folded to ``ratio``.
@@ -133,27 +142,48 @@ def build_fabrication(plan: PanelPlan) -> Fabrication:
 
 
 def fabricate(
-    source: CreasePattern | Design, params: FabricationParams | None = None
+    source: CreasePattern | Design,
+    params: FabricationParams | None = None,
+    bed: tuple[float, float] | None = None,
 ) -> Fabrication:
     """Plan the panels of a crease pattern (or design) and build its printable solids.
 
     ``build_fabrication(plan_panels(source, params))``; use :func:`plan_panels`
-    alone when no solid is needed (plots, hole positions, part placement).
+    alone when no solid is needed (plots, hole positions, part placement). With
+    ``bed`` (x, y in mm), a sheet that does not lie flat on it is refused before any
+    work (:func:`check_bed`); without, it is only warned about against
+    :data:`DEFAULT_BED`.
 
     Raises
     ------
+    FabricationError
+        The sheet is larger than ``bed``.
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
-    fab = build_fabrication(plan_panels(source, params))
+    if bed is not None:
+        check_bed(source.pattern if isinstance(source, Design) else source, bed)
+    fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED))
     fab.design = source if isinstance(source, Design) else None
     return fab
 
 
-def write_fabrication(fab: Fabrication, folder: str | os.PathLike[str]) -> dict[str, Path]:
-    """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD."""
+def write_fabrication(
+    fab: Fabrication, folder: str | os.PathLike[str], slicer: str | None = None
+) -> dict[str, Path]:
+    """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD.
+
+    ``slicer`` (``"prusa"``, ``"bambu"`` or ``"orca"``; default :attr:`Fabrication.slicer`)
+    is the slicer ``print.3mf`` is laid out for.
+    """
     from origami_cad.fabrication.exports import WRITERS
+    from origami_cad.fabrication.exports.threemf import SLICERS
     from origami_cad.pattern.formats.fold import write_fold
+
+    if slicer is not None:
+        if slicer not in SLICERS:
+            raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
+        fab.slicer = slicer
 
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)

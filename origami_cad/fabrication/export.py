@@ -19,6 +19,7 @@ from origami_cad.fabrication.exports.stl import (
 from origami_cad.fabrication.exports.threemf import (
     EXTRUDERS,
     MATERIAL_SETTINGS,
+    SLICERS,
     export_3mf,
     layer_height,
     slicer_settings,
@@ -29,6 +30,7 @@ __all__ = [
     "EXTRUDERS",
     "MATERIAL_COLORS",
     "MATERIAL_SETTINGS",
+    "SLICERS",
     "TOLERANCE",
     "export_3mf",
     "export_part",

@@ -25,12 +25,22 @@ from origami_cad.kinematics.limits import bias_for_theta_max, crease_fold_limit
 __all__ = [
     "DENSITY_G_CM3",
     "FabricationParams",
+    "bias_for_p_max",
     "bias_for_theta_max",
     "theta_max",
 ]
 
 #: Densities used for the mass estimate, g/cm^3.
 DENSITY_G_CM3 = {"PLA": 1.24, "TPU": 1.21}
+
+
+def bias_for_p_max(p_max: float, height: float, thickness: float) -> float:
+    """Eq. 6 inverted for ``p_max = theta_max / pi`` in (0, 1): the inner bias ``b``, mm."""
+    if not 0.0 < p_max < 1.0:
+        raise FabricationError(
+            f"p_max must lie in (0, 1) (eq. 6: theta_max / 180 deg), got {p_max:g}"
+        )
+    return bias_for_theta_max(p_max * math.pi, height, thickness)
 
 
 def theta_max(bias: float, height: float, thickness: float) -> float:
@@ -90,12 +100,12 @@ class FabricationParams:
         if self.height <= self.thickness:
             raise FabricationError(
                 f"height h = {self.height:g} mm must exceed the crease thickness "
-                f"t = {self.thickness:g} mm"
+                f"t = {self.thickness:g} mm (eq. 6: theta_max = 2 atan(2b / (h - t)))"
             )
-        if self.shell >= self.half_height:
+        if self.shell >= self.half_height - 1e-6:
             raise FabricationError(
                 f"shell s = {self.shell:g} mm must be thinner than a panel half "
-                f"(h - t) / 2 = {self.half_height:g} mm"
+                f"(h - t) / 2 = {self.half_height:g} mm (no infill would be left)"
             )
         if isinstance(self.holes, str):
             if self.holes not in ("auto", "pattern", "none"):

@@ -26,20 +26,27 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.errors import PatternError
+from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication.panels import PanelOutline, panel_outlines, plan_holes
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
+    "DEFAULT_BED",
     "CreaseLimits",
     "LimitStatus",
     "PanelPlan",
+    "check_bed",
     "crease_limits",
     "largest_bias",
     "plan_panels",
 ]
+
+
+#: The print bed a sheet is checked against by default, mm: PrusaSlicer's default printer
+#: profile (what its command line slices on without a printer profile), and common 220 mm beds.
+DEFAULT_BED = (200.0, 200.0)
 
 
 class LimitStatus(enum.Enum):
@@ -227,7 +234,9 @@ class PanelPlan:
 
 
 def plan_panels(
-    source: CreasePattern | Design, params: FabricationParams | None = None
+    source: CreasePattern | Design,
+    params: FabricationParams | None = None,
+    bed: tuple[float, float] = DEFAULT_BED,
 ) -> PanelPlan:
     """Plan the printable panels of a crease pattern (or design): footprints, holes, limits.
 
@@ -237,6 +246,8 @@ def plan_panels(
         The pattern; a design with a transition graph also gets its crease limits.
     params : FabricationParams, optional
         Default ``FabricationParams()``.
+    bed : (float, float)
+        The print bed, mm: a sheet larger than it is warned about (``warnings``).
 
     Raises
     ------
@@ -249,35 +260,60 @@ def plan_panels(
     t0 = time.perf_counter()
     try:
         outlines = tuple(panel_outlines(cp, params))
-        holes, hole_panels = plan_holes(cp, list(outlines), params)
-    except PatternError as exc:
+    except PatternError as exc:  # a panel too small for an inset: which bias fits
         raise PatternError(f"{exc}; {_bias_advice(cp, params)}") from None
+    try:
+        holes, hole_panels = plan_holes(cp, list(outlines), params)
+    except PatternError as exc:  # a hole: a smaller bias helps only if one fits
+        best = largest_bias(cp, params)
+        raise PatternError(f"{exc}; {_bias_advice(cp, params)}" if best else str(exc)) from None
     timings = {"panels_and_holes": time.perf_counter() - t0}
     t0 = time.perf_counter()
     limits = crease_limits(design, params)
     if design.tg is not None:
         timings["crease_limits"] = time.perf_counter() - t0
-    warned = (*_warnings(params, limits), *_bed_warning(cp))
+    warned = (*_warnings(params, limits), *_bed_warning(cp, bed))
     return PanelPlan(cp, params, outlines, holes, hole_panels, limits, warned, timings)
 
 
-#: The print bed a sheet is checked against, mm: PrusaSlicer's default printer profile
-#: (what its command line slices on without a printer profile) and common 220 mm beds.
-DEFAULT_BED = (200.0, 200.0)
-
-
-def _bed_warning(cp: CreasePattern) -> tuple[str, ...]:
-    """A warning when the flat sheet is larger than :data:`DEFAULT_BED` either way round."""
+def _bed_excess(cp: CreasePattern, bed: tuple[float, float]) -> str | None:
+    """How the flat sheet exceeds ``bed`` (mm, either way round), or ``None`` if it fits."""
     x0, y0, x1, y1 = cp.bounds
     w, h = sorted((x1 - x0, y1 - y0))
-    bed = sorted(DEFAULT_BED)
-    if w <= bed[0] and h <= bed[1]:
+    if w <= min(bed) and h <= max(bed):
+        return None
+    return (
+        f"the sheet is printed flat, {x1 - x0:.1f} x {y1 - y0:.1f} mm: larger than the "
+        f"{bed[0]:g} x {bed[1]:g} mm print bed"
+    )
+
+
+def check_bed(cp: CreasePattern, bed: tuple[float, float] = DEFAULT_BED) -> None:
+    """Refuse a sheet that does not lie flat on a ``bed[0] x bed[1]`` mm bed, either way round.
+
+    Raises
+    ------
+    FabricationError
+        Naming the sheet's size and the bed's.
+    """
+    if len(bed) != 2 or not all(math.isfinite(b) and b > 0 for b in bed):
+        raise FabricationError(f"the print bed must be two sizes > 0 mm, got {tuple(bed)!r}")
+    excess = _bed_excess(cp, bed)
+    if excess:
+        raise FabricationError(
+            f"{excess}; give the bed it prints on (--bed X Y) or scale the pattern"
+        )
+
+
+def _bed_warning(cp: CreasePattern, bed: tuple[float, float]) -> tuple[str, ...]:
+    """A warning when the flat sheet is larger than ``bed`` either way round."""
+    excess = _bed_excess(cp, bed)
+    if excess is None:
         return ()
     return (
-        f"the sheet is printed flat, {x1 - x0:.1f} x {y1 - y0:.1f} mm: larger than a "
-        f"{DEFAULT_BED[0]:g} x {DEFAULT_BED[1]:g} mm bed (PrusaSlicer's default printer, which "
-        "its command line slices on without a printer profile: 'Objects could not fit on the "
-        "bed'); print it on a printer whose bed holds it, or scale the pattern",
+        f"{excess} (PrusaSlicer's default printer, which its command line slices on without "
+        "a printer profile: 'Objects could not fit on the bed'); print it on a printer whose "
+        "bed holds it, or scale the pattern",
     )
 
 

@@ -25,7 +25,14 @@ import numpy as np
 from origami_cad import __version__
 from origami_cad._fileio import atomic_path
 from origami_cad._names import slicer_value, xml_text
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS
+from origami_cad.fabrication.exports.bambu3mf import (
+    APPLICATIONS,
+    config_strings,
+    model_settings_config,
+    project_settings_config,
+)
 from origami_cad.fabrication.exports.stl import part_meshes
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
@@ -33,6 +40,7 @@ from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 __all__ = [
     "EXTRUDERS",
     "MATERIAL_SETTINGS",
+    "SLICERS",
     "WRITERS",
     "export_3mf",
     "layer_height",
@@ -124,10 +132,6 @@ def _prusa_print_config(settings: dict[str, object]) -> str:
     return head + "".join(f"; {k} = {slicer_value(v)}\n" for k, v in lines.items())
 
 
-def _strings(values) -> list[str]:
-    return [f"{v:g}" if isinstance(v, float) else str(v) for v in values]
-
-
 def _bambu_project_config(settings: dict[str, object]) -> str:
     """``Metadata/project_settings.config``: Bambu Studio / OrcaSlicer settings (JSON)."""
     return json.dumps(
@@ -135,11 +139,13 @@ def _bambu_project_config(settings: dict[str, object]) -> str:
             "layer_height": f"{settings['layer_height']:g}",
             "initial_layer_print_height": f"{settings['first_layer_height']:g}",
             "filament_type": ["TPU" if t == "FLEX" else t for t in settings["filament_type"]],
-            "nozzle_temperature": _strings(settings["temperature"]),
-            "nozzle_temperature_initial_layer": _strings(settings["first_layer_temperature"]),
-            "hot_plate_temp": _strings(settings["bed_temperature"]),
-            "hot_plate_temp_initial_layer": _strings(settings["bed_temperature"]),
-            "filament_max_volumetric_speed": _strings(settings["filament_max_volumetric_speed"]),
+            "nozzle_temperature": config_strings(settings["temperature"]),
+            "nozzle_temperature_initial_layer": config_strings(settings["first_layer_temperature"]),
+            "hot_plate_temp": config_strings(settings["bed_temperature"]),
+            "hot_plate_temp_initial_layer": config_strings(settings["bed_temperature"]),
+            "filament_max_volumetric_speed": config_strings(
+                settings["filament_max_volumetric_speed"]
+            ),
             "filament_colour": list(settings["filament_colour"]),
             "nozzle_diameter": ["0.4", "0.4"],
         },
@@ -147,100 +153,171 @@ def _bambu_project_config(settings: dict[str, object]) -> str:
     )
 
 
+#: The 3MF flavours: the slicer each is laid out for (``export_3mf(..., slicer=)``).
+SLICERS = ("prusa", "bambu", "orca")
+
+_CONTENT_TYPES = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+    '<Default Extension="rels" '
+    'ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+    '<Default Extension="model" '
+    'ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+    '<Default Extension="config" ContentType="text/xml"/>'
+    "</Types>"
+)
+_RELS = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+    'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+    "</Relationships>"
+)
+
+
 def export_3mf(
     parts: Parts,
     path: str | os.PathLike[str],
     name: str = "origami",
     params: FabricationParams | None = None,
+    slicer: str = "prusa",
 ) -> Path:
-    """Write a 3MF with one four-part object, the slicers' extruder metadata and settings.
+    """Write a 3MF of the four parts with their extruders and print settings, for a slicer.
 
-    The object's mesh holds every solid as its own closed, oriented shell (no vertex
-    shared between solids), the triangles of each part in one range. PrusaSlicer reads
-    the ranges from ``Metadata/Slic3r_PE_model.config`` and its settings from
-    ``Metadata/Slic3r_PE.config``; Bambu Studio and OrcaSlicer read the ranges
-    (``firstid``/``lastid`` on each ``<part>``) from ``Metadata/model_settings.config``
-    and their settings from ``Metadata/project_settings.config``.
+    ``slicer`` (:data:`SLICERS`) chooses the layout (docs/fabrication.md, "Printing"):
+
+    * ``"prusa"``: one object whose mesh holds every solid as its own closed, oriented
+      shell (no vertex shared between solids), the triangles of each part in one range;
+      PrusaSlicer reads the ranges and extruders from ``Metadata/Slic3r_PE_model.config``
+      and the settings from ``Metadata/Slic3r_PE.config``;
+    * ``"bambu"``, ``"orca"``: one mesh object per part, the components of one object,
+      with the ``Application``, ``Metadata/model_settings.config`` and
+      ``Metadata/project_settings.config`` that Bambu Studio's / OrcaSlicer's importer
+      reads (:mod:`.bambu3mf`).
+
+    Raises
+    ------
+    FabricationError
+        If ``slicer`` is not one of :data:`SLICERS`.
     """
-    all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
-    for n in PART_NAMES:
-        first = toff
-        for v, t in part_meshes(parts, n):
-            all_v.append(v)
-            all_t.append(t + voff)
-            voff += len(v)
-            toff += len(t)
-        ranges.append((first, toff - 1))
-        mats.append(np.full(toff - first, list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
-    verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
-    model = _model_xml(verts, tris, mat, name)
-    prusa, bambu = _slicer_configs(ranges, name)
+    if slicer not in SLICERS:
+        raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
+    meshes = {n: _part_mesh(parts, n) for n in PART_NAMES}
     settings = slicer_settings(params)
-    content_types = (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
-        '<Default Extension="rels" '
-        'ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
-        '<Default Extension="model" '
-        'ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
-        '<Default Extension="config" ContentType="text/xml"/>'
-        "</Types>"
-    )
-    rels = (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
-        '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
-        'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
-        "</Relationships>"
-    )
+    if slicer == "prusa":
+        entries = _prusa_entries(meshes, name, settings)
+    else:
+        entries = _bambu_entries(meshes, name, settings, slicer)
     with atomic_path(path) as tmp, zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("[Content_Types].xml", content_types)
-        zf.writestr("_rels/.rels", rels)
-        zf.writestr("3D/3dmodel.model", "\n".join(model))
-        zf.writestr("Metadata/Slic3r_PE_model.config", "\n".join(prusa))
-        zf.writestr("Metadata/model_settings.config", "\n".join(bambu))
-        zf.writestr("Metadata/Slic3r_PE.config", _prusa_print_config(settings))
-        zf.writestr("Metadata/project_settings.config", _bambu_project_config(settings))
+        zf.writestr("[Content_Types].xml", _CONTENT_TYPES)
+        zf.writestr("_rels/.rels", _RELS)
+        for entry, text in entries.items():
+            zf.writestr(entry, text)
     return Path(path)
 
 
-def _model_xml(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray, name: str) -> list[str]:
-    """The lines of ``3D/3dmodel.model``: one object, a material index per triangle."""
+def _part_mesh(parts: Parts, part: str) -> tuple[np.ndarray, np.ndarray]:
+    """Every solid of a part in one mesh: vertices (mm) and triangles, no vertex shared."""
+    verts, tris, offset = [], [], 0
+    for v, t in part_meshes(parts, part):
+        verts.append(v)
+        tris.append(t + offset)
+        offset += len(v)
+    return np.vstack(verts), np.vstack(tris)
+
+
+def _prusa_entries(meshes, name: str, settings) -> dict[str, str]:
+    """The files of the PrusaSlicer flavour (one object, a triangle range per part)."""
+    all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
+    for n in PART_NAMES:
+        v, t = meshes[n]
+        all_v.append(v)
+        all_t.append(t + voff)
+        ranges.append((toff, toff + len(t) - 1))
+        mats.append(np.full(len(t), list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
+        voff, toff = voff + len(v), toff + len(t)
+    verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
+    head = _model_head(f"origami_cad {__version__}", name)
     model = [
+        *head,
+        f'  <object id="2" type="model" name="{xml_text(name)}" pid="1" pindex="0">',
+        *_mesh_lines(verts, tris, mat),
+        "  </object>",
+        *_model_tail(2),
+    ]
+    prusa, bambu = _slicer_configs(ranges, name)
+    return {
+        "3D/3dmodel.model": "\n".join(model),
+        "Metadata/Slic3r_PE_model.config": "\n".join(prusa),
+        "Metadata/model_settings.config": "\n".join(bambu),
+        "Metadata/Slic3r_PE.config": _prusa_print_config(settings),
+        "Metadata/project_settings.config": _bambu_project_config(settings),
+    }
+
+
+def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str]:
+    """The files of the Bambu Studio / OrcaSlicer flavour (a mesh object per part)."""
+    application = APPLICATIONS[slicer]
+    head = _model_head(application, name, bambu=True)
+    model, parts = list(head), []
+    for k, n in enumerate(PART_NAMES):
+        object_id, material = k + 2, PART_MATERIALS[n]
+        pindex = list(MATERIAL_COLORS).index(material)
+        model.append(
+            f'  <object id="{object_id}" type="model" name="{xml_text(n)}" pid="1" '
+            f'pindex="{pindex}">'
+        )
+        model += [*_mesh_lines(*meshes[n]), "  </object>"]
+        parts.append((object_id, n, EXTRUDERS[material]))
+    assembly = len(PART_NAMES) + 2
+    model.append(f'  <object id="{assembly}" type="model" name="{xml_text(name)}">')
+    model.append("   <components>")
+    model += [f'    <component objectid="{i}"/>' for i, _, _ in parts]
+    model += ["   </components>", "  </object>", *_model_tail(assembly)]
+    version = application.split("-", 1)[1]
+    return {
+        "3D/3dmodel.model": "\n".join(model),
+        "Metadata/model_settings.config": "\n".join(model_settings_config(assembly, parts, name)),
+        "Metadata/project_settings.config": project_settings_config(settings, version),
+    }
+
+
+def _model_head(application: str, name: str, bambu: bool = False) -> list[str]:
+    """``3D/3dmodel.model`` up to the objects: metadata and the two base materials."""
+    xmlns = ' xmlns:BambuStudio="http://schemas.bambulab.com/package/2021"' if bambu else ""
+    head = [
         '<?xml version="1.0" encoding="UTF-8"?>',
         '<model unit="millimeter" xml:lang="en-US" '
-        'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">',
-        f' <metadata name="Application">origami_cad {__version__}</metadata>',
-        f' <metadata name="Title">{xml_text(name)}</metadata>',
-        " <resources>",
-        '  <basematerials id="1">',
+        f'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"{xmlns}>',
+        f' <metadata name="Application">{xml_text(application)}</metadata>',
     ]
+    if bambu:  # the 3MF layout version Bambu Studio writes (VERSION_BBS_3MF)
+        head.append(' <metadata name="BambuStudio:3mfVersion">1</metadata>')
+    head += [f' <metadata name="Title">{xml_text(name)}</metadata>', " <resources>"]
+    head.append('  <basematerials id="1">')
     for material, color in MATERIAL_COLORS.items():
-        model.append(f'   <base name="{material}" displaycolor="{color}FF"/>')
-    model += [
-        "  </basematerials>",
-        f'  <object id="2" type="model" name="{xml_text(name)}" pid="1" pindex="0">',
-        "   <mesh>",
-        "    <vertices>",
-    ]
+        head.append(f'   <base name="{material}" displaycolor="{color}FF"/>')
+    return [*head, "  </basematerials>"]
+
+
+def _model_tail(item: int) -> list[str]:
+    """``3D/3dmodel.model`` after the objects: the one build item."""
+    return [" </resources>", " <build>", f'  <item objectid="{item}"/>', " </build>", "</model>"]
+
+
+def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list[str]:
+    """``<mesh>`` of an object; with ``mat``, each triangle's base material index."""
     vertex = '     <vertex x="%.6f" y="%.6f" z="%.6f"/>'
-    model += [vertex % tuple(v) for v in verts.tolist()]
-    model += ["    </vertices>", "    <triangles>"]
-    model += [
-        f'     <triangle v1="{a}" v2="{b}" v3="{c}" pid="1" p1="{m}"/>'
-        for (a, b, c), m in zip(tris.tolist(), mat.tolist(), strict=True)
-    ]
-    model += [
-        "    </triangles>",
-        "   </mesh>",
-        "  </object>",
-        " </resources>",
-        " <build>",
-        '  <item objectid="2"/>',
-        " </build>",
-        "</model>",
-    ]
-    return model
+    lines = ["   <mesh>", "    <vertices>", *(vertex % tuple(v) for v in verts.tolist())]
+    lines += ["    </vertices>", "    <triangles>"]
+    if mat is None:
+        lines += [f'     <triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in tris.tolist()]
+    else:
+        lines += [
+            f'     <triangle v1="{a}" v2="{b}" v3="{c}" pid="1" p1="{m}"/>'
+            for (a, b, c), m in zip(tris.tolist(), mat.tolist(), strict=True)
+        ]
+    return [*lines, "    </triangles>", "   </mesh>"]
 
 
 def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str], list[str]]:
@@ -281,7 +358,8 @@ def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str]
 
 def _write_fabrication_3mf(fab, folder: Path) -> dict[str, Path]:
     name = fab.pattern.title or "origami"
-    return {"3mf": export_3mf(fab.parts, folder / "print.3mf", name=name, params=fab.params)}
+    path = folder / "print.3mf"
+    return {"3mf": export_3mf(fab.parts, path, name=name, params=fab.params, slicer=fab.slicer)}
 
 
 #: What ``write_fabrication`` writes of this format: ``{format: writer(fab, folder)}``.
