@@ -15,12 +15,12 @@ from importlib import resources
 from pathlib import Path
 from typing import NamedTuple
 
-from origami_cad import __version__, jobs
+from origami_cad import __version__
+from origami_cad.commands import Command, Option, Outputs, execute, register
 from origami_cad.errors import OrigamiCadError
-from origami_cad.jobs import Outputs
 from origami_cad.viz.report import StepReport, write_report
 
-__all__ = ["STEPS", "Step", "examples_dir", "mujoco_frame", "run_demo", "run_step"]
+__all__ = ["STEPS", "Demo", "Step", "examples_dir", "mujoco_frame", "run_demo", "run_step"]
 
 
 def examples_dir() -> Path:
@@ -52,33 +52,35 @@ def fig2(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 2: a TG of five vectors becomes a crease pattern and folds to p = 0, 0.5, 0.98."""
     design, view = examples_dir() / "fig2_tg.toml", (1, -2, 1.5)
     names = ("pattern.png", "pattern.fold", "pattern.svg", "pattern.dxf")
-    chained = [jobs.run_pattern(design, [out / n for n in names], labels=True)]
-    chained.append(jobs.run_tg(design, out / "tg.png"))
+    chained = [execute("pattern", design, [out / n for n in names], labels=True)]
+    chained.append(execute("tg", design, out / "tg.png"))
     for p in (0.0, 0.5, 0.98):
         img = out / f"folded_p{round(p * 100):02d}.png"
-        chained.append(jobs.run_fold(design, img, ratio=p, view=view))
+        chained.append(execute("fold", design, img, ratio=p, view=view))
     frames = 12 if quick else 40
-    chained.append(jobs.run_fold(design, out / "folding.gif", ratio=0.98, frames=frames, view=view))
-    chained.append(jobs.run_fold(design, out / "folding.fold", ratio=0.98, frames=frames))
-    chained.append(jobs.run_fold(design, out / "folding.glb", ratio=0.98, frames=frames))
+    chained.append(
+        execute("fold", design, out / "folding.gif", ratio=0.98, frames=frames, view=view)
+    )
+    chained.append(execute("fold", design, out / "folding.fold", ratio=0.98, frames=frames))
+    chained.append(execute("fold", design, out / "folding.glb", ratio=0.98, frames=frames))
     return chained
 
 
 def fig3(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 3: ten CMA-ES runs design a robotic arm around warning and prohibited areas."""
     budget = {"runs": 4, "max_generations": 60} if quick else {}
-    return [jobs.run_design_arm(examples_dir() / "arm_task.toml", out, **budget)]
+    return [execute("design-arm", examples_dir() / "arm_task.toml", out, **budget)]
 
 
 def fig4(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 4: the arm winner and the 6 x 4 Miura as dual-material printable parts."""
     miura = examples_dir() / "miura_6x4.toml"
-    chained = [jobs.run_fabricate(miura, out / "miura", renders=True, name="6 x 4 Miura")]
+    chained = [execute("fabricate", miura, out / "miura", renders=True, name="6 x 4 Miura")]
     winner = out.parent / "fig3" / "best.toml"
     if winner.exists():
         # the arm's sheet is about 250 mm long: printed on a 300 x 300 mm bed
-        arm = jobs.run_fabricate(
-            winner, out / "arm", renders=True, name="arm winner", bed=(300, 300)
+        arm = execute(
+            "fabricate", winner, out / "arm", renders=True, name="arm winner", bed=(300, 300)
         )
         chained.append(arm)
     return chained
@@ -88,8 +90,8 @@ def fig5(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 5: a ring TSA folds the 6 x 4 Miura through DCQC-routed strings."""
     design, route = examples_dir() / "miura_6x4.toml", examples_dir() / "miura_route.toml"
     return [
-        jobs.run_route(design, route, out),
-        jobs.run_string_models(design, route, out / "models"),
+        execute("route", design, route, out),
+        execute("string-models", design, route, out / "models"),
     ]
 
 
@@ -97,26 +99,27 @@ def fig6(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 6: the boat-like pattern read from DXF: panels, holes, parts, TSA folding."""
     boat, route = examples_dir() / "data" / "boat.dxf", examples_dir() / "boat_route.toml"
     return [
-        jobs.run_check(boat),
-        jobs.run_pattern(boat, [out / "pattern.png"], labels=True),
-        jobs.run_simulate(boat, route, out, steps=24 if quick else 100),
-        jobs.run_fabricate(boat, out / "parts", renders=True, name="boat"),
-        jobs.run_part("tsa-module", out, pattern=boat, panel="f0"),
+        execute("check", boat),
+        execute("pattern", boat, [out / "pattern.png"], labels=True),
+        execute("simulate", boat, route, out, steps=24 if quick else 100),
+        execute("fabricate", boat, out / "parts", renders=True, name="boat"),
+        execute("part", "tsa-module", out, pattern=boat, panel="f0"),
     ]
 
 
 def fig7(out: Path, quick: bool) -> list[Outputs]:
     """Fig. 7: the crawler printed with its parts, walking in simulation, and driven (dry run)."""
     robot = examples_dir() / "crawler" / "crawler.toml"
-    chained = [jobs.run_robot(robot, out / "robot", renders=True)]
+    chained = [execute("robot", robot, out / "robot", renders=True)]
     walk = {"cycles": 1, "steps": 3} if quick else {"cycles": 3, "steps": 6}
-    crawl = jobs.run_crawl(robot, out / "crawl", **walk)
+    crawl = execute("crawl", robot, out / "crawl", **walk)
     chained.append(crawl)
     # the servo logs: examples/crawler_gait.toml is the crawl job's gait_sequence.toml (the
     # model's mappings and the simulated load per servo, which the emulated servos carry);
     # its header says how it was made
     speed = 32.0 if quick else 8.0
-    done = jobs.run_drive(
+    done = execute(
+        "drive",
         examples_dir() / "crawler_gait.toml",
         out / "crawler_log.csv",
         dry_run=True,
@@ -160,15 +163,15 @@ def fig8(out: Path, quick: bool) -> list[Outputs]:
     design, route = out.parent / "fig3" / "best.toml", out.parent / "fig3" / "route.toml"
     if not (design.exists() and route.exists()):
         design, route = examples_dir() / "arm_design.toml", examples_dir() / "arm_route.toml"
-    chained = [jobs.run_arm_scene(task, design, route, out, steps=60 if quick else None)]
+    chained = [execute("arm-scene", task, design, route, out, steps=60 if quick else None)]
     p_e = json.loads((out / "arm_scene.json").read_text())["designed_fold_ratio_end"]
     frames = ["0:0", f"20:{p_e:.4f}", f"30:{p_e:.4f}", "40:0"]
-    chained.append(jobs.run_sequence(design, route, out / "arm_fold.toml", keyframes=frames))
+    chained.append(execute("sequence", design, route, out / "arm_fold.toml", keyframes=frames))
     return chained
 
 
 class Step(NamedTuple):
-    """A section of the report: its key (the sub-folder), title, text and the jobs it chains."""
+    """A section of the report: its key (the sub-folder), title, text and the commands it chains."""
 
     key: str
     title: str
@@ -293,3 +296,18 @@ def run_demo(out: Path, quick: bool = False, echo: Callable[[str], None] = print
 
         raise OrigamiCadError(f"demo steps failed: {', '.join(failed)} (see {index})")
     return index
+
+
+@register
+class Demo(Command):
+    """Reproduce the paper's figures end to end into one HTML report (FOLDER/index.html)."""
+
+    NAME = "demo"
+    OPTIONS = (
+        Option("folder", help="output folder; only this command's files are written into it, "
+               "all else is kept", default="out", flag="--output", short="-o"),
+        Option("quick", "flag", "reduced budget (for tests)"),
+    )  # fmt: skip
+
+    def run(self, a) -> Outputs:
+        return Outputs(files=[run_demo(a.folder, quick=a.quick)])

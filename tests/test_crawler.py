@@ -209,10 +209,10 @@ def _shared(a, b) -> float:
 
 @pytest.fixture(scope="module")
 def printed(tmp_path_factory):
-    from origami_cad.jobs import run_robot
+    from origami_cad.commands import execute
 
     out = tmp_path_factory.mktemp("robot") / "robot"
-    return out, run_robot(ROBOT, out, renders=False)
+    return out, execute("robot", ROBOT, out, renders=False)
 
 
 def test_robot_step_holds_named_parts_that_do_not_interpenetrate(printed):
@@ -377,7 +377,7 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
     with five times the hardware mass (servos, driver module) needs more torque; on servos
     1/40 as strong as an XL330 (13 N mm: ``--load-scale 40``) the designed robot's gait runs
     and the heavy one stalls a servo, named."""
-    from origami_cad.jobs import run_drive
+    from origami_cad.commands import execute
 
     copy_crawler(tmp_path, leave_out=("crawler.toml",))
     text = ROBOT.read_text(encoding="utf-8")
@@ -394,7 +394,8 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
         path = tmp_path / f"{key}.toml"
         path.write_text(gait_sequence_text(spec, result=result), encoding="utf-8")
         try:
-            run_drive(path, tmp_path / f"{key}.csv", dry_run=True, speed=16.0, load_scale=40.0)
+            csv = tmp_path / f"{key}.csv"
+            execute("drive", path, csv, dry_run=True, speed=16.0, load_scale=40.0)
             runs[key] = "ran"
         except StallError as exc:
             runs[key] = str(exc)

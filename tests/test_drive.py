@@ -294,14 +294,14 @@ def _first_overloaded(seq, scale: float, limit_ma: float) -> int:
 
 
 def test_the_derived_gait_runs_under_its_simulated_load(tmp_path):
+    from origami_cad.commands import execute
     from origami_cad.drive.emulator import STALL_TORQUE
-    from origami_cad.jobs import run_drive
 
     seq = load_sequence(EXAMPLES / "crawler_gait.toml")
     loads = seq.loads()
     assert sorted(loads) == IDS and all(0.5 < c.peak < 20.0 for c in loads.values())  # N mm
-    done = run_drive(
-        EXAMPLES / "crawler_gait.toml", tmp_path / "log.csv", dry_run=True, speed=8.0,
+    done = execute(
+        "drive", EXAMPLES / "crawler_gait.toml", tmp_path / "log.csv", dry_run=True, speed=8.0,
         baudrate=1_000_000,
     ).result  # fmt: skip
     assert len(done.t) == int(seq.cycle * seq.rate) + 1  # it ran to the end

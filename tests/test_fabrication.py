@@ -368,7 +368,7 @@ def test_a_hole_too_large_for_its_panel_names_the_room_and_only_a_bias_that_fits
     ],
 )
 def test_eq6_limits_of_p_max_and_theta_max_are_named(p_max, theta_max, message):
-    from origami_cad.jobs import fabrication_params
+    from origami_cad.fabrication import fabrication_params
 
     with pytest.raises(OrigamiCadError, match=message):
         fabrication_params(p_max=p_max, theta_max=theta_max)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from origami_cad.cli import main
+from origami_cad.commands import execute
 from origami_cad.drive import BUSES, BusType, SerialBus, SerialEmulator, open_bus, open_emulator
 from origami_cad.errors import (
     DesignError,
@@ -25,7 +26,6 @@ from origami_cad.errors import (
     SimulationError,
     StringsError,
 )
-from origami_cad.jobs import run_drive, run_emulate
 from origami_cad.pattern import formats, miura_pattern, read_pattern, write_pattern
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -206,26 +206,34 @@ def _faults(tmp_path: Path) -> dict[type, list]:
         DesignError: [lambda: load_task(f["task"])],
         FabricationError: [lambda: bias_for_theta_max(math.radians(190.0), 2.2, 0.4)],
         StringsError: [lambda: load_route(f["route"], cp)],
-        SimulationError: [
-            lambda: load_robot(f["robot"]),
-            lambda: run_drive_friction(tmp_path),
-        ],
-        OptionsError: [lambda: run_emulate([1], seconds=-1.0)],
-        DriveError: [
-            lambda: load_sequence(f["sequence"]),
-            lambda: run_emulate([1, 1], seconds=0.1),  # servo IDs
+        SimulationError: [lambda: load_robot(f["robot"])],
+        OptionsError: [  # every option is checked by the command skeleton, before any work
+            lambda: run_emulate([1], seconds=-1.0),
+            lambda: run_crawl_friction(tmp_path),
             lambda: run_drive(
                 EXAMPLES / "arm_fold.toml", tmp_path / "l.csv", dry_run=True, load_scale=-1.0
             ),
+        ],
+        DriveError: [
+            lambda: load_sequence(f["sequence"]),
+            lambda: run_emulate([1, 1], seconds=0.1),  # servo IDs
             lambda: open_bus("dynamixel", "/dev/null", ids=[]),
         ],
     }
 
 
-def run_drive_friction(tmp_path: Path):
-    from origami_cad.jobs import run_crawl
+def run_drive(*args, **kwargs):
+    return execute("drive", *args, **kwargs)
 
-    return run_crawl(EXAMPLES / "crawler" / "crawler.toml", tmp_path / "crawl", friction=-1.0)
+
+def run_emulate(*args, **kwargs):
+    return execute("emulate", *args, **kwargs)
+
+
+def run_crawl_friction(tmp_path: Path):
+    return execute(
+        "crawl", EXAMPLES / "crawler" / "crawler.toml", tmp_path / "crawl", friction=-1.0
+    )
 
 
 def test_except_drive_error_catches_only_driving_faults(tmp_path):

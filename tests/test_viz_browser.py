@@ -1,7 +1,7 @@
 """The report's 3D views load in headless Chromium, offline, with no console error.
 
 The page is written by the report's own writer (``write_report``) from the glb files
-the ``fold`` and ``fabricate`` jobs write for a small Miura. Chromium (Debian package
+the ``fold`` and ``fabricate`` commands write for a small Miura. Chromium (Debian package
 ``chromium``) runs it with the network off; the viewer marks each figure it drew with
 ``data-rendered="ok"`` and counts uncaught errors and ``console.error`` calls in
 ``<html data-errors>``; Chromium's own log (``--enable-logging=stderr``) is checked for
@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from imageio.v3 import imread
 
-from origami_cad import jobs
+from origami_cad.commands import execute
 from origami_cad.viz.report import StepReport, write_report
 
 CHROMIUM = next(
@@ -71,8 +71,8 @@ class Attributes(HTMLParser):
 @pytest.fixture(scope="module")
 def page(tmp_path_factory, small_miura_module):
     out = tmp_path_factory.mktemp("report")
-    jobs.run_fold(small_miura_module, out / "folding.glb", ratio=0.9, frames=8)
-    jobs.run_fabricate(small_miura_module, out / "parts")
+    execute("fold", small_miura_module, out / "folding.glb", ratio=0.9, frames=8)
+    execute("fabricate", small_miura_module, out / "parts")
     step = StepReport(
         "miura",
         "A small Miura",

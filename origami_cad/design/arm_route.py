@@ -24,13 +24,21 @@ True
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 from origami_cad._names import toml_string
-from origami_cad.errors import DesignError
+from origami_cad.errors import DesignError, OrigamiCadError
+from origami_cad.kinematics.limits import bias_for_theta_max
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 
-__all__ = ["arm_chain_path", "arm_route_toml"]
+__all__ = ["ARM_TSA_LENGTHS", "ArmStrings", "arm_chain_path", "arm_route_toml", "choose_arm_tsa"]
+
+#: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
+ARM_TSA_LENGTHS = (150.0, 225.0, 340.0, 500.0, 750.0)
 
 
 def arm_route_toml(
@@ -209,3 +217,84 @@ def arm_chain_path(tg: TGDesign, states: np.ndarray, ratios: np.ndarray) -> np.n
         out[k, :, 0] = joints[:, 0]
         out[k, :, 1] = -joints[:, 2]
     return out
+
+
+@dataclass(frozen=True)
+class ArmStrings:
+    """The string route chosen for a designed arm (:func:`choose_arm_tsa`).
+
+    Attributes
+    ----------
+    text : str
+        The route file (TOML), its header first.
+    tsa_length : float
+        The onboard TSA's strand length, mm.
+    result : DCQCResult or None
+        Its strings folding the arm (DCQC model), or ``None`` when the route cannot be
+        built or simulated.
+    error : OrigamiCadError or None
+        Why not (e.g. a panel too small for its hole), naming the route ``route.toml``.
+    """
+
+    text: str
+    tsa_length: float
+    result: Any = None
+    error: OrigamiCadError | None = None
+
+
+def _arm_bias(design, task) -> float | None:
+    """The printed sheet's bias b (mm) of the arm's route: eq. 6 of the task's fold limit
+    when it gives one (``None`` at 180 deg: no limit), else the design's own."""
+    if task.fold_limit is None:
+        return design.bias
+    if task.fold_limit >= 180:
+        return None
+    return bias_for_theta_max(math.radians(task.fold_limit), task.height, task.thickness)
+
+
+def choose_arm_tsa(
+    design, task, *, header: str = "", lengths: tuple[float, ...] = ARM_TSA_LENGTHS
+) -> ArmStrings:
+    """The shortest onboard TSA whose strings fold a designed arm over its whole range.
+
+    Each strand length of ``lengths`` is tried, shortest first: the arm's route
+    (:func:`arm_route_toml`, on the design's tessellation at the task's unit width) is
+    folded by the DCQC model until a length whose strings are not stopped by the
+    strands' twist (``helix_limit``, ``turn_limit``); the longest is kept otherwise.
+    Nothing is written.
+
+    Parameters
+    ----------
+    design : ArmDesign
+        The designed arm (``design_arm``'s result).
+    task : ArmTask
+        Its task: the unit width, ``[fabrication]`` b, h, t (mm) or ``fold_limit`` (deg).
+    header : str
+        Comment lines the route file starts with.
+    lengths : tuple of float
+        Strand lengths tried, mm.
+
+    Returns
+    -------
+    ArmStrings
+        The route text, its TSA length (mm) and its DCQC result, or the error that kept
+        it from being simulated.
+    """
+    from origami_cad.pattern.design import Design
+    from origami_cad.strings import simulate_dcqc
+    from origami_cad.strings.route import parse_route
+
+    tg = design.tg(task, task.unit_width or 36.0)
+    loaded = Design(tg_pattern(tg), tg, "transition-graph")
+    fab = {"bias": _arm_bias(design, task), "height": task.height, "thickness": task.thickness}
+    chosen = None
+    for length in lengths:
+        text = arm_route_toml(tg, **fab, tsa_length=length, header=header)
+        try:
+            result = simulate_dcqc(loaded, parse_route(text, loaded.pattern, "route.toml"))
+        except OrigamiCadError as exc:
+            return ArmStrings(text, length, error=exc)
+        chosen = ArmStrings(text, length, result)
+        if str(result.stop) not in ("helix_limit", "turn_limit"):
+            break
+    return chosen

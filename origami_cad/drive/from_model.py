@@ -43,6 +43,7 @@ __all__ = [
     "fold_curve",
     "model_mapping",
     "parse_keyframes",
+    "route_tsa",
     "sequence_toml",
     "state_fold_ratios",
     "turns_at",
@@ -245,3 +246,70 @@ def sequence_toml(
         )
         lines += ["[[keyframe]]", f"t = {float(t)!r}", f"p = [{vals}]"]  # exact: times increase
     return "\n".join(lines) + "\n"
+
+
+def route_tsa(
+    pattern,
+    tsa: TSAParams,
+    result,
+    at: Sequence[float],
+    *,
+    servo: int,
+    name: str,
+    points: int = 21,
+    where: str = "the model",
+    label: str | None = None,
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """One TSA of a sequence from a route's string model: its entry and its figures.
+
+    Parameters
+    ----------
+    pattern : CreasePattern
+        The folded pattern (its mountain and valley creases measure the fold ratio).
+    tsa : TSAParams
+        The route's onboard TSA.
+    result : DCQCResult or SimulationResult
+        The route's folding (``p``, ``fold_angles`` rad, ``turns``, ``torque`` N mm,
+        ``reason``), e.g. ``origami_cad.simulation.string_models.fold_by_strings``.
+    at : sequence of float
+        The keyframes' fold ratios for this TSA: mapping points.
+    servo, name : int, str
+        The servo's ID and the TSA's name.
+    points : int
+        Mapping points besides ``at`` (:func:`model_mapping`).
+    where : str
+        Names the route and model in errors.
+    label : str, optional
+        Names them in the entry's comment (default ``where``).
+
+    Returns
+    -------
+    entry : dict
+        For :func:`sequence_toml`: ``id``, ``name``, ``tsa``, ``mapping``, ``comment``.
+    figures : dict
+        ``p_range`` (first, last fold ratio), ``turns`` (the last), ``turns_at`` (the
+        turns at ``at``) and ``peak_torque`` (N mm, NaN when unknown).
+    """
+    creases = np.flatnonzero(pattern.edge_mask("M", "V"))
+    ratios = state_fold_ratios(result.p, result.fold_angles, creases)
+    mapping = model_mapping(ratios, result.turns, tsa, at, points, where)
+    p, turns = fold_curve(ratios, result.turns)
+    torque = np.asarray(result.torque, dtype=float)
+    peak = float(np.nanmax(torque)) if np.isfinite(torque).any() else float("nan")
+    entry = {
+        "id": servo,
+        "name": name,
+        "tsa": tsa,
+        "mapping": mapping,
+        "comment": (
+            f"servo {servo}: {label or where}: p = {p[0]:.3f} .. {p[-1]:.3f} in {turns[-1]:.2f} "
+            f"turns ({result.reason})"
+        ),
+    }
+    figures = {
+        "p_range": (float(p[0]), float(p[-1])),
+        "turns": float(turns[-1]),
+        "turns_at": turns_at(p, turns, at),
+        "peak_torque": peak,
+    }
+    return entry, figures

@@ -26,6 +26,7 @@ from origami_cad.fabrication.params import (
     FabricationParams,
     bias_for_p_max,
     bias_for_theta_max,
+    fabrication_params,
     theta_max,
 )
 from origami_cad.fabrication.plan import (
@@ -54,6 +55,7 @@ __all__ = [
     "check_bed",
     "crease_limits",
     "fabricate",
+    "fabrication_params",
     "largest_bias",
     "offset_ring",
     "panel_outlines",

@@ -27,6 +27,7 @@ __all__ = [
     "FabricationParams",
     "bias_for_p_max",
     "bias_for_theta_max",
+    "fabrication_params",
     "theta_max",
 ]
 
@@ -145,3 +146,55 @@ class FabricationParams:
             "hole_diameter_mm": self.hole_diameter,
             "holes": self.holes if isinstance(self.holes, str) else [list(p) for p in self.holes],
         }
+
+
+def fabrication_params(
+    *,
+    bias: float | None = None,
+    theta_max: float | None = None,
+    p_max: float | None = None,
+    **fields: Any,
+) -> FabricationParams:
+    """``FabricationParams`` from at most one of the bias or a fold limit (eq. 6).
+
+    Parameters
+    ----------
+    bias : float, optional
+        The inner bias ``b``, mm.
+    theta_max : float, optional
+        The largest fold angle of every crease, degrees in (0, 180): gives ``b`` by
+        eq. 6 inverted (:func:`bias_for_theta_max`) at the ``height`` and ``thickness``.
+    p_max : float, optional
+        The largest fold ratio ``theta_max / 180 deg`` in (0, 1): gives ``b`` likewise.
+    **fields
+        Other ``FabricationParams`` fields (``height``, ``thickness``... mm); ``None``
+        values keep their defaults.
+
+    Returns
+    -------
+    FabricationParams
+        The parameters; nothing is built or written.
+
+    Raises
+    ------
+    FabricationError
+        More than one of ``bias``, ``theta_max`` and ``p_max``, or one out of range.
+
+    Examples
+    --------
+    >>> round(fabrication_params(theta_max=146.6).bias, 3)
+    3.0
+    """
+    given = [v is not None for v in (bias, theta_max, p_max)]
+    if sum(given) > 1:
+        raise FabricationError("give only one of the bias, theta_max and p_max")
+    fields = {k: v for k, v in fields.items() if v is not None}
+    height = fields.get("height", FabricationParams.height)
+    thickness = fields.get("thickness", FabricationParams.thickness)
+    if theta_max is not None:
+        bias = bias_for_theta_max(math.radians(theta_max), height, thickness)
+    elif p_max is not None:
+        bias = bias_for_p_max(p_max, height, thickness)
+    if bias is not None:
+        fields["bias"] = bias
+    return FabricationParams(**fields)

@@ -6,7 +6,7 @@ rises; the degree-4 folder the panel next to its driving crease), so the rest of
 the sheet swings up around it: the 6 x 4 Miura folding to p = 0.15 climbs 57 mm
 above the table. That frame is what the string models
 and the simulation work in; for showing a folded state to a user
-(:func:`origami_cad.jobs.run_fold`'s FOLD frames, pictures and animations) it is
+(the ``fold`` command's FOLD frames, pictures and animations) it is
 moved rigidly, without changing its shape:
 
 1. turned so that the sheet's mean normal (its vector area, the sum over the

@@ -18,7 +18,7 @@ from origami_cad.simulation.simulate import simulate
 from origami_cad.strings.dcqc import StopReason, fold_limit
 from origami_cad.strings.route import RouteSpec
 
-__all__ = ["verify_route"]
+__all__ = ["verify_planned", "verify_route"]
 
 
 def verify_route(
@@ -58,3 +58,42 @@ def verify_route(
         "target_p": float(target),
         "reaches_target": bool(reaches),
     }
+
+
+def verify_planned(loaded: Design, geometry, planned: list, count: int, *, first=None) -> list:
+    """The planned routes with the best ``count`` folded by the bar-and-hinge simulator.
+
+    Parameters
+    ----------
+    loaded : Design
+        The pattern the routes thread.
+    geometry : PlanGeometry
+        The search's geometry (``plan_geometry``), which gives each route's spec.
+    planned : list of PlannedRoute
+        The ranked routes (``plan_routes``).
+    count : int
+        How many of the best are simulated (30 steps each).
+    first : path-like, optional
+        The route file the best was written to: it is read back as ``route`` and
+        ``simulate`` read it, so the check is of the file (nothing is written).
+
+    Returns
+    -------
+    list of PlannedRoute
+        The same routes; the simulated ones with ``checks["simulation"]``
+        (:func:`verify_route`'s record).
+    """
+    import dataclasses
+
+    from origami_cad.strings import load_route
+    from origami_cad.strings.plan import route_spec
+
+    out = []
+    for k, r in enumerate(planned):
+        if k < count:
+            read = k == 0 and first is not None
+            spec = load_route(first, loaded.pattern) if read else route_spec(geometry, r)
+            sim = verify_route(loaded, spec, steps=30)
+            r = dataclasses.replace(r, checks={**r.checks, "simulation": sim})
+        out.append(r)
+    return out

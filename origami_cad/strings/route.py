@@ -71,6 +71,7 @@ __all__ = [
     "load_route",
     "mean_pose",
     "panel_frame",
+    "parse_route",
     "rigid_fit",
     "side_rule",
     "string_lengths",
@@ -156,7 +157,48 @@ def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     """Read a route file for the pattern ``cp``; errors name the file, key and string."""
     p = Path(path)
-    top = Table(load_toml(p, StringsError), str(p), StringsError)
+    return _route_from_data(load_toml(p, StringsError), str(p), cp)
+
+
+def parse_route(text: str, cp: CreasePattern, name: str = "route.toml") -> RouteSpec:
+    """A route from its TOML text (as :func:`load_route` reads a file); writes nothing.
+
+    Parameters
+    ----------
+    text : str
+        The route file's text (lengths mm, angles deg).
+    cp : CreasePattern
+        The pattern the route threads.
+    name : str
+        What errors call the text (a file name).
+
+    Returns
+    -------
+    RouteSpec
+        The route; errors (``StringsError``) name ``name``, the key and the string.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from origami_cad.pattern.design import load_design
+    >>> cp = load_design("examples/miura_6x4.toml").pattern
+    >>> text = Path("examples/miura_route.toml").read_text()
+    >>> parse_route(text, cp) == load_route("examples/miura_route.toml", cp)
+    True
+    """
+    import tomllib
+
+    try:
+        data = tomllib.loads(text)
+    except (tomllib.TOMLDecodeError, RecursionError) as exc:
+        raise StringsError(f"{name}: not valid TOML: {exc}") from None
+    return _route_from_data(data, name, cp)
+
+
+def _route_from_data(data: dict, where: str, cp: CreasePattern) -> RouteSpec:
+    """The route of a parsed route file; ``where`` names it in errors."""
+    p = where
+    top = Table(data, where, StringsError)
     tsa_t = top.table("tsa", {})
     fab_t = top.table("fabrication") if top.has("fabrication") else None
     route = top.table("route")

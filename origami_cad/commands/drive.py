@@ -1,0 +1,304 @@
+"""Hardware commands: ``sequence`` (keyframes to TSA turns), ``emulate`` and ``drive``."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from origami_cad._fileio import atomic_path, finishing
+from origami_cad._names import one_line
+from origami_cad.commands._base import Command, Option, Outputs, check_suffix, register
+from origami_cad.errors import DriveError
+
+__all__: list[str] = []
+
+
+def _ids(text: str) -> list[int]:
+    """``--ids 1,2``: comma-separated servo IDs."""
+    if not all(v.strip().isdigit() for v in text.split(",")):
+        raise ValueError(f"expected comma-separated IDs, got {text!r}")
+    return [int(v) for v in text.split(",")]
+
+
+_IDS = Option("ids", "object", "servo IDs, e.g. 1,2 (one per route)", parse=_ids)
+_PROTOCOL = Option("protocol", help="servo bus: a name of origami_cad.drive.BUSES",
+                   default="dynamixel")  # fmt: skip
+
+
+def _sequence_header(a, routes) -> str:
+    """The comment lines of a generated sequence file: where it comes from, how to remake it."""
+    argv = " ".join(
+        [
+            "origami-cad sequence", str(a.design), str(routes[0]), "-o", str(a.output),
+            *(f"--more-routes {r}" for r in routes[1:]),
+            f"--model {a.model}",
+            *([f"--fixed-panel {a.fixed_panel}"] if a.fixed_panel else []),
+            "--ids " + ",".join(map(str, a.ids)),
+            "--keyframes", *map(str, a.keyframes),
+        ]
+    )  # fmt: skip
+    return (
+        f"# Generated from the {a.model} model of {one_line(a.design)} folded by its strings, "
+        "not typed by\n"
+        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
+        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
+        "# commands the turns the model needed. Regenerate with:\n"
+        f"#   {one_line(argv)}\n"
+    )
+
+
+def _route_tsa(a, loaded, path, servo: int, at):
+    """Fold ``loaded`` by one route: its TSA entry of the sequence, its numbers, the result."""
+    from origami_cad.drive.from_model import route_tsa
+    from origami_cad.simulation.string_models import fold_by_strings
+    from origami_cad.strings import load_route
+
+    spec = load_route(path, loaded.pattern)
+    result = fold_by_strings(loaded, spec, a.model, fixed_panel=a.fixed_panel)
+    name = Path(path).stem.removesuffix("_route").removeprefix("route_")
+    tsa, fig = route_tsa(
+        loaded.pattern, spec.tsa, result, at, servo=servo, name=name, points=a.points,
+        where=f"{path} ({a.model})", label=f"{Path(path).name}, {a.model} model",
+    )  # fmt: skip
+    (lo, hi), need = fig["p_range"], ", ".join(f"{v:.2f}" for v in fig["turns_at"])
+    numbers = [
+        (f"servo {servo}: fold range of its strings", f"p = {lo:.3f} .. {hi:.3f}"),
+        (f"servo {servo}: turns at the keyframes", need),
+        (f"servo {servo}: largest TSA torque", f"{fig['peak_torque']:.3g} N mm"),
+    ]
+    return tsa, numbers, result
+
+
+@register
+class SequenceCommand(Command):
+    """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
+
+    Each route (``route``, then ``more_routes``: one onboard TSA each, servo IDs
+    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model =
+    "dcqc"``) or the bar-and-hinge simulation (``"simulation"``); the fold ratio
+    it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
+    contraction of the onboard TSA model, every keyframe's fold ratio included),
+    so ``drive`` commands the turns the model needed. ``keyframes`` are
+    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
+    without a one-parameter folding is measured by its most folded crease
+    (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
+    (e.g. a robot's body while one leg folds), instead of each route's own setting.
+    """
+
+    NAME, INPUTS, OUTPUT = "sequence", ("design", "route"), "output"
+    SUFFIXES, WHAT = (".toml",), "a sequence"
+    OPTIONS = (
+        Option("keyframes", help="time s : fold ratio (one per route)", nargs="+",
+               required=True, metavar="T:P[,P...]"),
+        Option("more_routes", help="more TSAs", nargs="+", metavar="ROUTE"),
+        Option("model", help="string model", default="dcqc", choices=("dcqc", "simulation")),
+        _IDS,
+        Option("rate", "float", "command rate", "Hz", 10.0, min=0, open_min=True, max=1000),
+        Option("repeat", "int", "cycles", default=1, min=1, max=1_000_000),
+        Option("points", "int", "mapping points besides the keyframes", default=21, min=2,
+               max=1000),
+        Option("fixed_panel", help="hold this panel in every route"),
+    )  # fmt: skip
+
+    def inputs(self, a):
+        return [a.design, a.route, *(a.more_routes or ())]
+
+    def prepare(self, a):  # outputs against the inputs first, then the format
+        from origami_cad._fileio import check_outputs
+
+        check_outputs(self.inputs(a), files=[a.output])
+        check_suffix(a.output, self.SUFFIXES, self.WHAT)
+
+    def run(self, a) -> Outputs:
+        from origami_cad.drive.from_model import parse_keyframes, sequence_toml
+        from origami_cad.drive.sequence import load_sequence
+        from origami_cad.pattern.design import load_pattern_source
+
+        routes = [a.route, *(a.more_routes or [])]
+        a.ids = list(a.ids) if a.ids else list(range(1, len(routes) + 1))
+        if len(a.ids) != len(routes):
+            raise DriveError(f"{len(a.ids)} servo IDs for {len(routes)} routes")
+        frames = parse_keyframes(a.keyframes, len(routes))
+        loaded = load_pattern_source(a.design)
+        tsas, numbers, results = [], [], []
+        for k, path in enumerate(routes):
+            at = [values[k] for _, values in frames]
+            tsa, more, result = _route_tsa(a, loaded, path, a.ids[k], at)
+            tsas.append(tsa)
+            numbers += more
+            results.append(result)
+        header = _sequence_header(a, routes)
+        text = sequence_toml(tsas, frames, rate=a.rate, repeat=a.repeat, header=header)
+        with atomic_path(a.output) as tmp:
+            Path(tmp).write_text(text, encoding="utf-8")
+            load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist
+        return Outputs(
+            files=[Path(a.output)],
+            numbers=numbers,
+            messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {a.output}"],
+            result=results,
+        )
+
+
+@register
+class Emulate(Command):
+    """Emulate servos on a pseudo-terminal until Ctrl-C, or for ``seconds`` (0: forever)."""
+
+    NAME, ARGS = "emulate", ("ids",)
+    OPTIONS = (
+        _PROTOCOL,
+        Option("ids", "object", "servo IDs, e.g. 1,2", default=(1,), parse=_ids),
+        Option("seconds", "float", "0: until Ctrl-C", "s", 0.0, min=0, max=1e7),
+    )
+
+    def run(self, a) -> Outputs:
+        from origami_cad.drive import open_emulator
+
+        ids = list(a.ids)
+        if len(set(ids)) != len(ids) or not ids or any(not 0 <= i <= 252 for i in ids):
+            raise DriveError(f"servo IDs must be distinct and in 0..252, got {ids}")
+        with open_emulator(a.protocol, ids) as emu:
+            a.echo(f"{a.protocol} emulator with servos {ids} on {emu.port}")
+            a.echo(f"connect with --port {emu.port}; Ctrl-C to stop")
+            deadline = time.monotonic() + a.seconds if a.seconds else None
+            while deadline is None or time.monotonic() < deadline:
+                time.sleep(0.1)
+        return Outputs()
+
+
+def _start_bus(stack, seq, a, emulate: dict | None):
+    """The servo bus of a sequence: on ``a.port``, or on a new emulator given ``emulate``
+    (``time_scale`` and ``load_scale``: its servos carry the sequence's loads)."""
+    from origami_cad.drive import open_bus, open_emulator
+
+    port, limits = a.port, {t.dxl_id: t.max_turns for t in seq.tsas}
+    if emulate is not None:
+        loads = seq.loads(emulate["load_scale"])
+        emu = open_emulator(a.protocol, seq.ids, time_scale=emulate["time_scale"], loads=loads)
+        port = stack.enter_context(emu).port
+    bus = open_bus(
+        a.protocol, port, a.baudrate, seq.ids, max_turns=limits,
+        current_limit_ma=seq.current_limit, emulated=emulate is not None,
+    )  # fmt: skip
+    return stack.enter_context(bus)
+
+
+def _open_bus(stack, seq, a, emulate: dict | None):
+    """:func:`_start_bus`; if the bus cannot be opened (an absent servo), the log says why."""
+    from origami_cad.drive.sequence import log_not_started
+
+    try:
+        return _start_bus(stack, seq, a, emulate)
+    except BaseException as exc:
+        log_not_started(a.log, seq, exc)
+        raise
+
+
+def _drive_stopped(exc: BaseException, plot, names: dict[int, str], done=None) -> BaseException:
+    """After a run stopped early: the ``plot`` of its readings (``done``: all of them, when
+    only the shutdown failed), so log and plot stay one set; and the error to raise (a
+    stall names the TSA, not only its servo ID)."""
+    from origami_cad.drive import StallError
+    from origami_cad.drive.sequence import DriveLog
+    from origami_cad.viz.drive_plots import save_drive_png
+
+    ran = done or getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
+    if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
+        with finishing():
+            save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
+    if isinstance(exc, StallError) and names.get(exc.servo):
+        return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
+    return exc
+
+
+def _drive_numbers(seq, done, loads, names) -> list[tuple[str, str]]:
+    import numpy as np
+
+    # the largest lag is where a command jumps (to the first keyframe, a gait's step);
+    # how closely the servos follow shows in the lag of 95 % of the readings
+    lag, typical = float(done.lag.max()), float(np.percentile(done.lag, 95))
+    peak = ", ".join(f"{names[i]} {c.peak:.1f}" for i, c in loads.items())
+    return [
+        ("cycle / readings", f"{seq.cycle:g} s / {done.target.size}"),
+        (
+            "lag of the servos behind their commands: 95 % of readings / largest",
+            f"{typical:.3f} / {lag:.3f} turns",
+        ),
+        ("maximum commanded twist", f"{done.target.max():.2f} turns"),
+        *([("peak load per servo (N mm)", peak)] if loads else []),
+        ("largest current", f"{abs(done.current).max():.0f} mA"),
+    ]
+
+
+@register
+class Drive(Command):
+    """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
+
+    ``speed`` is the time acceleration of a dry run; its emulated Dynamixel servos carry
+    each TSA's ``load`` (the torque a simulation predicts, N mm) times ``load_scale``, so
+    a load past a servo's stall torque or the sequence's ``current_limit`` stops that
+    servo by name. ``plot`` adds a PNG of the commanded and measured turns. Torque goes
+    off on exit, error and Ctrl-C.
+    """
+
+    NAME, INPUTS, PROGRESS, ARGS = "drive", ("sequence",), "servo_table", ("sequence", "log")
+    OPTIONS = (
+        Option("port", help="serial port of the servos"),
+        _PROTOCOL,
+        Option("baudrate", "int", "bits per second", default=57600, min=1, max=100_000_000),
+        Option("dry_run", "flag", "start the emulator and drive it"),
+        Option("speed", "float", "dry-run time acceleration", default=8.0, min=0, open_min=True,
+               max=1000),
+        Option("load_scale", "float", "dry run: loads x this", default=1.0, min=0, max=1e6),
+        Option("log", help="CSV log, written as it runs", default="drive_log.csv"),
+        Option("plot", help="also a PNG of commanded and measured turns"),
+    )  # fmt: skip
+
+    def outputs(self, a):
+        return [p for p in (a.log, a.plot) if p], []
+
+    def prepare(self, a):
+        if a.plot is not None:
+            check_suffix(a.plot, (".png",), "the drive plot")
+        super().prepare(a)
+
+    def run(self, a) -> Outputs:
+        import contextlib
+
+        import numpy as np
+
+        from origami_cad.drive.sequence import load_sequence, run_sequence
+        from origami_cad.viz.drive_plots import save_drive_png
+
+        seq = load_sequence(a.sequence)
+        if not a.dry_run and not a.port:
+            raise DriveError("give the servos' port, or use a dry run on the emulator")
+        scale = a.speed if a.dry_run else 1.0
+        emulate = {"time_scale": scale, "load_scale": a.load_scale} if a.dry_run else None
+        names, done = {t.dxl_id: t.name for t in seq.tsas}, None
+        try:
+            with contextlib.ExitStack() as stack:
+                bus = _open_bus(stack, seq, a, emulate)
+                done = run_sequence(seq, bus, a.log, time_scale=scale, progress=a.progress)
+        except BaseException as exc:  # the plot shows what ran; a stall names the TSA
+            raise _drive_stopped(exc, a.plot, names, done) from exc.__cause__
+        files = [Path(a.log)]
+        if a.plot:
+            with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
+                save_drive_png(done, a.plot, names)
+            files.append(Path(a.plot))
+        loads = seq.loads(a.load_scale if a.dry_run else 1.0)
+        caption = "Commanded (dashed) and measured (solid) turns and current per TSA"
+        lag = float(np.percentile(done.lag, 95))
+        return Outputs(
+            files=files,
+            images=[(Path(a.plot), caption)] if a.plot else [],
+            numbers=_drive_numbers(seq, done, loads, names),
+            messages=[
+                f"ran {seq.repeat} x {seq.cycle:g} s on servos {seq.ids}"
+                f"{' (dry run)' if a.dry_run else ''}: {done.target.size} readings, "
+                f"lag {lag:.3f} turns (95 % of readings), {float(done.lag.max()):.3f} at most",
+                *(f"wrote {p}" for p in files),
+            ],
+            result=done,
+        )

@@ -1,0 +1,62 @@
+"""The parametric hardware command: ``part`` (``origami_cad.parts``)."""
+
+from __future__ import annotations
+
+from origami_cad.commands._base import Command, Option, Outputs, moved, register
+from origami_cad.errors import OptionsError
+
+__all__: list[str] = []
+
+_FOLDER = "output folder; only this command's files are written into it, all else is kept"
+
+
+@register
+class Part(Command):
+    """Build a parametric part (``origami_cad.parts``) and write NAME.step and NAME.stl.
+
+    ``params`` are the part's own parameters (mm, degrees), as values or as the
+    text of ``--name value`` options. With ``pattern``, a ``tsa-module`` is fitted
+    to ``panel`` and a ``blocker`` to ``crease``.
+    """
+
+    NAME, EXTRA, ARGS = "part", True, ("name", "folder", "params")
+    OPTIONS = (
+        Option("name", help="part name", nargs="?", positional=True),
+        Option("folder", help=_FOLDER, flag="--output", short="-o"),
+        Option("params", "object", "the part's own parameters", flag=""),
+        Option("list", "flag", "list the parts and their parameters"),
+        Option("pattern", help="design or pattern file the part is made for"),
+        Option("panel", help="panel label (tsa-module)"),
+        Option("crease", "int", "crease edge index (blocker)", min=0, max=10**9),
+    )
+
+    def inputs(self, a):
+        return [a.pattern] if a.pattern else []
+
+    def outputs(self, a):
+        return [], [a.folder] if a.folder and a.name and not a.list else []
+
+    def prepare(self, a):
+        from origami_cad.parts import parse_part_options
+
+        if a.extra:  # the part's own --name value options, from the command line
+            a.params = parse_part_options(a.extra)
+        if a.name and not a.list and not a.folder:
+            raise OptionsError("give the output folder with -o DIR")
+        super().prepare(a)
+
+    def run(self, a) -> Outputs:
+        from origami_cad.fabrication.export import export_part
+        from origami_cad.parts import build_part, parts_listing
+
+        if a.list or not a.name:
+            return Outputs(messages=[parts_listing()])
+        part = build_part(a.name, a.params, pattern=a.pattern, panel=a.panel, crease=a.crease)
+        with self.stage(a) as stage:
+            files = moved(export_part(part, stage, a.name), stage, a.folder)
+        volume = f"{part.volume / 1000:.2f} cm3"
+        return Outputs(
+            files=files,
+            numbers=[(f"{a.name}: volume", volume)],
+            messages=[f"{a.name}: volume {volume}; wrote " + ", ".join(map(str, files))],
+        )

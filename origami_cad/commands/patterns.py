@@ -1,0 +1,261 @@
+"""Commands on crease patterns: ``convert``, ``check``, ``pattern``, ``fold``, ``tg``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register
+from origami_cad.errors import DesignError
+
+__all__ = ["FOLD_SUFFIXES", "MAX_FRAMES", "pattern_numbers"]
+
+FOLD_SUFFIXES = (".fold", ".png", ".gif", ".glb", ".step")
+MAX_FRAMES = 10_000  # folded states in one file or animation
+_LABELS = Option("labels", "flag", "panel labels on a .png")
+
+
+def _pattern_suffixes() -> tuple[str, ...]:
+    """What a pattern is written as: the registered formats' suffixes, and .png."""
+    from origami_cad.pattern.formats import WRITERS
+
+    return (*WRITERS, ".png")
+
+
+def pattern_numbers(cp) -> list[tuple[str, str]]:
+    """The key numbers of a pattern: panels, creases (M / V) and its size in mm."""
+    n_m, n_v = int((cp.assignments == "M").sum()), int((cp.assignments == "V").sum())
+    width, height = cp.bounds[2] - cp.bounds[0], cp.bounds[3] - cp.bounds[1]
+    return [
+        ("panels", str(len(cp.faces))),
+        ("creases (M / V)", f"{n_m} / {n_v}"),
+        ("pattern size", f"{width:.1f} x {height:.1f} mm"),
+    ]
+
+
+def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
+    from origami_cad.pattern import write_pattern
+    from origami_cad.viz import save_pattern_png
+
+    if out.suffix.lower() == ".png":
+        save_pattern_png(cp, out, labels=labels)
+    else:
+        write_pattern(cp, out)
+
+
+@register
+class Convert(Command):
+    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture.
+
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    """
+
+    NAME, INPUTS, WHAT = "convert", ("source", "output"), "a pattern"
+    OPTIONS = (_LABELS, *SIZING)
+
+    def suffixes(self):
+        return _pattern_suffixes()
+
+    def outputs(self, a):
+        return [a.output], []
+
+    def prepare(self, a):
+        from origami_cad.commands._base import check_suffix
+
+        check_suffix(a.output, self.suffixes(), self.WHAT)
+        super().prepare(a)
+
+    def inputs(self, a):
+        return [a.source]
+
+    def run(self, a) -> Outputs:
+        from origami_cad.pattern import read_pattern, size_warnings
+
+        cp = read_pattern(a.source, unit=a.unit, scale=a.scale, width=a.width)
+        _write_pattern_file(cp, Path(a.output), a.labels)
+        n = f"{cp.n_vertices} vertices, {cp.n_edges} edges, {len(cp.faces)} panels"
+        warned = [f"warning: {w}" for w in size_warnings(cp)]
+        msg = f"wrote {a.output} ({n})"
+        return Outputs(files=[Path(a.output)], messages=[*warned, msg], result=cp)
+
+
+@register
+class Check(Command):
+    """Validate a pattern; ``status`` is 1 when it has errors. Writes nothing.
+
+    ``angle_tolerance`` is the tolerance of Kawasaki's theorem, radians.
+    """
+
+    NAME, INPUTS = "check", ("source",)
+    OPTIONS = (
+        Option("angle_tolerance", "float", "Kawasaki's theorem", "rad", 1e-6, min=0, max=0.1),
+        Option("verbose", "flag", "also list what was normalised", short="-v"),
+    )
+
+    def run(self, a) -> Outputs:
+        from origami_cad.pattern import Severity, read_pattern
+
+        cp = read_pattern(a.source)
+        problems = cp.check(angle_tolerance=a.angle_tolerance)
+        lines = [f"{a.source}: {cp!r}"]
+        lines += [f"  {p}" for p in problems if p.severity != Severity.INFO or a.verbose]
+        errors = sum(p.severity == Severity.ERROR for p in problems)
+        warnings = sum(p.severity == Severity.WARNING for p in problems)
+        lines.append(f"{errors} errors, {warnings} warnings")
+        numbers = [("check", f"{errors} errors, {warnings} warnings"), *pattern_numbers(cp)]
+        status = 1 if errors else 0
+        return Outputs(messages=lines, numbers=numbers, result=problems, status=status)
+
+
+@register
+class Pattern(Command):
+    """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
+
+    NAME, INPUTS, OUTPUT, WHAT = "pattern", ("design",), "outputs", "a pattern"
+    OPTIONS = (_LABELS,)
+
+    def suffixes(self):
+        return _pattern_suffixes()
+
+    def run(self, a) -> Outputs:
+        loaded, warned = self.load(a, a.design, sized=False)
+        cp = loaded.pattern
+        result = Outputs(result=loaded, numbers=pattern_numbers(cp), messages=warned)
+        for out in map(Path, a.outputs):
+            _write_pattern_file(cp, out, a.labels)
+            result.files.append(out)
+            result.messages.append(f"wrote {out}")
+            if out.suffix.lower() == ".png":
+                result.images.append((out, "Crease pattern (mountain red, valley blue dashed)"))
+        result.messages += [f"note: {n}" for n in (loaded.tg.notes if loaded.tg else ())]
+        result.messages.append(repr(cp))
+        if loaded.tg is not None:
+            betas = ", ".join(f"{b:.2f} deg" for b in loaded.tg.shape_angles)
+            n = len(loaded.tg.shape_angles)
+            result.numbers.insert(0, (f"shape angles beta_1..beta_{n} (eq. 1)", betas))
+        return result
+
+
+def _flat_creases_note(cp, fold_angles) -> list[str]:
+    """A note when some mountain and valley creases do not fold at all (degrees given)."""
+    import numpy as np
+
+    if fold_angles is None:
+        return []
+    creases = cp.edge_mask("M", "V")
+    flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
+    if not flat.any():
+        return []
+    return [
+        f"note: {int(flat.sum())} of the {int(creases.sum())} creases stay flat: their straight "
+        "crease lines fold independently of the driving crease (as a map's lines fold one at "
+        "a time), which a one-parameter rigid folding leaves flat; the bar-and-hinge "
+        "simulation (simulate) folds them together"
+    ]
+
+
+def _placed_states(loaded, ratio: float, frames: int):
+    """The folded states from p = 0 to ``ratio``, each placed on the table."""
+    import dataclasses
+
+    import numpy as np
+
+    from origami_cad.kinematics.folding import fold_sequence
+    from origami_cad.kinematics.placement import place_sequence
+
+    states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
+    placed = place_sequence(loaded.pattern, [s.coords for s in states])
+    return [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
+
+
+def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
+    """The folded states as ``out``'s format (.fold, .png, .step, .glb or .gif)."""
+    import numpy as np
+
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+
+    cp, suffix = loaded.pattern, out.suffix.lower()
+    if suffix == ".fold":
+        labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
+        write_fold(cp, out, frames=labelled)
+    elif suffix == ".png":
+        render_folded(cp, states[-1].coords, out, title=f"p = {ratio:g}", view=view)
+    elif suffix == ".step":
+        from origami_cad.fabrication import FabricationParams, fabricate
+        from origami_cad.fabrication.exports.step import export_step_tree
+
+        fab = fabricate(loaded, FabricationParams(holes="pattern"))
+        export_step_tree(fab.assembly(ratio), out)
+    elif suffix == ".glb":
+        from origami_cad.viz.gltf import FOLDING_SECONDS, folding_meshes, write_glb
+
+        meshes = folding_meshes(cp, [s.coords for s in states])
+        write_glb(out, meshes, times=np.linspace(0.0, FOLDING_SECONDS, len(states)))
+    else:
+        captions = [f"p = {s.p:.3f}" for s in states]
+        render_folding_gif(cp, [s.coords for s in states], out, view=view, captions=captions)
+
+
+@register
+class Fold(Command):
+    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif, .glb
+    or a .step of the printed structure folded at ``ratio`` (``Fabrication.assembly``; the
+    default fabrication parameters, with the pattern's own string holes).
+
+    ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30),
+    each lying on the table, centred on the flat sheet
+    (:mod:`origami_cad.kinematics.placement`); a .glb holds them as morph targets played
+    by an animation (:mod:`origami_cad.viz.gltf`).
+    ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    """
+
+    NAME, INPUTS, OUTPUT = "fold", ("design",), "output"
+    SUFFIXES, WHAT = FOLD_SUFFIXES, "the folded state"
+    OPTIONS = (
+        Option("ratio", "float", "fold ratio p in [0, 1]", default=0.5, min=0, max=1),
+        Option("frames", "int", "states from p = 0 to --ratio", default=1, min=1, max=MAX_FRAMES),
+        Option("view", help="camera of the renders", default="iso", flag="", parse=str),
+        *SIZING,
+    )
+
+    def run(self, a) -> Outputs:
+        out, ratio = Path(a.output), a.ratio
+        loaded, warned = self.load(a, a.design)
+        animated = out.suffix.lower() in (".gif", ".glb")
+        states = _placed_states(loaded, ratio, a.frames if a.frames > 1 or not animated else 30)
+        _write_folded(loaded, states, out, ratio, a.view)
+        still = out.suffix.lower() == ".png"
+        caption = f"Folded at p = {ratio:g}" if still else f"Folding from p = 0 to {ratio:g}"
+        plural = "s" if len(states) > 1 else ""
+        flat = _flat_creases_note(loaded.pattern, states[-1].fold_angles if ratio > 0 else None)
+        return Outputs(
+            files=[out],
+            images=[(out, caption)] if out.suffix.lower() not in (".fold", ".step") else [],
+            messages=[
+                *warned,
+                *flat,
+                f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})",
+            ],
+            result=states,
+        )
+
+
+@register
+class TG(Command):
+    """Plot a design's TG chain at p = 0, 0.25, 0.5, 0.75, 1 and the path of T_e (.png)."""
+
+    NAME, INPUTS, OUTPUT = "tg", ("design",), "output"
+    SUFFIXES, WHAT = (".png",), "the TG plot"
+
+    def run(self, a) -> Outputs:
+        from origami_cad.pattern.design import load_design
+        from origami_cad.viz.tg_plot import save_tg_png
+
+        loaded = load_design(a.design)
+        if loaded.tg is None:
+            raise DesignError(f"{a.design}: kind {loaded.kind!r} has no transition graph")
+        save_tg_png(loaded.tg, a.output)
+        out = Path(a.output)
+        caption = "TG chain at several p and the path of T_e"
+        return Outputs(files=[out], images=[(out, caption)], messages=[f"wrote {out}"])

@@ -1,0 +1,282 @@
+"""Robot commands: ``robot`` (the printable robot and its mass) and ``crawl`` (its gait)."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+from origami_cad._fileio import atomic_write
+from origami_cad.commands._base import Command, Option, Outputs, moved, register, staged, wrote
+from origami_cad.commands.simulation import GIF_FRAMES, gif_states
+
+__all__ = ["PAPER_CRAWLER_G", "PAPER_CRAWL_MM"]
+
+PAPER_CRAWL_MM = 63.0  # the paper's crawler: mm forward per 32 s gait cycle on a PVC mat
+PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
+
+
+def _crawl_command(a) -> str:
+    """The ``origami-cad crawl`` command line that reproduces a crawl's outputs."""
+    args = ["origami-cad", "crawl", str(a.robot), "-o", str(a.folder)]
+    args += ["--cycles", str(a.cycles), "--steps", str(a.steps)]
+    args += ["--reverse"] * bool(a.reverse)
+    args += ["--friction", f"{a.friction:g}"] if a.friction is not None else []
+    return " ".join(args)
+
+
+def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
+    """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
+    from origami_cad.simulation.crawler import gait_sequence_text
+    from origami_cad.viz.crawl_plots import (
+        save_crawl_gait_png,
+        save_crawl_loads_png,
+        save_crawl_position_png,
+    )
+    from origami_cad.viz.render3d import render_folding_gif
+
+    legs = [leg.name for leg in spec.legs]
+    data = result.to_dict()
+    data.update({k: v for k, v in info.items() if k != "command"})
+    data["legs"] = legs
+    with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    reference = -PAPER_CRAWL_MM if info["reverse"] else PAPER_CRAWL_MM
+    save_crawl_position_png(
+        result.t, result.body, result.cycle_starts, stage / names[1],
+        reference=reference, cycle=spec.cycle,
+    )  # fmt: skip
+    save_crawl_loads_png(result.t, result.torque, result.tensions, legs, stage / names[2])
+    save_crawl_gait_png(
+        result.t, result.fold, result.turns, legs, stage / names[5], commanded=result.commanded
+    )
+    picked = gif_states(len(result.states), gif_frames)
+    shown = [result.states[k] for k in picked]
+    captions = [
+        f"t = {result.t[k]:.1f} s, body moved {result.body[k, 0] - result.body[0, 0]:+.1f} mm"
+        for k in picked
+    ]
+    render_folding_gif(spec.pattern, shown, stage / names[3], view="xz", captions=captions)
+    text = gait_sequence_text(
+        spec, repeat=info["cycles"], result=result, reverse=info["reverse"],
+        command=info["command"],
+    )  # fmt: skip
+    with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
+        fh.write(text)
+
+
+def _crawl_numbers(result, seconds: float) -> list[tuple[str, str]]:
+    per = result.displacement_per_cycle()
+    mean = float(per.mean()) if per.size else math.nan
+    return [
+        ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
+        ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
+        ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
+        ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
+        ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
+        ("largest string tension", f"{result.tensions.max():.1f} N"),
+        ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
+        ("simulated mass", f"{result.mass_g:.0f} g"),
+        ("simulation time", f"{seconds:.1f} s"),
+        ("how the gait ended", result.reason),
+    ]
+
+
+@register
+class Crawl(Command):
+    """Walk a legged robot through its gait in simulation: crawl.json, .png plots, crawl.gif.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, one onboard
+    TSA route per leg, blockers, masses and the gait as fold ratios; each keyframe is
+    turned into TSA turns through the model and the robot lies free on the ground
+    (gravity, Coulomb ``friction``, default the robot file's). ``cycles`` gait cycles
+    of ``steps`` quasi-static steps between keyframes; ``reverse`` plays the gait
+    backwards. Writes the body's path and per-TSA torque and tensions
+    (``crawl.json``), the body's position against time (``crawl.png``), torques and
+    tensions (``loads.png``), the legs' fold angles and TSA twist (``gait.png``), the
+    crawl seen from the side (``crawl.gif``) and the
+    gait as a sequence for ``drive`` (``gait_sequence.toml``: mappings from the string
+    model, and each servo's simulated load, which ``drive --dry-run`` applies).
+    """
+
+    NAME, INPUTS, OUTPUT = "crawl", ("robot",), "folder"
+    FILES = ("crawl.json", "crawl.png", "loads.png", "crawl.gif", "gait_sequence.toml", "gait.png")
+    OPTIONS = (
+        Option("cycles", "int", "gait cycles to simulate", default=2, min=1, max=100),
+        Option("steps", "int", "quasi-static steps between keyframes", default=6, min=1,
+               max=1000),
+        Option("reverse", "flag", "play the gait backwards"),
+        Option("friction", "float", "Coulomb coefficient (robot file's)", min=0, max=100),
+        Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
+               max=1000, flag=""),
+    )  # fmt: skip
+
+    def run(self, a) -> Outputs:
+        from origami_cad.simulation.crawler import load_robot, simulate_gait
+
+        spec = load_robot(a.robot)
+        start = time.perf_counter()
+        result = simulate_gait(
+            spec, cycles=a.cycles, steps=a.steps, reverse=a.reverse, friction=a.friction,
+            progress=a.progress,
+        )  # fmt: skip
+        seconds = time.perf_counter() - start
+        per = result.displacement_per_cycle()
+        info = {
+            "robot": str(a.robot), "cycles": a.cycles, "reverse": a.reverse,
+            "cycle_s": spec.cycle, "paper_mm_per_cycle": PAPER_CRAWL_MM,
+            "simulation_s": seconds, "command": _crawl_command(a),
+        }  # fmt: skip
+        with self.stage(a, spec.pattern_path, *(leg.route_path for leg in spec.legs)) as stage:
+            _write_crawl(stage, self.FILES, spec, result, info, a.gif_frames)
+        files = [Path(a.folder) / n for n in self.FILES]
+        mean = float(per.mean()) if per.size else math.nan
+        return Outputs(
+            files=files,
+            images=[
+                (files[5], "The gait: leg fold angles (simulated and keyframed) and TSA twist"),
+                (files[1], "Body position against time (paper: 63 mm per 32 s cycle)"),
+                (files[2], "TSA torque and string tension per leg"),
+                (files[3], "The crawl seen from the side"),
+            ],
+            numbers=_crawl_numbers(result, seconds),
+            messages=[
+                f"{a.cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
+                f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
+                *([f"stopped: {result.reason}"] if result.stop is not None else []),
+                *(f"note: {n}" for n in result.notes),
+                wrote(a.folder, self.FILES),
+            ],
+            result=result,
+        )
+
+
+def _mass_budget(spec, fab, report: dict) -> dict[str, Any]:
+    """The robot's mass: the printed sheet, its printed parts and the bought parts, g."""
+    sheet = fab.report()["total_mass_g"]
+    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
+    bought = sum(m.grams for m in spec.masses)
+    total = sheet + printed + bought
+    return {
+        "sheet_g": sheet,
+        "printed_parts_g": printed,
+        "bought_parts_g": {m.name: m.grams for m in spec.masses},
+        "total_g": total,
+        "paper_g": PAPER_CRAWLER_G,
+        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
+    }
+
+
+def _render_robot(stage: Path, robot, assembly, stls) -> None:
+    from origami_cad.parts.robot import display_color
+    from origami_cad.viz.parts_render import render_parts
+
+    every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+    every.update(stls)
+    kinds = {n: assembly.kinds[n] for n in stls}
+    render_parts(
+        every,
+        stage / "robot.png",
+        title=f"{Path(robot).stem}: printed robot",
+        labels={
+            n: k.replace("-", " ") + "s" * (list(kinds.values()).count(k) > 1)
+            for n, k in kinds.items()
+        },
+        colors={n: display_color(assembly, n) for n in stls},
+    )
+
+
+def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -> list:
+    """The sheet's files, the parts' STLs, robot.step, robot.json and the pictures; images."""
+    from origami_cad.fabrication import write_fabrication
+    from origami_cad.parts.robot import write_robot_step, write_robot_stls
+    from origami_cad.viz.fabrication_plots import save_panels_png
+
+    write_fabrication(fab, stage)
+    save_panels_png(fab, stage / "panels.png")
+    stls = write_robot_stls(assembly, stage)
+    write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
+    with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
+    if renders:
+        _render_robot(stage, robot, assembly, stls)
+        images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
+    return images
+
+
+def _robot_numbers(budget, kinds, overlaps) -> list[tuple[str, str]]:
+    sheet, printed, total = budget["sheet_g"], budget["printed_parts_g"], budget["total_g"]
+    bought = sum(budget["bought_parts_g"].values())
+    difference = budget["difference_percent"]
+    return [
+        ("sheet mass", f"{sheet:.1f} g"),
+        ("printed parts", f"{printed:.1f} g"),
+        ("bought parts (servos, driver module)", f"{bought:.1f} g"),
+        ("mass estimate (paper: 361.45 g)", f"{total:.0f} g ({difference:+.0f} %)"),
+        (
+            "parts",
+            f"{kinds.count('tsa-module')} TSA modules, {kinds.count('blocker')} blockers, "
+            f"{kinds.count('driver-adapter')} driver adapter",
+        ),
+        ("interpenetrating pairs", str(len(overlaps))),
+    ]  # fmt: skip
+
+
+@register
+class Robot(Command):
+    """The printable robot: the sheet's STLs, STEP, 3MF and its parts, robot.step, mass budget.
+
+    The robot file (``examples/crawler/crawler.toml``) gives the pattern, the holes its
+    strings need, a TSA module per leg, blockers on the leg creases and the driver
+    adapter. Writes what ``fabricate`` writes for the sheet (with the robot's holes),
+    one STL per added part in place (``tsa_module_*.stl``, ``blocker_*.stl``,
+    ``driver_adapter.stl``), ``robot.step`` (every solid named and coloured in place),
+    ``robot.json`` (each solid's volume, mass and bounding box, the mass budget with the
+    robot file's bought parts, against the paper's 361.45 g) and, with ``renders``,
+    ``robot.png``. ``ratio``: the fold ratio of ``robot.step``'s sheet and parts (0: flat);
+    the added parts' STLs and ``robot.json``'s boxes follow it, the sheet's own files stay flat.
+    """
+
+    NAME, INPUTS, OUTPUT = "robot", ("robot",), "folder"
+    OPTIONS = (
+        Option("ratio", "float", "fold ratio p of robot.step", default=0.0, min=0, max=1),
+        Option("renders", "flag", "no render", default=True, dest_negated="--no-renders"),
+    )
+
+    def run(self, a) -> Outputs:
+        from origami_cad.fabrication import FabricationParams, fabricate
+        from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
+        from origami_cad.simulation.crawler import load_robot, robot_placements
+
+        spec = load_robot(a.robot)
+        fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
+        assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
+        report, overlaps = robot_report(assembly), robot_overlaps(assembly)
+        budget = _mass_budget(spec, fab, report)
+        data = {
+            "robot": str(a.robot),
+            "mass_budget": budget,
+            "solids": report,
+            "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
+        }
+        with self.stage(a, spec.pattern_path, *(leg.route_path for leg in spec.legs)) as stage:
+            images = _write_robot(stage, a.robot, fab, assembly, data, a.renders)
+            files = moved(staged(stage), stage, a.folder)
+        total, sheet = budget["total_g"], budget["sheet_g"]
+        printed, bought = budget["printed_parts_g"], sum(budget["bought_parts_g"].values())
+        return Outputs(
+            files=files,
+            images=[(Path(a.folder) / p.name, c) for p, c in images],
+            numbers=_robot_numbers(budget, [v["kind"] for v in report.values()], overlaps),
+            messages=[
+                f"mass estimate {total:.0f} g against the paper's {PAPER_CRAWLER_G:g} g "
+                f"(sheet {sheet:.0f} g, printed parts {printed:.0f} g, bought {bought:.0f} g)",
+                *(f"warning: {x} and {y} share {v:.1f} mm^3" for (x, y), v in overlaps.items()),
+                *(f"warning: {w}" for w in fab.warnings),
+                wrote(a.folder, files),
+            ],
+            result=assembly,
+        )

@@ -1,0 +1,281 @@
+"""Simulation commands: ``simulate`` (bar-and-hinge), ``arm-scene`` (Fig. 8), ``mjcf``."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from origami_cad._fileio import atomic_write
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.errors import DesignError, OptionsError
+
+__all__ = ["GIF_FRAMES", "gif_states"]
+
+GIF_FRAMES = 30  # frames of a simulation's animation
+_GIF = Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
+              max=1000, flag="")  # fmt: skip
+
+
+def gif_states(states: int, frames: int) -> list[int]:
+    """The states a GIF of about ``frames`` frames shows: evenly spaced, and the last."""
+    every = max(1, states // max(frames, 1))
+    return [*range(0, states, every), states - 1]
+
+
+def _blocker(text: str) -> tuple[int, float]:
+    """``--blocker EDGE:DEGREES`` (60 degrees when only the edge is given)."""
+    edge, _, angle = text.partition(":")
+    if not edge.strip().isdigit():
+        raise ValueError(f"expected EDGE:DEGREES, got {text!r}")
+    try:
+        degrees = float(angle or "60")
+    except ValueError:
+        raise ValueError(f"expected EDGE:DEGREES, got {text!r}") from None
+    if not (math.isfinite(degrees) and 0 < degrees <= 180):
+        raise ValueError(f"expected EDGE:DEGREES with DEGREES in (0, 180], got {text!r}")
+    return int(edge), degrees
+
+
+def _blocker_limits(cp, blockers, source) -> dict[int, float]:
+    limits = {}
+    for edge, degrees in dict(blockers or {}).items():
+        if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
+            raise OptionsError(f"blocker on edge {edge}: not a crease of {source}")
+        if not (math.isfinite(degrees) and 0 < degrees <= 180):
+            raise OptionsError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
+        limits[int(edge)] = float(degrees)
+    return limits
+
+
+def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
+    from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.viz.render3d import render_folded, render_folding_gif
+    from origami_cad.viz.strings_plots import save_route_png
+
+    frames = [
+        folded_frame(x, a, f"theta_s = {math.degrees(t):.0f} deg")
+        for x, a, t in zip(result.states, result.fold_angles, result.theta, strict=True)
+    ]
+    write_fold(cp, stage / names[0], frames=frames)
+    with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+        json.dump(result.to_dict(), fh, indent=1)
+    picked = gif_states(len(result.states), gif_frames)
+    shown = [result.states[k] for k in picked]
+    captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
+    view = (1, -1.5, 1)
+    render_folding_gif(cp, shown, stage / names[2], view=view, captions=captions)
+    title = f"after {result.turns[-1]:.1f} TSA turns"
+    render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
+    save_route_png(cp, spec, stage / names[4])
+
+
+@register
+class Simulate(Command):
+    """Bar-and-hinge folding by strings and TSA: states.fold, simulation.json, fold.gif, folded.png.
+
+    ``params`` is a ``SimulationParams``, or give ``gravity`` (mm/s^2, along -z),
+    ``ground`` (height of a ground plane, mm) and ``friction`` (Coulomb
+    coefficient). ``blockers`` maps crease index to its limit in degrees;
+    ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
+    the number of frames of the animation.
+    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    """
+
+    NAME, INPUTS, OUTPUT, PROGRESS = "simulate", ("pattern", "route"), "folder", "simulating"
+    ARGS = ("pattern", "route", "folder", "params")
+    FILES = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    OPTIONS = (
+        Option("steps", "int", "actuation steps over the route's turns", min=1, max=100_000),
+        Option("blockers", "object", "stop crease EDGE at DEG deg (repeat)", repeat=True,
+               parse=_blocker, flag="--blocker", metavar="EDGE:DEG"),
+        Option("gravity", "float", "gravity along -z", "mm/s^2", min=-1e6, max=1e6),
+        Option("ground", "float", "height of a ground plane", "mm", min=-1e5, max=1e5),
+        Option("friction", "float", "Coulomb friction coefficient", min=0, max=100),
+        Option("free", "flag", "hold no panel (needs --gravity, --ground)"),
+        Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
+        _GIF,
+        *SIZING,
+    )  # fmt: skip
+
+    @classmethod
+    def library_defaults(cls) -> dict[str, Any]:
+        import dataclasses
+
+        from origami_cad.simulation.model import SimulationParams
+
+        fields = dataclasses.fields(SimulationParams)
+        return {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
+
+    def outputs(self, a):
+        return [Path(a.folder) / n for n in self.FILES], [a.folder]
+
+    def run(self, a) -> Outputs:
+        from origami_cad.simulation import SimulationParams, simulate
+        from origami_cad.strings import load_route
+
+        loaded, warned = self.load(a, a.pattern)
+        cp = loaded.pattern
+        spec = load_route(a.route, cp)
+        given = {k: getattr(a, k) for k in ("gravity", "ground", "friction")}
+        params = a.params or SimulationParams.for_route(
+            spec, **{k: v for k, v in given.items() if v is not None}
+        )
+        limits = _blocker_limits(cp, a.blockers, a.pattern)
+        kwargs = {"steps": a.steps, "fold_limits": limits or None, "free": a.free}
+        result = simulate(cp, spec, params, design=loaded, progress=a.progress, **kwargs)
+        with self.stage(a, loaded) as stage:
+            _write_simulation(stage, self.FILES, cp, spec, result, a.gif_frames)
+        files = [Path(a.folder) / n for n in self.FILES]
+        last = result.tensions[-1]
+        tensions = ", ".join(f"{t:.3g}" for t in last)
+        return Outputs(
+            files=files,
+            images=[
+                (files[4], "Strings from the TSA through the panel holes"),
+                (files[3], "Folded by the TSA (bar-and-hinge simulation)"),
+                (files[2], "The folding as the TSA turns"),
+            ],
+            numbers=[
+                ("simulated steps", str(len(result))),
+                ("final TSA turns", f"{result.turns[-1]:.1f}"),
+                ("string tensions at the end", ", ".join(f"{t:.2f} N" for t in last)),
+                ("why it stops", result.reason),
+            ],
+            messages=[
+                *warned,
+                f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; "
+                f"{result.reason}",
+                f"string tensions {tensions} N, TSA torque {result.torque[-1]:.3g} N mm",
+                wrote(a.folder, self.FILES),
+            ],
+            result=result,
+        )  # fmt: skip
+
+
+def _arm_scene_numbers(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """The key numbers of ``arm-scene`` from its summary."""
+    return [
+        ("designed fold range", f"p = 0 .. {summary['designed_fold_ratio_end']:.3f}"),
+        (
+            "simulated tip: distance from P_end at the end",
+            f"{summary['final_distance_from_P_end_mm']:.2f} mm",
+        ),
+        (
+            "simulated tip: largest distance from the designed tip",
+            f"{summary['max_distance_from_designed_tip_mm']:.2f} mm",
+        ),
+        ("states touching the prohibited area", str(summary["states_touching_prohibited_area"])),
+        ("TSA turns to fold it", f"{summary['tsa_turns']:.1f}"),
+        ("largest TSA torque", f"{summary['max_tsa_torque_Nmm']:.3g} N mm"),
+        ("why the folding stops", summary["reason"]),
+    ]
+
+
+@register
+class ArmScene(Command):
+    """The printed arm folded by its strings in its scene (Fig. 8): fig8.png, arm_scene.json.
+
+    The bar-and-hinge simulation (the route's panel thickness and eq. 6 fold
+    limits) folds ``design`` by ``route``; each state is placed by its base panels
+    and its main crease read as the TG chain, so its tip path is compared with the
+    designed one (at the same fold ratio), ``P_start``, ``P_end`` and the task's
+    areas. The simulation starts from creases pre-folded by 3 deg (see
+    :func:`~origami_cad.simulation.simulate`), not flat. ``steps`` turns the
+    TSA in that many equal steps (default: steps of string taken up).
+    """
+
+    NAME, INPUTS, OUTPUT = "arm-scene", ("task", "design", "route"), "folder"
+    OPTIONS = (Option("steps", "int", "equal TSA steps (default: by take-up)", min=1, max=100_000),)
+    FILES = ("fig8.png", "arm_scene.json")
+
+    def run(self, a) -> Outputs:
+        import numpy as np
+
+        from origami_cad.design import load_task
+        from origami_cad.design.arm_route import arm_chain_path
+        from origami_cad.design.arm_scene import arm_scene_metrics, designed_arm_path
+        from origami_cad.simulation.string_models import fold_by_strings
+        from origami_cad.strings import load_route
+        from origami_cad.viz.design_plots import save_arm_scene_png
+
+        arm_task, _ = load_task(a.task)
+        loaded, _ = self.load(a, a.design, sized=False)
+        if loaded.tg is None:
+            raise DesignError(f"{a.design}: an arm is a transition-graph design")
+        spec = load_route(a.route, loaded.pattern)
+        result = fold_by_strings(loaded, spec, "simulation", steps=a.steps)
+        simulated = arm_chain_path(loaded.tg, result.states, np.asarray(result.p, dtype=float))
+        bias = spec.fabrication.bias if spec.fabrication is not None else None
+        p_e, designed = designed_arm_path(arm_task, loaded.tg, bias)
+        summary = arm_scene_metrics(arm_task, loaded.tg, result, simulated, designed, p_e)
+        d_end, turns = summary["final_distance_from_P_end_mm"], summary["tsa_turns"]
+        peak = summary["max_tsa_torque_Nmm"]
+        with self.stage(a, loaded) as stage:
+            title = (
+                f"tip {d_end:.1f} mm from P_end after {turns:.1f} TSA turns, "
+                f"peak torque {peak:.3g} N mm"
+            )
+            save_arm_scene_png(arm_task, designed, simulated, stage / self.FILES[0], title)
+            with atomic_write(stage / self.FILES[1], "w", encoding="utf-8") as fh:
+                json.dump(summary, fh, indent=1)
+        files = [Path(a.folder) / n for n in self.FILES]
+        return Outputs(
+            files=files,
+            images=[(files[0], "Designed tip path and the printed arm's, folded by its strings")],
+            numbers=_arm_scene_numbers(summary),
+            messages=[
+                f"the printed arm's tip ends {d_end:.2f} mm from P_end after {turns:.1f} TSA "
+                f"turns (peak torque {peak:.3g} N mm); {result.reason}",
+                wrote(a.folder, self.FILES),
+            ],
+            result=result,
+        )
+
+
+@register
+class Mjcf(Command):
+    """A MuJoCo model (MJCF) of a design and its routes, or of a robot file: model.xml.
+
+    Panels as bodies, creases as hinges (eq. 6 ranges), strings as tendons through the
+    holes, one TSA actuator per string (docs/mujoco.md). Written atomically.
+    """
+
+    NAME, INPUTS, OUTPUT = "mjcf", ("source",), "output"
+    SUFFIXES, WHAT = (".xml",), "an MJCF model"
+    OPTIONS = (
+        Option("routes", help="route files (a robot: none)", default=(), nargs="*",
+               metavar="ROUTE", positional=True),
+    )  # fmt: skip
+
+    def inputs(self, a):
+        return [a.source, *(a.routes or ())]
+
+    def prepare(self, a):  # outputs against the inputs first, then the format
+        from origami_cad._fileio import check_outputs
+        from origami_cad.commands._base import check_suffix
+
+        check_outputs(self.inputs(a), files=[a.output])
+        check_suffix(a.output, self.SUFFIXES, self.WHAT)
+
+    def run(self, a) -> Outputs:
+        from origami_cad.simulation.mjcf import to_mjcf
+
+        xml = to_mjcf(a.source, list(a.routes or ()))
+        with atomic_write(a.output, "w", encoding="utf-8") as fh:
+            fh.write(xml)
+        keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}
+        counts = {k: xml.count(v) for k, v in keys.items()} | {"spatial": xml.count("<spatial ")}
+        counts["panel"] //= 2  # two printed halves each
+        return Outputs(
+            files=[Path(a.output)],
+            numbers=[
+                (
+                    "panels / hinges / loop constraints",
+                    "{panel} / {hinge} / {connect}".format(**counts),
+                ),
+                ("strings (tendons, one TSA actuator each)", str(counts["spatial"])),
+            ],
+            messages=[f"wrote {a.output}"],
+        )
