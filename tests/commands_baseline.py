@@ -109,6 +109,17 @@ def _xml(path: Path) -> dict:
     return {"counts": counts, "names": summarized(names, 20)}
 
 
+def _paths(value, out: Path):
+    """JSON data with the examples' and the output folder's paths as ``EX`` and ``OUT``."""
+    if isinstance(value, str):
+        return value.replace(str(out), "OUT").replace(str(EX), "EX")
+    if isinstance(value, dict):
+        return {k: _paths(v, out) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_paths(v, out) for v in value]
+    return value
+
+
 def describe(out: Path, rc: int, stdout: str) -> dict:
     """The exit code and what the command wrote into ``out``."""
     files = sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
@@ -116,7 +127,8 @@ def describe(out: Path, rc: int, stdout: str) -> dict:
     for name in files:
         path = out / name
         if path.suffix == ".json" or path.suffix == ".fold":
-            contents[name] = summarized(_rounded(json.loads(path.read_text(encoding="utf-8"))))
+            data = _rounded(json.loads(path.read_text(encoding="utf-8")))
+            contents[name] = summarized(_paths(data, out))
         elif path.suffix == ".toml":
             contents[name] = _text(path, out)
         elif path.suffix == ".xml":

@@ -1,8 +1,9 @@
 """The commands of ``origami-cad``, one registry: each declared once, next to its code.
 
 Each module holds one family of commands (``patterns``, ``design``, ``fabrication``,
-``strings``, ``simulation``, ``robot``, ``drive``, ``parts``; the ``demo`` command is
-declared by :mod:`origami_cad.demo`, which chains the others); each command is a
+``strings``, ``plan_route``, ``simulation``, ``robot``, ``sequence``, ``drive``,
+``parts``; the ``demo`` command is declared by :mod:`origami_cad.demo`, which chains
+the others); each command is a
 :class:`Command` subclass registered with :func:`register`: its name, inputs, outputs and
 options (types, units, ranges, help). :mod:`origami_cad.cli` is generated from
 :data:`COMMANDS`; :func:`execute` runs a command from Python as the command line does.
@@ -19,7 +20,9 @@ from origami_cad.commands import (  # noqa: F401  (each module registers its com
     fabrication,
     parts,
     patterns,
+    plan_route,
     robot,
+    sequence,
     simulation,
     strings,
 )
@@ -37,6 +40,15 @@ from origami_cad.commands._base import (
     staged,
     wrote,
 )
+
+#: The order of ``origami-cad --help`` (a command not named here follows, as registered).
+ORDER = (
+    "convert", "check", "pattern", "fold", "tg", "design-arm", "fabricate", "route",
+    "plan-route", "simulate", "sequence", "arm-scene", "robot", "crawl", "mjcf", "emulate",
+    "drive", "part", "demo",
+)  # fmt: skip
+for _name in sorted(COMMANDS, key=lambda n: ORDER.index(n) if n in ORDER else len(ORDER)):
+    COMMANDS[_name] = COMMANDS.pop(_name)
 
 __all__ = [
     "COMMANDS",

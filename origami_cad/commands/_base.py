@@ -22,15 +22,22 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-import math
 import os
-from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Iterator
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any, ClassVar
 
 from origami_cad._fileio import atomic_directory, check_outputs
+from origami_cad.commands._options import SIZING, Option
+from origami_cad.commands._outputs import (
+    Outputs,
+    check_suffix,
+    moved,
+    sources,
+    staged,
+    wrote,
+)
 from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = [
@@ -49,211 +56,6 @@ __all__ = [
 ]
 
 PathLike = str | os.PathLike[str]
-
-
-@dataclass
-class Outputs:
-    """What a command wrote and what it found.
-
-    Attributes
-    ----------
-    files : list of Path
-        Every file written, in order.
-    images : list of (Path, str)
-        The pictures among them (.png, .gif, and .glb 3D views), with a caption.
-    numbers : list of (str, str)
-        Key results, name and value with its unit.
-    messages : list of str
-        Lines for the user: summary and warnings.
-    result : object
-        The library result the files were made from (a ``DCQCResult``,
-        ``Fabrication``, list of ``ArmDesign``...), or ``None``.
-    status : int
-        0, or 1 when the command ran but its answer is negative (a pattern with
-        errors, a routing that never folds).
-    """
-
-    files: list[Path] = field(default_factory=list)
-    images: list[tuple[Path, str]] = field(default_factory=list)
-    numbers: list[tuple[str, str]] = field(default_factory=list)
-    messages: list[str] = field(default_factory=list)
-    result: Any = None
-    status: int = 0
-
-    def extend(self, other: Outputs) -> Outputs:
-        """Add another command's outputs to these (for chained commands); returns ``self``.
-
-        A number two commands both report (the same name and value: a pattern's size,
-        read by each) is kept once.
-        """
-        self.files += other.files
-        self.images += other.images
-        self.numbers += [n for n in other.numbers if n not in self.numbers]
-        self.messages += other.messages
-        return self
-
-
-# ----------------------------------------------------------------------------- options
-
-_KINDS = ("float", "int", "str", "flag", "object")
-
-
-def _describe_range(opt: Option) -> str:
-    """``a finite number in [0, 1]``, ``an integer in 1..4096``..."""
-    if opt.kind == "int":
-        lo = "" if opt.min is None else f"{opt.min:g}"
-        hi = "" if opt.max is None else f"{opt.max:g}"
-        return "an integer" + (f" in {lo}..{hi}" if lo or hi else "")
-    text = "a finite number"
-    if opt.min is None and opt.max is None:
-        return text
-    left = "(" if opt.open_min else "["
-    lo = "-inf" if opt.min is None else f"{opt.min:g}"
-    hi = "inf" if opt.max is None else f"{opt.max:g}"
-    return f"{text} in {left}{lo}, {hi}{')' if opt.max is None else ']'}"
-
-
-@dataclass(frozen=True)
-class Option:
-    """One option of a command, declared once: its name, type, unit, range and help.
-
-    Parameters
-    ----------
-    name : str
-        The keyword of the command (and its ``--flag``: underscores become hyphens).
-    kind : {"float", "int", "str", "flag", "object"}
-        The value's type; ``"float"`` values are finite, ``"flag"`` is ``store_true``,
-        ``"object"`` a Python value given as is (a keyword with no flag).
-    help : str
-        One line; the unit is appended when given.
-    unit : str
-        The value's unit (``"mm"``, ``"deg"``, ``"s"``...), or ``""``.
-    default : object
-        The value when the option is not given (``None``: the library's default).
-    min, max : float, optional
-        The range (inclusive; ``open_min`` excludes ``min``).
-    choices : tuple, optional
-        The allowed values.
-    nargs : int or str, optional
-        Values per occurrence (2 for ``X Y``, ``"+"``...); each is checked.
-    repeat : bool
-        The option may be given several times (a list of its values).
-    parse : callable, optional
-        Text to value, for a structured value (raises ``ValueError`` with the expected form).
-    flag : str, optional
-        The command-line flag when it is not ``--name``; ``""``: Python only (no flag).
-    short : str, optional
-        A short flag (``-v``).
-    metavar, dest_negated : str, optional
-        argparse's metavar; ``dest_negated``: the flag stores ``False`` (``--no-renders``).
-    positional : bool
-        A positional argument (after the command's inputs).
-    required : bool
-        The option must be given.
-    """
-
-    name: str
-    kind: str = "str"
-    help: str = ""
-    unit: str = ""
-    default: Any = None
-    min: float | None = None
-    max: float | None = None
-    open_min: bool = False
-    choices: tuple | None = None
-    nargs: int | str | None = None
-    repeat: bool = False
-    parse: Callable[[str], Any] | None = None
-    flag: str | None = None
-    short: str | None = None
-    metavar: Any = None
-    dest_negated: str | None = None
-    positional: bool = False
-    required: bool = False
-
-    @property
-    def shown(self) -> str:
-        """How errors name the option: its flag, else its keyword."""
-        if self.positional:
-            return self.name
-        return self.flag or (self.dest_negated or "--" + self.name.replace("_", "-"))
-
-    def check(self, value: Any) -> Any:
-        """The value, converted and checked; ``OptionsError`` naming the option if bad."""
-        if value is None:
-            return value
-        if self.kind == "object":  # structured text (the command line) or a Python value
-            texts = isinstance(value, list) and all(isinstance(v, str) for v in value)
-            return [self._one(v) for v in value] if self.parse and texts else value
-        if self.kind == "flag":
-            if not isinstance(value, bool):
-                raise OptionsError(f"{self.shown}: expected True or False, got {value!r}")
-            return value
-        many = self.repeat or self.nargs not in (None, "?")
-        if (many and isinstance(value, (str, bytes))) or not many:
-            return self._one(value)
-        if not isinstance(value, Sequence) and not hasattr(value, "__iter__"):
-            raise OptionsError(f"{self.shown}: expected a list of values, got {value!r}")
-        items = list(value)
-        if self.repeat and self.nargs not in (None, "?"):
-            return [[self._one(v) for v in group] for group in items]
-        return [self._one(v) for v in items]
-
-    def _one(self, value: Any) -> Any:
-        if self.parse is not None and isinstance(value, str):
-            try:
-                return self.parse(value)
-            except (ValueError, OverflowError) as exc:
-                raise OptionsError(f"{self.shown}: {exc}") from None
-        if self.kind in ("float", "int"):
-            value = self._number(value)
-        elif self.kind == "str" and not isinstance(value, (str, os.PathLike)):
-            if self.parse is None:
-                raise OptionsError(f"{self.shown}: expected text, got {value!r}")
-        if self.choices is not None and value not in self.choices:
-            raise OptionsError(
-                f"{self.shown}: expected one of {', '.join(map(str, self.choices))}, got {value!r}"
-            )
-        return value
-
-    def _number(self, value: Any) -> float | int:
-        expected = f"{self.shown}: expected {_describe_range(self)}, got {_shown(value)}"
-        if isinstance(value, bool):
-            raise OptionsError(expected)
-        try:
-            number = float(value) if self.kind == "float" else _integer(value)
-        except (TypeError, ValueError, OverflowError):
-            raise OptionsError(expected) from None
-        if not math.isfinite(number):
-            raise OptionsError(expected)
-        low = self.min is not None and (number <= self.min if self.open_min else number < self.min)
-        if low or (self.max is not None and number > self.max):
-            raise OptionsError(expected)
-        return number
-
-
-def _shown(value: Any) -> str:
-    return value if isinstance(value, str) else repr(value)
-
-
-def _integer(value: Any) -> int:
-    if isinstance(value, str):
-        return int(value.strip())
-    if isinstance(value, float) and not value.is_integer():
-        raise ValueError(value)
-    import operator
-
-    return operator.index(value) if not isinstance(value, float) else int(value)
-
-
-#: ``unit``, ``scale`` and ``width``: how an imported pattern (.dxf, .svg) is sized.
-SIZING = (
-    Option("unit", help="unit of an imported file: mm, cm, m, in, ft, pt, px or MM"),
-    Option("scale", "float", "multiply an imported pattern's size", min=0, open_min=True,
-           max=1e6),
-    Option("width", "float", "scale an imported pattern to this width", "mm", min=0,
-           open_min=True, max=1e6),
-)  # fmt: skip
 
 
 # ----------------------------------------------------------------------------- commands
@@ -345,9 +147,9 @@ class Command:
         """The checks before any work: the outputs' formats, then against the inputs."""
         files, folders = self.outputs(a)
         allowed = self.suffixes()
-        if allowed and self.OUTPUT in ("output", "outputs"):
-            for path in files:
-                check_suffix(path, allowed, self.WHAT)
+        given = {"output": [getattr(a, "output", None)], "outputs": getattr(a, "outputs", [])}
+        for path in given.get(self.OUTPUT, []) if allowed else []:
+            check_suffix(path, allowed, self.WHAT)
         check_outputs(self.inputs(a), files=files, folders=folders)
 
     def run(self, a: SimpleNamespace) -> Outputs:  # pragma: no cover - abstract
@@ -406,7 +208,8 @@ def _bind(cls: type[Command], args: tuple, kwargs: dict) -> SimpleNamespace:
         given = values.get(opt.name)
         if given is None and opt.required:
             raise OptionsError(f"{opt.shown}: required")
-        values[opt.name] = opt.default if given is None else opt.check(given)
+        default = False if opt.kind == "flag" and opt.default is None else opt.default
+        values[opt.name] = default if given is None else opt.check(given)
     values.setdefault("progress", None)
     values.setdefault("echo", print)
     values.setdefault("extra", [])
@@ -456,45 +259,3 @@ def execute(command: str | type[Command], *args: Any, **kwargs: Any) -> Outputs:
         raise
     finally:
         _SIZE_NOTES.reset(token)
-
-
-# ----------------------------------------------------------------------------- helpers
-
-
-def _is_stream(path: PathLike) -> bool:
-    """A device or pipe (``/dev/stdout``, a FIFO): written into, whatever its name."""
-    import stat
-
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return False
-    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
-
-
-def check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
-    """Refuse an output file whose extension is not one of ``allowed`` (``OptionsError``)."""
-    if len(allowed) == 1 and _is_stream(path):
-        return  # one possible format: a device or pipe needs no extension
-    if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
-        raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
-
-
-def sources(*items: Any) -> list:
-    """Input paths, and the file a design was read from, that no output may replace."""
-    return [s for s in (getattr(i, "source", i) for i in items) if s is not None]
-
-
-def moved(files: Sequence[Path], stage: Path, folder: PathLike) -> list[Path]:
-    """Where the files written into ``stage`` are once in ``folder``."""
-    return [Path(folder) / Path(f).relative_to(stage) for f in files]
-
-
-def staged(stage: Path) -> list[Path]:
-    """The files written into ``stage`` (sorted), not the skeleton's own."""
-    return sorted(p for p in stage.iterdir() if not p.name.startswith("."))
-
-
-def wrote(folder: PathLike, names: Sequence[Any]) -> str:
-    """The line saying what a command wrote into ``folder``: ``wrote FOLDER/: a b c``."""
-    return f"wrote {folder}/: " + " ".join(Path(n).name for n in names)

@@ -119,9 +119,8 @@ class Simulate(Command):
         cp = loaded.pattern
         spec = load_route(a.route, cp)
         given = {k: getattr(a, k) for k in ("gravity", "ground", "friction")}
-        params = a.params or SimulationParams.for_route(
-            spec, **{k: v for k, v in given.items() if v is not None}
-        )
+        loads = {k: v for k, v in given.items() if v is not None}
+        params = a.params or SimulationParams.for_route(spec, **loads)
         limits = _blocker_limits(cp, a.blockers, a.pattern)
         kwargs = {"steps": a.steps, "fold_limits": limits or None, "free": a.free}
         result = simulate(cp, spec, params, design=loaded, progress=a.progress, **kwargs)
@@ -173,6 +172,14 @@ def _arm_scene_numbers(summary: dict[str, Any]) -> list[tuple[str, str]]:
     ]
 
 
+def _arm_design(cmd: Command, a):
+    """The arm's design file, loaded; an arm is a transition-graph design."""
+    loaded, _ = cmd.load(a, a.design, sized=False)
+    if loaded.tg is None:
+        raise DesignError(f"{a.design}: an arm is a transition-graph design")
+    return loaded
+
+
 @register
 class ArmScene(Command):
     """The printed arm folded by its strings in its scene (Fig. 8): fig8.png, arm_scene.json.
@@ -201,22 +208,19 @@ class ArmScene(Command):
         from origami_cad.viz.design_plots import save_arm_scene_png
 
         arm_task, _ = load_task(a.task)
-        loaded, _ = self.load(a, a.design, sized=False)
-        if loaded.tg is None:
-            raise DesignError(f"{a.design}: an arm is a transition-graph design")
+        loaded = _arm_design(self, a)
         spec = load_route(a.route, loaded.pattern)
         result = fold_by_strings(loaded, spec, "simulation", steps=a.steps)
         simulated = arm_chain_path(loaded.tg, result.states, np.asarray(result.p, dtype=float))
-        bias = spec.fabrication.bias if spec.fabrication is not None else None
-        p_e, designed = designed_arm_path(arm_task, loaded.tg, bias)
+        p_e, designed = designed_arm_path(
+            arm_task, loaded.tg, getattr(spec.fabrication, "bias", None)
+        )
         summary = arm_scene_metrics(arm_task, loaded.tg, result, simulated, designed, p_e)
         d_end, turns = summary["final_distance_from_P_end_mm"], summary["tsa_turns"]
         peak = summary["max_tsa_torque_Nmm"]
+        title = f"tip {d_end:.1f} mm from P_end after {turns:.1f} TSA turns, "
         with self.stage(a, loaded) as stage:
-            title = (
-                f"tip {d_end:.1f} mm from P_end after {turns:.1f} TSA turns, "
-                f"peak torque {peak:.3g} N mm"
-            )
+            title += f"peak torque {peak:.3g} N mm"
             save_arm_scene_png(arm_task, designed, simulated, stage / self.FILES[0], title)
             with atomic_write(stage / self.FILES[1], "w", encoding="utf-8") as fh:
                 json.dump(summary, fh, indent=1)

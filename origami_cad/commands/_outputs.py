@@ -1,0 +1,96 @@
+"""What a command returns (:class:`Outputs`) and the helpers its outputs share."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from origami_cad.errors import OptionsError
+
+__all__ = ["Outputs", "check_suffix", "moved", "sources", "staged", "wrote"]
+
+PathLike = str | os.PathLike[str]
+
+
+@dataclass
+class Outputs:
+    """What a command wrote and what it found.
+
+    Attributes
+    ----------
+    files : list of Path
+        Every file written, in order.
+    images : list of (Path, str)
+        The pictures among them (.png, .gif, and .glb 3D views), with a caption.
+    numbers : list of (str, str)
+        Key results, name and value with its unit.
+    messages : list of str
+        Lines for the user: summary and warnings.
+    result : object
+        The library result the files were made from (a ``DCQCResult``,
+        ``Fabrication``, list of ``ArmDesign``...), or ``None``.
+    status : int
+        0, or 1 when the command ran but its answer is negative (a pattern with
+        errors, a routing that never folds).
+    """
+
+    files: list[Path] = field(default_factory=list)
+    images: list[tuple[Path, str]] = field(default_factory=list)
+    numbers: list[tuple[str, str]] = field(default_factory=list)
+    messages: list[str] = field(default_factory=list)
+    result: Any = None
+    status: int = 0
+
+    def extend(self, other: Outputs) -> Outputs:
+        """Add another command's outputs to these (for chained commands); returns ``self``.
+
+        A number two commands both report (the same name and value: a pattern's size,
+        read by each) is kept once.
+        """
+        self.files += other.files
+        self.images += other.images
+        self.numbers += [n for n in other.numbers if n not in self.numbers]
+        self.messages += other.messages
+        return self
+
+
+def _is_stream(path: PathLike) -> bool:
+    """A device or pipe (``/dev/stdout``, a FIFO): written into, whatever its name."""
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode)
+
+
+def check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
+    """Refuse an output file whose extension is not one of ``allowed`` (``OptionsError``)."""
+    if len(allowed) == 1 and _is_stream(path):
+        return  # one possible format: a device or pipe needs no extension
+    if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
+        raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
+
+def sources(*items: Any) -> list:
+    """Input paths, and the file a design was read from, that no output may replace."""
+    return [s for s in (getattr(i, "source", i) for i in items) if s is not None]
+
+
+def moved(files: Sequence[Path], stage: Path, folder: PathLike) -> list[Path]:
+    """Where the files written into ``stage`` are once in ``folder``."""
+    return [Path(folder) / Path(f).relative_to(stage) for f in files]
+
+
+def staged(stage: Path) -> list[Path]:
+    """The files written into ``stage`` (sorted), not the skeleton's own."""
+    return sorted(p for p in stage.iterdir() if not p.name.startswith("."))
+
+
+def wrote(folder: PathLike, names: Sequence[Any]) -> str:
+    """The line saying what a command wrote into ``folder``: ``wrote FOLDER/: a b c``."""
+    return f"wrote {folder}/: " + " ".join(Path(n).name for n in names)

@@ -1,0 +1,193 @@
+"""The route search command: ``plan-route`` (DCQC-scored beam search and CMA-ES)."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+from origami_cad._fileio import atomic_write
+from origami_cad._names import one_line
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register
+from origami_cad.errors import StringsError
+from origami_cad.parallel import open_executor
+
+__all__: list[str] = []
+
+
+_PLAN_HINT = "try another TSA place, fewer strings or a smaller --target-p"
+
+
+def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
+    """``--tsa ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
+    from origami_cad.strings import TSAParams
+    from origami_cad.strings.plan import TSAPlacement
+
+    kind, _, panel = tsa.partition(":")
+    if kind not in ("ring", "onboard") or (kind == "onboard") != bool(panel):
+        raise ValueError(f"expected 'ring' or 'onboard:PANEL', got {tsa!r}")
+    return TSAPlacement(kind, panel or None, ring_radius, ring_height, tsa=TSAParams(model=kind))
+
+
+def _plan_budget(budget: str):
+    """``--budget TURNS[,NMM]`` as the search's settings (budgets of turns and peak torque)."""
+    from origami_cad.strings.plan import PlanSettings
+
+    try:
+        values = [float(v) for v in budget.split(",")]
+    except ValueError:
+        values = []
+    if not 1 <= len(values) <= 2 or not all(math.isfinite(v) and 0 < v <= 1e6 for v in values):
+        raise ValueError(f"expected TURNS or TURNS,NMM (positive), got {budget!r}")
+    return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
+
+
+def _check_tsa(text: str) -> str:
+    _tsa_placement(text, 126.0, 10.0)
+    return text
+
+
+def _check_budget(text: str) -> str:
+    _plan_budget(text)
+    return text
+
+
+def _plan_header(a, planned, geom) -> str:
+    """The route file's comment lines: the command line that planned it, and its rank 1."""
+    target = f" --target-p {a.target_p:g}" if a.target_p is not None else ""
+    return (
+        f"# Planned by: origami-cad plan-route {one_line(a.pattern)} --tsa {one_line(a.tsa)} "
+        f"--strings {a.strings}{target} --seed {a.seed}\n"
+        f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
+        f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
+    )
+
+
+def _plan_numbers(planned, geom, seconds: float, cpu: float) -> list[tuple[str, str]]:
+    best = planned[0]
+    sim = best.checks.get("simulation")
+    checked = (
+        "not run"
+        if sim is None
+        else f"p = {sim['p']:.3f} after {sim['turns']:.1f} turns ({sim['stop']})"
+    )
+    return [
+        ("valid routes ranked", str(len(planned))),
+        ("target fold ratio", f"p = {geom.target_p:.4f} (fold limit {geom.limit_p:.4f})"),
+        ("best: TSA turns / peak torque", f"{best.turns:.2f} / {best.peak_torque:.3g} N mm"),
+        ("best: load share", f"{best.share:.2f}"),
+        ("search time", f"{seconds:.1f} s wall, {cpu:.1f} s CPU here"),
+        ("bar-and-hinge check of the best", checked),
+    ]
+
+
+def _plan_messages(planned, geom) -> list[str]:
+    best = planned[0]
+    lines = [
+        f"best of {len(planned)} routes: {len(best.strings)} strings, {best.turns:.2f} TSA turns "
+        f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
+    ]
+    for r in planned:
+        sim = r.checks.get("simulation")
+        if sim is not None and not sim["reaches_target"]:
+            lines.append(
+                f"warning: route {r.rank}: the bar-and-hinge simulation stops at p = "
+                f"{sim['p']:.3f} ({sim['reason']})"
+            )
+    return lines
+
+
+def _write_plan(a, loaded, geom, planned, stage: Path, names, seconds: float) -> list:
+    """route.toml, routes.json and the two plots into ``stage``; the routes, verified."""
+    from origami_cad.simulation.verify import verify_planned
+    from origami_cad.strings.plan import route_toml
+    from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
+
+    text = route_toml(geom, planned[0], _plan_header(a, planned, geom))
+    (stage / names[0]).write_text(text, encoding="utf-8")
+    planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
+    data = {
+        "target_p": geom.target_p,
+        "fold_limit_p": geom.limit_p,
+        "tsa": geom.placement.kind,
+        "search_seconds": seconds,
+        "routes": [r.to_dict() for r in planned],
+    }
+    with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+        json.dump(data, fh, indent=1)
+    save_planned_routes_png(loaded.pattern, planned, stage / names[2])
+    save_planned_turns_png(planned, stage / names[3])
+    return planned
+
+
+@register
+class PlanRoute(Command):
+    """Search string routes by the DCQC principle: route.toml, routes.json and plots.
+
+    Beam search over hole sequences (sides by the M/V rule), then CMA-ES over hole
+    positions in the panels' operation regions, scored on the fast DCQC model and
+    ranked by TSA turns, peak torque and load share; the best ``verify`` routes are
+    folded by the bar-and-hinge simulator. ``--tsa ring`` puts the guides on a ring
+    of ``ring_radius`` mm, ``ring_height`` mm above the sheet; ``onboard:PANEL``
+    mounts the TSA on that panel. ``--budget TURNS[,NMM]``: the TSA's turns and peak
+    torque (N mm) to stay within (default 40 turns). routes.json, routes.png and
+    routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
+    cluster. ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    """
+
+    NAME, INPUTS, OUTPUT, PROGRESS = "plan-route", ("pattern",), "output", "candidates"
+    SUFFIXES, WHAT = (".toml",), "the route"
+    OPTIONS = (
+        Option("tsa", help="ring, or onboard:PANEL (the TSA on that panel)", default="ring",
+               parse=_check_tsa),
+        Option("strings", "int", "strings the TSA twists", default=4, min=1, max=16),
+        Option("target_p", "float", "fold ratio (default: eq. 6 limit)", min=0, open_min=True,
+               max=1),
+        Option("candidates", "int", "beam width of the search", default=128, min=1, max=4096),
+        Option("budget", help="turn [and torque] budget", metavar="TURNS[,NMM]",
+               parse=_check_budget),
+        Option("seed", "int", "seed (overrides [search])", default=0, min=0, max=2**32 - 1),
+        Option("scheduler", help="Dask scheduler", metavar="ADDR"),
+        Option("ring_radius", "float", "radius of the ring TSA's guides", "mm", 126.0, min=0,
+               open_min=True, max=1e4, flag=""),
+        Option("ring_height", "float", "height of the ring above the sheet", "mm", 10.0,
+               min=0, max=1e4, flag=""),
+        Option("verify", "int", "routes folded by the bar-and-hinge simulator", default=2,
+               min=0, max=100, flag=""),
+        *SIZING,
+    )  # fmt: skip
+    NAMES = ("routes.json", "routes.png", "routes_turns.png")
+
+    def outputs(self, a):
+        folder = Path(a.output).parent
+        return [folder / n for n in (Path(a.output).name, *self.NAMES)], []
+
+    def run(self, a) -> Outputs:
+        from origami_cad.strings.plan import PlanSettings, plan_geometry, plan_routes
+
+        placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
+        loaded, warned = self.load(a, a.pattern)
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
+        geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
+        with open_executor(a.scheduler) as executor:
+            planned = plan_routes(
+                loaded, placement, a.strings, target_p=a.target_p, candidates=a.candidates,
+                seed=a.seed, executor=executor, progress=a.progress, geometry=geom,
+                check=max(a.verify, 1), settings=settings,
+            )  # fmt: skip
+        seconds = time.perf_counter() - t0
+        if not planned:
+            raise StringsError(f"{a.pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
+        files, _ = self.outputs(a)
+        names, done = [f.name for f in files], "wrote " + " ".join(map(str, files))
+        with self.stage(a, loaded, folder=files[0].parent) as stage:
+            planned = _write_plan(a, loaded, geom, planned, stage, names, seconds)
+        return Outputs(
+            files=files,
+            images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
+            numbers=_plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
+            messages=[*warned, *_plan_messages(planned, geom), done],
+            result=planned,
+        )  # fmt: skip

@@ -1,0 +1,130 @@
+"""The sequence command: ``sequence`` (fold-ratio keyframes to TSA turns, for ``drive``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from origami_cad._fileio import atomic_path
+from origami_cad._names import one_line
+from origami_cad.commands._base import Command, Option, Outputs, check_suffix, register
+from origami_cad.commands.drive import parse_ids
+from origami_cad.errors import DriveError
+
+__all__: list[str] = []
+
+_IDS = Option("ids", "object", "servo IDs, e.g. 1,2 (one per route)", parse=parse_ids)
+
+
+def _sequence_header(a, routes) -> str:
+    """The comment lines of a generated sequence file: where it comes from, how to remake it."""
+    argv = " ".join(
+        [
+            "origami-cad sequence", str(a.design), str(routes[0]), "-o", str(a.output),
+            *(f"--more-routes {r}" for r in routes[1:]),
+            f"--model {a.model}",
+            *([f"--fixed-panel {a.fixed_panel}"] if a.fixed_panel else []),
+            "--ids " + ",".join(map(str, a.ids)),
+            "--keyframes", *map(str, a.keyframes),
+        ]
+    )  # fmt: skip
+    return (
+        f"# Generated from the {a.model} model of {one_line(a.design)} folded by its strings, "
+        "not typed by\n"
+        f"# hand: each TSA's mapping is the fold ratio its route's strings reach against the\n"
+        "# contraction of its onboard TSA (every keyframe's fold ratio included), so drive\n"
+        "# commands the turns the model needed. Regenerate with:\n"
+        f"#   {one_line(argv)}\n"
+    )
+
+
+def _route_tsa(a, loaded, path, servo: int, at):
+    """Fold ``loaded`` by one route: its TSA entry of the sequence, its numbers, the result."""
+    from origami_cad.drive.from_model import route_tsa
+    from origami_cad.simulation.string_models import fold_by_strings
+    from origami_cad.strings import load_route
+
+    spec = load_route(path, loaded.pattern)
+    result = fold_by_strings(loaded, spec, a.model, fixed_panel=a.fixed_panel)
+    name = Path(path).stem.removesuffix("_route").removeprefix("route_")
+    tsa, fig = route_tsa(
+        loaded.pattern, spec.tsa, result, at, servo=servo, name=name, points=a.points,
+        where=f"{path} ({a.model})", label=f"{Path(path).name}, {a.model} model",
+    )  # fmt: skip
+    (lo, hi), need = fig["p_range"], ", ".join(f"{v:.2f}" for v in fig["turns_at"])
+    numbers = [
+        (f"servo {servo}: fold range of its strings", f"p = {lo:.3f} .. {hi:.3f}"),
+        (f"servo {servo}: turns at the keyframes", need),
+        (f"servo {servo}: largest TSA torque", f"{fig['peak_torque']:.3g} N mm"),
+    ]
+    return tsa, numbers, result
+
+
+@register
+class SequenceCommand(Command):
+    """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
+
+    Each route (``route``, then ``more_routes``: one onboard TSA each, servo IDs
+    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model =
+    "dcqc"``) or the bar-and-hinge simulation (``"simulation"``); the fold ratio
+    it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
+    contraction of the onboard TSA model, every keyframe's fold ratio included),
+    so ``drive`` commands the turns the model needed. ``keyframes`` are
+    ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
+    without a one-parameter folding is measured by its most folded crease
+    (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
+    (e.g. a robot's body while one leg folds), instead of each route's own setting.
+    """
+
+    NAME, INPUTS, OUTPUT = "sequence", ("design", "route"), "output"
+    SUFFIXES, WHAT = (".toml",), "a sequence"
+    OPTIONS = (
+        Option("keyframes", help="time s : fold ratio (one per route)", nargs="+",
+               required=True, metavar="T:P[,P...]"),
+        Option("more_routes", help="more TSAs", nargs="+", metavar="ROUTE"),
+        Option("model", help="string model", default="dcqc", choices=("dcqc", "simulation")),
+        _IDS,
+        Option("rate", "float", "command rate", "Hz", 10.0, min=0, open_min=True, max=1000),
+        Option("repeat", "int", "cycles", default=1, min=1, max=1_000_000),
+        Option("points", "int", "mapping points besides the keyframes", default=21, min=2,
+               max=1000),
+        Option("fixed_panel", help="hold this panel in every route"),
+    )  # fmt: skip
+
+    def inputs(self, a):
+        return [a.design, a.route, *(a.more_routes or ())]
+
+    def prepare(self, a):  # outputs against the inputs first, then the format
+        from origami_cad._fileio import check_outputs
+
+        check_outputs(self.inputs(a), files=[a.output])
+        check_suffix(a.output, self.SUFFIXES, self.WHAT)
+
+    def run(self, a) -> Outputs:
+        from origami_cad.drive.from_model import parse_keyframes, sequence_toml
+        from origami_cad.drive.sequence import load_sequence
+        from origami_cad.pattern.design import load_pattern_source
+
+        routes = [a.route, *(a.more_routes or [])]
+        a.ids = list(a.ids) if a.ids else list(range(1, len(routes) + 1))
+        if len(a.ids) != len(routes):
+            raise DriveError(f"{len(a.ids)} servo IDs for {len(routes)} routes")
+        frames = parse_keyframes(a.keyframes, len(routes))
+        loaded = load_pattern_source(a.design)
+        tsas, numbers, results = [], [], []
+        for k, path in enumerate(routes):
+            at = [values[k] for _, values in frames]
+            tsa, more, result = _route_tsa(a, loaded, path, a.ids[k], at)
+            tsas.append(tsa)
+            numbers += more
+            results.append(result)
+        header = _sequence_header(a, routes)
+        text = sequence_toml(tsas, frames, rate=a.rate, repeat=a.repeat, header=header)
+        with atomic_path(a.output) as tmp:
+            Path(tmp).write_text(text, encoding="utf-8")
+            load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist
+        return Outputs(
+            files=[Path(a.output)],
+            numbers=numbers,
+            messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {a.output}"],
+            result=results,
+        )

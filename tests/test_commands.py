@@ -1,0 +1,126 @@
+"""The command registry (issue 29): one place per command, thin commands, CLI syntax in the CLI.
+
+Every command of ``origami-cad`` is declared once in ``origami_cad/commands/``; these
+tests keep it that way: the modules stay short, each ``run`` stays a thin body over the
+library, the command line is the registry's (nothing else), and the command-line syntax
+(``--tsa ring|onboard:PANEL``, ``--budget TURNS[,NMM]``, command lines rebuilt into
+file headers) lives only in ``commands/`` and ``cli.py``.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+
+from origami_cad.cli import build_parser
+from origami_cad.commands import COMMANDS, Option, execute
+from origami_cad.errors import OptionsError
+
+ROOT = Path(__file__).resolve().parents[1]
+COMMANDS_DIR = ROOT / "origami_cad" / "commands"
+MAX_MODULE, MAX_RUN = 300, 40
+
+
+def _runs():
+    for path in sorted(COMMANDS_DIR.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef):
+                for item in node.body:
+                    if isinstance(item, ast.FunctionDef) and item.name == "run":
+                        yield f"{path.name}:{node.name}", item.end_lineno - item.lineno + 1
+
+
+def test_no_command_module_is_over_300_lines_and_no_run_over_40():
+    long = {
+        p.name: n
+        for p in COMMANDS_DIR.glob("*.py")
+        if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_MODULE
+    }
+    assert not long, f"modules over {MAX_MODULE} lines: {long}"
+    runs = dict(_runs())
+    assert len(runs) >= len(COMMANDS) - 1  # every command's body is found (not the base's)
+    assert not {k: n for k, n in runs.items() if n > MAX_RUN}, runs
+
+
+def test_the_cli_is_the_registry():
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    shown = {n for n, c in COMMANDS.items() if not c.HIDDEN}
+    assert set(sub.choices) == shown
+    for name in shown:  # every declared option with a flag is an option of the command line
+        flags = {s for a in sub.choices[name]._actions for s in a.option_strings}
+        for opt in COMMANDS[name].OPTIONS:
+            if opt.flag != "" and not opt.positional:
+                assert opt.shown in flags, (name, opt.shown)
+    assert not (ROOT / "origami_cad" / "jobs.py").read_text().count("def run_")
+
+
+def _strings(path: Path):
+    """(line, text) of every string constant of a module that is not a docstring."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    docs = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+            yield node.lineno, node.value
+
+
+CLI_SYNTAX = re.compile(r"--tsa\b|--budget\b|^\s*#?\s*origami-cad [a-z]")
+
+
+def test_command_line_syntax_lives_only_in_the_commands_and_the_cli():
+    found = []
+    for path in sorted((ROOT / "origami_cad").rglob("*.py")):
+        rel = path.relative_to(ROOT)
+        if rel.parts[1] == "commands" or rel.name == "cli.py":
+            continue
+        found += [
+            f"{rel}:{line}: {text[:60]!r}"
+            for line, text in _strings(path)
+            if CLI_SYNTAX.search(text)
+        ]
+    assert not found, "command-line syntax outside commands/ and cli.py:\n" + "\n".join(found)
+    # the search sees it where it is
+    inside = [t for p in COMMANDS_DIR.glob("*.py") for _, t in _strings(p) if CLI_SYNTAX.search(t)]
+    assert any("--tsa" in t for t in inside) and any("origami-cad" in t for t in inside)
+
+
+def test_the_old_jobs_names_warn_and_still_work(tmp_path):
+    from origami_cad import jobs
+
+    with pytest.warns(DeprecationWarning, match="origami_cad.commands.execute"):
+        run_pattern = jobs.run_pattern
+    out = run_pattern("examples/miura_6x4.toml", [tmp_path / "cp.fold"])
+    assert [p.name for p in out.files] == ["cp.fold"] and (tmp_path / "cp.fold").stat().st_size
+    with pytest.warns(DeprecationWarning, match="origami_cad.fabrication.fabrication_params"):
+        assert jobs.fabrication_params(theta_max=146.6).bias == pytest.approx(3.0, abs=1e-3)
+    with warnings.catch_warnings(), pytest.raises(AttributeError):
+        warnings.simplefilter("error")
+        jobs.run_nothing  # noqa: B018
+
+
+def test_an_option_is_checked_before_any_work(tmp_path):
+    out = tmp_path / "f.fold"
+    with pytest.raises(
+        OptionsError, match=r"^--ratio: expected a finite number in \[0, 1\], got nan$"
+    ):
+        execute("fold", "examples/fig2_tg.toml", out, ratio=float("nan"))
+    with pytest.raises(
+        OptionsError, match=r"^--frames: expected an integer in 1\.\.10000, got 2\.5$"
+    ):
+        execute("fold", "examples/fig2_tg.toml", out, frames=2.5)
+    assert not out.exists()
+    opt = Option("gap", "float", min=0, open_min=True, max=5)
+    assert opt.check("2.5") == 2.5 and opt.check(5) == 5
+    for bad in ("0", 0.0, "inf", "x", True, 6):
+        with pytest.raises(OptionsError, match=r"^--gap: expected a finite number in \(0, 5\]"):
+            opt.check(bad)
