@@ -115,7 +115,7 @@ class TSAPlacement:
         if self.kind not in ("ring", "onboard"):
             raise StringsError(f"a TSA is placed 'ring' or 'onboard', got {self.kind!r}")
         if self.kind == "onboard" and not self.panel:
-            raise StringsError("an onboard TSA needs its panel (the label of the panel it rides on)")
+            raise StringsError("an onboard TSA needs the label of the panel it rides on")
         if self.kind == "ring" and not (self.radius > 0 and self.guides >= 4):
             raise StringsError("a ring TSA needs a radius > 0 mm and at least 4 guides")
 
