@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import importlib
 import inspect
 import signal
@@ -122,9 +123,15 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@functools.lru_cache(maxsize=4)
+def _parser(commands: tuple[str, ...]) -> argparse.ArgumentParser:
+    """The parser of the registered ``commands`` (built once: argparse is slow to build)."""
+    return build_parser()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
-    parser = build_parser()
+    parser = _parser(tuple(COMMANDS))
     try:
         args, extra = parser.parse_known_args(argv)
         if extra and not COMMANDS[args.command].EXTRA:

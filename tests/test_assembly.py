@@ -248,5 +248,5 @@ def test_bad_ratios_on_the_command_line_are_one_line_and_exit_2(tmp_path, capsys
     for args in runs:
         assert main(args) == 2
         err = capsys.readouterr().err.strip().splitlines()
-        assert len(err) == 1 and "fold ratio must lie in [0, 1]" in err[0], err
+        assert len(err) == 1 and "--ratio: expected a finite number in [0, 1]" in err[0], err
     assert not (tmp_path / "out").exists() and not (tmp_path / "f.step").exists()

@@ -97,7 +97,7 @@ def test_check_exit_codes(tmp_path, capsys):
         (["convert", str(EXAMPLES / "fig2_tg.toml"), "x.fold"], "unknown crease-pattern format"),
         (
             ["fold", str(EXAMPLES / "fig2_tg.toml"), "--ratio", "1.5", "-o", "x.fold"],
-            "fold ratio must lie in [0, 1]",
+            "--ratio: expected a finite number in [0, 1], got 1.5",
         ),
         (["fold", str(EXAMPLES / "fig2_tg.toml"), "-o", "x.obj"], ".fold, .png, .gif"),
         (["pattern", "nothing.toml", "-o", "x.fold"], "nothing.toml: no such file"),

@@ -19,8 +19,14 @@ from origami_cad.cli import main
         (["fold", "{fig2}", "--frames", "1000000000", "-o", "{tmp}/f.fold"], "1..10000"),
         (["fold", "{fig2}", "--ratio", "nan", "-o", "{tmp}/f.fold"], "finite number"),
         (["check", "{fig2}", "--angle-tolerance", "inf"], "finite number"),
-        (["design-arm", "{task}", "-o", "{tmp}/arm", "--seed", "-3"], "seed must be >= 0"),
-        (["design-arm", "{task}", "-o", "{tmp}/arm", "--runs", "0"], "runs must be >= 1"),
+        (
+            ["design-arm", "{task}", "-o", "{tmp}/arm", "--seed", "-3"],
+            "--seed: expected an integer in 0..4294967295, got -3",
+        ),
+        (
+            ["design-arm", "{task}", "-o", "{tmp}/arm", "--runs", "0"],
+            "--runs: expected an integer in 1..10000, got 0",
+        ),
         (["drive", "{seq}", "--dry-run", "--speed", "0", "--log", "{tmp}/l.csv"], "speed"),
         (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--gravity", "nan"], "finite"),
         (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--blocker", "9999:60"], "9999"),

@@ -124,3 +124,10 @@ def test_an_option_is_checked_before_any_work(tmp_path):
     for bad in ("0", 0.0, "inf", "x", True, 6):
         with pytest.raises(OptionsError, match=r"^--gap: expected a finite number in \(0, 5\]"):
             opt.check(bad)
+
+
+def test_design_arm_takes_the_task_files_limits():
+    from origami_cad.commands import design
+    from origami_cad.design import task
+
+    assert (design.MAX_RUNS, design.MAX_GENERATIONS) == (task.MAX_RUNS, task.MAX_GENERATIONS)

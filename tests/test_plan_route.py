@@ -217,7 +217,7 @@ def test_plan_route_command_writes_a_route_the_route_command_folds(tmp_path, cap
     ("option", "message"),
     [
         (["--tsa", "onboard:nope"], "no panel labelled 'nope'"),
-        (["--tsa", "rail"], "--tsa must"),
+        (["--tsa", "rail"], "--tsa: expected 'ring' or 'onboard:PANEL', got 'rail'"),
         (["--budget", "20,-1"], "--budget: expected TURNS"),
     ],
 )

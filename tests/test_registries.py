@@ -265,11 +265,11 @@ def test_each_stage_error_is_its_own_class_under_the_root():
     [
         (["check", "{tmp}/pattern.fold"], "edges_vertices"),
         (["design-arm", "{tmp}/task.toml", "-o", "{tmp}/d"], "task.toml"),
-        (["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "190"], "theta_max"),
+        (["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "180"], "theta_max"),
         (["route", "{miura}", "{tmp}/route.toml", "-o", "{tmp}/r"], "route.toml"),
         (["robot", "{tmp}/robot.toml", "-o", "{tmp}/rb"], "robot.toml"),
         (["drive", "{tmp}/sequence.toml", "--dry-run"], "sequence.toml"),
-        (["emulate", "--seconds", "-1"], "duration"),
+        (["emulate", "--seconds", "-1"], "--seconds: expected a finite number in [0, 1e+07]"),
     ],
 )
 def test_the_cli_maps_every_stage_error_to_exit_2_and_one_line(tmp_path, capsys, argv, message):

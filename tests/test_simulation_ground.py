@@ -186,7 +186,7 @@ def test_cli_free_structure_without_gravity_exits_2_and_writes_nothing(tmp_path,
     assert "needs gravity > 0 and a ground" in capsys.readouterr().err
     assert not out.exists()
     assert main([*args, "--ground", "0", "--gravity", "9810", "--friction", "-1"]) == 2
-    assert "friction coefficient must be >= 0" in capsys.readouterr().err
+    assert "--friction: expected a finite number in [0, 100], got -1" in capsys.readouterr().err
     assert main([*args, "--ground", "0", "--gravity", "9810", "--steps", "4"]) == 0
     data = json.loads((out / "simulation.json").read_text())
     assert data["notes"][0].startswith("no panel is held")

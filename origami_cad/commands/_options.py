@@ -19,8 +19,8 @@ _KINDS = ("float", "int", "str", "flag", "object")
 def _describe_range(opt: Option) -> str:
     """``a finite number in [0, 1]``, ``an integer in 1..4096``..."""
     if opt.kind == "int":
-        lo = "" if opt.min is None else f"{opt.min:g}"
-        hi = "" if opt.max is None else f"{opt.max:g}"
+        lo = "" if opt.min is None else str(int(opt.min))
+        hi = "" if opt.max is None else str(int(opt.max))
         return "an integer" + (f" in {lo}..{hi}" if lo or hi else "")
     text = "a finite number"
     if opt.min is None and opt.max is None:
@@ -101,6 +101,8 @@ class Option:
         if value is None:
             return value
         if self.kind == "object":  # structured text (the command line) or a Python value
+            if self.parse and isinstance(value, str):
+                return self._one(value)
             texts = isinstance(value, list) and all(isinstance(v, str) for v in value)
             return [self._one(v) for v in value] if self.parse and texts else value
         if self.kind == "flag":

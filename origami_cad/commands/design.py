@@ -13,6 +13,9 @@ from origami_cad.parallel import open_executor
 
 __all__: list[str] = []
 
+# the task file's limits (origami_cad.design.task; not imported here: --help stays fast)
+MAX_RUNS, MAX_GENERATIONS = 10_000, 1_000_000
+
 
 def _best_design_toml(design, task, copies: int = 3) -> str:
     """The winner as a design file (``kind = "transition-graph"``) that every command reads.
@@ -197,9 +200,9 @@ class DesignArm(Command):
 
     NAME, INPUTS, OUTPUT, PROGRESS = "design-arm", ("task",), "folder", "CMA-ES generations"
     OPTIONS = (
-        Option("runs", "int", "override the task's [search] runs", min=1, max=10_000),
+        Option("runs", "int", "override the task's [search] runs", min=1, max=MAX_RUNS),
         Option("seed", "int", "seed (overrides [search])", min=0, max=2**32 - 1),
-        Option("max_generations", "int", "override [search] value", min=1, max=100_000),
+        Option("max_generations", "int", "override [search] value", min=1, max=MAX_GENERATIONS),
         Option("scheduler", help="Dask scheduler", metavar="ADDR"),
     )
 
