@@ -5,7 +5,16 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from origami_cad.commands._base import SIZING, Command, Option, Outputs, moved, register, staged
+from origami_cad.commands._base import (
+    SIZING,
+    Command,
+    Option,
+    Outputs,
+    moved,
+    register,
+    staged,
+    wrote,
+)
 from origami_cad.errors import OptionsError
 
 __all__: list[str] = []
@@ -164,7 +173,7 @@ class Fabricate(Command):
                 *warned,
                 _summary(fab),
                 *(f"warning: {w}" for w in fab.warnings),
-                f"wrote {a.folder}/: " + " ".join(p.name for p in files),
+                wrote(a.folder, files),
             ],
             result=fab,
         )
