@@ -131,8 +131,8 @@ def _parser(commands: tuple[str, ...]) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the console script; returns the exit code."""
-    parser = _parser(tuple(COMMANDS))
     try:
+        parser = _parser(tuple(COMMANDS))
         args, extra = parser.parse_known_args(argv)
         if extra and not COMMANDS[args.command].EXTRA:
             parser.error(f"unrecognized arguments: {' '.join(extra)}")
@@ -140,6 +140,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if exc.code in (0, None):
             raise  # --help, --version
         return int(exc.code)
+    except KeyboardInterrupt:  # Ctrl-C while the arguments were read: nothing was written
+        return _interrupted()
     args.extra = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
     # argv None: the console script, which exits next (a caller passing argv goes on)

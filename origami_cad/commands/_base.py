@@ -188,7 +188,7 @@ class Command:
 
 def _bind(cls: type[Command], args: tuple, kwargs: dict) -> SimpleNamespace:
     """The command's arguments: positional ones, options (checked), defaults."""
-    names = [*cls.INPUTS, *([_dest(cls.OUTPUT)] if cls.OUTPUT else [])]
+    names = [*cls.INPUTS, *([cls.OUTPUT] if cls.OUTPUT else [])]
     names += [o.name for o in cls.OPTIONS if o.positional]
     names = list(cls.ARGS) if cls.ARGS is not None else names
     if len(args) > len(names):
@@ -214,10 +214,6 @@ def _bind(cls: type[Command], args: tuple, kwargs: dict) -> SimpleNamespace:
     values.setdefault("echo", print)
     values.setdefault("extra", [])
     return SimpleNamespace(**values)
-
-
-def _dest(output: str) -> str:
-    return {"output": "output", "outputs": "outputs", "folder": "folder"}[output]
 
 
 def execute(command: str | type[Command], *args: Any, **kwargs: Any) -> Outputs:
