@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_write
-from origami_cad._toml import parse_file
+from origami_cad._toml import input_file, parse_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
@@ -151,10 +151,36 @@ def write_fold(
     return Path(path)
 
 
+class _DuplicateKey(Exception):
+    """A JSON object names one key twice, with different values."""
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """The object of ``pairs``; :class:`_DuplicateKey` when a key comes twice with
+    different values (JSON keeps the last silently; which one is meant?)."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out and out[key] != value:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
+
+
 def _load(path: str | os.PathLike[str]) -> dict[str, Any]:
+    try:
+        return _load_unique(path)
+    except _DuplicateKey as exc:
+        _, name = input_file(path, PatternError)
+        raise PatternError(
+            f"{name}: the key {printable(str(exc.args[0]), 80)!r} is given twice in one JSON "
+            "object, with different values (which one is meant?)"
+        ) from None
+
+
+def _load_unique(path: str | os.PathLike[str]) -> dict[str, Any]:
     data, name = parse_file(
         path,
-        lambda p: json.loads(p.read_text(encoding="utf-8")),
+        lambda p: json.loads(p.read_text(encoding="utf-8"), object_pairs_hook=_unique_keys),
         fmt="JSON",
         error=PatternError,
         not_text="not a text file (FOLD is JSON)",
@@ -347,6 +373,23 @@ def _assignments(frame: dict[str, Any], where: str, m: int) -> list[str] | None:
     return raw
 
 
+def _check_signs(frame: dict[str, Any], where: str, assign: list[str], angles: np.ndarray) -> None:
+    """PatternError naming the edge whose fold angle has the sign of the other fold
+    (FOLD: a mountain folds to a negative angle, a valley to a positive one)."""
+    key = "edges_foldAngle" if "edges_foldAngle" in frame else "edges_foldAngles"
+    letters = np.asarray([str(a).upper() for a in assign])
+    wrong = ((letters == "M") & (angles > 0)) | ((letters == "V") & (angles < 0))
+    if wrong.any():
+        k = int(np.flatnonzero(wrong)[0])
+        fold = "mountain" if letters[k] == "M" else "valley"
+        sign = "negative" if letters[k] == "M" else "positive"
+        more = f" (and {int(wrong.sum()) - 1} more edges)" if wrong.sum() > 1 else ""
+        raise PatternError(
+            f"{where}: edge {k}: {key}[{k}] = {angles[k]:g} contradicts edges_assignment[{k}] = "
+            f"{printable(str(assign[k]), 8)!r}: a {fold} folds to a {sign} angle{more}"
+        )
+
+
 def _holes(frame: dict[str, Any], where: str) -> list[Hole]:
     if frame.get(_HOLES) is None:
         return []
@@ -392,6 +435,8 @@ def _frame_to_pattern(
         raise PatternError(f"{where}: 'edges_vertices' is empty; a crease pattern needs edges")
     angles = _fold_angles(frame, where, len(e))
     assign = _assignments(frame, where, len(e))
+    if assign is not None and angles is not None:
+        _check_signs(frame, where, assign, angles)
     if assign is None:
         if angles is not None:
             a = np.nan_to_num(angles)
