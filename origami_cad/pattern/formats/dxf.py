@@ -93,6 +93,7 @@ from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
+    MAX_EDGES,
     CreasePattern,
     Hole,
     Problem,
@@ -152,8 +153,8 @@ _MAX_DEPTH = 32
 #: most entities a drawing may expand to, block references and MINSERT arrays counted
 #: (each takes about 50 us to read: 100,000 take a few seconds)
 MAX_ENTITIES = 100_000
-#: most line segments read, curves flattened
-MAX_SEGMENTS = 1_000_000
+#: most line segments read, curves flattened: a pattern's limit of edges
+MAX_SEGMENTS = MAX_EDGES
 
 
 # --------------------------------------------------------------------- writing

@@ -31,6 +31,8 @@ from origami_cad._toml import input_file, parse_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
+    MAX_EDGES,
+    MAX_VERTICES,
     CreasePattern,
     Hole,
     Problem,
@@ -224,6 +226,11 @@ def _index(v: Any, key: str, k: int, where: str) -> int:
 def _coords(frame: dict[str, Any], where: str, scale: float) -> np.ndarray:
     """``vertices_coords`` checked: [x, y] or [x, y, z] numbers, finite, bounded (mm)."""
     raw = _list(frame, "vertices_coords", where)
+    if len(raw) > MAX_VERTICES:
+        raise PatternError(
+            f"{where}: vertices_coords has {len(raw):,} vertices, more than the limit of "
+            f"{MAX_VERTICES:,} (MAX_VERTICES)"
+        )
     dims = None
     for k, c in enumerate(raw):
         if not isinstance(c, list) or len(c) not in (2, 3):
@@ -262,7 +269,14 @@ def _index_rows(
 ) -> list[list[int]]:
     """Rows of vertex indices (``edges_vertices``: 2 each; ``faces_vertices``: any)."""
     rows = []
-    for k, row in enumerate(_list(frame, key, where)):
+    given = _list(frame, key, where)
+    if len(given) > MAX_EDGES:
+        what = "edges" if key == "edges_vertices" else "faces"
+        raise PatternError(
+            f"{where}: {key} has {len(given):,} {what}, more than the limit of {MAX_EDGES:,} "
+            "(MAX_EDGES)"
+        )
+    for k, row in enumerate(given):
         if not isinstance(row, list) or (width is not None and len(row) != width):
             raise PatternError(
                 f"{where}: {key}[{k}] must be an array of {width or 'the'} vertex indices"

@@ -45,6 +45,7 @@ from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
+    MAX_EDGES,
     CreasePattern,
     Hole,
     Problem,
@@ -643,6 +644,11 @@ def _walk_svg(
             continue
         drawn = _element_segments(el, tag, where, m, style, opacity, sx, sy, dropped)
         segments += drawn
+        if len(segments) > MAX_EDGES:
+            raise PatternError(
+                f"{where}: more than {MAX_EDGES:,} line segments (MAX_EDGES), too many for a "
+                "crease pattern"
+            )
         stack.extend((child, m, style, opacity, using) for child in reversed(el))
     return segments, holes, title, dropped
 
