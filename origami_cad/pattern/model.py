@@ -63,8 +63,9 @@ DEFAULT_RELATIVE_TOLERANCE = 1e-6
 #: Largest coordinate magnitude accepted, mm (1000 km). Anything larger is a
 #: mistake (or a hostile file) and would overflow the geometry in squares and areas.
 MAX_COORDINATE = 1e9
-#: Most vertices a pattern may have, once coincident ones are merged (a 224 x 224 grid;
-#: converting one takes about 30 s and 500 MB). Checked before the crossing search and
+#: Most vertices a pattern may have, once coincident ones are merged (about a 223 x 223
+#: grid: converting one from FOLD to SVG took 94 s and 450 MB on a busy 2-core machine; a
+#: larger one ran out of memory). Checked before the crossing search and
 #: the faces, which need the time and memory; the readers check it (or :data:`MAX_EDGES`)
 #: before they convert a file's numbers.
 MAX_VERTICES = 50_000

@@ -658,7 +658,9 @@ def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
     cp.notes = tuple(
-        dataclasses.replace(n, message=f"{name}: {n.message}") if n.code == "size" else n
+        dataclasses.replace(n, message=f"{name}: {n.message}")
+        if n.code in ("size", "zero-length")
+        else n
         for n in cp.notes
     )
     return cp
@@ -775,19 +777,15 @@ def _dropped_notes(dropped: dict[str, bool]) -> list[Problem]:
     those that drew nothing else (a zero-length mountain line), info for the rest."""
     notes = []
     for empty, severity, what in (
-        (True, Severity.WARNING, "draw nothing but zero-length lines, left out"),
-        (False, Severity.INFO, "have zero-length segments, left out"),
+        (True, Severity.WARNING, "drawing nothing but zero-length lines, left out"),
+        (False, Severity.INFO, "with zero-length segments, which were left out"),
     ):
         named = [d for d, e in dropped.items() if e is empty]
         if named:
+            count = f"{len(named)} {'entity' if len(named) == 1 else 'entities'}"
             more = f"; and {len(named) - 3} more" if len(named) > 3 else ""
-            notes.append(
-                Problem(
-                    "zero-length",
-                    f"{len(named)} entities {what}: {'; '.join(named[:3])}{more}",
-                    severity=severity,
-                )
-            )
+            text = f"{count} {what}: {'; '.join(named[:3])}{more}"
+            notes.append(Problem("zero-length", text, severity=severity))
     return notes
 
 

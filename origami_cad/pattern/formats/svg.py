@@ -525,26 +525,28 @@ def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
-    cp.notes = (*cp.notes, *_dropped_notes(dropped))
+    cp.notes = (*cp.notes, *_dropped_notes(dropped, name))
     return cp.with_holes(holes) if holes else cp
 
 
-def _dropped_notes(dropped: dict[str, bool]) -> list[Problem]:
+def _dropped_notes(dropped: dict[str, bool], name: str) -> list[Problem]:
     """Notes on the zero-length segments left out: a warning naming the elements that
     drew nothing but them, an info note naming those that drew other lines too."""
     notes = []
     for empty, severity, what in (
-        (True, Severity.WARNING, "draw nothing but zero-length lines, left out"),
-        (False, Severity.INFO, "have zero-length segments, left out"),
+        (True, Severity.WARNING, "drawing nothing but zero-length lines, left out"),
+        (False, Severity.INFO, "with zero-length segments, which were left out"),
     ):
-        named = [w for w, e in dropped.items() if e is empty]
+        named = [w.removeprefix(f"{name}: ") for w, e in dropped.items() if e is empty]
         if named:
             shown = "; ".join(named[:3]) + (
                 f"; and {len(named) - 3} more" if len(named) > 3 else ""
             )
             notes.append(
                 Problem(
-                    "zero-length", f"{len(named)} element(s) {what}: {shown}", severity=severity
+                    "zero-length",
+                    f"{name}: {len(named)} element{'' if len(named) == 1 else 's'} {what}: {shown}",
+                    severity=severity,
                 )
             )
     return notes
