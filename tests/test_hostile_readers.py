@@ -156,6 +156,27 @@ def test_dxf_a_minsert_of_a_minsert_reads_and_checks_clean(tmp_path, capsys):
     assert xs == [20, 40, 60, 80]
 
 
+def test_dxf_a_scaled_minsert_scales_the_grid_of_the_minsert_inside(tmp_path, capsys):
+    # the block reference scales everything in the block, the inner grid's spacing too
+    def add(doc, msp):
+        doc.blocks.new("LINE").add_line((0, 0), (0, 20), dxfattribs={"layer": "Valley"})
+        doc.blocks.new("PAIR").add_blockref("LINE", (0, 0)).grid(size=(1, 2), spacing=(1, 2))
+        ref = msp.add_blockref("PAIR", (20, 0), dxfattribs={"xscale": 5, "yscale": 5})
+        return ref.grid(size=(1, 2), spacing=(1, 40)).dxf.handle
+
+    p, _ = drawing(tmp_path, add)
+    code, out = checked(capsys, p)
+    assert code == 0, out
+    assert main(["convert", str(p), str(tmp_path / "o.fold")]) == 0
+    fold = json.loads((tmp_path / "o.fold").read_text())
+    xs = {
+        fold["vertices_coords"][a][0]
+        for (a, _), kind in zip(fold["edges_vertices"], fold["edges_assignment"], strict=True)
+        if kind == "V"
+    }
+    assert xs == {20, 30, 60, 70}
+
+
 @pytest.mark.parametrize(
     "group, value, fragment",
     [(" 70\n37\n", " 70\n0\n", "column_count = 0"), (" 71\n41\n", " 71\n-2\n", "row_count = -2")],
