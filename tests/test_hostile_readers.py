@@ -319,3 +319,18 @@ def test_robot_stl_names_go_through_path_component(tmp_path, bad):
     assert list(tmp_path.rglob("*.stl")) == []  # not even the good one: checked first
     written = write_robot_stls(robot(["tsa_1"]), out)
     assert [p.name for p in written.values()] == ["tsa_1.stl"]
+
+
+def test_the_model_checks_its_limits_before_normalising():
+    import numpy as np
+
+    from origami_cad.errors import PatternError
+    from origami_cad.pattern import CreasePattern
+
+    with pytest.raises(PatternError, match="MAX_EDGES"):
+        CreasePattern(np.zeros((2, 2)), np.zeros((MAX_EDGES + 1, 2), int), "U")
+    n = MAX_VERTICES + 1  # a zigzag through n distinct vertices: n - 1 edges
+    verts = np.column_stack([np.arange(n, dtype=float), np.arange(n) % 2])
+    edges = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+    with pytest.raises(PatternError, match=f"{n:,} vertices.*MAX_VERTICES"):
+        CreasePattern(verts, edges, "U")

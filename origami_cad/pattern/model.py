@@ -255,10 +255,6 @@ class CreasePattern:
     ) -> None:
         verts = _as_vertices(vertices)
         edge_arr = _as_edges(edges)
-        if len(edge_arr) > MAX_EDGES:
-            raise PatternError(
-                f"{len(edge_arr):,} edges, more than the limit of {MAX_EDGES:,} (MAX_EDGES)"
-            )
         if edge_arr.size and (edge_arr.min() < 0 or edge_arr.max() >= len(verts)):
             bad = int(np.flatnonzero((edge_arr < 0).any(1) | (edge_arr >= len(verts)).any(1))[0])
             raise PatternError(
@@ -509,7 +505,8 @@ class CreasePattern:
 
 
 def _as_edges(edges: Any) -> np.ndarray:
-    """Edges as an (m, 2) int64 array; fractional or boolean indices are refused."""
+    """Edges as an (m, 2) int64 array; fractional or boolean indices, or more than
+    :data:`MAX_EDGES` edges, are refused."""
     try:
         raw = np.asarray(edges)
     except (TypeError, ValueError):
@@ -530,6 +527,8 @@ def _as_edges(edges: Any) -> np.ndarray:
         )
     if raw.ndim != 2 or raw.shape[1] != 2:
         raise PatternError(f"edges must have shape (m, 2), got {raw.shape}")
+    if len(raw) > MAX_EDGES:
+        raise PatternError(f"{len(raw):,} edges, more than the limit of {MAX_EDGES:,} (MAX_EDGES)")
     return raw.astype(np.int64)
 
 
