@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test lint format bench docs clean
+.PHONY: demo test fuzz lint format bench docs clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -19,6 +19,13 @@ test: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(PY) -m pytest -q -n auto --dist loadfile
+
+# a longer, random fuzz of the readers (the suite runs a small fixed budget of each test):
+# FUZZ_EXAMPLES inputs per test; `make fuzz FUZZ_EXAMPLES=5000` for a night
+FUZZ_EXAMPLES ?= 1000
+fuzz: $(STAMP)
+	ORIGAMI_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(PY) -m pytest -q -n 0 \
+		tests/test_fuzz_readers.py tests/test_hostile_readers.py
 
 format: $(STAMP)
 	$(VENV)/bin/ruff format .

@@ -22,6 +22,7 @@ import shapely
 from build123d import Color, Compound, Location, export_stl
 
 from origami_cad._fileio import atomic_path
+from origami_cad._names import one_line, path_component
 from origami_cad.errors import DesignError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS, moved_tree, solids_by_part
 from origami_cad.fabrication.build import Fabrication
@@ -274,13 +275,23 @@ def write_robot_stls(
     robot: RobotAssembly, folder: str | os.PathLike[str], kinds: Sequence[str] | None = None
 ) -> dict[str, Path]:
     """Write ``<name>.stl`` (binary, in place on the robot) of each solid of the given kinds
-    (default: every added part, not the sheet, which ``write_fabrication`` writes)."""
-    out = {}
+    (default: every added part, not the sheet, which ``write_fabrication`` writes).
+
+    Each file name is checked by :func:`origami_cad._names.path_component` before any
+    file is written: a solid whose name cannot be one file in ``folder`` (``/``, ``..``,
+    control characters, a Windows device name, ...) is a :class:`DesignError` naming it.
+    """
+    chosen = {}
     for name, shape in robot.solids.items():
         kind = robot.kinds[name]
         if (kinds is None and kind == "structure") or (kinds is not None and kind not in kinds):
             continue
-        path = Path(folder) / f"{name}.stl"
+        try:
+            chosen[name] = (Path(folder) / path_component(f"{name}.stl"), shape)
+        except ValueError as exc:
+            raise DesignError(f"the solid {one_line(str(name)[:60])}: {exc}") from None
+    out = {}
+    for name, (path, shape) in chosen.items():
         with atomic_path(path) as tmp:
             if export_stl(shape, str(tmp), tolerance=0.01, angular_tolerance=0.1) is False:
                 raise OSError(f"{path}: the STL writer failed")

@@ -10,9 +10,16 @@ a pattern that is read has finite, bounded coordinates and valid indices, and
 can be written as FOLD, SVG and DXF and read back.
 
 The suite runs a bounded, deterministic budget (``derandomize``; 20-30 s
-here). A bigger random campaign, by hand::
+here). A bigger random campaign: ``make fuzz`` (``FUZZ_EXAMPLES=1000`` per test by
+default), or by hand::
 
     ORIGAMI_FUZZ_EXAMPLES=3000 .venv/bin/python -m pytest -q tests/test_fuzz_readers.py
+
+Issue 32's cases are in the strategies: SVG transforms that collapse the plane,
+empty viewBoxes, non-finite sizes and nesting around the depth limit; DXF circles
+of NaN radius, INSERT scales of 0, MINSERTs of MINSERTs and hostile grid counts
+written into the file; FOLD keys given twice and fold angles against their
+assignment.
 
 Memory is measured with :mod:`tracemalloc`, which sees Python's and NumPy's
 allocations (not GEOS's or ezdxf's C allocations).
@@ -39,6 +46,7 @@ from origami_cad.design.task import load_task
 from origami_cad.errors import OrigamiCadError
 from origami_cad.pattern import CreasePattern, miura_pattern, read_pattern, write_pattern
 from origami_cad.pattern.design import load_design
+from origami_cad.pattern.formats.svg import MAX_DEPTH
 from origami_cad.pattern.model import MAX_COORDINATE
 from origami_cad.strings.route import load_route
 
@@ -158,6 +166,12 @@ def fold_documents(draw):
             st.lists(st.none() | st.integers(-180, 180), min_size=m, max_size=m)
         ),
     }
+    if not draw(st.integers(0, 4)):  # mostly, the angles have the signs of their folds
+        sign = {"M": -1, "V": 1}
+        doc["edges_foldAngle"] = [
+            None if a is None else sign.get(letter, 1) * abs(a) if letter in sign else a
+            for a, letter in zip(doc["edges_foldAngle"], doc["edges_assignment"], strict=True)
+        ]
     if draw(st.booleans()):
         doc["faces_vertices"] = draw(
             st.lists(st.lists(st.integers(0, n - 1), min_size=3, max_size=5), max_size=4)
@@ -212,6 +226,36 @@ def test_fuzz_folded_forms(doc, heights):
 
 
 @fuzz(40)
+@given(doc=fold_documents(), key=st.integers(0, 20), value=json_values, same=st.booleans())
+def test_fuzz_fold_duplicate_keys(doc, key, value, same):
+    # a key given twice: the same value reads, a different one is refused naming the key
+    name = sorted(doc)[key % len(doc)]
+    again = doc[name] if same else value
+    text = json.dumps(doc, allow_nan=True)[:-1] + f", {json.dumps(name)}: "
+    path = _DIR / "fuzz_dup.fold"
+    path.write_text(text + json.dumps(again, allow_nan=True) + "}", encoding="utf-8")
+    try:
+        json.loads(path.read_text(), object_pairs_hook=_no_duplicates)
+        contradicts = False
+    except KeyError:
+        contradicts = True
+    cp = outcome(read_pattern, path)
+    if contradicts:
+        assert cp is None
+    elif cp is not None:
+        sound(cp)
+
+
+def _no_duplicates(pairs):
+    seen = {}
+    for k, v in pairs:
+        if k in seen and seen[k] != v:
+            raise KeyError(k)
+        seen[k] = v
+    return seen
+
+
+@fuzz(40)
 @given(doc=fold_documents(), cut=st.integers(0, 10_000), junk=st.text(max_size=4))
 def test_fuzz_fold_text(doc, cut, junk):
     text = json.dumps(doc)
@@ -240,7 +284,8 @@ _transforms = st.lists(
     st.tuples(
         st.sampled_from(["matrix", "translate", "scale", "rotate", "skewX", "skewY", "spin", ""]),
         st.lists(_num_text, max_size=7),
-    ).map(lambda t: f"{t[0]}({','.join(t[1])})"),
+    ).map(lambda t: f"{t[0]}({','.join(t[1])})")
+    | st.sampled_from(["scale(0)", "scale(1 0)", "matrix(1 2 2 4 0 0)", "skewX(90)", "scale(-1)"]),
     max_size=3,
 ).map(" ".join)
 _colours = st.sampled_from(
@@ -289,14 +334,21 @@ _GOOD = [
     units=st.sampled_from(["", "mm", "px", "in", "%", "em"]),
     good=st.booleans(),
     children=st.lists(svg_elements(), max_size=5),
+    nest=st.sampled_from([0, 0, 0, 5, MAX_DEPTH - 3, MAX_DEPTH + 1, 20_000]),
+    groups=st.lists(_transforms, max_size=3),
 )
-def test_fuzz_svg_reader(root_attrs, units, good, children):
+def test_fuzz_svg_reader(root_attrs, units, good, children, nest, groups):
     root = ET.Element("svg", xmlns="http://www.w3.org/2000/svg")
     for k, v in root_attrs.items():
         root.set(k, v + units if k != "viewBox" else f"0 0 {v} {v}")
     if good:
         root.extend(_GOOD)
-    root.extend(children)
+    parent = root
+    for k in range(nest):  # the children inside nested groups, some transformed
+        parent = ET.SubElement(parent, "g")
+        if k < len(groups):
+            parent.set("transform", groups[k])
+    parent.extend(children)
     path = _DIR / "fuzz.svg"
     ET.ElementTree(root).write(path, encoding="utf-8")
     cp = outcome(read_pattern, path)
@@ -307,7 +359,7 @@ def test_fuzz_svg_reader(root_attrs, units, good, children):
 # ------------------------------------------------------------------- DXF
 _coord = st.one_of(
     st.integers(-50, 150).map(float),
-    st.sampled_from([1e300, -1e300, 1e12, 1e9, 1e-300, 0.0]),
+    st.sampled_from([1e300, -1e300, 1e12, 1e9, 1e-300, 0.0, math.nan, math.inf]),
 )
 _point = st.tuples(_coord, _coord)
 _LAYERS = ["Mountain", "Valley", "Border", "Cut", "Holes", "0", "Misc", "Flat"]
@@ -322,6 +374,10 @@ def dxf_documents(draw):
     blk = doc.blocks.new("B")
     inner = doc.blocks.new("C")
     inner.add_line((0, 0), (1, 1), dxfattribs={"layer": "0"})
+    grid = doc.blocks.new("D")  # a MINSERT inside a block: a MINSERT of it nests two grids
+    grid.add_blockref("C", (0, 0)).grid(
+        size=(draw(st.integers(1, 6)), draw(st.integers(1, 6))), spacing=(2.0, 3.0)
+    )
     targets = [msp, msp, msp, blk]
     for _ in range(draw(st.integers(0, 8))):
         try:
@@ -349,7 +405,7 @@ def _add_entity(draw, msp, where):
     elif kind == "spline":
         where.add_spline(draw(st.lists(_point, min_size=2, max_size=5)), dxfattribs=attribs)
     elif where is msp:
-        name = draw(st.sampled_from(["B", "C"]))
+        name = draw(st.sampled_from(["B", "C", "D"]))
         ref = msp.add_blockref(name, draw(_point), dxfattribs=attribs)
         ref.dxf.xscale = draw(st.sampled_from([1.0, -1.0, 0.0, 1e200, 2.0]))
         if draw(st.booleans()):
@@ -370,6 +426,39 @@ def test_fuzz_dxf_reader(doc, square):
         doc.saveas(path)
     except (ValueError, TypeError, OverflowError, ArithmeticError):
         return  # ezdxf refused to write what was drawn: not an input we can be given
+    cp = outcome(read_pattern, path)
+    if cp is not None:
+        sound(cp, (".fold", ".dxf"))
+
+
+#: DXF group codes of an INSERT's numbers: scales, rotation, grid counts and spacings
+_INSERT_GROUPS = [" 41", " 42", " 50", " 70", " 71", " 44", " 45", " 10", " 40"]
+
+
+@fuzz(30)
+@given(
+    doc=dxf_documents(),
+    group=st.sampled_from(_INSERT_GROUPS),
+    k=st.integers(0, 50),
+    value=st.sampled_from(["0", "-3", "0.0", "nan", "inf", "-1e308", "100000", "1e-320"]),
+)
+def test_fuzz_dxf_numbers_of_the_file(doc, group, k, value):
+    # ezdxf never writes a zero scale, a negative grid count or NaN: edit them in
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0), (100, 0), (100, 100), (0, 100)], close=True,
+                       dxfattribs={"layer": "Border"})  # fmt: skip
+    ref = msp.add_blockref("D", (10, 10), dxfattribs={"xscale": 2.0, "rotation": 30.0})
+    ref.grid(size=(2, 3), spacing=(20.0, 25.0))
+    path = _DIR / "fuzz_numbers.dxf"
+    try:
+        doc.saveas(path)
+    except (ValueError, TypeError, OverflowError, ArithmeticError):
+        return
+    lines = path.read_text(encoding="utf-8").splitlines()
+    at = [i for i, line in enumerate(lines[:-1]) if line == group]
+    if at:
+        lines[at[k % len(at)] + 1] = value
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     cp = outcome(read_pattern, path)
     if cp is not None:
         sound(cp, (".fold", ".dxf"))

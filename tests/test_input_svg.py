@@ -9,15 +9,14 @@ real XML/HTML parser reads back the text and finds no injected element.
 from __future__ import annotations
 
 import html.parser
-import math
 import xml.etree.ElementTree as ET
 
 import pytest
 from conftest import refused as refused_by
 
 from origami_cad.errors import PatternError
-from origami_cad.pattern import CreasePattern, miura_pattern, read_pattern, write_pattern
-from origami_cad.pattern.formats.svg import read_svg
+from origami_cad.pattern import miura_pattern, read_pattern, write_pattern
+from origami_cad.pattern.formats.svg import MAX_DEPTH, read_svg
 from origami_cad.viz.report import StepReport, write_report
 
 HEAD = '<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">'
@@ -153,11 +152,17 @@ def test_a_transform_that_throws_points_past_the_limit_is_refused(tmp_path):
     refused(svg(tmp_path, body), "farther than 1e+09 mm")
 
 
-def test_deeply_nested_groups_read_without_recursion(tmp_path):
-    depth = 20_000
+def test_deeply_nested_groups_read_up_to_the_depth_limit(tmp_path):
+    depth = MAX_DEPTH - 2  # below the root and the border's level, the line on the last
     body = "<g>" * depth + '<line x1="0" y1="0" x2="100" y2="100" stroke="blue"/>' + "</g>" * depth
     cp = read_svg(svg(tmp_path, body, "deep.svg"))
     assert int((cp.assignments == "V").sum()) == 1 and len(cp.faces) == 2
+    body = (
+        "<g>" * (depth + 1)
+        + '<line x1="0" y1="0" x2="1" y2="1" stroke="blue"/>'
+        + "</g>" * (depth + 1)
+    )
+    refused(svg(tmp_path, body, "deeper.svg"), f"deeper than the limit of {MAX_DEPTH}")
 
 
 def test_an_id_with_a_newline_cannot_forge_message_lines(tmp_path):
@@ -218,14 +223,11 @@ def test_titles_and_messages_are_escaped_in_the_report(tmp_path):
     assert "</title><script>" not in text
 
 
-def test_a_deep_zero_scale_does_not_divide_by_zero(tmp_path):
-    # degenerate transforms collapse lines to points: no crease lines, not a crash
-    inner = valley("d='M 0 0 L 9 9'")
+def test_a_deep_zero_scale_is_refused_not_dropped(tmp_path):
+    # a degenerate transform collapses the lines to points: refused, naming the element
+    inner = valley("id='gone' d='M 0 0 L 9 9'")
     body = f'<g transform="scale(0)">{inner}</g>'
-    p = svg(tmp_path, body, "zero.svg")
-    cp = read_svg(p)
-    assert cp.n_edges == 4 and not math.isnan(cp.size)
-    assert isinstance(cp, CreasePattern)
+    refused(svg(tmp_path, body, "zero.svg"), "<path id=gone>", "collapses the plane")
 
 
 @pytest.mark.parametrize(
@@ -312,4 +314,6 @@ def test_use_that_multiplies_elements_is_refused_before_it_explodes(tmp_path):
     for k in range(1, 8):
         uses = "".join(f'<use href="#l{k - 1}"/>' for _ in range(10))
         body += f'<g id="l{k}">{uses}</g>'
-    refused(svg(tmp_path, f"<defs>{body}</defs><use href='#l7'/>"), "more than 1,000,000 elements")
+    # 10 million lines: the first of the two bounds that is reached stops the walk
+    msg = refused(svg(tmp_path, f"<defs>{body}</defs><use href='#l7'/>"), "more than")
+    assert "1,000,000 elements" in msg or "100,000 line segments (MAX_EDGES)" in msg

@@ -53,6 +53,7 @@ from origami_cad.strings.tsa import TSAParams, onboard_angle
 
 __all__ = [
     "LOG_FIELDS",
+    "MAX_DURATION",
     "MAX_STEPS",
     "DriveLog",
     "Keyframe",
@@ -170,6 +171,9 @@ class Sequence:
 MAX_MAPPING_FILE = 50_000_000
 #: Most command/read cycles in one run (about 14 h at 20 Hz).
 MAX_STEPS = 1_000_000
+#: Longest run, s (``repeat`` x the cycle): a day, at any rate. A dry run takes this
+#: divided by its ``--speed``; both limits are checked when the sequence is loaded.
+MAX_DURATION = 86_400.0
 #: Highest command rate, Hz (a 57600 bps bus manages about 100 Hz).
 MAX_RATE = 1000.0
 
@@ -305,6 +309,12 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         raise DriveError(
             f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s at {sequence.rate:g} Hz "
             f"is {steps:.3g} command cycles; at most {MAX_STEPS} (lower 'repeat' or 'rate')"
+        )
+    if sequence.cycle * sequence.repeat > MAX_DURATION:
+        raise DriveError(
+            f"{p} [sequence]: {sequence.repeat} x {sequence.cycle:g} s is "
+            f"{sequence.cycle * sequence.repeat:.4g} s; a run lasts at most {MAX_DURATION:g} s "
+            "(MAX_DURATION, a day; lower 'repeat' or the keyframe times)"
         )
     _check_reachable(p, tsas, frames)
     for k, tsa in enumerate(tsas):
@@ -524,9 +534,17 @@ def run_sequence(
     the sequence file itself is refused. A run that stops early ends the log with
     a comment saying why (:func:`note_stop`), and the exception carries the
     readings of the cycles that ran as ``drive_log`` (a :class:`DriveLog`).
+
+    ``progress(t, targets, state)`` is called after every reading (``t`` in s); a
+    callback with a ``total`` attribute (the servo table of
+    :func:`origami_cad.viz.console.servo_table`) first gets the run's duration
+    (s) and ``time_scale`` there as ``(duration, time_scale)``, to show how far
+    the run is and how long it has left.
     """
     time_scale = check_time_scale(time_scale)
     total = sequence.cycle * sequence.repeat
+    if progress is not None and hasattr(progress, "total"):
+        progress.total = (total, time_scale)
     period = 1.0 / sequence.rate
     steps = math.floor((total + 1e-9) / period) + 1
     while steps > 1 and (steps - 1) * period > total + 1e-9:

@@ -36,7 +36,7 @@ from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.formats import READERS
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
-from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.model import MAX_VERTICES, CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
 
 __all__ = [
@@ -168,6 +168,12 @@ def load_design(
                     f"rows x columns = {rows * columns:,} panels, more than the limit of "
                     f"{MAX_PANELS:,}",
                 )
+            if (rows + 1) * (columns + 1) > MAX_VERTICES:
+                raise table.error(
+                    "columns",
+                    f"(rows + 1) x (columns + 1) = {(rows + 1) * (columns + 1):,} vertices, "
+                    f"more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)",
+                )
             length = table.number("panel_length", low=0, low_open=True)
             width = table.number("panel_width", low=0, low_open=True)
             angle = table.number("sector_angle", low=0, high=90, low_open=True, high_open=True)
@@ -258,6 +264,12 @@ def _tg_design(table: Table) -> TGDesign:
             "copies",
             f"{copies} copies x 2 rows x {n_vectors} vectors = {2 * copies * n_vectors:,} "
             f"panels, more than the limit of {MAX_PANELS:,}",
+        )
+    if (2 * copies + 1) * (n_vectors + 1) > MAX_VERTICES:
+        raise table.error(
+            "copies",
+            f"{copies:,} copies of {n_vectors} vectors make {(2 * copies + 1) * (n_vectors + 1):,} "
+            f"vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)",
         )
     if has_vectors:
         p = table.number("fold_ratio", low=0, high=1, low_open=True)

@@ -31,7 +31,7 @@ import numpy as np
 
 from origami_cad import _libm
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.model import MAX_VERTICES, CreasePattern
 
 __all__ = [
     "MAX_PANELS",
@@ -41,8 +41,14 @@ __all__ = [
     "tessellation_leg_offsets",
 ]
 
-#: Most panels a generated tessellation may have (about 4 s and 400 MB to build).
+#: Most panels a generated tessellation may have; its vertices are limited too
+#: (:data:`~origami_cad.pattern.model.MAX_VERTICES`, about one per panel).
 MAX_PANELS = 100_000
+#: The smallest feature of a tessellation (the closest two vertices, or a vertex and a
+#: crease it is not on) must be this many times the tolerance within which the pattern
+#: merges vertices (``DEFAULT_RELATIVE_TOLERANCE`` of its size, which grows with the
+#: rows): a TG of thousands of copies is refused instead of having its vertices merged.
+MIN_FEATURE_TOLERANCES = 1.5
 
 
 def tessellation_leg_offsets(shape_angles: np.ndarray, row_height: float) -> np.ndarray:
@@ -115,17 +121,80 @@ def miura_tessellation(
     rows = _checked_rows(l, beta_deg, entry_flag, row_height, rows, start)
     h = float(row_height)
     x_joint, offsets = _joint_positions(l, beta_deg, h, start)
-    nl = rows + 1  # horizontal lines
-    y0 = start[1] - h
-    ys = y0 + h * np.arange(nl)
-    is_main = (np.arange(nl) % 2) == 1
-    xs = np.where(is_main[:, None], x_joint[None, :], (x_joint + offsets)[None, :])
-    verts = np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
+    _check_features(x_joint, offsets, beta_deg, entry_flag, h, rows)
+    verts = _grid_vertices(x_joint, offsets, h, rows, start)
     edges, assign = _grid_edges(beta_deg, entry_flag, rows)
     cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
     if cp.n_vertices != len(verts) or cp.notes:  # pragma: no cover - guarded by checks above
         raise PatternError("internal error: the tessellation grid needed repair")
     return cp.with_face_labels(_grid_labels(cp, n + 2))
+
+
+def _grid_vertices(
+    x_joint: np.ndarray, offsets: np.ndarray, h: float, rows: int, start: tuple[float, float]
+) -> np.ndarray:
+    """The grid's vertices (mm): line ``r`` (of ``rows + 1``), joint ``k``, at ``r * nj + k``.
+
+    ``x_joint`` and ``offsets`` (mm) from :func:`_joint_positions`, ``h`` the row height.
+    """
+    nl = rows + 1  # horizontal lines
+    ys = start[1] - h + h * np.arange(nl)
+    is_main = (np.arange(nl) % 2) == 1
+    xs = np.where(is_main[:, None], x_joint[None, :], (x_joint + offsets)[None, :])
+    return np.stack([xs, np.broadcast_to(ys[:, None], xs.shape)], axis=-1).reshape(-1, 2)
+
+
+def _smallest_feature(verts: np.ndarray, edges: np.ndarray, within: float) -> float:
+    """The smallest distance (mm) between two vertices, or a vertex and an edge it is not
+    on, if below ``within`` mm; else ``inf``. O(n log n) (trees)."""
+    import shapely
+    from scipy.spatial import cKDTree
+
+    gaps, _ = cKDTree(verts).query(verts, k=2, distance_upper_bound=within)
+    best = float(gaps[:, 1].min())
+    lines = shapely.linestrings(verts[edges])
+    points = shapely.points(verts)
+    v, e = shapely.STRtree(lines).query(points, predicate="dwithin", distance=within)
+    other = (edges[e, 0] != v) & (edges[e, 1] != v)
+    if other.any():
+        best = min(best, float(shapely.distance(points[v[other]], lines[e[other]]).min()))
+    return best
+
+
+def _check_features(
+    x_joint: np.ndarray,
+    offsets: np.ndarray,
+    beta_deg: np.ndarray,
+    entry_flag: int,
+    h: float,
+    rows: int,
+) -> None:
+    """PatternError when ``rows`` rows would make the pattern so large that its
+    tolerance (``DEFAULT_RELATIVE_TOLERANCE`` of its size) comes within
+    :data:`MIN_FEATURE_TOLERANCES` of its smallest feature, which one copy (two
+    rows) has already: its vertices would be merged. Lengths in mm, angles in degrees.
+    A single copy finer than that is left to the pattern's own checks (as before).
+    """
+    from origami_cad.pattern.model import DEFAULT_RELATIVE_TOLERANCE as rel
+
+    unit = _grid_vertices(x_joint, offsets, h, 2, (0.0, 0.0))
+    width = float(np.ptp(unit[:, 0]))
+    tol = rel * math.hypot(width, rows * h)
+    if rows <= 2 or tol <= rel * math.hypot(width, 2 * h):
+        return
+    edges = _grid_edges(beta_deg, entry_flag, 2)[0]
+    feature = _smallest_feature(unit, edges, MIN_FEATURE_TOLERANCES * tol)
+    if feature > MIN_FEATURE_TOLERANCES * tol:
+        return
+    if feature <= MIN_FEATURE_TOLERANCES * rel * math.hypot(width, 2 * h):
+        return  # one copy is that fine already: not a matter of the row count
+    top = math.sqrt(max((feature / MIN_FEATURE_TOLERANCES / rel) ** 2 - width**2, 0.0)) / h
+    raise PatternError(
+        f"{rows:,} rows make the pattern {rows * h:.4g} mm tall: vertices closer than "
+        f"{tol:.3g} mm (1e-6 of its size) would merge, and its smallest feature is "
+        f"{feature:.3g} mm (it must be {MIN_FEATURE_TOLERANCES:g} times the tolerance): at "
+        f"most {int(top):,} rows ({int(top) // 2:,} TG copies)"
+    )
 
 
 def _checked_rows(
@@ -165,6 +234,11 @@ def _checked_rows(
         raise PatternError(
             f"{rows} rows x {n + 1} segments = {rows * (n + 1):,} panels, more than the "
             f"limit of {MAX_PANELS:,}"
+        )
+    if (rows + 1) * (n + 2) > MAX_VERTICES:
+        raise PatternError(
+            f"{rows} rows x {n + 1} segments make {(rows + 1) * (n + 2):,} vertices, more "
+            f"than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
         )
     if not all(math.isfinite(float(v)) for v in start):
         raise PatternError(f"start {tuple(start)} is not a finite point")

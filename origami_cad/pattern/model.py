@@ -9,8 +9,10 @@ zero-length and duplicate edges) in O(n log n), and records what it changed in
 
 Inputs are checked, not coerced: vertex indices must be whole numbers,
 coordinates finite numbers within :data:`MAX_COORDINATE` mm, fold angles within
-[-180, 180] degrees. Normalisation works within budgets (:data:`MAX_CROSSINGS`
-crossing points, :data:`MAX_CANDIDATE_PAIRS` overlapping edge pairs,
+[-180, 180] degrees; a pattern has at most :data:`MAX_EDGES` edges and
+:data:`MAX_VERTICES` vertices (checked before any costly step). Normalisation
+works within budgets (:data:`MAX_CROSSINGS` crossing points,
+:data:`MAX_CANDIDATE_PAIRS` overlapping edge pairs,
 :data:`MAX_CLOSE_PAIRS` near-coincident vertex pairs) and refuses a pattern that
 would exceed one, instead of running for minutes into gigabytes.
 
@@ -46,6 +48,8 @@ __all__ = [
     "DEFAULT_RELATIVE_TOLERANCE",
     "MAX_COORDINATE",
     "MAX_CROSSINGS",
+    "MAX_EDGES",
+    "MAX_VERTICES",
     "Assignment",
     "CreasePattern",
     "Hole",
@@ -59,6 +63,14 @@ DEFAULT_RELATIVE_TOLERANCE = 1e-6
 #: Largest coordinate magnitude accepted, mm (1000 km). Anything larger is a
 #: mistake (or a hostile file) and would overflow the geometry in squares and areas.
 MAX_COORDINATE = 1e9
+#: Most vertices a pattern may have, once coincident ones are merged (about a 223 x 223
+#: grid: converting one from FOLD to SVG took 94 s and 450 MB on a busy 2-core machine; a
+#: larger one ran out of memory). Checked before the crossing search and
+#: the faces, which need the time and memory; the readers check it (or :data:`MAX_EDGES`)
+#: before they convert a file's numbers.
+MAX_VERTICES = 50_000
+#: Most edges a pattern may be given (before normalisation splits them at crossings).
+MAX_EDGES = 100_000
 #: Normalisation budget: most crossing points added where edges cross. A drawing
 #: needing more is refused instead of being normalised for minutes into gigabytes.
 MAX_CROSSINGS = 100_000
@@ -493,7 +505,8 @@ class CreasePattern:
 
 
 def _as_edges(edges: Any) -> np.ndarray:
-    """Edges as an (m, 2) int64 array; fractional or boolean indices are refused."""
+    """Edges as an (m, 2) int64 array; fractional or boolean indices, or more than
+    :data:`MAX_EDGES` edges, are refused."""
     try:
         raw = np.asarray(edges)
     except (TypeError, ValueError):
@@ -514,6 +527,8 @@ def _as_edges(edges: Any) -> np.ndarray:
         )
     if raw.ndim != 2 or raw.shape[1] != 2:
         raise PatternError(f"edges must have shape (m, 2), got {raw.shape}")
+    if len(raw) > MAX_EDGES:
+        raise PatternError(f"{len(raw):,} edges, more than the limit of {MAX_EDGES:,} (MAX_EDGES)")
     return raw.astype(np.int64)
 
 
@@ -775,6 +790,11 @@ def _normalise(
     rep = _merge_close(verts, tol)
     merged = int(np.sum(rep != np.arange(len(rep))))
     edges = rep[edges]
+    n_used = len(np.unique(edges))
+    if n_used > MAX_VERTICES:
+        raise PatternError(
+            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
+        )
     # 2. zero-length edges
     zero = edges[:, 0] == edges[:, 1]
     n_zero = int(zero.sum())

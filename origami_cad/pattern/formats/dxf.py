@@ -93,6 +93,7 @@ from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
+    MAX_EDGES,
     CreasePattern,
     Hole,
     Problem,
@@ -152,8 +153,8 @@ _MAX_DEPTH = 32
 #: most entities a drawing may expand to, block references and MINSERT arrays counted
 #: (each takes about 50 us to read: 100,000 take a few seconds)
 MAX_ENTITIES = 100_000
-#: most line segments read, curves flattened
-MAX_SEGMENTS = 1_000_000
+#: most line segments read, curves flattened: a pattern's limit of edges
+MAX_SEGMENTS = MAX_EDGES
 
 
 # --------------------------------------------------------------------- writing
@@ -369,6 +370,12 @@ def _grid_matrices(entity: Any) -> Iterator[Any]:
             yield Matrix44.chain(base, Matrix44.translate(*ocs.to_wcs(offset)))
 
 
+def _insert_text(entity: Any, name: str) -> str:
+    kind = "MINSERT" if entity.mcount > 1 or entity.dxf.hasattr("row_count") else "INSERT"
+    handle = printable(entity.dxf.get("handle", "?"))
+    return f"handle {handle} ({kind} of block {printable(name)!r})"
+
+
 def _nested_too_deep(entity: Any) -> PatternError:
     return PatternError(
         f"block references nested deeper than {_MAX_DEPTH} levels (a block "
@@ -390,6 +397,7 @@ def _expanded_count(
             total += 1
             continue
         name = str(entity.dxf.get("name", "?"))
+        _check_numbers(entity, lambda e=entity, n=name: _insert_text(e, n))
         layout = entity.block()
         if layout is None:
             continue  # reported by _walk
@@ -445,6 +453,41 @@ def _walk(space: Iterable[Any], doc: Any, block: _Block | None = None) -> Iterat
 
 
 # ------------------------------------------------------------------ geometry
+#: attributes that must be > 0 (a zero or negative one draws nothing, or a mirror
+#: image no CAD program draws)
+_POSITIVE = {"CIRCLE": ("radius",), "ARC": ("radius",), "ELLIPSE": ("ratio",)}
+
+
+def _check_numbers(entity: Any, describe: Any) -> None:
+    """PatternError naming the entity (``describe()``) and its attribute when one of its
+    numbers is not finite (NaN, inf), a radius or ellipse ratio is not > 0, an INSERT's
+    scale is 0 or a MINSERT's row or column count is below 1. Nothing is repaired."""
+    kind = entity.dxftype()
+    for key, value in entity.dxf.all_existing_dxf_attribs().items():
+        numbers = value if isinstance(value, tuple | list) else (value,)
+        if any(isinstance(v, float) and not math.isfinite(v) for v in numbers):
+            raise PatternError(f"{describe()}: {key} = {printable(str(value), 60)} is not finite")
+    for key in _POSITIVE.get(kind, ()):
+        if not float(entity.dxf.get(key, 1.0)) > 0:
+            raise PatternError(
+                f"{describe()}: {key} = {float(entity.dxf.get(key)):g} must be > 0 (a "
+                f"{kind} with it draws nothing)"
+            )
+    if kind == "INSERT":
+        dxf = entity.dxf
+        for key in ("xscale", "yscale", "zscale"):
+            if float(dxf.get(key, 1.0)) == 0:
+                raise PatternError(
+                    f"{describe()}: {key} = 0 flattens the block (CAD programs refuse a zero scale)"
+                )
+        for key in ("row_count", "column_count"):
+            if int(dxf.get(key, 1)) < 1:
+                raise PatternError(
+                    f"{describe()}: {key} = {int(dxf.get(key))} must be >= 1 (a MINSERT grid of "
+                    "no cells)"
+                )
+
+
 def _is_curved(e: Any) -> bool:
     """Whether an entity has curved parts (arcs, splines, bulged polyline segments)."""
     kind = e.dxftype()
@@ -532,7 +575,10 @@ def _hole(item: _Item, scale: float) -> Hole:
             f"{item.describe()}: the hole is distorted into an ellipse "
             "(non-uniform scaling or tilt); holes must be circles"
         )
-    return Hole(float(centre.x) * scale, float(centre.y) * scale, 2 * rx * scale)
+    try:
+        return Hole(float(centre.x) * scale, float(centre.y) * scale, 2 * rx * scale)
+    except PatternError as exc:
+        raise PatternError(f"{item.describe()}: {exc}") from None
 
 
 def _mm_per_unit(doc: Any) -> float:
@@ -612,7 +658,9 @@ def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
     cp.notes = tuple(
-        dataclasses.replace(n, message=f"{name}: {n.message}") if n.code == "size" else n
+        dataclasses.replace(n, message=f"{name}: {n.message}")
+        if n.code in ("size", "zero-length")
+        else n
         for n in cp.notes
     )
     return cp
@@ -639,13 +687,13 @@ def _classify_entities(doc, scale: float):
     size). ``scale`` is millimetres per drawing unit.
 
     Returns ``(chains, (x0, y0, x1, y1), holes, unknown, skipped)``: the
-    ``(letter, chains or item)`` list, the bounding box in drawing units, the
+    ``(letter, chains or item, item)`` list, the bounding box in drawing units, the
     holes (mm), descriptions of unclassifiable entities and counts of skipped
     entity types. Raises PatternError for a curved crease or an entity too far
     from the origin.
     """
     limit = MAX_COORDINATE / scale  # drawing units
-    chains: list[tuple[str, list[list[tuple[float, float]]] | _Item]] = []
+    chains: list[tuple[str, list[list[tuple[float, float]]] | _Item, _Item]] = []
     x0 = y0 = math.inf
     x1 = y1 = -math.inf
     holes: list[Hole] = []
@@ -660,6 +708,7 @@ def _classify_entities(doc, scale: float):
         if kind == "POLYLINE" and not (e.is_2d_polyline or e.is_3d_polyline):
             skipped["POLYLINE (mesh)"] += 1
             continue
+        _check_numbers(e, item.describe)
         if kind == "CIRCLE" and "hole" in item.layer.lower():
             holes.append(_hole(item, scale))
             continue
@@ -675,11 +724,11 @@ def _classify_entities(doc, scale: float):
             )
         if curved:
             box = [tuple(map(float, q)) for q in _box(item)]
-            chains.append((letter, item))
+            chains.append((letter, item, item))
         else:
             pts = _points(item, _FLATTEN_MM / scale)
             box = [q for chain in pts for q in chain] or [(0.0, 0.0)]
-            chains.append((letter, pts))
+            chains.append((letter, pts, item))
         # plain Python: this runs per entity (abs(nan) <= limit is False too)
         if not all(abs(v) <= limit for q in box for v in q):
             raise PatternError(
@@ -692,26 +741,52 @@ def _classify_entities(doc, scale: float):
 
 
 def _flatten_chains(chains, flatten: float):
-    """Pass 2: ``(segments, letters)`` of the chains, curves flattened in entity order.
+    """Pass 2: ``(segments, letters, dropped)`` of the chains, curves flattened in
+    entity order.
 
     ``flatten`` is the chord tolerance in drawing units. Zero-length segments
-    are dropped; PatternError past MAX_SEGMENTS.
+    are left out and their entities listed in ``dropped`` (description -> True
+    when the entity drew nothing else); PatternError past MAX_SEGMENTS.
     """
     segments: list[tuple[float, float, float, float]] = []
     letters: list[str] = []
-    for letter, got in chains:
+    dropped: dict[str, bool] = {}
+    for letter, got, item in chains:
         pts = _points(got, flatten) if isinstance(got, _Item) else got
+        drawn = zero = 0
         for chain in pts:
             for a, b in itertools.pairwise(chain):
                 if a != b:
                     segments.append((*a, *b))
                     letters.append(letter)
+                    drawn += 1
+                else:
+                    zero += 1
+        if zero or not drawn:
+            dropped[item.describe()] = not drawn
         if len(segments) > MAX_SEGMENTS:
             raise PatternError(
                 f"more than {MAX_SEGMENTS:,} line segments (curves flattened); the drawing "
                 "is too large to read as a crease pattern"
             )
-    return segments, letters
+    return segments, letters, dropped
+
+
+def _dropped_notes(dropped: dict[str, bool]) -> list[Problem]:
+    """Notes naming the entities whose zero-length segments were left out: a warning for
+    those that drew nothing else (a zero-length mountain line), info for the rest."""
+    notes = []
+    for empty, severity, what in (
+        (True, Severity.WARNING, "drawing nothing but zero-length lines, left out"),
+        (False, Severity.INFO, "with zero-length segments, which were left out"),
+    ):
+        named = [d for d, e in dropped.items() if e is empty]
+        if named:
+            count = f"{len(named)} {'entity' if len(named) == 1 else 'entities'}"
+            more = f"; and {len(named) - 3} more" if len(named) > 3 else ""
+            text = f"{count} {what}: {'; '.join(named[:3])}{more}"
+            notes.append(Problem("zero-length", text, severity=severity))
+    return notes
 
 
 def _check_found(unknown: list[str], skipped: Counter[str], holes: list[Hole], segments) -> None:
@@ -782,13 +857,13 @@ def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
     chains, (x0, y0, x1, y1), holes, unknown, skipped = _classify_entities(doc, scale)
     size = math.hypot(x1 - x0, y1 - y0) if x1 >= x0 else 0.0
     flatten = max(_FLATTEN_MM / scale, _FLATTEN_RELATIVE * size)
-    segments, letters = _flatten_chains(chains, flatten)
+    segments, letters, dropped = _flatten_chains(chains, flatten)
     _check_found(unknown, skipped, holes, segments)
     coords, edges = _merge_ends(segments, scale)
     title = p.stem
     cp = CreasePattern(coords, edges, letters, metadata={"title": title})
     cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
-    cp.notes = (*cp.notes, *unit_notes)
+    cp.notes = (*cp.notes, *unit_notes, *_dropped_notes(dropped))
     return cp.with_holes(holes) if holes else cp
 
 

@@ -27,10 +27,12 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_write
-from origami_cad._toml import parse_file
+from origami_cad._toml import input_file, parse_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
+    MAX_EDGES,
+    MAX_VERTICES,
     CreasePattern,
     Hole,
     Problem,
@@ -151,10 +153,36 @@ def write_fold(
     return Path(path)
 
 
+class _DuplicateKey(Exception):
+    """A JSON object names one key twice, with different values."""
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """The object of ``pairs``; :class:`_DuplicateKey` when a key comes twice with
+    different values (JSON keeps the last silently; which one is meant?)."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out and out[key] != value:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
+
+
 def _load(path: str | os.PathLike[str]) -> dict[str, Any]:
+    try:
+        return _load_unique(path)
+    except _DuplicateKey as exc:
+        _, name = input_file(path, PatternError)
+        raise PatternError(
+            f"{name}: the key {printable(str(exc.args[0]), 80)!r} is given twice in one JSON "
+            "object, with different values (which one is meant?)"
+        ) from None
+
+
+def _load_unique(path: str | os.PathLike[str]) -> dict[str, Any]:
     data, name = parse_file(
         path,
-        lambda p: json.loads(p.read_text(encoding="utf-8")),
+        lambda p: json.loads(p.read_text(encoding="utf-8"), object_pairs_hook=_unique_keys),
         fmt="JSON",
         error=PatternError,
         not_text="not a text file (FOLD is JSON)",
@@ -198,6 +226,11 @@ def _index(v: Any, key: str, k: int, where: str) -> int:
 def _coords(frame: dict[str, Any], where: str, scale: float) -> np.ndarray:
     """``vertices_coords`` checked: [x, y] or [x, y, z] numbers, finite, bounded (mm)."""
     raw = _list(frame, "vertices_coords", where)
+    if len(raw) > MAX_VERTICES:
+        raise PatternError(
+            f"{where}: vertices_coords has {len(raw):,} vertices, more than the limit of "
+            f"{MAX_VERTICES:,} (MAX_VERTICES)"
+        )
     dims = None
     for k, c in enumerate(raw):
         if not isinstance(c, list) or len(c) not in (2, 3):
@@ -236,7 +269,14 @@ def _index_rows(
 ) -> list[list[int]]:
     """Rows of vertex indices (``edges_vertices``: 2 each; ``faces_vertices``: any)."""
     rows = []
-    for k, row in enumerate(_list(frame, key, where)):
+    given = _list(frame, key, where)
+    if len(given) > MAX_EDGES:
+        what = "edges" if key == "edges_vertices" else "faces"
+        raise PatternError(
+            f"{where}: {key} has {len(given):,} {what}, more than the limit of {MAX_EDGES:,} "
+            "(MAX_EDGES)"
+        )
+    for k, row in enumerate(given):
         if not isinstance(row, list) or (width is not None and len(row) != width):
             raise PatternError(
                 f"{where}: {key}[{k}] must be an array of {width or 'the'} vertex indices"
@@ -347,6 +387,23 @@ def _assignments(frame: dict[str, Any], where: str, m: int) -> list[str] | None:
     return raw
 
 
+def _check_signs(frame: dict[str, Any], where: str, assign: list[str], angles: np.ndarray) -> None:
+    """PatternError naming the edge whose fold angle has the sign of the other fold
+    (FOLD: a mountain folds to a negative angle, a valley to a positive one)."""
+    key = "edges_foldAngle" if "edges_foldAngle" in frame else "edges_foldAngles"
+    letters = np.asarray([str(a).upper() for a in assign])
+    wrong = ((letters == "M") & (angles > 0)) | ((letters == "V") & (angles < 0))
+    if wrong.any():
+        k = int(np.flatnonzero(wrong)[0])
+        fold = "mountain" if letters[k] == "M" else "valley"
+        sign = "negative" if letters[k] == "M" else "positive"
+        more = f" (and {int(wrong.sum()) - 1} more edges)" if wrong.sum() > 1 else ""
+        raise PatternError(
+            f"{where}: edge {k}: {key}[{k}] = {angles[k]:g} contradicts edges_assignment[{k}] = "
+            f"{printable(str(assign[k]), 8)!r}: a {fold} folds to a {sign} angle{more}"
+        )
+
+
 def _holes(frame: dict[str, Any], where: str) -> list[Hole]:
     if frame.get(_HOLES) is None:
         return []
@@ -392,6 +449,8 @@ def _frame_to_pattern(
         raise PatternError(f"{where}: 'edges_vertices' is empty; a crease pattern needs edges")
     angles = _fold_angles(frame, where, len(e))
     assign = _assignments(frame, where, len(e))
+    if assign is not None and angles is not None:
+        _check_signs(frame, where, assign, angles)
     if assign is None:
         if angles is not None:
             a = np.nan_to_num(angles)

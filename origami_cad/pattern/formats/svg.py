@@ -43,9 +43,18 @@ from origami_cad._fileio import atomic_write
 from origami_cad._names import xml_text
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
-from origami_cad.pattern.model import MAX_COORDINATE, CreasePattern, Hole, printable
+from origami_cad.pattern.model import (
+    MAX_COORDINATE,
+    MAX_EDGES,
+    CreasePattern,
+    Hole,
+    Problem,
+    Severity,
+    printable,
+)
 
 __all__ = [
+    "MAX_DEPTH",
     "MAX_ELEMENTS",
     "MIN_FEATURE_UNITS",
     "OS_MERGE_UNITS",
@@ -99,8 +108,12 @@ def _fmt(v: float) -> str:
     return repr(round(float(v), 12) + 0.0)
 
 
-#: Elements :func:`read_svg` walks at the most, the copies that ``<use>`` makes included.
+#: Elements :func:`read_svg` walks at the most, the copies that ``<use>`` makes included
+#: (a file with more is refused while it is parsed).
 MAX_ELEMENTS = 1_000_000
+#: Deepest nesting of elements :func:`read_svg` reads (the root is at depth 1): libxml2's
+#: default limit, so no browser or Inkscape opens a deeper file either.
+MAX_DEPTH = 256
 
 #: Origami Simulator merges vertices closer than this many user units (``vertTol``)
 OS_MERGE_UNITS = 3.0
@@ -404,21 +417,41 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
 
 
 def _scale(root: ET.Element, name: str) -> tuple[float, float]:
+    """mm per user unit in x and y, from the root's ``viewBox`` and ``width``/``height``.
+
+    A ``viewBox`` that is not 4 numbers or has a width or height <= 0 (SVG draws
+    nothing then), and a ``width`` or ``height`` that is not a number > 0 with a
+    unit of SVG (``mm``, ``cm``, ``in``, ``pt``, ``pc``, ``px``, none, or the
+    relative ``%``, ``em``, ``ex``) are PatternErrors naming the attribute. A
+    relative or missing size, or no ``viewBox``, gives 1 mm per user unit.
+    """
     where = f"{name}: <svg>"
     box = _numbers(root.attrib.get("viewBox", ""), where, "viewBox")
-    if box and (len(box) != 4 or box[2] < 0 or box[3] < 0):
-        raise PatternError(f"{where}: viewBox must be 4 numbers: min-x min-y width height >= 0")
+    if box and (len(box) != 4 or box[2] <= 0 or box[3] <= 0):
+        raise PatternError(
+            f"{where}: viewBox must be 4 numbers: min-x min-y width height, the width and "
+            f"height > 0 (got {printable(root.attrib['viewBox'], 60)!r}; SVG draws nothing "
+            "in an empty viewBox)"
+        )
     result = []
     for k, key in enumerate(("width", "height")):
-        m = re.fullmatch(r"\s*(" + _NUMBER + r")\s*([a-z%]*)\s*", root.attrib.get(key, ""))
-        if not m or len(box) != 4 or m.group(2) not in _UNIT_MM or _UNIT_MM[m.group(2)] is None:
+        text = root.attrib.get(key)
+        if text is None:
             result.append(1.0)
             continue
+        m = re.fullmatch(r"\s*(" + _NUMBER + r")\s*([a-z%]*)\s*", text)
+        if not m or m.group(2) not in (*_UNIT_MM, "%", "em", "ex"):
+            raise PatternError(
+                f"{where}: {key} = {printable(text, 60)!r} is not a length (a number and "
+                "one of the units mm, cm, in, pt, pc, px, %, em, ex)"
+            )
         size = _num(m.group(1), where, key)
         if size <= 0:
             raise PatternError(f"{where}: {key} = {size:g} must be > 0")
-        size_mm = size * _UNIT_MM[m.group(2)]
-        result.append(size_mm / box[2 + k] if box[2 + k] else 1.0)
+        if len(box) != 4 or _UNIT_MM.get(m.group(2)) is None:
+            result.append(1.0)  # no viewBox or a relative size: 1 user unit = 1 mm
+            continue
+        result.append(size * _UNIT_MM[m.group(2)] / box[2 + k])
     return result[0], result[1]
 
 
@@ -475,7 +508,7 @@ def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
     else:
         sx = sy = float(mm_per_unit)
         unit = f"{sx:g} mm per user unit (given)"
-    segments, holes, title = _walk_svg(root, name, sx, sy)
+    segments, holes, title, dropped = _walk_svg(root, name, sx, sy)
     if not segments:
         raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
     coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
@@ -492,13 +525,41 @@ def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
+    cp.notes = (*cp.notes, *_dropped_notes(dropped, name))
     return cp.with_holes(holes) if holes else cp
 
 
+def _dropped_notes(dropped: dict[str, bool], name: str) -> list[Problem]:
+    """Notes on the zero-length segments left out: a warning naming the elements that
+    drew nothing but them, an info note naming those that drew other lines too."""
+    notes = []
+    for empty, severity, what in (
+        (True, Severity.WARNING, "drawing nothing but zero-length lines, left out"),
+        (False, Severity.INFO, "with zero-length segments, which were left out"),
+    ):
+        named = [w.removeprefix(f"{name}: ") for w, e in dropped.items() if e is empty]
+        if named:
+            shown = "; ".join(named[:3]) + (
+                f"; and {len(named) - 3} more" if len(named) > 3 else ""
+            )
+            notes.append(
+                Problem(
+                    "zero-length",
+                    f"{name}: {len(named)} element{'' if len(named) == 1 else 's'} {what}: {shown}",
+                    severity=severity,
+                )
+            )
+    return notes
+
+
 def _svg_root(p: Path, name: str) -> ET.Element:
-    """The ``<svg>`` root element of file ``p`` (``name`` starts every error)."""
+    """The ``<svg>`` root element of file ``p`` (``name`` starts every error).
+
+    Parsed incrementally: an element nested deeper than :data:`MAX_DEPTH` or the
+    element past :data:`MAX_ELEMENTS` stops the parse with a PatternError naming it.
+    """
     try:
-        root = ET.parse(p).getroot()
+        root = _parse_bounded(p, name)
     except ET.ParseError as exc:
         raise PatternError(f"{name}: not valid XML ({exc})") from None
     except OSError as exc:
@@ -510,19 +571,44 @@ def _svg_root(p: Path, name: str) -> ET.Element:
     return root
 
 
+def _parse_bounded(p: Path, name: str) -> ET.Element:
+    """The root of ``p``'s element tree, refused while parsing past the limits."""
+    root = None
+    depth = count = 0
+    with open(p, "rb") as fh:
+        for event, el in ET.iterparse(fh, events=("start", "end")):
+            if event == "end":
+                depth -= 1
+                continue
+            depth, count = depth + 1, count + 1
+            root = el if root is None else root
+            if depth > MAX_DEPTH:
+                raise PatternError(
+                    f"{name}: <{printable(_local(el.tag))}> (element {count:,}) is nested "
+                    f"{depth} deep, deeper than the limit of {MAX_DEPTH} (libxml2's, so "
+                    "browsers and Inkscape cannot open it either)"
+                )
+            if count > MAX_ELEMENTS:
+                raise PatternError(f"{name}: more than {MAX_ELEMENTS:,} elements")
+    assert root is not None  # a document has a root, or iterparse raised ParseError
+    return root
+
+
 def _walk_svg(
     root: ET.Element, name: str, sx: float, sy: float
-) -> tuple[list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str]:
-    """``(segments, holes, title)`` of the document below ``root``.
+) -> tuple[list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str, dict[str, bool]]:
+    """``(segments, holes, title, dropped)`` of the document below ``root``.
 
     Depth-first, in document order, without recursion (nesting depth is the
     file's). Segments are ``(a, b, letter, angle)`` in user units (y down),
-    angle in degrees; holes in mm; ``sx, sy`` are mm per user unit.
+    angle in degrees; holes in mm; ``sx, sy`` are mm per user unit; ``dropped``
+    names the elements with zero-length segments (see :func:`_element_segments`).
     """
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     holes: list[Hole] = []
     title = ""
     counter = 0
+    dropped: dict[str, bool] = {}
     ids = {el.attrib["id"]: el for el in root.iter() if "id" in el.attrib}
     stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float, frozenset]]
     stack = [(root, np.eye(3), {}, 1.0, frozenset())]
@@ -558,9 +644,15 @@ def _walk_svg(
         if hole is not None:
             holes.append(hole)
             continue
-        segments += _element_segments(el, tag, where, m, style, opacity, sx, sy)
+        drawn = _element_segments(el, tag, where, m, style, opacity, sx, sy, dropped)
+        segments += drawn
+        if len(segments) > MAX_EDGES:
+            raise PatternError(
+                f"{where}: more than {MAX_EDGES:,} line segments (MAX_EDGES), too many for a "
+                "crease pattern"
+            )
         stack.extend((child, m, style, opacity, using) for child in reversed(el))
-    return segments, holes, title
+    return segments, holes, title, dropped
 
 
 def _used(
@@ -637,12 +729,16 @@ def _element_segments(
     opacity: float,
     sx: float,
     sy: float,
+    dropped: dict[str, bool],
 ) -> list[tuple[np.ndarray, np.ndarray, str, float]]:
     """The ``(a, b, letter, angle)`` segments of one stroked element (user units).
 
     The stroke colour gives the letter, the opacities (times the inherited
     ``opacity``) the fold angle in degrees; ``m`` is the element's transform and
-    ``sx, sy`` mm per user unit (for the coordinate limit).
+    ``sx, sy`` mm per user unit (for the coordinate limit). A transform that
+    collapses the plane (``scale(0)``, a singular ``matrix``) is a PatternError
+    naming the element; zero-length segments are left out and recorded in
+    ``dropped`` (``where`` -> True when the element drew nothing else).
     """
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     polylines = _polylines(el, tag, where)
@@ -660,6 +756,13 @@ def _element_segments(
         )
     alpha = opacity * _opacity(style.get("stroke-opacity", "1"), where, "stroke-opacity")
     angle = {"M": -180.0 * alpha, "V": 180.0 * alpha}.get(letter, 0.0)
+    a, b, c, d = m[0, 0], m[0, 1], m[1, 0], m[1, 1]
+    if not abs(a * d - b * c) > 1e-12 * (a * a + b * b + c * c + d * d):
+        raise PatternError(
+            f"{where}: its transform (with its groups') collapses the plane onto a line or "
+            "a point (scale(0) or a singular matrix): its crease lines would vanish"
+        )
+    zero = 0
     for pts in polylines:
         if not pts:
             continue
@@ -671,9 +774,13 @@ def _element_segments(
                 f"{where}: a point lies farther than {MAX_COORDINATE:g} mm from the "
                 "origin (after transforms and units), or is not finite"
             )
-        for a, b in itertools.pairwise(arr):
-            if not np.allclose(a, b):
-                segments.append((a[:2], b[:2], letter, angle))
+        for p, q in itertools.pairwise(arr):
+            if np.allclose(p, q):
+                zero += 1
+            else:
+                segments.append((p[:2], q[:2], letter, angle))
+    if zero:
+        dropped[where] = not segments
     return segments
 
 
