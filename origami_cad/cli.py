@@ -142,6 +142,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(exc.code)
     except KeyboardInterrupt:  # Ctrl-C while the arguments were read: nothing was written
         return _interrupted()
+    except Exception as exc:  # a Ctrl-C inside an extension's import surfaces as its error
+        if _caused_by_interrupt(exc):
+            return _interrupted()
+        raise
     args.extra = extra  # the part's own --name value parameters
     main_thread = threading.current_thread() is threading.main_thread()
     # argv None: the console script, which exits next (a caller passing argv goes on)
@@ -174,13 +178,25 @@ def _run(args: argparse.Namespace) -> int:
         _error(f"{exc.filename}: {exc.strerror}" if exc.filename else str(exc.strerror or exc))
         return 2
     except Exception as exc:  # the last line of defence: one line, never a traceback
-        if interrupted():  # the interrupt surfaced as another error (e.g. inside an import)
+        if interrupted() or _caused_by_interrupt(exc):  # it surfaced as another error (import)
             return _interrupted()
         _error(
             f"internal error ({type(exc).__name__}: {exc}); this is a bug in origami-cad "
             f"{__version__}, please report it with the command and its input files"
         )
         return 3
+
+
+def _caused_by_interrupt(exc: BaseException) -> bool:
+    """Whether ``exc`` was raised by a Ctrl-C (a ``KeyboardInterrupt`` among its causes)."""
+    seen: set[int] = set()
+    cause: BaseException | None = exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
 
 
 def _interrupted() -> int:
