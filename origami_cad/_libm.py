@@ -32,14 +32,18 @@ import numpy as np
 __all__ = ["arccos", "arctan", "arctan2", "canonical_eigh", "cos", "sin", "tan"]
 
 
-def _unary(f: Callable[[float], float]) -> Callable[[np.ndarray], np.ndarray]:
+def _unary(
+    f: Callable[[float], float], name: str | None = None
+) -> Callable[[np.ndarray], np.ndarray]:
+    """``f`` of every element; ``name``: the ``math`` function it is (default ``f``'s name)."""
+
     def apply(x) -> np.ndarray:
         a = np.asarray(x, dtype=float)
         out = np.fromiter(map(f, a.ravel().tolist()), dtype=float, count=a.size)
         return out.reshape(a.shape)
 
     apply.__name__ = f.__name__
-    apply.__doc__ = f"``math.{f.__name__}`` of every element (radians), as a float64 array."
+    apply.__doc__ = f"``math.{name or f.__name__}`` of every element (radians), as a float64 array."
     return apply
 
 
@@ -52,7 +56,7 @@ sin = _unary(math.sin)
 cos = _unary(math.cos)
 tan = _unary(math.tan)
 arctan = _unary(math.atan)
-arccos = _unary(_acos)
+arccos = _unary(_acos, "acos")  # math.acos, NaN outside [-1, 1]
 arccos.__name__ = "arccos"
 
 

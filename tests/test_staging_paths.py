@@ -45,31 +45,37 @@ def test_sequence_readback_error_names_the_users_file(tmp_path, monkeypatch, cap
     assert not out.exists() and not list(out.parent.glob(".oc-*"))
 
 
-def test_fabricate_error_in_a_staged_file_names_the_users_folder(tmp_path, monkeypatch, capsys):
-    import origami_cad.viz.gltf as gltf
+# (module, function, its arguments, argv, the file it writes): a writer of each folder command
+FOLDER_WRITERS = [
+    (
+        "origami_cad.viz.gltf", "write_parts_glb", ("folder", "path"),
+        ["fabricate", str(EXAMPLES / "miura_6x4.toml")], "parts.glb",
+    ),
+    (
+        "origami_cad.viz.design_plots", "save_convergence_png", ("results", "path"),
+        ["design-arm", str(EXAMPLES / "arm_task.toml"), "--runs", "2", "--max-generations", "20"],
+        "convergence.png",
+    ),
+]  # fmt: skip
 
-    def full(folder, path):
-        raise OutputError(f"{path}: no space left on device")
 
-    monkeypatch.setattr(gltf, "write_parts_glb", full)
-    out = tmp_path / "fab"
-    argv = ["fabricate", str(EXAMPLES / "miura_6x4.toml"), "-o", str(out)]
-    err = _fails_naming(capsys, argv, out / "parts.glb")
-    assert "no space left" in err
-    assert not out.exists()
+@pytest.mark.parametrize(
+    ("module", "function", "params", "argv", "name"),
+    FOLDER_WRITERS,
+    ids=["fabricate", "design-arm"],
+)
+def test_an_error_in_a_staged_file_names_the_users_folder(
+    tmp_path, monkeypatch, capsys, module, function, params, argv, name
+):
+    import importlib
 
+    def full(*args):
+        assert len(args) == len(params)
+        raise OutputError(f"{args[-1]}: no space left on device")
 
-def test_design_arm_error_in_a_staged_file_names_the_users_folder(tmp_path, monkeypatch, capsys):
-    import origami_cad.viz.design_plots as plots
-
-    def full(results, path):
-        raise OutputError(f"{path}: no space left on device")
-
-    monkeypatch.setattr(plots, "save_convergence_png", full)
-    out = tmp_path / "arm"
-    argv = ["design-arm", str(EXAMPLES / "arm_task.toml"), "-o", str(out)]
-    argv += ["--runs", "2", "--max-generations", "20"]
-    err = _fails_naming(capsys, argv, out / "convergence.png")
+    monkeypatch.setattr(importlib.import_module(module), function, full)
+    out = tmp_path / "out"
+    err = _fails_naming(capsys, [*argv, "-o", str(out)], out / name)
     assert "no space left" in err
     assert not out.exists()
 

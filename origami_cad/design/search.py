@@ -381,9 +381,7 @@ def rank_designs(designs: list[ArmDesign]) -> list[ArmDesign]:
     [1, 0, 2]
     """
     feasible = [r for r in designs if math.isfinite(r.fitness)]
-    if not feasible:
-        return []
-    tied = ties(feasible)
+    tied = ties(feasible)  # none when no design is feasible
     chosen = {id(r) for r in tied}  # by identity: designs hold arrays, == is not a bool
     rest = sorted((r for r in feasible if id(r) not in chosen), key=lambda r: (-r.fitness, r.run))
     ordered: list[ArmDesign] = []
