@@ -24,7 +24,7 @@ from typing import Any, NoReturn
 from origami_cad import __version__, demo  # noqa: F401  (demo registers its command)
 from origami_cad._fileio import Interrupted, handle_signals, interrupted
 from origami_cad._names import one_line
-from origami_cad.commands import COMMANDS, Command, Option, Outputs, execute
+from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
 from origami_cad.errors import OrigamiCadError
 
 __all__ = ["build_parser", "main"]
@@ -62,9 +62,6 @@ def _call(args: argparse.Namespace) -> Outputs:
     extra = {"extra": args.extra} if cls.EXTRA else {}
     with display or contextlib.nullcontext():
         return execute(cls, *positional, **given, **extra, progress=progress, **echo)
-
-
-_FOLDER = "output folder; only this command's files are written into it, all else is kept"
 
 
 def _help(cls: type[Command], opt: Option) -> str:
@@ -114,7 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
         names = list(cls.INPUTS)
         if cls.OUTPUT:
             many = {"action": "append"} if cls.OUTPUT == "outputs" else {}
-            what = _FOLDER if cls.OUTPUT == "folder" else "output file (format by extension)"
+            what = FOLDER_HELP if cls.OUTPUT == "folder" else "output file (format by extension)"
             p.add_argument("-o", "--output", dest=cls.OUTPUT, required=True, help=what, **many)
             names.append(cls.OUTPUT)
         positional = [*names, *(o.name for o in cls.OPTIONS if o.positional)]

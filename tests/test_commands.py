@@ -58,6 +58,57 @@ def test_the_cli_is_the_registry():
     assert not (ROOT / "origami_cad" / "jobs.py").read_text().count("def run_")
 
 
+SKELETON = {"check_outputs", "atomic_directory", "check_suffix"}  # the skeleton's calls
+
+
+def _skeleton_copies(path: Path) -> list[str]:
+    """Where a module copies the skeleton: calls its checks, writes a "wrote" line itself,
+    or names the unit/scale/width trio."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            f = node.func
+            name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+            if name in SKELETON:
+                found.append(f"{path.name}:{node.lineno}: calls {name}")
+        elif isinstance(node, ast.Attribute) and node.attr in ("unit", "scale", "width"):
+            found.append(f"{path.name}:{node.lineno}: reads the option {node.attr} itself")
+    found += [
+        f"{path.name}:{line}: writes its own 'wrote' line"
+        for line, text in _strings(path)
+        if re.search(r"(^|[;:] )wrote ", text)
+    ]
+    return found
+
+
+def test_the_skeleton_lives_in_one_place():
+    """Output checks, the staging folder, size options and "wrote" lines: only in the
+    skeleton (``_base.py``, ``_outputs.py``, ``_options.py``), never copied into a command."""
+    skeleton = {"_base.py", "_outputs.py", "_options.py"}
+    copies = [
+        c for p in sorted(COMMANDS_DIR.glob("*.py")) if p.name not in skeleton
+        for c in _skeleton_copies(p)
+    ]  # fmt: skip
+    assert not copies, "\n".join(copies)
+    # the search sees them where they are
+    assert any("check_outputs" in c for c in _skeleton_copies(COMMANDS_DIR / "_base.py"))
+    assert any("'wrote'" in c for c in _skeleton_copies(COMMANDS_DIR / "_outputs.py"))
+
+
+def test_a_wrote_line_and_the_format_checks_come_from_the_skeleton(tmp_path):
+    out = execute("convert", "examples/data/boat.dxf", tmp_path / "boat.fold")
+    assert out.messages[-1].startswith(f"wrote {tmp_path / 'boat.fold'} (")
+    with pytest.raises(OptionsError, match=r"boat\.txt: a pattern is written as \.fold"):
+        execute("convert", "examples/data/boat.dxf", tmp_path / "boat.txt")
+    with pytest.raises(OptionsError, match=r"p\.jpg: the drive plot is written as \.png"):
+        execute("drive", "examples/arm_fold.toml", tmp_path / "l.csv", dry_run=True,
+                plot=tmp_path / "p.jpg")  # fmt: skip
+    with pytest.raises(OptionsError, match=r"m\.txt: an MJCF model is written as \.xml"):
+        execute("mjcf", "examples/miura_6x4.toml", tmp_path / "m.txt")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["boat.fold"]
+
+
 def _strings(path: Path):
     """(line, text) of every string constant of a module that is not a docstring."""
     tree = ast.parse(path.read_text(encoding="utf-8"))

@@ -28,6 +28,7 @@ from origami_cad.commands import (  # noqa: F401  (each module registers its com
 )
 from origami_cad.commands._base import (
     COMMANDS,
+    FOLDER_HELP,
     SIZING,
     Command,
     Option,
@@ -52,6 +53,7 @@ for _name in sorted(COMMANDS, key=lambda n: ORDER.index(n) if n in ORDER else le
 
 __all__ = [
     "COMMANDS",
+    "FOLDER_HELP",
     "SIZING",
     "Command",
     "Option",

@@ -31,6 +31,7 @@ from typing import Any, ClassVar
 from origami_cad._fileio import atomic_directory, check_outputs
 from origami_cad.commands._options import SIZING, Option
 from origami_cad.commands._outputs import (
+    FOLDER_HELP,
     Outputs,
     check_suffix,
     moved,
@@ -42,6 +43,7 @@ from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = [
     "COMMANDS",
+    "FOLDER_HELP",
     "SIZING",
     "Command",
     "Option",
@@ -143,13 +145,20 @@ class Command:
         """The extensions an output file may have (``()``: any)."""
         return self.SUFFIXES
 
-    def prepare(self, a: SimpleNamespace) -> None:
-        """The checks before any work: the outputs' formats, then against the inputs."""
-        files, folders = self.outputs(a)
+    def formats(self, a: SimpleNamespace) -> list[tuple[Any, tuple[str, ...], str]]:
+        """``(file, extensions, what)`` of each output whose extension gives its format:
+        by default the files of ``-o`` and :meth:`suffixes`."""
         allowed = self.suffixes()
         given = {"output": [getattr(a, "output", None)], "outputs": getattr(a, "outputs", [])}
-        for path in given.get(self.OUTPUT, []) if allowed else []:
-            check_suffix(path, allowed, self.WHAT)
+        return (
+            [(path, allowed, self.WHAT) for path in given.get(self.OUTPUT, [])] if allowed else []
+        )
+
+    def prepare(self, a: SimpleNamespace) -> None:
+        """The checks before any work: the outputs' formats, then against the inputs."""
+        for path, allowed, what in self.formats(a):
+            check_suffix(path, allowed, what)
+        files, folders = self.outputs(a)
         check_outputs(self.inputs(a), files=files, folders=folders)
 
     def run(self, a: SimpleNamespace) -> Outputs:  # pragma: no cover - abstract
@@ -170,6 +179,12 @@ class Command:
         with atomic_directory(where, inputs=sources(*self.inputs(a), *more)) as stage:
             yield stage
 
+    @staticmethod
+    def size(a: SimpleNamespace) -> dict[str, Any]:
+        """The ``unit``/``scale``/``width`` options (:data:`SIZING`) as ``read_pattern``'s
+        keywords (``None``: not given)."""
+        return {o.name: getattr(a, o.name, None) for o in SIZING}
+
     def load(self, a: SimpleNamespace, path: PathLike, sized: bool = True):
         """``(Design, warnings)``: a design or pattern file, an imported pattern sized by
         the ``unit``/``scale``/``width`` options; the warnings name an implausible size,
@@ -177,8 +192,7 @@ class Command:
         from origami_cad.pattern import size_warnings
         from origami_cad.pattern.design import load_pattern_source
 
-        size = {k: getattr(a, k, None) for k in ("unit", "scale", "width")} if sized else {}
-        loaded = load_pattern_source(path, **size)
+        loaded = load_pattern_source(path, **(self.size(a) if sized else {}))
         warned = size_warnings(loaded.pattern)
         notes = _SIZE_NOTES.get()
         if notes is not None:

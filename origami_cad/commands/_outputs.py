@@ -10,7 +10,7 @@ from typing import Any
 
 from origami_cad.errors import OptionsError
 
-__all__ = ["Outputs", "check_suffix", "moved", "sources", "staged", "wrote"]
+__all__ = ["FOLDER_HELP", "Outputs", "check_suffix", "moved", "sources", "staged", "wrote"]
 
 PathLike = str | os.PathLike[str]
 
@@ -91,6 +91,21 @@ def staged(stage: Path) -> list[Path]:
     return sorted(p for p in stage.iterdir() if not p.name.startswith("."))
 
 
-def wrote(folder: PathLike, names: Sequence[Any]) -> str:
-    """The line saying what a command wrote into ``folder``: ``wrote FOLDER/: a b c``."""
-    return f"wrote {folder}/: " + " ".join(Path(n).name for n in names)
+def wrote(where: PathLike, names: Sequence[Any] | None = None, detail: str = "") -> str:
+    """The line saying what a command wrote: ``wrote FOLDER/: a b c`` (the ``names`` of
+    the files written into the folder ``where``), or ``wrote FILE`` (one file), followed
+    by `` (detail)`` when given.
+
+    >>> wrote("fab", ["a/x.stl", "y.json"]), wrote("cp.fold", detail="2 panels")
+    ('wrote fab/: x.stl y.json', 'wrote cp.fold (2 panels)')
+    """
+    line = (
+        f"wrote {where}"
+        if names is None
+        else f"wrote {where}/: " + " ".join(Path(n).name for n in names)
+    )
+    return f"{line} ({detail})" if detail else line
+
+
+#: The help of ``-o`` of a command writing a folder.
+FOLDER_HELP = "output folder; only this command's files are written into it, all else is kept"

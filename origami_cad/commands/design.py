@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
-from origami_cad.commands._base import Command, Option, Outputs, moved, register
+from origami_cad.commands._base import Command, Option, Outputs, moved, register, wrote
 from origami_cad.errors import DesignError
 from origami_cad.parallel import open_executor
 
@@ -239,6 +239,6 @@ class DesignArm(Command):
             files=files,
             images=list(zip(files[2:5], captions, strict=True)),
             numbers=numbers,
-            messages=[*messages, *(f"wrote {p}" for p in files)],
+            messages=[*messages, *map(wrote, files)],
             result=results,
         )

@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 
 from origami_cad._fileio import finishing
-from origami_cad.commands._base import Command, Option, Outputs, check_suffix, register
+from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.errors import DriveError
 
 __all__ = ["parse_ids"]
@@ -141,10 +141,8 @@ class Drive(Command):
     def outputs(self, a):
         return [p for p in (a.log, a.plot) if p], []
 
-    def prepare(self, a):
-        if a.plot is not None:
-            check_suffix(a.plot, (".png",), "the drive plot")
-        super().prepare(a)
+    def formats(self, a):
+        return [(a.plot, (".png",), "the drive plot")] if a.plot is not None else []
 
     def run(self, a) -> Outputs:
         import contextlib
@@ -182,7 +180,7 @@ class Drive(Command):
                 f"ran {seq.repeat} x {seq.cycle:g} s on servos {seq.ids}"
                 f"{' (dry run)' if a.dry_run else ''}: {done.target.size} readings, "
                 f"lag {lag:.3f} turns (95 % of readings), {float(done.lag.max()):.3f} at most",
-                *(f"wrote {p}" for p in files),
+                *map(wrote, files),
             ],
             result=done,
         )

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from origami_cad.commands._base import Command, Option, Outputs, moved, register
+from origami_cad.commands._base import FOLDER_HELP, Command, Option, Outputs, moved, register, wrote
 from origami_cad.errors import OptionsError
 
 __all__: list[str] = []
-
-_FOLDER = "output folder; only this command's files are written into it, all else is kept"
 
 
 @register
@@ -22,7 +20,7 @@ class Part(Command):
     NAME, EXTRA, ARGS = "part", True, ("name", "folder", "params")
     OPTIONS = (
         Option("name", help="part name", nargs="?", positional=True),
-        Option("folder", help=_FOLDER, flag="--output", short="-o"),
+        Option("folder", help=FOLDER_HELP, flag="--output", short="-o"),
         Option("params", "object", "the part's own parameters", flag=""),
         Option("list", "flag", "list the parts and their parameters"),
         Option("pattern", help="design or pattern file the part is made for"),
@@ -58,5 +56,5 @@ class Part(Command):
         return Outputs(
             files=files,
             numbers=[(f"{a.name}: volume", volume)],
-            messages=[f"{a.name}: volume {volume}; wrote " + ", ".join(map(str, files))],
+            messages=[f"{a.name}: volume {volume}; {wrote(a.folder, files)}"],
         )

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from origami_cad.commands._base import SIZING, Command, Option, Outputs, register
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.errors import DesignError
 
 __all__ = ["FOLD_SUFFIXES", "MAX_FRAMES", "pattern_numbers"]
@@ -58,11 +58,8 @@ class Convert(Command):
     def outputs(self, a):
         return [a.output], []
 
-    def prepare(self, a):
-        from origami_cad.commands._base import check_suffix
-
-        check_suffix(a.output, self.suffixes(), self.WHAT)
-        super().prepare(a)
+    def formats(self, a):  # the output is the second positional argument, not -o
+        return [(a.output, self.suffixes(), self.WHAT)]
 
     def inputs(self, a):
         return [a.source]
@@ -70,12 +67,13 @@ class Convert(Command):
     def run(self, a) -> Outputs:
         from origami_cad.pattern import read_pattern, size_warnings
 
-        cp = read_pattern(a.source, unit=a.unit, scale=a.scale, width=a.width)
+        cp = read_pattern(a.source, **self.size(a))
         _write_pattern_file(cp, Path(a.output), a.labels)
         n = f"{cp.n_vertices} vertices, {cp.n_edges} edges, {len(cp.faces)} panels"
         warned = [f"warning: {w}" for w in size_warnings(cp)]
-        msg = f"wrote {a.output} ({n})"
-        return Outputs(files=[Path(a.output)], messages=[*warned, msg], result=cp)
+        return Outputs(
+            files=[Path(a.output)], messages=[*warned, wrote(a.output, detail=n)], result=cp
+        )
 
 
 @register
@@ -123,7 +121,7 @@ class Pattern(Command):
         for out in map(Path, a.outputs):
             _write_pattern_file(cp, out, a.labels)
             result.files.append(out)
-            result.messages.append(f"wrote {out}")
+            result.messages.append(wrote(out))
             if out.suffix.lower() == ".png":
                 result.images.append((out, "Crease pattern (mountain red, valley blue dashed)"))
         result.messages += [f"note: {n}" for n in (loaded.tg.notes if loaded.tg else ())]
@@ -235,7 +233,7 @@ class Fold(Command):
             messages=[
                 *warned,
                 *flat,
-                f"wrote {out} ({len(states)} state{plural}, p up to {ratio:g})",
+                wrote(out, detail=f"{len(states)} state{plural}, p up to {ratio:g}"),
             ],
             result=states,
         )
@@ -258,4 +256,4 @@ class TG(Command):
         save_tg_png(loaded.tg, a.output)
         out = Path(a.output)
         caption = "TG chain at several p and the path of T_e"
-        return Outputs(files=[out], images=[(out, caption)], messages=[f"wrote {out}"])
+        return Outputs(files=[out], images=[(out, caption)], messages=[wrote(out)])

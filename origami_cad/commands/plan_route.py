@@ -9,7 +9,7 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 from origami_cad._names import one_line
-from origami_cad.commands._base import SIZING, Command, Option, Outputs, register
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.errors import StringsError
 from origami_cad.parallel import open_executor
 
@@ -181,7 +181,7 @@ class PlanRoute(Command):
         if not planned:
             raise StringsError(f"{a.pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
         files, _ = self.outputs(a)
-        names, done = [f.name for f in files], "wrote " + " ".join(map(str, files))
+        names, done = [f.name for f in files], wrote(files[0].parent, files)
         with self.stage(a, loaded, folder=files[0].parent) as stage:
             planned = _write_plan(a, loaded, geom, planned, stage, names, seconds)
         return Outputs(

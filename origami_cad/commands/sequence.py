@@ -6,7 +6,7 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_path
 from origami_cad._names import one_line
-from origami_cad.commands._base import Command, Option, Outputs, check_suffix, register
+from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.commands.drive import parse_ids
 from origami_cad.errors import DriveError
 
@@ -93,12 +93,6 @@ class SequenceCommand(Command):
     def inputs(self, a):
         return [a.design, a.route, *(a.more_routes or ())]
 
-    def prepare(self, a):  # outputs against the inputs first, then the format
-        from origami_cad._fileio import check_outputs
-
-        check_outputs(self.inputs(a), files=[a.output])
-        check_suffix(a.output, self.SUFFIXES, self.WHAT)
-
     def run(self, a) -> Outputs:
         from origami_cad.drive.from_model import parse_keyframes, sequence_toml
         from origami_cad.drive.sequence import load_sequence
@@ -125,6 +119,6 @@ class SequenceCommand(Command):
         return Outputs(
             files=[Path(a.output)],
             numbers=numbers,
-            messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; wrote {a.output}"],
+            messages=[f"{len(tsas)} TSA(s), {len(frames)} keyframes; {wrote(a.output)}"],
             result=results,
         )

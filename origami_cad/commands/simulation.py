@@ -256,13 +256,6 @@ class Mjcf(Command):
     def inputs(self, a):
         return [a.source, *(a.routes or ())]
 
-    def prepare(self, a):  # outputs against the inputs first, then the format
-        from origami_cad._fileio import check_outputs
-        from origami_cad.commands._base import check_suffix
-
-        check_outputs(self.inputs(a), files=[a.output])
-        check_suffix(a.output, self.SUFFIXES, self.WHAT)
-
     def run(self, a) -> Outputs:
         from origami_cad.simulation.mjcf import to_mjcf
 
@@ -281,5 +274,5 @@ class Mjcf(Command):
                 ),
                 ("strings (tendons, one TSA actuator each)", str(counts["spatial"])),
             ],
-            messages=[f"wrote {a.output}"],
+            messages=[wrote(a.output)],
         )
