@@ -36,10 +36,12 @@ __all__ = [
     "PART_COLORS",
     "BlockerPlacement",
     "FreePlacement",
+    "MassBudget",
     "ModulePlacement",
     "RobotAssembly",
     "display_color",
     "robot_assembly",
+    "robot_mass_budget",
     "robot_overlaps",
     "robot_report",
     "robot_tree",
@@ -297,3 +299,81 @@ def write_robot_stls(
                 raise OSError(f"{path}: the STL writer failed")
         out[name] = path
     return out
+
+
+@dataclass(frozen=True)
+class MassBudget:
+    """A robot's mass, g: its printed sheet, its printed parts and its bought parts.
+
+    Attributes
+    ----------
+    sheet_g : float
+        The printed sheet (PLA panels and TPU creases), g.
+    printed_parts_g : float
+        The printed parts added to it (TSA modules, blockers, adapter), g.
+    bought_parts_g : dict of str to float
+        Each bought part (servos, the driver module) by name, g.
+    """
+
+    sheet_g: float
+    printed_parts_g: float
+    bought_parts_g: dict[str, float]
+
+    @property
+    def total_g(self) -> float:
+        """The whole robot, g."""
+        return self.sheet_g + self.printed_parts_g + sum(self.bought_parts_g.values())
+
+    def to_dict(self, reference_g: float | None = None) -> dict[str, Any]:
+        """For a JSON file; with ``reference_g`` (a weighed robot, g), its difference in %."""
+        out: dict[str, Any] = {
+            "sheet_g": self.sheet_g,
+            "printed_parts_g": self.printed_parts_g,
+            "bought_parts_g": dict(self.bought_parts_g),
+            "total_g": self.total_g,
+        }
+        if reference_g is not None:
+            out["paper_g"] = reference_g
+            out["difference_percent"] = 100.0 * (self.total_g - reference_g) / reference_g
+        return out
+
+
+def robot_mass_budget(
+    sheet_g: float,
+    report: Mapping[str, Mapping[str, Any]],
+    bought: Mapping[str, float] | Sequence[tuple[str, float]],
+) -> MassBudget:
+    """The robot's mass budget: its sheet, the printed parts of its report, its bought parts.
+
+    Parameters
+    ----------
+    sheet_g : float
+        The printed sheet's mass, g (``Fabrication.report()["total_mass_g"]``).
+    report : dict
+        :func:`robot_report`'s solids: each ``kind`` and printed ``mass_g`` (g); the sheet's
+        own solids (kind ``"structure"``) are left out, as ``sheet_g`` holds them.
+    bought : dict of str to float, or sequence of (str, float)
+        The bought parts' masses by name, g (a robot file's ``[[mass]]`` tables); parts
+        sharing a name are added up.
+
+    Returns
+    -------
+    MassBudget
+        Plain data; nothing is written.
+
+    Examples
+    --------
+    >>> report = {"infills": {"kind": "structure", "mass_g": 90.0},
+    ...           "blocker_0": {"kind": "blocker", "mass_g": 2.5},
+    ...           "tsa_module_0": {"kind": "tsa-module", "mass_g": 12.0}}
+    >>> budget = robot_mass_budget(150.0, report, [("servo", 55.0), ("servo", 55.0)])
+    >>> budget.printed_parts_g, budget.bought_parts_g, budget.total_g
+    (14.5, {'servo': 110.0}, 274.5)
+    >>> round(budget.to_dict(reference_g=250.0)["difference_percent"], 2)
+    9.8
+    """
+    printed = sum(float(v["mass_g"]) for v in report.values() if v["kind"] != "structure")
+    parts: dict[str, float] = {}
+    for name, grams in bought.items() if isinstance(bought, Mapping) else bought:
+        parts[str(name)] = parts.get(str(name), 0.0) + float(grams)
+    return MassBudget(float(sheet_g), printed, parts)

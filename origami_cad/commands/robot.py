@@ -6,7 +6,6 @@ import json
 import math
 import time
 from pathlib import Path
-from typing import Any
 
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import Command, Option, Outputs, moved, register, staged, wrote
@@ -153,22 +152,6 @@ class Crawl(Command):
         )
 
 
-def _mass_budget(spec, fab, report: dict) -> dict[str, Any]:
-    """The robot's mass: the printed sheet, its printed parts and the bought parts, g."""
-    sheet = fab.report()["total_mass_g"]
-    printed = sum(v["mass_g"] for v in report.values() if v["kind"] != "structure")
-    bought = sum(m.grams for m in spec.masses)
-    total = sheet + printed + bought
-    return {
-        "sheet_g": sheet,
-        "printed_parts_g": printed,
-        "bought_parts_g": {m.name: m.grams for m in spec.masses},
-        "total_g": total,
-        "paper_g": PAPER_CRAWLER_G,
-        "difference_percent": 100.0 * (total - PAPER_CRAWLER_G) / PAPER_CRAWLER_G,
-    }
-
-
 def _render_robot(stage: Path, robot, assembly, stls) -> None:
     from origami_cad.parts.robot import display_color
     from origami_cad.viz.parts_render import render_parts
@@ -248,14 +231,21 @@ class Robot(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.fabrication import FabricationParams, fabricate
-        from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
+        from origami_cad.parts.robot import (
+            robot_assembly,
+            robot_mass_budget,
+            robot_overlaps,
+            robot_report,
+        )
         from origami_cad.simulation.crawler import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
-        budget = _mass_budget(spec, fab, report)
+        bought = [(m.name, m.grams) for m in spec.masses]
+        mass = robot_mass_budget(fab.report()["total_mass_g"], report, bought)
+        budget = mass.to_dict(reference_g=PAPER_CRAWLER_G)
         data = {
             "robot": str(a.robot),
             "mass_budget": budget,
