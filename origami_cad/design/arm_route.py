@@ -279,6 +279,19 @@ def choose_arm_tsa(
     ArmStrings
         The route text, its TSA length (mm) and its DCQC result, or the error that kept
         it from being simulated.
+
+    Examples
+    --------
+    >>> import math, numpy as np
+    >>> from origami_cad.design import ArmDesign, load_task
+    >>> from origami_cad.pattern.design import load_design
+    >>> task, _ = load_task("examples/arm_task.toml")
+    >>> tg = load_design("examples/arm_design.toml").tg
+    >>> arm = ArmDesign(tg.lengths, tg.shape_angles, tg.entry_flag, math.nan, None,
+    ...                 np.empty((0, 2)), run=0, generations=0, history=())
+    >>> chosen = choose_arm_tsa(arm, task)  # folds it; writes nothing
+    >>> chosen.tsa_length, round(float(chosen.result.p[-1]), 3), chosen.text[:5]
+    (150.0, 0.335, '[tsa]')
     """
     from origami_cad.pattern.design import Design
     from origami_cad.strings import simulate_dcqc

@@ -35,6 +35,16 @@ def designed_arm_path(task, tg, bias: float | None = None) -> tuple[float, np.nd
         included.
     joints : ndarray, shape (samples, n + 2, 2)
         The chain's joints at even fold ratios from 0 to ``p_e``, mm.
+
+    Examples
+    --------
+    >>> from origami_cad.design import load_task
+    >>> from origami_cad.pattern.design import load_design
+    >>> task, _ = load_task("examples/arm_task.toml")
+    >>> tg = load_design("examples/arm_design.toml").tg
+    >>> p_e, joints = designed_arm_path(task, tg, bias=3.0)
+    >>> round(p_e, 3), joints.shape == (task.samples, len(tg.lengths) + 1, 2)
+    (0.335, True)
     """
     beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]
     bias = task.bias if bias is None else bias
@@ -70,6 +80,27 @@ def arm_scene_metrics(task, tg, result, simulated, designed, p_e: float) -> dict
         ``P_end``, its largest distance from the designed tip at the same fold ratio,
         the states touching a prohibited area, the TSA turns, the largest torque, why the
         folding stopped, and both tip paths.
+
+    Examples
+    --------
+    The arm folded by its route in the DCQC model, each state's chain from the rigid
+    folding at its fold ratio: it follows the designed tip exactly.
+
+    >>> from origami_cad.design import load_task
+    >>> from origami_cad.design.arm_route import arm_chain_path
+    >>> from origami_cad.kinematics import tessellation_vertices
+    >>> from origami_cad.pattern.design import load_design
+    >>> from origami_cad.strings import load_route, simulate_dcqc
+    >>> task, _ = load_task("examples/arm_task.toml")
+    >>> arm = load_design("examples/arm_design.toml")
+    >>> folded = simulate_dcqc(arm, load_route("examples/arm_route.toml", arm.pattern))
+    >>> p = np.asarray(folded.p)
+    >>> states = tessellation_vertices(arm.tg, p).reshape(len(p), -1, 3)
+    >>> chain = arm_chain_path(arm.tg, states, p)
+    >>> p_e, designed = designed_arm_path(task, arm.tg, bias=3.0)
+    >>> m = arm_scene_metrics(task, arm.tg, folded, chain, designed, p_e)
+    >>> round(m["max_distance_from_designed_tip_mm"], 6), m["states_touching_prohibited_area"]
+    (0.0, 0)
     """
     ratios = np.asarray(result.p, dtype=float)
     beta = np.radians(np.asarray(tg.shape_angles, dtype=float))[None, :]

@@ -289,6 +289,18 @@ def route_tsa(
     figures : dict
         ``p_range`` (first, last fold ratio), ``turns`` (the last), ``turns_at`` (the
         turns at ``at``) and ``peak_torque`` (N mm, NaN when unknown).
+
+    Examples
+    --------
+    >>> from origami_cad.pattern.design import load_design
+    >>> from origami_cad.strings import load_route, simulate_dcqc
+    >>> arm = load_design("examples/arm_design.toml")
+    >>> spec = load_route("examples/arm_route.toml", arm.pattern)
+    >>> entry, figures = route_tsa(arm.pattern, spec.tsa, simulate_dcqc(arm, spec),
+    ...                            [0.0, 0.3], servo=1, name="arm")
+    >>> text = sequence_toml([entry], [(0.0, (0.0,)), (20.0, (0.3,))])  # drive's input
+    >>> bool(0.3 in entry["mapping"][:, 0]), round(figures["p_range"][1], 3)
+    (True, 0.335)
     """
     creases = np.flatnonzero(pattern.edge_mask("M", "V"))
     ratios = state_fold_ratios(result.p, result.fold_angles, creases)
