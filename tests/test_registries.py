@@ -127,6 +127,32 @@ def test_the_old_format_paths_still_work_with_a_deprecation_warning():
         assert old is importlib.import_module(f"origami_cad.pattern.formats.{name}")
 
 
+# ---------------------------------------------------------------------- fabrication exports
+
+
+def write_toy_volumes(fab, folder):
+    """A toy export as a user writes it: each printed part's volume, one line each (mm^3)."""
+    path = Path(folder) / "volumes.txt"
+    parts = fab.report()["parts"]
+    path.write_text("".join(f"{name} {v['volume_mm3']!r}\n" for name, v in parts.items()))
+    return {"toy": path}
+
+
+def test_a_toy_export_is_written_with_the_others_through_the_registry(tmp_path, monkeypatch):
+    from origami_cad.fabrication import FabricationParams, exports, fabricate, write_fabrication
+
+    monkeypatch.setitem(exports.WRITERS, "toy", write_toy_volumes)  # the registry line
+    cp = miura_pattern(rows=2, columns=2, panel_length=30.0, panel_width=30.0, sector_angle=65.0)
+    fab = fabricate(cp, FabricationParams(shell=0.5))
+    paths = write_fabrication(fab, tmp_path)
+    assert paths["toy"] == tmp_path / "volumes.txt" and "toy" in fab.timings
+    volumes = dict(line.split() for line in paths["toy"].read_text().splitlines())
+    stls = sorted(p.stem for p in tmp_path.glob("*.stl"))
+    assert sorted(volumes) == stls and len(stls) == 4  # one line per part, as its STL
+    assert all(float(v) > 0 for v in volumes.values())
+    assert {"stl", "step", "3mf"} <= set(exports.WRITERS) and paths["json"].exists()
+
+
 # ---------------------------------------------------------------------------- servo buses
 
 
