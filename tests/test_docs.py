@@ -113,3 +113,52 @@ def test_the_architecture_page_cites_only_names_that_exist():
     assert not missing, f"docs/architecture.md names what does not exist: {missing}"
     links = re.findall(r"\]\(([^)#]+)\)", page.read_text(encoding="utf-8"))
     assert all((page.parent / link).exists() for link in links), links
+
+
+def _python_names(text: str) -> set[str]:
+    """The dotted names of the package a page cites in backticks (``oc.`` is the
+    package's usual alias: ``import origami_cad as oc``); a pattern (``run_*``) is not one."""
+    out = set()
+    for token in re.findall(r"`([^`\n]+)`", text):
+        match = re.match(r"(origami_cad|oc)((?:\.\w+)+)(\*?)", token)
+        if match and not match.group(3):
+            out.add("origami_cad" + match.group(2))
+    return out
+
+
+def _imported(name: str):
+    """What ``name`` is, as a script gets it: its longest importable module, then getattr."""
+    import importlib
+
+    parts = name.split(".")
+    for k in range(len(parts), 0, -1):
+        try:
+            value = importlib.import_module(".".join(parts[:k]))
+        except ModuleNotFoundError:
+            continue
+        for attr in parts[k:]:
+            value = getattr(value, attr)
+        return value
+    raise ModuleNotFoundError(name)
+
+
+def test_every_python_name_the_docs_cite_imports():
+    """A user's script keeps working: each ``origami_cad.x.y`` (or ``oc.x``) of the README
+    and docs/ is imported and looked up as a script would (a moved name may warn)."""
+    import warnings
+
+    cited = {(n, p.name) for p in PAGES for n in _python_names(p.read_text(encoding="utf-8"))}
+    assert len(cited) > 40
+    broken = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        for name, page in sorted(cited):
+            try:
+                _imported(name)
+            except (ImportError, AttributeError) as exc:
+                broken.append(f"{page}: {name}: {exc}")
+    assert not broken, "\n".join(broken)
+    # the lookup sees a name that does not exist
+    with pytest.raises(AttributeError):
+        _imported("origami_cad.fabrication.no_such_name")
+    assert _python_names("`oc.fabricate`, `origami_cad.jobs.run_*`") == {"origami_cad.fabricate"}
