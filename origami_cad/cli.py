@@ -66,7 +66,7 @@ def _call(args: argparse.Namespace) -> Outputs:
 
 def _help(cls: type[Command], opt: Option) -> str:
     """An option's help: its text, unit and default (from the library when ``None``)."""
-    default = opt.default if opt.default is not None else cls.library_defaults().get(opt.name)
+    default = cls.default(opt.name)
     text = opt.help + (f", {opt.unit}" if opt.unit else "")
     if opt.kind == "flag" or default in (None, False, ()):
         return text

@@ -129,6 +129,19 @@ class Command:
         """Defaults of options whose ``default`` is ``None`` (the library's), for the help."""
         return {}
 
+    @classmethod
+    def default(cls, name: str) -> Any:
+        """The value option ``name`` has when not given: its own default, else the
+        library's (:meth:`library_defaults`); ``None`` when it has neither (or no such option).
+
+        >>> COMMANDS["fold"].default("ratio"), COMMANDS["fabricate"].default("height")
+        (0.5, 2.2)
+        """
+        opt = next((o for o in cls.OPTIONS if o.name == name), None)
+        if opt is not None and opt.default is not None:
+            return opt.default
+        return cls.library_defaults().get(name)
+
     def inputs(self, a: SimpleNamespace) -> list:
         """The files the command reads, which no output may replace."""
         return [getattr(a, n) for n in self.INPUTS if getattr(a, n) is not None]

@@ -243,9 +243,8 @@ class Robot(Command):
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
-        bought = [(m.name, m.grams) for m in spec.masses]
-        mass = robot_mass_budget(fab.report()["total_mass_g"], report, bought)
-        budget = mass.to_dict(reference_g=PAPER_CRAWLER_G)
+        sheet, bought = fab.report()["total_mass_g"], [(m.name, m.grams) for m in spec.masses]
+        budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
         data = {
             "robot": str(a.robot),
             "mass_budget": budget,
