@@ -125,7 +125,12 @@ def _strings(path: Path):
             yield node.lineno, node.value
 
 
-CLI_SYNTAX = re.compile(r"--tsa\b|--budget\b|^\s*#?\s*origami-cad [a-z]")
+# --tsa, --budget, and a command line rebuilt from its pieces: "# origami-cad fold ...",
+# f"origami-cad fold {path} ...", ["origami-cad", "fold", ...], "... origami-cad fold -o"
+CLI_SYNTAX = re.compile(
+    r"--tsa\b|--budget\b|^\s*#?\s*origami-cad [a-z]|^origami-cad$|origami-cad [a-z][a-z-]* $"
+    r"|origami-cad [a-z][a-z-]* -"
+)
 
 
 def test_command_line_syntax_lives_only_in_the_commands_and_the_cli():
@@ -143,6 +148,17 @@ def test_command_line_syntax_lives_only_in_the_commands_and_the_cli():
     # the search sees it where it is
     inside = [t for p in COMMANDS_DIR.glob("*.py") for _, t in _strings(p) if CLI_SYNTAX.search(t)]
     assert any("--tsa" in t for t in inside) and any("origami-cad" in t for t in inside)
+    rebuilt = [
+        "# origami-cad fold a",
+        "origami-cad",
+        "run origami-cad fold ",
+        "origami-cad fold -o",
+    ]
+    assert all(CLI_SYNTAX.search(t) for t in rebuilt)
+    assert not any(
+        CLI_SYNTAX.search(t)
+        for t in ["written by origami-cad crawl: each", "reinstall origami-cad", "tsa"]
+    )
 
 
 def test_the_old_jobs_names_warn_and_still_work(tmp_path):
