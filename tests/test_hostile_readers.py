@@ -226,7 +226,9 @@ def test_fold_duplicate_keys_that_contradict_each_other_are_refused(tmp_path, ca
     assert main(["convert", str(p), str(tmp_path / "o.svg")]) == 0
 
 
-@pytest.mark.parametrize("letter, angle", [("M", 90), ("V", -180), ("m", 45)])
+@pytest.mark.parametrize(
+    "letter, angle", [("M", 90), ("V", -180), ("m", 45), ("B", 90), ("F", -30)]
+)
 def test_fold_a_fold_angle_against_its_assignment_is_refused(tmp_path, capsys, letter, angle):
     doc = {
         "vertices_coords": SQUARE,
