@@ -254,6 +254,19 @@ def test_a_fold_past_the_vertex_limit_is_refused_before_it_is_converted(tmp_path
     )  # fmt: skip
 
 
+def test_lines_whose_crossings_pass_the_vertex_limit_are_refused_before_the_faces(tmp_path, capsys):
+    # 2 x 226 lines (904 vertices given) cross in 51,076 vertices: refused naming the limit
+    # once split, not converted for a minute into a pattern past MAX_VERTICES
+    n = 226
+    lines = [f'<line x1="0" y1="{k}" x2="{n}" y2="{k}" stroke="#f00"/>' for k in range(n)]
+    lines += [f'<line x1="{k}" y1="0" x2="{k}" y2="{n}" stroke="#00f"/>' for k in range(n)]
+    p = svg(tmp_path, "".join(lines), f' width="{n}mm" height="{n}mm" viewBox="0 0 {n} {n}"')
+    refused(
+        capsys, tmp_path, ["convert", p, tmp_path / "o.dxf"], "in.svg", "where they cross",
+        f"{MAX_VERTICES:,} (MAX_VERTICES)",
+    )  # fmt: skip
+
+
 def test_a_fold_past_the_edge_limit_is_refused(tmp_path, capsys):
     doc = {"vertices_coords": [[0, 0], [1, 0]], "edges_vertices": [[0, 1]] * (MAX_EDGES + 1)}
     p = fold_file(tmp_path, json.dumps(doc))
