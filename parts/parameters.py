@@ -34,6 +34,16 @@ __all__ = ["ParamInfo", "param_info", "resolve_params", "spec"]
 
 P = TypeVar("P")
 
+#: The stated bounds of every part parameter, checked before any solid is built (a part
+#: of 1e300 mm, or of a million connectors, fails deep in the B-rep kernel or never ends):
+#: a length at most :data:`MAX_LENGTH` mm from zero, an angle at most :data:`MAX_ANGLE`
+#: degrees, a count at most :data:`MAX_COUNT`, a list of at most :data:`MAX_ITEMS` numbers.
+MAX_LENGTH = 10_000.0
+MAX_ANGLE = 360.0
+MAX_COUNT = 64
+MAX_ITEMS = 64
+_BOUNDS = {"mm": MAX_LENGTH, "deg": MAX_ANGLE}
+
 
 def spec(unit: str, doc: str, *, low: float | None = None) -> dict[str, Any]:
     """Metadata of a part parameter: ``field(default=..., metadata=spec(unit, doc))``.
@@ -149,6 +159,11 @@ def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
         )
     if not items:
         raise DesignError(f"parameter {info.name}: expected at least one value")
+    if len(items) > MAX_ITEMS:
+        raise DesignError(
+            f"parameter {info.name}: {len(items)} values, at most {MAX_ITEMS} "
+            "(parts.parameters.MAX_ITEMS)"
+        )
     return tuple(_scalar(info, args[0], v) for v in items)
 
 
@@ -171,4 +186,17 @@ def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
     if info.low is not None and not number > info.low:
         unit = f" {info.unit}" if info.unit else ""
         raise DesignError(f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}")
+    _check_bound(info, tp, number)
     return number
+
+
+def _check_bound(info: ParamInfo, tp: type, number: float) -> None:
+    """The stated bound of the parameter's unit (a count's when it is an integer)."""
+    bound = _BOUNDS.get(info.unit, MAX_COUNT if tp is int else None)
+    if bound is not None and abs(number) > bound:
+        unit = f" {info.unit}" if info.unit else ""
+        name = {MAX_LENGTH: "MAX_LENGTH", MAX_ANGLE: "MAX_ANGLE"}.get(bound, "MAX_COUNT")
+        raise DesignError(
+            f"parameter {info.name}: at most {bound:g}{unit}{' from zero' if unit else ''} "
+            f"(parts.parameters.{name}), got {number!r}"
+        )

@@ -227,6 +227,10 @@ def test_sequence_checks(tmp_path):
         DriveError, match=r"\[\[keyframe\]\] #2: key 'p' \(t = 6 s\): servo 1 \(front left\)"
     ):
         load_sequence(bad)
+    # issue 32: a rate too low to command every keyframe (1e-300 Hz ran one command)
+    bad.write_text(text.replace("rate = 10 ", "rate = 1e-300 ", 1))
+    with pytest.raises(DriveError, match=r"key 'rate': 1e-300 Hz .* the 5 s between two keyframes"):
+        load_sequence(bad)
     seq = load_sequence(EXAMPLES / "arm_fold.toml")
     with (
         DynamixelEmulator([1], time_scale=40) as emu,

@@ -166,8 +166,8 @@ def fold_documents(draw):
             st.lists(st.none() | st.integers(-180, 180), min_size=m, max_size=m)
         ),
     }
-    if not draw(st.integers(0, 4)):  # mostly, the angles have the signs of their folds
-        sign = {"M": -1, "V": 1}
+    if not draw(st.integers(0, 4)):  # the angles agree with their letters (B, F: flat)
+        sign = {"M": -1, "V": 1, "B": 0, "F": 0}
         doc["edges_foldAngle"] = [
             None if a is None else sign.get(letter, 1) * abs(a) if letter in sign else a
             for a, letter in zip(doc["edges_foldAngle"], doc["edges_assignment"], strict=True)

@@ -226,7 +226,9 @@ def test_fold_duplicate_keys_that_contradict_each_other_are_refused(tmp_path, ca
     assert main(["convert", str(p), str(tmp_path / "o.svg")]) == 0
 
 
-@pytest.mark.parametrize("letter, angle", [("M", 90), ("V", -180), ("m", 45)])
+@pytest.mark.parametrize(
+    "letter, angle", [("M", 90), ("V", -180), ("m", 45), ("B", 90), ("F", -30)]
+)
 def test_fold_a_fold_angle_against_its_assignment_is_refused(tmp_path, capsys, letter, angle):
     doc = {
         "vertices_coords": SQUARE,
@@ -249,6 +251,19 @@ def test_a_fold_past_the_vertex_limit_is_refused_before_it_is_converted(tmp_path
     refused(
         capsys, tmp_path, ["convert", p, tmp_path / "o.svg"], "in.fold", "vertices_coords",
         f"{n:,} vertices", "MAX_VERTICES",
+    )  # fmt: skip
+
+
+def test_lines_whose_crossings_pass_the_vertex_limit_are_refused_before_the_faces(tmp_path, capsys):
+    # 2 x 226 lines (904 vertices given) cross in 51,076 vertices: refused naming the limit
+    # once split, not converted for a minute into a pattern past MAX_VERTICES
+    n = 226
+    lines = [f'<line x1="0" y1="{k}" x2="{n}" y2="{k}" stroke="#f00"/>' for k in range(n)]
+    lines += [f'<line x1="{k}" y1="0" x2="{k}" y2="{n}" stroke="#00f"/>' for k in range(n)]
+    p = svg(tmp_path, "".join(lines), f' width="{n}mm" height="{n}mm" viewBox="0 0 {n} {n}"')
+    refused(
+        capsys, tmp_path, ["convert", p, tmp_path / "o.dxf"], "in.svg", "where they cross",
+        f"{MAX_VERTICES:,} (MAX_VERTICES)",
     )  # fmt: skip
 
 

@@ -301,3 +301,38 @@ def test_the_report_escapes_every_name(tmp_path):
     assert "script" not in tags
     attrs = {name for _, a in parser.tags for name, _ in a}
     assert attrs <= {"lang", "charset", "id", "href", "class", "src", "alt"}, attrs
+
+
+_HOSTILE = "' onload='alert(1)\" x=\"<b>&amp;\x01\x1b\x00\n\u202e]]>"
+
+
+def test_mjcf_is_well_formed_whatever_the_title_and_panel_labels(tmp_path):
+    import mujoco
+
+    from origami_cad.simulation.mjcf import to_mjcf
+
+    fold = _title_pattern(tmp_path, _HOSTILE)
+    data = json.loads(fold.read_text())
+    labels = [f"{_HOSTILE}{i}" for i in range(len(data["faces_vertices"]))]
+    data["faces_origami_cad:labels"] = labels
+    fold.write_text(json.dumps(data))
+    text = to_mjcf(fold)
+    root = ET.fromstring(text)  # well-formed
+    assert set(root.attrib) == {"model"} and "onload" in root.attrib["model"]
+    bodies = [b.get("name") for b in root.iter("body")]
+    assert sorted(bodies) == sorted(
+        _no_surrogates(re.sub("[\x00-\x08\x0b-\x1f]", "\ufffd", n)).replace("\n", " ")
+        for n in labels
+    )
+    model = mujoco.MjModel.from_xml_string(text)  # meshes and bodies resolve by name
+    assert model.nbody == len(labels) + 1
+
+
+def test_bambu_model_settings_are_well_formed_whatever_the_names():
+    from origami_cad.fabrication.exports.bambu3mf import model_settings_config
+
+    lines = model_settings_config(5, [(1, _HOSTILE, 1), (2, "shells", 2)], _HOSTILE)
+    root = ET.fromstring("\n".join(lines))
+    names = [m.get("value") for m in root.iter("metadata") if m.get("key") == "name"]
+    assert names[0] == names[1] and "onload" in names[0] and names[2] == "shells"
+    assert all(set(m.attrib) == {"key", "value"} for m in root.iter("metadata"))

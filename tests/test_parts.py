@@ -236,6 +236,13 @@ def test_text_parameters_get_their_declared_types():
         ("blocker", {"angel": "30"}, "unknown parameter 'angel'"),
         ("blocker", {"angle": True}, "parameter angle: expected a float"),
         ("nope", {}, "unknown part 'nope'"),
+        # issue 32: stated bounds, before the B-rep kernel fails on them (or never ends)
+        ("tsa-module", {"guide_distance": "1e300"}, r"guide_distance: at most 10000 mm .*MAX_LEN"),
+        ("tsa-module", {"centre": "-1e300,0"}, "parameter centre: at most 10000 mm"),
+        ("blocker", {"reach": -1e300}, "parameter reach: at most 10000 mm"),
+        ("tsa-module", {"heading": "1e300"}, "parameter heading: at most 360 deg"),
+        ("driver-adapter", {"connectors": 10**12}, r"connectors: at most 64 \(.*MAX_COUNT"),
+        ("ring-rail", {"angles": ",".join(["1"] * 65)}, "angles: 65 values, at most 64"),
     ],
 )
 def test_bad_part_parameters_are_named(name, values, message):

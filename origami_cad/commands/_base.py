@@ -92,6 +92,10 @@ class Command:
         Its positional input files, in order (their names are ``run``'s attributes).
     OUTPUT : {None, "output", "outputs", "folder"}
         What ``-o`` gives: one file, a repeatable file, or a folder.
+    FILES : tuple of str
+        A folder command's files (names in its folder), checked against the inputs and
+        the files they name before any work; a name that depends on the input (a
+        robot's ``tsa_module_<leg>.stl``) is checked when the files are put in place.
     SUFFIXES : tuple of str
         The extensions an output file may have (checked before any work), and
         ``WHAT`` it is, for the error.
@@ -116,6 +120,7 @@ class Command:
     NAME: ClassVar[str]
     INPUTS: ClassVar[tuple[str, ...]] = ()
     OUTPUT: ClassVar[str | None] = None
+    FILES: ClassVar[tuple[str, ...]] = ()
     SUFFIXES: ClassVar[tuple[str, ...]] = ()
     WHAT: ClassVar[str] = "the output"
     OPTIONS: ClassVar[tuple[Option, ...]] = ()
@@ -149,7 +154,7 @@ class Command:
     def outputs(self, a: SimpleNamespace) -> tuple[list, list]:
         """``(files, folders)`` the command writes, checked against the inputs first."""
         if self.OUTPUT == "folder":
-            return [], [a.folder]
+            return [Path(a.folder) / n for n in self.FILES], [a.folder]
         if self.OUTPUT == "outputs":
             return list(a.outputs), []
         return ([a.output] if self.OUTPUT == "output" else []), []

@@ -199,6 +199,8 @@ class DesignArm(Command):
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "design-arm", ("task",), "folder", "CMA-ES generations"
+    FILES = ("results.json", "best.toml", "trajectories.png", "convergence.png")
+    FILES += ("best_pattern.png", "route.toml")
     OPTIONS = (
         Option("runs", "int", "override the task's [search] runs", min=1, max=MAX_RUNS),
         Option("seed", "int", "seed (overrides [search])", min=0, max=2**32 - 1),

@@ -108,6 +108,15 @@ def _summary(fab) -> str:
     )
 
 
+#: The files of a printed sheet (``write_fabrication``, the glTF and the panels' plot), and
+#: the pictures ``renders`` adds.
+SHEET_FILES = (
+    "infills.stl", "midlayers.stl", "shells.stl", "creases.stl", "assembly.step", "print.3mf",
+    "pattern_with_holes.fold", "fabrication.json", "panels.png",
+)  # fmt: skip
+RENDERS = ("assembled.png", "exploded.png", "section.png")
+
+
 @register
 class Fabricate(Command):
     """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
@@ -124,6 +133,7 @@ class Fabricate(Command):
     """
 
     NAME, INPUTS, OUTPUT, ARGS = "fabricate", ("design",), "folder", ("design", "folder", "params")
+    FILES = (*SHEET_FILES, "parts.glb", *RENDERS)
     OPTIONS = (
         *PARAM_OPTIONS,
         Option("hole", "float", "a hole at X Y; repeat", "mm", nargs=2, repeat=True,

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import Command, Option, Outputs, moved, register, staged, wrote
+from origami_cad.commands.fabrication import SHEET_FILES
 from origami_cad.commands.simulation import GIF_FRAMES, gif_states
 
 __all__ = ["PAPER_CRAWLER_G", "PAPER_CRAWL_MM"]
@@ -224,6 +225,7 @@ class Robot(Command):
     """
 
     NAME, INPUTS, OUTPUT = "robot", ("robot",), "folder"
+    FILES = (*SHEET_FILES, "robot.step", "robot.json", "robot.png", "driver_adapter.stl")
     OPTIONS = (
         Option("ratio", "float", "fold ratio p of robot.step", default=0.0, min=0, max=1),
         Option("renders", "flag", "no render", default=True, dest_negated="--no-renders"),

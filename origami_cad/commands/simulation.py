@@ -108,9 +108,6 @@ class Simulate(Command):
         fields = dataclasses.fields(SimulationParams)
         return {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
 
-    def outputs(self, a):
-        return [Path(a.folder) / n for n in self.FILES], [a.folder]
-
     def run(self, a) -> Outputs:
         from origami_cad.simulation import SimulationParams, simulate
         from origami_cad.strings import load_route

@@ -316,6 +316,13 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
             f"{sequence.cycle * sequence.repeat:.4g} s; a run lasts at most {MAX_DURATION:g} s "
             "(MAX_DURATION, a day; lower 'repeat' or the keyframe times)"
         )
+    gap = min(b.t - a.t for a, b in itertools.pairwise(frames))
+    if sequence.rate * gap < 1.0:
+        raise DriveError(
+            f"{p} [sequence]: key 'rate': {sequence.rate:g} Hz commands every "
+            f"{1.0 / sequence.rate:.3g} s, less often than the {gap:g} s between two "
+            "keyframes: a keyframe would never be commanded (raise 'rate')"
+        )
     _check_reachable(p, tsas, frames)
     for k, tsa in enumerate(tsas):
         if tsa.load is not None and tsa.load[-1, 0] > sequence.cycle + 1e-9:

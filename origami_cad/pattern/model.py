@@ -827,6 +827,11 @@ def _normalise(
     n_dup += more
     # 5. drop unused vertices, keeping order
     used = np.unique(edges)
+    if len(used) > MAX_VERTICES:  # the crossings made them (checked before the faces)
+        raise PatternError(
+            f"{len(used):,} vertices once the edges are split where they cross ({n_cross:,} "
+            f"crossings), more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
+        )
     remap = np.full(len(verts), -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
     verts = verts[used]

@@ -49,10 +49,10 @@ import os
 from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from origami_cad._names import xml_text
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
@@ -330,7 +330,7 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
         pad = "  " * depth
         label = cp.face_labels[f]
         z0 = fab.height / 2.0 + 1.0 if f == root and source.robot else 0.0
-        lines.append(f'{pad}<body name={quoteattr(label)} pos="0 0 {z0 * MJ:.9g}">')
+        lines.append(f'{pad}<body name={_attr(label)} pos="0 0 {z0 * MJ:.9g}">')
         if f == root and (source.robot or not (held or any(r.fixed_panel for r in source.routes))):
             lines.append(f'{pad}  <freejoint name="root"/>')
         elif f != root:
@@ -346,12 +346,12 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
             )
         lines.append(pad + "  " + _inertial_xml(solids[f].props, masses.get(f, [])))
         for h, _ in enumerate(meshes[f]):
-            lines.append(f'{pad}  <geom mesh="{label}_{h}" class="panel"/>')
+            lines.append(f'{pad}  <geom mesh={_attr(f"{label}_{h}")} class="panel"/>')
         for k, (material, _, _) in enumerate(solids[f].meshes):
-            lines.append(f'{pad}  <geom mesh="{label}_v{k}" class="{material}"/>')
+            lines.append(f'{pad}  <geom mesh={_attr(f"{label}_v{k}")} class="{material}"/>')
         for name, _, at in masses.get(f, []):
             lines.append(
-                f'{pad}  <geom name={quoteattr(name)} type="sphere" size="0.004" pos="{_v(at)}" '
+                f'{pad}  <geom name={_attr(name)} type="sphere" size="0.004" pos="{_v(at)}" '
                 'contype="0" conaffinity="0" rgba="0.2 0.2 0.2 1"/>'
             )
         for name, at in sites.get(f, []):
@@ -467,10 +467,15 @@ def to_mjcf(
     return "\n".join(lines) + "\n"
 
 
+def _attr(text: str) -> str:
+    """A name from the user's files as a quoted XML attribute value (:func:`xml_text`)."""
+    return f'"{xml_text(text)}"'
+
+
 def _header_xml(cp, meshes, visuals, timestep, gravity, armature, mu, contact: Contact):
     """Options, defaults (materials, constraint softness, contacts) and the panels' meshes."""
     lines = [
-        f"<mujoco model={quoteattr(cp.title or 'origami')}>",
+        f"<mujoco model={_attr(cp.title or 'origami')}>",
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{timestep:.6g}" gravity="0 0 {-gravity * MJ:.6g}" '
         f'integrator="Euler" iterations="200" ls_iterations="50" {contact.option_xml()}/>',
@@ -491,11 +496,12 @@ def _header_xml(cp, meshes, visuals, timestep, gravity, armature, mu, contact: C
     ]
     for f, halves in sorted(meshes.items()):
         for h, verts in enumerate(halves):
-            lines.append(f'    <mesh name="{cp.face_labels[f]}_{h}" vertex="{_v(verts.ravel())}"/>')
+            name = _attr(f"{cp.face_labels[f]}_{h}")
+            lines.append(f'    <mesh name={name} vertex="{_v(verts.ravel())}"/>')
     for f, panel in sorted(visuals.items()):
         for k, (_, verts, tris) in enumerate(panel.meshes):
             lines.append(
-                f'    <mesh name="{cp.face_labels[f]}_v{k}" vertex="{_v(verts.ravel())}" '
+                f'    <mesh name={_attr(f"{cp.face_labels[f]}_v{k}")} vertex="{_v(verts.ravel())}" '
                 f'face="{" ".join(map(str, tris.ravel()))}"/>'
             )
     return [*lines, "  </asset>"]
@@ -530,7 +536,7 @@ def _loops_xml(src: MjcfSource) -> list[str]:
         for v in cp.edges[e]:
             at = np.r_[cp.vertices[v], 0.0]
             lines.append(
-                f'    <connect name="loop{e}_{v}" body1={quoteattr(a)} body2={quoteattr(b)} '
+                f'    <connect name="loop{e}_{v}" body1={_attr(a)} body2={_attr(b)} '
                 f'anchor="{_v(at)}"/>'
             )
     return [*lines, "  </equality>"] if len(lines) > 1 else []

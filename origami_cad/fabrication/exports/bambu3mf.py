@@ -29,7 +29,8 @@ its ``extruder``, and ``project_settings.config`` with two filaments.
 from __future__ import annotations
 
 import json
-from xml.sax.saxutils import quoteattr
+
+from origami_cad._names import xml_text
 
 __all__ = [
     "APPLICATIONS",
@@ -101,13 +102,13 @@ def model_settings_config(
         '<?xml version="1.0" encoding="UTF-8"?>',
         "<config>",
         f' <object id="{assembly_id}">',
-        f'  <metadata key="name" value={quoteattr(name)}/>',
+        f'  <metadata key="name" value="{xml_text(name)}"/>',
         '  <metadata key="extruder" value="1"/>',
     ]
     for object_id, part, extruder in parts:
         lines += [
             f'  <part id="{object_id}" subtype="normal_part">',
-            f'   <metadata key="name" value={quoteattr(part)}/>',
+            f'   <metadata key="name" value="{xml_text(part)}"/>',
             f'   <metadata key="matrix" value="{IDENTITY}"/>',
             f'   <metadata key="extruder" value="{extruder}"/>',
             "  </part>",

@@ -389,14 +389,17 @@ def _assignments(frame: dict[str, Any], where: str, m: int) -> list[str] | None:
 
 def _check_signs(frame: dict[str, Any], where: str, assign: list[str], angles: np.ndarray) -> None:
     """PatternError naming the edge whose fold angle has the sign of the other fold
-    (FOLD: a mountain folds to a negative angle, a valley to a positive one)."""
+    (FOLD: a mountain folds to a negative angle, a valley to a positive one), or that
+    folds a border or flat crease (``B``, ``F``: angle 0)."""
     key = "edges_foldAngle" if "edges_foldAngle" in frame else "edges_foldAngles"
     letters = np.asarray([str(a).upper() for a in assign])
-    wrong = ((letters == "M") & (angles > 0)) | ((letters == "V") & (angles < 0))
+    flat = np.isin(letters, ("B", "F")) & (np.abs(angles) > 1e-6)  # nan: not given
+    wrong = ((letters == "M") & (angles > 0)) | ((letters == "V") & (angles < 0)) | flat
     if wrong.any():
         k = int(np.flatnonzero(wrong)[0])
-        fold = "mountain" if letters[k] == "M" else "valley"
-        sign = "negative" if letters[k] == "M" else "positive"
+        fold, sign = {"M": ("mountain", "negative"), "V": ("valley", "positive")}.get(
+            letters[k], ("border" if letters[k] == "B" else "flat crease", "zero")
+        )
         more = f" (and {int(wrong.sum()) - 1} more edges)" if wrong.sum() > 1 else ""
         raise PatternError(
             f"{where}: edge {k}: {key}[{k}] = {angles[k]:g} contradicts edges_assignment[{k}] = "
