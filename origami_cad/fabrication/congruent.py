@@ -24,7 +24,7 @@ MATCH_TOLERANCE = 1e-7
 
 
 def panel_points(o: PanelOutline) -> np.ndarray | None:
-    """Every footprint ring of a panel stacked, ``(5, k, 2)`` mm; ``None`` if their lengths differ."""
+    """The five footprint rings of a panel, ``(5, k, 2)`` mm; ``None`` if lengths differ."""
     rings = (o.inner, o.outer, o.infill_inner, o.infill_outer, o.midlayer)
     if len({len(r) for r in rings}) != 1:
         return None

@@ -55,13 +55,23 @@ class Parts:
     #: per panel (in ``halves``' order): ``None`` if built, or ``(earlier panel, motion)``
     #: when its solids are copies of that panel's moved by a 3 x 3 plane motion (mm)
     panel_copies: list[tuple[int, np.ndarray] | None] = field(default_factory=list)
+    #: per solid of each part: ``None`` if built, or ``(earlier solid, motion)`` of the
+    #: same part that it is a moved copy of (``panel_copies``, solid by solid)
+    copy_of: dict[str, list[tuple[int, np.ndarray] | None]] = field(
+        default_factory=lambda: {n: [] for n in PART_NAMES}
+    )
     #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
-    def add(self, name: str, solids: list[Solid], face: int) -> None:
-        """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``."""
+    def add(self, name: str, solids: list[Solid], face: int, copy_of: list | None = None) -> None:
+        """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``.
+
+        ``copy_of`` (one per solid): ``(earlier solid of the part, motion)`` for a moved copy.
+        """
         self.solids[name] += solids
         self.owners[name] += [face] * len(solids)
+        self.copy_of.setdefault(name, [])
+        self.copy_of[name] += copy_of if copy_of is not None else [None] * len(solids)
 
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])
@@ -147,7 +157,7 @@ def crease_sheet(
 def _panel_solids(
     o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
 ) -> dict[str, list[Solid]]:
-    """One panel's solids, built: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``."""
+    """One panel's solids: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``."""
     h, t, half, s = params.height, params.thickness, params.half_height, params.shell
     z_layer_lo, z_layer_hi = half, half + t
     cyl = _cylinders(holes, 0.0, h)
@@ -207,16 +217,22 @@ def build_parts(
         by_panel.setdefault(fi, []).append(hole)
     holes_of = [by_panel.get(o.index, []) for o in outlines]
     built: list[dict[str, list[Solid]]] = []
+    starts: list[dict[str, int]] = []
     for o, own, same in zip(outlines, holes_of, congruent_panels(outlines, holes_of), strict=True):
         if same is None:
             solids = _panel_solids(o, own, params)
         else:
             solids = {n: [moved_copy(x, same[1]) for x in v] for n, v in built[same[0]].items()}
         built.append(solids)
+        starts.append({n: len(parts.solids[n]) for n in PART_NAMES})
         parts.halves.append(tuple(solids["halves"]))
-        parts.panel_copies.append(None if same is None else (same[0], same[1]))
+        parts.panel_copies.append(same)
         for name in ("infills", "shells", "midlayers"):
-            parts.add(name, solids[name], o.index)
+            copies = None
+            if same is not None:
+                first = starts[same[0]][name]
+                copies = [(first + i, same[1]) for i in range(len(solids[name]))]
+            parts.add(name, solids[name], o.index, copies)
     z_layer_lo = params.half_height
     sheet = crease_sheet(outlines, sheet_outline)
     for poly in shapely.get_parts(sheet):

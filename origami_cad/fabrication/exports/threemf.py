@@ -33,7 +33,7 @@ from origami_cad.fabrication.exports.bambu3mf import (
     model_settings_config,
     project_settings_config,
 )
-from origami_cad.fabrication.exports.stl import part_meshes
+from origami_cad.fabrication.exports.stl import part_meshes, stack_meshes
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
@@ -218,12 +218,7 @@ def export_3mf(
 
 def _part_mesh(parts: Parts, part: str) -> tuple[np.ndarray, np.ndarray]:
     """Every solid of a part in one mesh: vertices (mm) and triangles, no vertex shared."""
-    verts, tris, offset = [], [], 0
-    for v, t in part_meshes(parts, part):
-        verts.append(v)
-        tris.append(t + offset)
-        offset += len(v)
-    return np.vstack(verts), np.vstack(tris)
+    return stack_meshes(part_meshes(parts, part))
 
 
 def _prusa_entries(meshes, name: str, settings) -> dict[str, str]:
