@@ -33,6 +33,7 @@ __all__ = [
     "read_binary_stl",
     "solid_mesh",
     "stack_meshes",
+    "weld",
     "write_mesh_stl",
     "write_stl",
 ]
@@ -89,8 +90,26 @@ def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     data = np.frombuffer(raw, dtype=record, count=count, offset=84)
     corners = data["v"].reshape(-1, 3).astype(float)
-    verts, inverse = np.unique(corners, axis=0, return_inverse=True)
+    verts, inverse = weld(corners)
     return verts, inverse.reshape(-1, 3)
+
+
+def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Equal points merged: the distinct points (sorted by x, y, z) and each point's index.
+
+    ``np.unique(points, axis=0, return_inverse=True)``, by a lexicographic sort of
+    the columns (many times faster on millions of points).
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    if not len(points):
+        return points.copy(), np.zeros(0, dtype=np.int64)
+    order = np.lexsort((points[:, 2], points[:, 1], points[:, 0]))
+    ranked = points[order]
+    new = np.ones(len(points), dtype=bool)
+    new[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    inverse = np.empty(len(points), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return ranked[new], inverse
 
 
 def _face_mesh(face) -> tuple[np.ndarray, np.ndarray]:
