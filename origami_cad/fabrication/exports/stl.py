@@ -76,7 +76,7 @@ def write_mesh_stl(mesh: tuple[np.ndarray, np.ndarray], path: str | os.PathLike[
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     data = np.zeros(len(t), dtype=record)
     data["normal"], data["v"] = normal, corners
-    header = b"binary STL written by origami_cad".ljust(80, b" ")
+    header = b"binary STL written by origami_cad".ljust(80, b"\0")  # NUL-ended for admesh
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         fh.write(header + np.array([len(t)], dtype="<u4").tobytes())
         fh.write(data.tobytes())
