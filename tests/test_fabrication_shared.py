@@ -23,7 +23,7 @@ from origami_cad.fabrication.exports.stl import (
     weld,
 )
 from origami_cad.fabrication.panels import PanelOutline
-from origami_cad.fabrication.solids import PART_NAMES, _panel_solids
+from origami_cad.fabrication.solids import PART_NAMES, panel_solids
 from origami_cad.pattern.design import miura_design
 
 
@@ -54,7 +54,7 @@ def test_a_miura_builds_few_shapes_and_every_copy_is_the_fresh_solid(fab):
             continue
         assert copies[same[0]] is None  # copies are of built panels
         assert np.linalg.det(same[1][:2, :2]) == pytest.approx(1.0, abs=1e-12)  # no mirror
-        fresh = _panel_solids(fab.outlines[k], holes_of[k], fab.params)
+        fresh = panel_solids(fab.outlines[k], holes_of[k], fab.params)
         for name in ("infills", "shells", "midlayers"):
             mine = [
                 s

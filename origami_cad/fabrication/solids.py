@@ -35,6 +35,7 @@ __all__ = [
     "crease_sheet",
     "half_solid",
     "moved_copy",
+    "panel_solids",
     "planar_prism",
 ]
 
@@ -154,10 +155,20 @@ def crease_sheet(
     return shapely.difference(sheet_outline, mids)
 
 
-def _panel_solids(
+def panel_solids(
     o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
 ) -> dict[str, list[Solid]]:
-    """One panel's solids: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``."""
+    """One panel's solids, built: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``.
+
+    Parameters
+    ----------
+    o : PanelOutline
+        The panel's footprints, mm.
+    holes : sequence of Hole
+        The panel's string holes, mm.
+    params : FabricationParams
+        Heights and thicknesses, mm.
+    """
     h, t, half, s = params.height, params.thickness, params.half_height, params.shell
     z_layer_lo, z_layer_hi = half, half + t
     cyl = _cylinders(holes, 0.0, h)
@@ -220,7 +231,7 @@ def build_parts(
     starts: list[dict[str, int]] = []
     for o, own, same in zip(outlines, holes_of, congruent_panels(outlines, holes_of), strict=True):
         if same is None:
-            solids = _panel_solids(o, own, params)
+            solids = panel_solids(o, own, params)
         else:
             solids = {n: [moved_copy(x, same[1]) for x in v] for n, v in built[same[0]].items()}
         built.append(solids)
