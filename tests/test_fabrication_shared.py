@@ -6,6 +6,10 @@ shared meshes the meshes OCC gives each solid, and the files written from them c
 
 from __future__ import annotations
 
+import re
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
 from build123d import Compound, Solid
@@ -161,3 +165,36 @@ def test_moved_tree_copies_a_leaf_without_its_tree():
     assert copy.wrapped.TShape() != a.wrapped.TShape()  # its own geometry
     assert [c.label for c in tree.children] == ["a", "b"] and a.parent is tree
     assert copy.volume == pytest.approx(1.0)
+
+
+ADMESH = shutil.which("admesh")
+
+
+def test_a_sheet_of_copies_reads_back_closed_in_admesh_trimesh_and_lib3mf(fab, tmp_path):
+    """The client checks of a sheet without copies (test_fabrication, test_clients_3mf),
+    on one made mostly of copies."""
+    import lib3mf
+    import trimesh
+
+    paths = write_fabrication(fab, tmp_path)
+    for name in PART_NAMES:
+        mesh = trimesh.load(paths[name])
+        assert mesh.is_watertight and mesh.is_winding_consistent, name
+        if ADMESH is not None:
+            run = subprocess.run([ADMESH, str(paths[name])], capture_output=True, check=True)
+            out = run.stdout.decode("utf-8", "replace")
+            stats = dict(re.findall(r"^(\w[\w ]*?)\s*:\s*(\d+)", out, flags=re.M))
+            for key in ("Total disconnected facets", "Degenerate facets", "Edges fixed",
+                        "Facets removed", "Facets added", "Facets reversed",
+                        "Backwards edges"):  # fmt: skip
+                assert stats[key] == "0", (name, key)
+            assert int(stats["Number of parts"]) == len(fab.parts.solids[name]), name
+    model = lib3mf.get_wrapper().CreateModel()
+    reader = model.QueryReader("3mf")
+    reader.SetStrictModeActive(True)
+    reader.ReadFromFile(str(paths["3mf"]))
+    assert reader.GetWarningCount() == 0
+    objects = model.GetMeshObjects()
+    while objects.MoveNext():
+        obj = objects.GetCurrentMeshObject()
+        assert obj.IsValid() and obj.IsManifoldAndOriented(), obj.GetName()
