@@ -198,3 +198,26 @@ def test_a_sheet_of_copies_reads_back_closed_in_admesh_trimesh_and_lib3mf(fab, t
     while objects.MoveNext():
         obj = objects.GetCurrentMeshObject()
         assert obj.IsValid() and obj.IsManifoldAndOriented(), obj.GetName()
+
+
+@pytest.mark.skipif(
+    shutil.which("freecadcmd") is None, reason="FreeCAD is not installed (apt install freecad)"
+)
+def test_freecad_reads_every_copied_solid_valid_coloured_and_of_its_volume(fab, tmp_path):
+    """assembly.step of a sheet of copies (written without pcurves) in FreeCAD itself."""
+    from test_clients_freecad import MODES_SCRIPT, _freecad, _rgb
+
+    from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
+    from origami_cad.fabrication.solids import PART_MATERIALS
+
+    step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    rows = _freecad(tmp_path, MODES_SCRIPT, step)["no merge"]
+    features = {
+        label: (count, valid, colour, volume) for label, count, valid, colour, volume in rows
+    }
+    for name in ("infills", "midlayers", "shells"):
+        for k, solid in enumerate(fab.parts.solids[name]):
+            count, valid, colour, volume = features[f"{name} {k}"]
+            assert count == 1 and valid, (name, k)
+            assert colour == pytest.approx(_rgb(MATERIAL_COLORS[PART_MATERIALS[name]]), abs=2e-3)
+            assert volume == pytest.approx(solid.volume, rel=1e-6), (name, k)
