@@ -47,7 +47,12 @@ PART_MATERIALS = {"infills": "PLA", "midlayers": "PLA", "shells": "TPU", "crease
 
 @dataclass
 class Parts:
-    """The solids of each part (lists of build123d ``Solid``), mm."""
+    """The solids of each part (lists of build123d ``Solid``), mm.
+
+    ``panel_copies`` and ``copy_of`` describe the solids as :func:`build_parts` built
+    them; the exports' meshes (``mesh_cache``) follow ``copy_of`` while a part's list
+    of solids is unchanged, and are made afresh when it changes.
+    """
 
     solids: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
     halves: list[tuple[Solid, Solid]] = field(default_factory=list)  # (lower, upper) per panel
