@@ -221,3 +221,15 @@ def test_freecad_reads_every_copied_solid_valid_coloured_and_of_its_volume(fab, 
             assert count == 1 and valid, (name, k)
             assert colour == pytest.approx(_rgb(MATERIAL_COLORS[PART_MATERIALS[name]]), abs=2e-3)
             assert volume == pytest.approx(solid.volume, rel=1e-6), (name, k)
+
+
+def test_a_solid_replaced_after_the_build_is_meshed_as_itself():
+    fab = fabricate(miura_design(3, 4, 20.0, 20.0, 65.0))
+    copies = fab.parts.copy_of["shells"]
+    k = next(i for i, c in enumerate(copies) if c is not None)
+    before = part_meshes(fab.parts, "shells")[k]
+    box = Solid.make_box(3, 4, 5)
+    fab.parts.solids["shells"][k] = box  # no longer the copy it was built as
+    v, t = part_meshes(fab.parts, "shells")[k]
+    assert len(v) != len(before[0]) and _closed(t)
+    assert _mesh_volume(v, t) == pytest.approx(60.0, rel=1e-9)

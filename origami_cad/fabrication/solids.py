@@ -50,8 +50,9 @@ class Parts:
     """The solids of each part (lists of build123d ``Solid``), mm.
 
     ``panel_copies`` and ``copy_of`` describe the solids as :func:`build_parts` built
-    them; the exports' meshes (``mesh_cache``) follow ``copy_of`` while a part's list
-    of solids is unchanged, and are made afresh when it changes.
+    them (``built``); the exports' meshes (``mesh_cache``) follow ``copy_of`` only for a
+    solid that is still the one built there, and a part's meshes are made afresh when
+    its list of solids changes.
     """
 
     solids: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
@@ -66,6 +67,8 @@ class Parts:
     copy_of: dict[str, list[tuple[int, np.ndarray] | None]] = field(
         default_factory=lambda: {n: [] for n in PART_NAMES}
     )
+    #: the solids as added, position by position (what ``copy_of`` describes)
+    built: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
     #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
@@ -78,6 +81,8 @@ class Parts:
         self.owners[name] += [face] * len(solids)
         self.copy_of.setdefault(name, [])
         self.copy_of[name] += copy_of if copy_of is not None else [None] * len(solids)
+        self.built.setdefault(name, [])
+        self.built[name] += solids
 
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])

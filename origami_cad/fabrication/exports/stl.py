@@ -170,24 +170,30 @@ def moved_mesh(mesh: tuple[np.ndarray, np.ndarray], motion: np.ndarray) -> tuple
 def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
     """The meshes of every solid of a part (see :func:`solid_mesh`), tessellated once.
 
-    A solid that is a moved copy of an earlier one (``parts.copy_of``) gets that
-    solid's mesh, moved; the meshes are kept on ``parts`` and shared by every export
+    A solid that is, as built, a moved copy of an earlier one (``parts.copy_of``) gets
+    that solid's mesh, moved; the meshes are kept on ``parts`` and shared by every export
     (STL, 3MF, glb, renders) until the part's solids change.
     """
     solids = parts.solids[name]
-    ids = tuple(map(id, solids))
     cached = parts.mesh_cache.get(name)
-    if cached is not None and cached[0] == ids:
-        return cached[1]
-    copies = parts.copy_of.get(name, [])
+    if cached is not None and len(cached[0]) == len(solids):
+        if all(a is b for a, b in zip(cached[0], solids, strict=True)):
+            return cached[1]
+    copies, built = parts.copy_of.get(name, []), parts.built.get(name, [])
     meshes: list[tuple[np.ndarray, np.ndarray]] = []
     for k, solid in enumerate(solids):
         source = copies[k] if k < len(copies) else None
-        if source is None:
+        as_built = (
+            source is not None
+            and k < len(built)
+            and built[k] is solid
+            and built[source[0]] is solids[source[0]]
+        )
+        if not as_built:
             meshes.append(solid_mesh(solid))
         else:
             meshes.append(moved_mesh(meshes[source[0]], source[1]))
-    parts.mesh_cache[name] = (ids, meshes)
+    parts.mesh_cache[name] = (list(solids), meshes)
     return meshes
 
 
