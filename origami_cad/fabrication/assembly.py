@@ -39,6 +39,7 @@ moved with its face (docs/fabrication.md, "The assembly").
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -351,7 +352,11 @@ def moved_tree(shape: Any, loc: Location) -> Any:
     """
     children = list(getattr(shape, "children", ()) or ())
     if not children:
-        out = shape.moved(loc)
+        # build123d's ``moved`` deep-copies the node's parent too, hence the whole tree
+        # for every leaf (quadratic); the copy here stops at the node, detached
+        parent = getattr(shape, "parent", None)
+        out = copy.deepcopy(shape, {id(parent): None} if parent is not None else {})
+        out.move(loc)
     else:
         out = Compound(children=[moved_tree(c, loc) for c in children])
     out.label = shape.label

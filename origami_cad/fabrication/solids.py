@@ -13,10 +13,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
 from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
+from build123d.topology.shape_core import downcast
+from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
+from OCP.gp import gp_Trsf
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
@@ -30,6 +34,8 @@ __all__ = [
     "build_parts",
     "crease_sheet",
     "half_solid",
+    "moved_copy",
+    "panel_solids",
     "planar_prism",
 ]
 
@@ -41,17 +47,42 @@ PART_MATERIALS = {"infills": "PLA", "midlayers": "PLA", "shells": "TPU", "crease
 
 @dataclass
 class Parts:
-    """The solids of each part (lists of build123d ``Solid``), mm."""
+    """The solids of each part (lists of build123d ``Solid``), mm.
+
+    ``panel_copies`` and ``copy_of`` describe the solids as :func:`build_parts` built
+    them (``built``); the exports' meshes (``mesh_cache``) follow ``copy_of`` only for a
+    solid that is still the one built there, and a part's meshes are made afresh when
+    its list of solids changes.
+    """
 
     solids: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
     halves: list[tuple[Solid, Solid]] = field(default_factory=list)  # (lower, upper) per panel
     #: face index of the panel of each solid of ``infills``, ``midlayers``, ``shells``
     owners: dict[str, list[int]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
+    #: per panel (in ``halves``' order): ``None`` if built, or ``(earlier panel, motion)``
+    #: when its solids are copies of that panel's moved by a 3 x 3 plane motion (mm)
+    panel_copies: list[tuple[int, np.ndarray] | None] = field(default_factory=list)
+    #: per solid of each part: ``None`` if built, or ``(earlier solid, motion)`` of the
+    #: same part that it is a moved copy of (``panel_copies``, solid by solid)
+    copy_of: dict[str, list[tuple[int, np.ndarray] | None]] = field(
+        default_factory=lambda: {n: [] for n in PART_NAMES}
+    )
+    #: the solids as added, position by position (what ``copy_of`` describes)
+    built: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
+    #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
+    mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
-    def add(self, name: str, solids: list[Solid], face: int) -> None:
-        """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``."""
+    def add(self, name: str, solids: list[Solid], face: int, copy_of: list | None = None) -> None:
+        """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``.
+
+        ``copy_of`` (one per solid): ``(earlier solid of the part, motion)`` for a moved copy.
+        """
         self.solids[name] += solids
         self.owners[name] += [face] * len(solids)
+        self.copy_of.setdefault(name, [])
+        self.copy_of[name] += copy_of if copy_of is not None else [None] * len(solids)
+        self.built.setdefault(name, [])
+        self.built[name] += solids
 
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])
@@ -134,6 +165,47 @@ def crease_sheet(
     return shapely.difference(sheet_outline, mids)
 
 
+def panel_solids(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> dict[str, list[Solid]]:
+    """One panel's solids, built: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``.
+
+    Parameters
+    ----------
+    o : PanelOutline
+        The panel's footprints, mm.
+    holes : sequence of Hole
+        The panel's string holes, mm.
+    params : FabricationParams
+        Heights and thicknesses, mm.
+    """
+    h, t, half, s = params.height, params.thickness, params.half_height, params.shell
+    z_layer_lo, z_layer_hi = half, half + t
+    cyl = _cylinders(holes, 0.0, h)
+    lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
+    upper = half_solid(o.inner, z_layer_hi, o.outer, h)
+    lower_in = half_solid(o.infill_outer, s, o.infill_inner, z_layer_lo)
+    upper_in = half_solid(o.infill_inner, z_layer_hi, o.infill_outer, h - s)
+    out: dict[str, list[Solid]] = {"halves": [lower, upper], "infills": [], "shells": []}
+    for whole, core in ((lower, lower_in), (upper, upper_in)):
+        out["infills"] += _cut(core, cyl)
+        out["shells"] += _cut(whole - core, cyl)
+    mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
+    out["midlayers"] = _cut(mid, cyl)
+    return out
+
+
+def moved_copy(solid: Solid, motion: np.ndarray) -> Solid:
+    """A copy of ``solid`` (its own geometry, no shared shape) moved by a plane motion.
+
+    ``motion`` is 3 x 3 homogeneous: a rotation about z and a translation in x, y (mm).
+    """
+    m = np.asarray(motion, dtype=float)
+    trsf = gp_Trsf()
+    trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
+    return Solid(downcast(BRepBuilderAPI_Transform(solid.wrapped, trsf, True).Shape()))
+
+
 def build_parts(
     outlines: Sequence[PanelOutline],
     holes: Sequence[Hole],
@@ -142,6 +214,10 @@ def build_parts(
     sheet_outline: shapely.Polygon | shapely.MultiPolygon,
 ) -> Parts:
     """Build the four parts: infills, mid-layers, shells (per panel) and the crease sheet.
+
+    Each distinct panel shape is built once: a panel that is an earlier one moved
+    rigidly (:func:`~origami_cad.fabrication.congruent.congruent_panels`) gets copies of
+    its solids, moved (:func:`moved_copy`); ``Parts.copies`` records which.
 
     Parameters
     ----------
@@ -154,26 +230,33 @@ def build_parts(
     sheet_outline : shapely geometry
         The whole sheet (union of the panels), for the crease sheet.
     """
-    h, t, half = params.height, params.thickness, params.half_height
-    z_layer_lo, z_layer_hi = half, half + t
-    s = params.shell
+    from origami_cad.fabrication.congruent import congruent_panels
+
     parts = Parts()
     by_panel: dict[int, list[Hole]] = {}
     for hole, fi in zip(holes, np.asarray(hole_panels).tolist(), strict=True):
         by_panel.setdefault(fi, []).append(hole)
-    for o in outlines:
-        cyl = _cylinders(by_panel.get(o.index, []), 0.0, h)
-        lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
-        upper = half_solid(o.inner, z_layer_hi, o.outer, h)
-        parts.halves.append((lower, upper))
-        lower_in = half_solid(o.infill_outer, s, o.infill_inner, z_layer_lo)
-        upper_in = half_solid(o.infill_inner, z_layer_hi, o.infill_outer, h - s)
-        for whole, core in ((lower, lower_in), (upper, upper_in)):
-            parts.add("infills", _cut(core, cyl), o.index)
-            parts.add("shells", _cut(whole - core, cyl), o.index)
-        mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
-        parts.add("midlayers", _cut(mid, cyl), o.index)
+    holes_of = [by_panel.get(o.index, []) for o in outlines]
+    built: list[dict[str, list[Solid]]] = []
+    starts: list[dict[str, int]] = []
+    for o, own, same in zip(outlines, holes_of, congruent_panels(outlines, holes_of), strict=True):
+        if same is None:
+            solids = panel_solids(o, own, params)
+        else:
+            solids = {n: [moved_copy(x, same[1]) for x in v] for n, v in built[same[0]].items()}
+        built.append(solids)
+        starts.append({n: len(parts.solids[n]) for n in PART_NAMES})
+        parts.halves.append(tuple(solids["halves"]))
+        parts.panel_copies.append(same)
+        for name in ("infills", "shells", "midlayers"):
+            copies = None
+            if same is not None:
+                first = starts[same[0]][name]
+                copies = [(first + i, same[1]) for i in range(len(solids[name]))]
+            parts.add(name, solids[name], o.index, copies)
+    z_layer_lo = params.half_height
     sheet = crease_sheet(outlines, sheet_outline)
     for poly in shapely.get_parts(sheet):
-        parts.solids["creases"].append(planar_prism(poly, z_layer_lo, z_layer_hi))
+        prism = planar_prism(poly, z_layer_lo, z_layer_lo + params.thickness)
+        parts.solids["creases"].append(prism)
     return parts

@@ -19,6 +19,11 @@ from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
 __all__ = ["WRITERS", "export_step_assembly", "export_step_tree", "lay_on_bed"]
 
+#: Whether assembly.step carries each edge's curve on its faces too (pcurves): off, readers
+#: rebuild them from the 3D edges (every face is a plane or a cylinder), and the file is
+#: smaller and written faster.
+WRITE_PCURVES = False
+
 
 def export_step_tree(shape, path: str | os.PathLike[str]) -> Path:
     """Write a shape or labelled tree as one STEP (atomic), labels and colours kept.
@@ -57,7 +62,10 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
         children.append(comp)
     assembly = Compound(children=children)
     assembly.label = "origami_structure"
-    return export_step_tree(assembly, path)
+    with atomic_path(path) as tmp:  # a new tree, attached nowhere: no copy needed
+        if export_step(assembly, str(tmp), write_pcurves=WRITE_PCURVES) is False:
+            raise OSError(f"{path}: the STEP writer failed")
+    return Path(path)
 
 
 def lay_on_bed(shape):

@@ -11,6 +11,13 @@ from pathlib import Path
 
 import numpy as np
 from build123d import Solid, export_stl
+from OCP.BRep import BRep_Tool
+from OCP.BRepMesh import BRepMesh_IncrementalMesh
+from OCP.BRepTools import BRepTools
+from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS
 
 from origami_cad._fileio import atomic_path
 from origami_cad.fabrication.solids import PART_NAMES, Parts
@@ -20,10 +27,14 @@ __all__ = [
     "TOLERANCE",
     "WRITERS",
     "export_stls",
+    "moved_mesh",
     "part_meshes",
     "parts_tessellation",
     "read_binary_stl",
     "solid_mesh",
+    "stack_meshes",
+    "weld",
+    "write_mesh_stl",
     "write_stl",
 ]
 
@@ -32,12 +43,44 @@ TOLERANCE, ANGULAR_TOLERANCE = 0.01, 0.1
 
 
 def export_stls(parts: Parts, folder: str | os.PathLike[str]) -> dict[str, Path]:
-    """Write ``<part>.stl`` (binary, assembly position) for each of the four parts."""
+    """Write ``<part>.stl`` (binary, assembly position) for each of the four parts.
+
+    Each file holds the part's meshes (:func:`part_meshes`: tessellated once, shared
+    with the other exports), every solid its own closed shell.
+    """
     out = {}
     for name in PART_NAMES:
-        path = write_stl(parts.compound(name), Path(folder) / f"{name}.stl")
-        out[name] = path
+        out[name] = write_mesh_stl(
+            stack_meshes(part_meshes(parts, name)), Path(folder) / f"{name}.stl"
+        )
     return out
+
+
+def stack_meshes(meshes) -> tuple[np.ndarray, np.ndarray]:
+    """Meshes in one: vertices (mm) stacked, triangles renumbered; no vertex shared."""
+    verts, tris, offset = [np.zeros((0, 3))], [np.zeros((0, 3), dtype=np.int64)], 0
+    for v, t in meshes:
+        verts.append(v)
+        tris.append(t + offset)
+        offset += len(v)
+    return np.vstack(verts), np.vstack(tris)
+
+
+def write_mesh_stl(mesh: tuple[np.ndarray, np.ndarray], path: str | os.PathLike[str]) -> Path:
+    """Write a mesh (vertices in mm, triangles) as one binary STL (atomic), unit normals."""
+    v, t = mesh
+    corners = v[t]
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    length = np.linalg.norm(normal, axis=1)
+    normal = normal / np.where(length > 0, length, 1.0)[:, None]
+    record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    data = np.zeros(len(t), dtype=record)
+    data["normal"], data["v"] = normal, corners
+    header = b"binary STL written by origami_cad".ljust(80, b"\0")  # NUL-ended for admesh
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        fh.write(header + np.array([len(t)], dtype="<u4").tobytes())
+        fh.write(data.tobytes())
+    return Path(path)
 
 
 def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
@@ -47,20 +90,67 @@ def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     data = np.frombuffer(raw, dtype=record, count=count, offset=84)
     corners = data["v"].reshape(-1, 3).astype(float)
-    verts, inverse = np.unique(corners, axis=0, return_inverse=True)
+    verts, inverse = weld(corners)
     return verts, inverse.reshape(-1, 3)
+
+
+def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Equal points merged: the distinct points (sorted by x, y, z) and each point's index.
+
+    ``np.unique(points, axis=0, return_inverse=True)``, by a lexicographic sort of
+    the columns (many times faster on millions of points).
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    if not len(points):
+        return points.copy(), np.zeros(0, dtype=np.int64)
+    order = np.lexsort((points[:, 2], points[:, 1], points[:, 0]))
+    ranked = points[order]
+    new = np.ones(len(points), dtype=bool)
+    new[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    inverse = np.empty(len(points), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return ranked[new], inverse
+
+
+def _face_mesh(face) -> tuple[np.ndarray, np.ndarray]:
+    """One meshed face's nodes (mm, placed) and triangles (0-based, outward)."""
+    loc = TopLoc_Location()
+    tri = BRep_Tool.Triangulation_s(face, loc)
+    if tri is None:
+        return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
+    v = np.array([tri.Node(i).Coord() for i in range(1, tri.NbNodes() + 1)], dtype=float)
+    t = [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]
+    t = np.array(t, dtype=np.int64).reshape(-1, 3) - 1
+    if not loc.IsIdentity():
+        tr = loc.Transformation()
+        m = np.array([[tr.Value(r, c) for c in range(1, 5)] for r in range(1, 4)])
+        v = v @ m[:, :3].T + m[:, 3]
+    if face.Orientation() == TopAbs_REVERSED:
+        t = t[:, [0, 2, 1]]
+    return v.reshape(-1, 3), t
 
 
 def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
     """One solid meshed by OCC: vertices (mm) welded within the solid, triangles.
 
-    Vertices are welded only inside one solid, never across solids: neighbouring
-    shell chamfers meet on a line, and welding them would join four triangles on one
-    edge. Triangles that collapse in the weld are dropped.
+    OCC's incremental mesher at :data:`TOLERANCE` (relative chordal) and
+    :data:`ANGULAR_TOLERANCE` (rad), read face by face (a reversed face's triangles
+    turned over). Vertices are welded only inside one solid, never across solids:
+    neighbouring shell chamfers meet on a line, and welding them would join four
+    triangles on one edge. Triangles that collapse in the weld are dropped.
     """
-    points, triangles = solid.tessellate(TOLERANCE, ANGULAR_TOLERANCE)
-    v = np.array([(p.X, p.Y, p.Z) for p in points], dtype=float).reshape(-1, 3)
-    t = np.array(triangles, dtype=np.int64).reshape(-1, 3)
+    shape = solid.wrapped
+    if not BRepTools.Triangulation_s(shape, TOLERANCE):
+        BRepMesh_IncrementalMesh(shape, TOLERANCE, True, ANGULAR_TOLERANCE, True)
+    verts, tris, offset = [np.zeros((0, 3))], [np.zeros((0, 3), dtype=np.int64)], 0
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    while explorer.More():
+        v, t = _face_mesh(TopoDS.Face(explorer.Current()))
+        verts.append(v)
+        tris.append(t + offset)
+        offset += len(v)
+        explorer.Next()
+    v, t = np.vstack(verts), np.vstack(tris)
     key = np.round(v / 1e-6).astype(np.int64)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     t = inverse.reshape(-1)[t]
@@ -68,9 +158,43 @@ def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
     return v[first], t
 
 
+def moved_mesh(mesh: tuple[np.ndarray, np.ndarray], motion: np.ndarray) -> tuple:
+    """A mesh moved by a 3 x 3 plane motion (rotation about z, translation in mm)."""
+    v, t = mesh
+    m = np.asarray(motion, dtype=float)
+    out = v.copy()
+    out[:, :2] = v[:, :2] @ m[:2, :2].T + m[:2, 2]
+    return out, t
+
+
 def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The meshes of every solid of a part (see :func:`solid_mesh`)."""
-    return [solid_mesh(s) for s in parts.solids[name]]
+    """The meshes of every solid of a part (see :func:`solid_mesh`), tessellated once.
+
+    A solid that is, as built, a moved copy of an earlier one (``parts.copy_of``) gets
+    that solid's mesh, moved; the meshes are kept on ``parts`` and shared by every export
+    (STL, 3MF, glb, renders) until the part's solids change.
+    """
+    solids = parts.solids[name]
+    cached = parts.mesh_cache.get(name)
+    if cached is not None and len(cached[0]) == len(solids):
+        if all(a is b for a, b in zip(cached[0], solids, strict=True)):
+            return cached[1]
+    copies, built = parts.copy_of.get(name, []), parts.built.get(name, [])
+    meshes: list[tuple[np.ndarray, np.ndarray]] = []
+    for k, solid in enumerate(solids):
+        source = copies[k] if k < len(copies) else None
+        as_built = (
+            source is not None
+            and k < len(built)
+            and built[k] is solid
+            and built[source[0]] is solids[source[0]]
+        )
+        if not as_built:
+            meshes.append(solid_mesh(solid))
+        else:
+            meshes.append(moved_mesh(meshes[source[0]], source[1]))
+    parts.mesh_cache[name] = (list(solids), meshes)
+    return meshes
 
 
 def parts_tessellation(parts: Parts) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -80,15 +204,7 @@ def parts_tessellation(parts: Parts) -> dict[str, tuple[np.ndarray, np.ndarray]]
     solids); this is what other stages draw, as NumPy arrays rather than build123d
     shapes.
     """
-    out = {}
-    for name in PART_NAMES:
-        verts, tris, offset = [np.zeros((0, 3))], [np.zeros((0, 3), dtype=np.int64)], 0
-        for v, t in part_meshes(parts, name):
-            verts.append(v)
-            tris.append(t + offset)
-            offset += len(v)
-        out[name] = (np.vstack(verts), np.vstack(tris))
-    return out
+    return {name: stack_meshes(part_meshes(parts, name)) for name in PART_NAMES}
 
 
 def write_stl(shape, path: str | os.PathLike[str]) -> Path:
