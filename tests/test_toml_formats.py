@@ -15,7 +15,7 @@ from origami_cad.design.task import ArmTask, SearchSettings, dump_task, load_tas
 from origami_cad.drive.sequence import dump_sequence, load_sequence
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.design import dump_design, load_design, load_pattern_source
-from origami_cad.simulation.crawler import dump_robot, load_robot
+from origami_cad.robot import dump_robot, load_robot
 from origami_cad.strings.route import dump_route, load_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

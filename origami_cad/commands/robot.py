@@ -114,7 +114,8 @@ class Crawl(Command):
     )  # fmt: skip
 
     def run(self, a) -> Outputs:
-        from origami_cad.simulation.crawler import load_robot, simulate_gait
+        from origami_cad.robot import load_robot
+        from origami_cad.simulation.crawler import simulate_gait
 
         spec = load_robot(a.robot)
         start = time.perf_counter()
@@ -249,7 +250,7 @@ class Robot(Command):
     def run(self, a) -> Outputs:
         from origami_cad.fabrication import FabricationParams, fabricate
         from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
-        from origami_cad.simulation.crawler import load_robot, robot_placements
+        from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
