@@ -14,6 +14,7 @@ Units: mm, grams, seconds; degrees at the edges. A leg's fold ratio is
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 from dataclasses import dataclass
@@ -39,8 +40,10 @@ __all__ = [
     "dump_robot",
     "leg_heading",
     "leg_key",
+    "load_gait",
     "load_robot",
     "robot_placements",
+    "with_gait",
 ]
 
 
@@ -270,6 +273,68 @@ def load_robot(path: str | os.PathLike[str]) -> Robot:
         p,
         pattern_path,
     )
+
+
+def with_gait(robot: Robot, times, ratios, *, where: str | None = None) -> Robot:
+    """``robot`` with another gait: keyframe times ``times (K,)`` s and fold ratios
+    ``ratios (K, legs)``, checked as the robot file's gait is (times increasing, every
+    ratio in [0, 1) and within the blockers' ``blocker_angle``, deg); raises
+    :class:`SimulationError` naming the limit, never clips."""
+    t = np.asarray(times, dtype=float)
+    p = np.atleast_2d(np.asarray(ratios, dtype=float))
+    where = f"gait of {robot.source.name if robot.source else 'the robot'}"
+    if t.ndim != 1 or len(t) < 2 or p.shape != (len(t), len(robot.legs)):
+        raise SimulationError(
+            f"{where}: expected at least two keyframes of {len(robot.legs)} fold ratios, "
+            f"got times {t.shape} and ratios {p.shape}"
+        )
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(p))):
+        raise SimulationError(f"{where}: keyframe times and fold ratios must be finite")
+    if np.any(np.diff(t) <= 0) or t[0] < 0:
+        raise SimulationError(f"{where}: keyframe times must start at 0 s or later and increase")
+    _check_blocker(where, p, robot.blocker_angle)
+    return dataclasses.replace(robot, gait_t=t, gait_p=p)
+
+
+def _check_blocker(where: str, ratios: np.ndarray, blocker: float) -> None:
+    """Refuse fold ratios outside [0, 1) or past the blockers' ``blocker`` deg, by name."""
+    if np.any(ratios < 0) or np.any(ratios >= 1):
+        raise SimulationError(f"{where}: fold ratios p must lie in [0, 1)")
+    limit, worst = blocker / 180.0, float(np.max(ratios))
+    if worst > limit + 1e-9:
+        raise SimulationError(
+            f"{where}: p = {worst:g} folds a leg past its blocker ({blocker:g} deg = p {limit:.3f})"
+        )
+
+
+def load_gait(path: str | os.PathLike[str], robot: Robot) -> Robot:
+    """``robot`` with the gait of a gait file (``design-gait``'s ``gait.toml``, or any
+    sequence file for ``drive`` whose ``[[tsa]]`` ids are the robot's servos in leg order).
+
+    Its ``[[keyframe]]`` tables give ``t`` (s) and ``p`` (one fold ratio per leg); a
+    gait past the blockers is refused with the limit (:class:`SimulationError`, naming
+    the file and keyframe); ``[sequence]`` and the ``[[tsa]]`` mappings are ``drive``'s.
+    """
+    p = Path(path)
+    top = Table(load_toml(p, SimulationError), str(p), SimulationError)
+    frames, tsas = top.data.get("keyframe"), top.data.get("tsa", [])
+    top.used.update(("keyframe", "tsa", "sequence"))
+    top.finish()
+    if not isinstance(frames, list) or len(frames) < 2:
+        raise SimulationError(f"{p}: a gait needs at least two [[keyframe]] tables")
+    ids = [t.get("id") if isinstance(t, dict) else None for t in tsas]
+    servos = [leg.servo for leg in robot.legs]
+    if tsas and ids != servos:
+        raise SimulationError(
+            f"{p}: [[tsa]] ids {ids} are not the robot's servos {servos} (leg order)"
+        )
+    times, ratios = [], []
+    for i, item in enumerate(frames):
+        t = Table(item, f"{p} [[keyframe]] #{i + 1}", SimulationError)
+        times.append(t.number("t", low=0))
+        ratios.append(t.numbers("p", length=len(robot.legs)))
+        t.finish()
+    return with_gait(robot, times, ratios, where=str(p))
 
 
 def _relative(path: Path | None, folder: Path, what: str) -> str:

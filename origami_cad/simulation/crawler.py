@@ -52,13 +52,16 @@ if TYPE_CHECKING:
     from origami_cad.robot import Leg, PointMass, Robot
 
 __all__ = [
+    "SERVO_SPEED_RPM",
     "STUCK_DEG",
     "GaitResult",
     "gait_loads",
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
+    "check_servo_speed",
     "simulate_gait",
+    "turn_rates",
 ]
 
 #: Names that moved to :mod:`origami_cad.robot` (issue 29), forwarded for one release.
@@ -177,6 +180,33 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
             np.clip(c, 0, None), tsa.length, tsa.radius, math.radians(tsa.max_helix_angle)
         ) / (2 * math.pi)
     return out
+
+
+#: No-load speed of a leg's servo, rev/min: the XL330-M288 at 5 V (ROBOTIS e-manual).
+SERVO_SPEED_RPM = 103.0
+
+
+def turn_rates(robot: Robot) -> np.ndarray:
+    """Each TSA's twist rate between consecutive keyframes, turns/s ``(K - 1, legs)``."""
+    turns = gait_turns(robot)
+    return np.abs(np.diff(turns, axis=0)) / np.diff(robot.gait_t)[:, None]
+
+
+def check_servo_speed(robot: Robot, rpm: float = SERVO_SPEED_RPM, where: str = "") -> None:
+    """Refuse a gait whose TSA must twist faster than its servo turns (``rpm``, rev/min).
+
+    Raises :class:`SimulationError` naming the leg, its servo, the keyframes and the
+    limit; nothing is slowed down or clipped.
+    """
+    rates = turn_rates(robot) * 60.0
+    k, leg = np.unravel_index(int(np.argmax(rates)), rates.shape)
+    if rates[k, leg] > rpm * (1 + 1e-9):
+        name, t = robot.legs[leg], robot.gait_t
+        raise SimulationError(
+            f"{where or 'the gait'}: {name.name} (servo {name.servo}) must twist at "
+            f"{rates[k, leg]:.1f} rev/min between keyframes t = {t[k]:g} s and {t[k + 1]:g} s, "
+            f"over its servo's {rpm:g} rev/min"
+        )
 
 
 def gait_loads(robot: Robot, result: GaitResult) -> tuple[np.ndarray, np.ndarray]:
