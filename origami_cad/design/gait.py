@@ -186,7 +186,8 @@ def decode_gait(robot: Robot, x, cycle: float = 32.0) -> tuple[np.ndarray, np.nd
 
     Legs are the robot's, front and rear, left and right of the body panel's centre by
     their panel's centre; the keyframes start and end with every leg at its ``p_low``
-    and span ``cycle`` s.
+    and span ``cycle`` s. Times are rounded to 0.01 s and fold ratios to 1e-5, as
+    ``gait.toml`` writes them.
     """
     x = np.clip(np.asarray(x, dtype=float), 0.0, 1.0)
     p_max = robot.blocker_angle / 180.0
@@ -235,7 +236,9 @@ def _keyframes(robot: Robot, poses: np.ndarray, dwells: np.ndarray, cycle: float
             times.append(times[-1] + strokes[k] + dwells[k])
             rows.append(poses[k + 1])
     times[-1] = cycle
-    return np.array(times), np.array(rows)
+    # as gait.toml writes them (6 significant digits): crawl --gait walks the same gait
+    top = math.floor(robot.blocker_angle / 180.0 * 1e5) / 1e5  # never past the blocker
+    return np.round(np.array(times), 2), np.minimum(np.round(np.array(rows), 5), top)
 
 
 @dataclass(frozen=True)

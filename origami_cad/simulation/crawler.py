@@ -55,11 +55,11 @@ __all__ = [
     "SERVO_SPEED_RPM",
     "STUCK_DEG",
     "GaitResult",
+    "check_servo_speed",
     "gait_loads",
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
-    "check_servo_speed",
     "simulate_gait",
     "turn_rates",
 ]
