@@ -279,10 +279,10 @@ def with_gait(robot: Robot, times, ratios, *, where: str | None = None) -> Robot
     """``robot`` with another gait: keyframe times ``times (K,)`` s and fold ratios
     ``ratios (K, legs)``, checked as the robot file's gait is (times increasing, every
     ratio in [0, 1) and within the blockers' ``blocker_angle``, deg); raises
-    :class:`SimulationError` naming the limit, never clips."""
+    :class:`SimulationError` naming ``where`` (the gait's file) and the limit, never clips."""
     t = np.asarray(times, dtype=float)
     p = np.atleast_2d(np.asarray(ratios, dtype=float))
-    where = f"gait of {robot.source.name if robot.source else 'the robot'}"
+    where = where or f"gait of {robot.source.name if robot.source else 'the robot'}"
     if t.ndim != 1 or len(t) < 2 or p.shape != (len(t), len(robot.legs)):
         raise SimulationError(
             f"{where}: expected at least two keyframes of {len(robot.legs)} fold ratios, "

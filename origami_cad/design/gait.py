@@ -171,9 +171,9 @@ class GaitSettings:
     cycles: int = 1
     w_drift: float = 2.0
     w_yaw: float = 1.0
-    w_slip: float = 0.1
+    w_slip: float = 0.05
     w_limit: float = 100.0
-    w_jam: float = 1.0
+    w_jam: float = 0.2
     limits: GaitLimits = field(default_factory=GaitLimits)
 
 

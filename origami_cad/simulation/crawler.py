@@ -247,7 +247,12 @@ def gait_sequence_text(
     wrote the file, quoted in its header. ``current_limit`` (mA) stops a stalling servo.
     """
     p_max = robot.blocker_angle / 180.0
-    samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
+    # the samples as written (4 decimals), each once (drive needs them increasing), the
+    # last rounded up so that the mapping covers every keyframe's fold ratio
+    ceiling = math.ceil(float(robot.gait_p.max()) * 1e4 - 1e-6) / 1e4
+    top = p_max if round(p_max, 4) >= ceiling else ceiling
+    given = np.round(np.r_[np.arange(0.0, p_max, 0.02), robot.gait_p.ravel()], 4)
+    samples = np.unique(np.r_[given[given < top], top])
     source = robot.source.name if robot.source else "the robot file"
     lines = [
         f"# The gait of {one_line(source)} as TSA commands, written by origami-cad crawl: each",
