@@ -20,9 +20,7 @@ from origami_cad.design.gait import (
     DIMENSION,
     HAND_GENOME,
     P_FLOOR,
-    GaitSettings,
     decode_gait,
-    design_gait,
 )
 from origami_cad.drive.sequence import load_sequence
 from origami_cad.errors import SimulationError
@@ -136,18 +134,6 @@ def test_a_robot_without_legs_or_routes_gets_one_line(tmp_path, capsys, broken):
     assert not (tmp_path / "out").exists()
 
 
-def test_design_gait_returns_data_and_writes_nothing(robot, tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2)
-    design = design_gait(robot, settings)
-    assert not list(tmp_path.iterdir())
-    assert len(design.candidates) == 1 + 2  # the hand genome, then the population
-    clean = [c for c in design.candidates if not any(t.hits for t in c.terms)]
-    assert design.best.score == max(c.score for c in clean or design.candidates)
-    assert design.history[0][-1] == max(c.score for c in design.candidates)
-    assert [t.friction for t in design.hand] == [0.6]
-
-
 def test_design_gait_to_crawl_to_drive(tmp_path):
     """The chain: design-gait's gait.toml walks in crawl --gait exactly as the search
     scored it, and drive --dry-run runs it on emulated servos."""
@@ -158,6 +144,12 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     )  # fmt: skip
     names = {p.name for p in out.iterdir()}
     assert names == {f.name for f in done.files}
+    design = done.result  # the library's data: every candidate, the best of the clean ones
+    assert len(design.candidates) == 1 + 2  # the hand genome, then the population
+    clean = [c for c in design.candidates if not any(t.hits for t in c.terms)]
+    assert design.best.score == max(c.score for c in clean or design.candidates)
+    assert design.history[0][-1] == max(c.score for c in design.candidates)
+    assert [t.friction for t in design.hand] == [0.6]
     report = json.loads((out / "results.json").read_text())
     assert len(report["candidates"]) == 3 and report["what_limits_the_stride"]["leg_length_mm"]
     best = report["best"]["per_friction"][0]
