@@ -20,8 +20,10 @@ from origami_cad.design.gait import (
     DIMENSION,
     HAND_GENOME,
     P_FLOOR,
+    cma_strategy,
     decode_gait,
 )
+from origami_cad.design.search import UnitBox
 from origami_cad.drive.sequence import load_sequence
 from origami_cad.errors import SimulationError
 from origami_cad.robot import load_gait, load_robot, with_gait
@@ -150,6 +152,10 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     assert design.best.score == max(c.score for c in clean or design.candidates)
     assert design.history[0][-1] == max(c.score for c in design.candidates)
     assert [t.friction for t in design.hand] == [0.6]
+    # reproducible: the seed gives the same population again (cma's seed 0 is the clock)
+    settings = design.settings
+    again = UnitBox(DIMENSION)(np.asarray(cma_strategy(0, settings).ask()))
+    np.testing.assert_array_equal(again, [c.genome for c in design.candidates[1:]])
     report = json.loads((out / "results.json").read_text())
     assert len(report["candidates"]) == 3 and report["what_limits_the_stride"]["leg_length_mm"]
     best = report["best"]["per_friction"][0]

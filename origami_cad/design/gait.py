@@ -80,6 +80,7 @@ __all__ = [
     "GaitLimits",
     "GaitSettings",
     "GaitTerms",
+    "cma_strategy",
     "decode_gait",
     "design_gait",
     "evaluate_gait",
@@ -444,14 +445,15 @@ def _candidate(robot, run, generation, x, terms, settings) -> GaitCandidate:
     )  # fmt: skip
 
 
-def _cma(run: int, settings: GaitSettings) -> cma.CMAEvolutionStrategy:
-    """Run ``run``'s CMA-ES: run 0 starts at the hand gait, the others at random."""
+def cma_strategy(run: int, settings: GaitSettings) -> cma.CMAEvolutionStrategy:
+    """Run ``run``'s CMA-ES, seeded ``settings.seed + run``: run 0 starts at the hand
+    gait (``HAND_GENOME``), the others at random; the same populations on every call."""
     seed = settings.seed + run
     rng = np.random.default_rng(seed)
     x0 = np.array(HAND_GENOME) if run == 0 else rng.uniform(0.15, 0.85, DIMENSION)
     opts = {
         "maxstd": 1.0 / 3.0,
-        "seed": seed,
+        "seed": seed + 1,  # cma takes seed 0 as "from the clock"
         "popsize": settings.popsize,
         "verbose": -9,
         "verb_log": 0,
@@ -464,7 +466,7 @@ def _cma(run: int, settings: GaitSettings) -> cma.CMAEvolutionStrategy:
 
 def _run(robot, settings, run, executor, report) -> tuple[list[GaitCandidate], list[float]]:
     """One CMA-ES run: every candidate it evaluated, and its best score per generation."""
-    es, box = _cma(run, settings), UnitBox(DIMENSION)
+    es, box = cma_strategy(run, settings), UnitBox(DIMENSION)
     out: list[GaitCandidate] = []
     if run == 0:  # the start, the hand gait in the genome, is a candidate too
         start = [np.array(HAND_GENOME)]
