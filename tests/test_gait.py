@@ -168,3 +168,16 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     assert (
         main(["drive", str(out / "gait.toml"), "--dry-run", "--log", str(tmp_path / "l.csv")]) == 0
     )
+
+
+def test_a_gait_too_fast_for_the_servo_is_never_walked_and_named(robot):
+    """Servo speed is known from the keyframes: such a candidate is not simulated, it is
+    scored below every walked one and names the limit (only the hand gait walks here)."""
+    from origami_cad.design.gait import FAILED, GaitLimits, GaitSettings, design_gait
+
+    slow = GaitLimits(servo_rpm=1.0)  # every stroke of a 32 s cycle needs more
+    settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2, limits=slow)
+    design = design_gait(robot, settings)
+    for c in design.candidates:
+        assert c.score < FAILED and "over the servo's 1 " in c.terms[0].hits[0] + " "
+    assert design.hand[0].score > FAILED  # the hand gait was walked

@@ -111,6 +111,19 @@ def _report(robot, design, seconds: float, command: str) -> dict:
     }
 
 
+def _within_limits(a, design) -> None:
+    """Refuse a search whose every candidate passed a limit (crawl --gait and drive would
+    refuse its gait): one line naming the limit the best one passed."""
+    from origami_cad.errors import DesignError
+
+    hard = [h for t in design.best.terms for h in t.hits if "jammed" not in h]
+    if hard:
+        raise DesignError(
+            f"{a.robot}: none of {len(design.candidates)} gaits stays within the limits; "
+            f"the best: {hard[0]} (try a longer --cycle or more --generations)"
+        )
+
+
 def _numbers(design, seconds: float) -> list[tuple[str, str]]:
     rows = [("search", f"{len(design.candidates)} candidates in {seconds:.0f} s")]
     for best, hand in zip(design.best.terms, design.hand, strict=True):
@@ -173,6 +186,7 @@ class DesignGait(Command):
         with open_executor(a.scheduler) as executor:
             design = design_gait(robot, settings, executor=executor, progress=a.progress)
         seconds = time.perf_counter() - start
+        _within_limits(a, design)
         best_robot = design.robot(robot)
         result = simulate_gait(best_robot, cycles=settings.cycles, steps=settings.steps)
         report = _report(robot, design, seconds, command)

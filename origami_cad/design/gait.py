@@ -72,6 +72,7 @@ from origami_cad.simulation.crawler import (
 
 __all__ = [
     "DIMENSION",
+    "FAILED",
     "HAND_GENOME",
     "P_FLOOR",
     "SCORE_RESOLUTION",
@@ -352,11 +353,16 @@ def evaluate_gait(robot: Robot, x, friction: float, settings: GaitSettings) -> G
     walker = robot
     if x is not None:
         walker = with_gait(robot, *decode_gait(robot, x, settings.cycle))
+        rate = float(turn_rates(walker).max()) * 60.0
+        if rate > settings.limits.servo_rpm:  # known before walking: no simulation
+            why = f"TSA twist {rate:.1f} rev/min over the servo's {settings.limits.servo_rpm:g}"
+            score = FAILED - (rate - settings.limits.servo_rpm)
+            return GaitTerms(friction, 0, 0, 0, 0, 0, 0, (why,), score)
     try:
         result = simulate_gait(
             walker, cycles=settings.cycles, steps=settings.steps, friction=friction
         )
-    except (SimulationError, FloatingPointError, np.linalg.LinAlgError) as exc:
+    except (SimulationError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
         return GaitTerms(friction, 0, 0, 0, 0, 0, 0, (f"simulation failed: {exc}",), FAILED)
     return gait_terms(walker, result, settings)
 
