@@ -24,7 +24,8 @@ import matplotlib.pyplot as plt
 import mujoco
 import numpy as np
 
-from origami_cad.simulation.crawler import gait_turns, load_robot
+from origami_cad.robot import load_robot
+from origami_cad.simulation.crawler import gait_turns
 from origami_cad.simulation.mjcf import to_mjcf
 from origami_cad.simulation.mujoco_run import load_model, tsa_actuators, tsa_controls
 

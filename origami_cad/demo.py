@@ -114,6 +114,15 @@ def fig7(out: Path, quick: bool) -> list[Outputs]:
     walk = {"cycles": 1, "steps": 3} if quick else {"cycles": 3, "steps": 6}
     crawl = execute("crawl", robot, out / "crawl", **walk)
     chained.append(crawl)
+    # the gait designed by CMA-ES against the hand gait and the paper's 63 mm, over the
+    # friction sweep; the demo's budget (docs/crawler.md): 1 generation of 4 at 3 frictions
+    # (about 1 min on 2 cores), quick: 2 candidates at friction 0.6
+    budget = (
+        {"frictions": [0.6], "popsize": 2, "generations": 1, "steps": 2}
+        if quick
+        else {"popsize": 4, "generations": 1}
+    )
+    chained.append(execute("design-gait", robot, out / "gait", **budget))
     # the servo logs: examples/crawler_gait.toml is the crawl job's gait_sequence.toml (the
     # model's mappings and the simulated load per servo, which the emulated servos carry);
     # its header says how it was made
@@ -219,7 +228,11 @@ STEPS: list[Step] = [
          "driver adapter, printed as one sheet with its parts in place. Its 32 s gait (fold "
          "ratios turned into TSA turns through the string model) runs in the bar-and-hinge "
          "simulator with the robot free on the ground (gravity, Coulomb friction 0.6); the "
-         "paper's robot moved 63 mm per cycle. crawl/gait_sequence.toml is that gait as a "
+         "paper's robot moved 63 mm per cycle. gait/ is the gait found by CMA-ES "
+         "(design-gait, a demo budget: one generation of four candidates) against the hand "
+         "gait and the paper's 63 mm at frictions 0.4, 0.6 and 0.8 (gait/friction.png); "
+         "docs/crawler.md gives the full search's figures. crawl/gait_sequence.toml is "
+         "the hand gait as a "
          "drive sequence: mappings from the string model, and each servo's load, the TSA "
          "torque of the simulated crawl. The servo logs: examples/crawler_gait.toml (that "
          "file, made by the crawl job) on four emulated XL330 servos (Dynamixel Protocol "

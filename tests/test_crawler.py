@@ -19,13 +19,13 @@ from origami_cad.errors import SimulationError
 from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.check import check_pattern
+from origami_cad.robot import load_robot
 from origami_cad.simulation.crawler import (
     STUCK_DEG,
     gait_loads,
     gait_sequence_text,
     gait_turns,
     leg_contraction,
-    load_robot,
     simulate_gait,
 )
 
@@ -408,3 +408,15 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
     assert np.sum(first == first.min()) == 1  # one servo crosses first (at the samples)
     leg = heavy.legs[int(np.argmin(first))]
     assert runs["heavy"].startswith(f"{leg.name}: servo {leg.servo}: current"), runs["heavy"]
+
+
+def test_the_robot_model_moved_and_its_old_path_warns():
+    """Issue 29: the robot model is ``origami_cad.robot``'s; the old names still work, warned."""
+    import origami_cad.robot as robot_module
+    import origami_cad.simulation.crawler as crawler
+
+    for name in crawler.MOVED_TO_ROBOT:
+        with pytest.warns(DeprecationWarning, match=f"origami_cad.robot.{name}"):
+            assert getattr(crawler, name) is getattr(robot_module, name)
+    with pytest.raises(AttributeError):
+        crawler.no_such_name  # noqa: B018

@@ -20,7 +20,7 @@ mujoco = pytest.importorskip("mujoco")
 from origami_cad.cli import main  # noqa: E402
 from origami_cad.pattern.design import load_design  # noqa: E402
 from origami_cad.pattern.model import CreasePattern  # noqa: E402
-from origami_cad.simulation.crawler import load_robot  # noqa: E402
+from origami_cad.robot import load_robot  # noqa: E402
 from origami_cad.simulation.mjcf import MjcfError, load_mjcf_source, spanning_tree, to_mjcf  # noqa: E402
 from origami_cad.simulation.mujoco_run import (  # noqa: E402
     crease_angles,

@@ -222,7 +222,7 @@ def _faults(tmp_path: Path) -> dict[type, list]:
     from origami_cad.design import load_task
     from origami_cad.drive.sequence import load_sequence
     from origami_cad.fabrication import bias_for_theta_max
-    from origami_cad.simulation.crawler import load_robot
+    from origami_cad.robot import load_robot
     from origami_cad.strings import load_route
 
     f = _bad_files(tmp_path)

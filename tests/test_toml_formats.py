@@ -19,7 +19,7 @@ from origami_cad.errors import OrigamiCadError
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.design import dump_design, load_design, load_pattern_source
 from origami_cad.pattern.tg import TGDesign
-from origami_cad.simulation.crawler import dump_robot, load_robot
+from origami_cad.robot import dump_robot, load_robot
 from origami_cad.strings.route import dump_route, load_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

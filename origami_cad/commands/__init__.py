@@ -18,6 +18,7 @@ from origami_cad.commands import (  # noqa: F401  (each module registers its com
     design,
     drive,
     fabrication,
+    gait,
     parts,
     patterns,
     plan_route,

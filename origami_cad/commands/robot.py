@@ -24,7 +24,20 @@ def _crawl_command(a) -> str:
     args += ["--cycles", str(a.cycles), "--steps", str(a.steps)]
     args += ["--reverse"] * bool(a.reverse)
     args += ["--friction", f"{a.friction:g}"] if a.friction is not None else []
+    args += ["--gait", str(a.gait)] if a.gait is not None else []
     return " ".join(args)
+
+
+def _walker(a):
+    """The robot, walking ``--gait``'s gait if given (past a limit: refused, by name)."""
+    from origami_cad.robot import load_gait, load_robot
+    from origami_cad.simulation.crawler import check_servo_speed
+
+    spec = load_robot(a.robot)
+    if a.gait is not None:
+        spec = load_gait(a.gait, spec)
+        check_servo_speed(spec, where=str(a.gait))
+    return spec
 
 
 def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
@@ -96,9 +109,9 @@ class Crawl(Command):
     backwards. Writes the body's path and per-TSA torque and tensions
     (``crawl.json``), the body's position against time (``crawl.png``), torques and
     tensions (``loads.png``), the legs' fold angles and TSA twist (``gait.png``), the
-    crawl seen from the side (``crawl.gif``) and the
-    gait as a sequence for ``drive`` (``gait_sequence.toml``: mappings from the string
-    model, and each servo's simulated load, which ``drive --dry-run`` applies).
+    crawl seen from the side (``crawl.gif``) and the gait as a sequence for ``drive``
+    (``gait_sequence.toml``: string-model mappings, simulated loads for ``--dry-run``).
+    ``gait``: walk a gait file's keyframes (``design-gait``'s ``gait.toml``) instead.
     """
 
     NAME, INPUTS, OUTPUT = "crawl", ("robot",), "folder"
@@ -109,14 +122,19 @@ class Crawl(Command):
                max=1000),
         Option("reverse", "flag", "play the gait backwards"),
         Option("friction", "float", "Coulomb coefficient (robot file's)", min=0, max=100),
+        Option("gait", help="gait file (design-gait's gait.toml) instead of the robot's",
+               metavar="GAIT.toml"),
         Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
                max=1000, flag=""),
     )  # fmt: skip
 
-    def run(self, a) -> Outputs:
-        from origami_cad.simulation.crawler import load_robot, simulate_gait
+    def inputs(self, a) -> list:  # the gait file too: no output may replace it
+        return [a.robot, *([a.gait] if a.gait is not None else [])]
 
-        spec = load_robot(a.robot)
+    def run(self, a) -> Outputs:
+        from origami_cad.simulation.crawler import simulate_gait
+
+        spec = _walker(a)
         start = time.perf_counter()
         result = simulate_gait(
             spec, cycles=a.cycles, steps=a.steps, reverse=a.reverse, friction=a.friction,
@@ -239,7 +257,7 @@ class Robot(Command):
             robot_overlaps,
             robot_report,
         )
-        from origami_cad.simulation.crawler import load_robot, robot_placements
+        from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))

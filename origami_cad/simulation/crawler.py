@@ -1,13 +1,16 @@
-"""Legged robots driven by onboard TSAs: the robot file, its gait, and walking in simulation.
+"""Legged robots driven by onboard TSAs: their gait, and walking in simulation.
 
-A robot file (TOML, see ``examples/crawler/crawler.toml``) names a crease pattern, one
-route file per leg (an onboard TSA on that leg, ``anchor_panel``), blockers on the leg
-creases, point masses (servos, the driver module) and a gait: keyframes of fold ratios,
-one per leg. :func:`gait_turns` turns fold ratios into TSA turns through the model (the
-strings' lengths of the rigidly folded leg, eq. 7, and the onboard TSA's contraction);
+The robot itself (its file, legs, point masses and parts) is :mod:`origami_cad.robot`'s.
+:func:`gait_turns` turns fold ratios into TSA turns through the model (the strings'
+lengths of the rigidly folded leg, eq. 7, and the onboard TSA's contraction);
 :func:`simulate_gait` runs the gait in the bar-and-hinge simulator with the robot lying
 free on the ground (gravity, penalty contact, Coulomb friction), each TSA twisted
 independently, and records the body's path, tensions and torques.
+
+The robot model's names (``Robot``, ``Leg``, ``PointMass``, ``load_robot``,
+``dump_robot``, ``leg_key``, ``leg_heading``, ``robot_placements``, ``SERVO``,
+``MOUNT_THICKNESS``, ``MOUNT_MARGIN``) are still found here for one release, with a
+``DeprecationWarning``: import them from :mod:`origami_cad.robot`.
 
 Units: mm, N, N mm, grams, seconds; degrees at the edges, radians inside. A leg's fold
 ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
@@ -15,20 +18,18 @@ ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
 
 from __future__ import annotations
 
+import importlib
 import itertools
 import math
-import os
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from origami_cad._names import one_line, path_component, toml_string
-from origami_cad._toml import Table, load_toml, toml_table
-from origami_cad.errors import PatternError, SimulationError, StringsError
-from origami_cad.pattern.io import read_pattern
+from origami_cad._names import one_line, toml_string
+from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import fold_angles
@@ -39,7 +40,6 @@ from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,
     hole_frames,
-    load_route,
     panel_frame,
 )
 from origami_cad.strings.tsa import (
@@ -48,366 +48,51 @@ from origami_cad.strings.tsa import (
     onboard_transmission,
 )
 
+if TYPE_CHECKING:
+    from origami_cad.robot import Leg, PointMass, Robot
+
 __all__ = [
-    "SERVO",
+    "SERVO_SPEED_RPM",
     "STUCK_DEG",
     "GaitResult",
-    "Leg",
-    "PointMass",
-    "Robot",
-    "dump_robot",
+    "check_servo_speed",
     "gait_loads",
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
-    "leg_heading",
-    "leg_key",
-    "load_robot",
-    "robot_placements",
     "simulate_gait",
+    "turn_rates",
 ]
 
-
-@dataclass(frozen=True)
-class Leg:
-    """One leg: its panel, the crease joining it to the body, its TSA route and servo."""
-
-    panel: str
-    face: int
-    crease: int
-    route: RouteSpec
-    servo: int
-    name: str
-    route_path: Path | None = None
-
-
-@dataclass(frozen=True)
-class PointMass:
-    """Hardware carried by a panel: ``grams`` at pattern point ``at`` (mm) of ``panel``."""
-
-    name: str
-    panel: str
-    at: tuple[float, float]
-    grams: float
-
-
-@dataclass(frozen=True)
-class Robot:
-    """A robot file, loaded: the pattern, its legs, blockers, masses, adapter and gait.
-
-    ``gait_t`` (K,) are keyframe times in s, ``gait_p`` (K, legs) fold ratios.
-    """
-
-    pattern: CreasePattern
-    body: str
-    legs: tuple[Leg, ...]
-    blocker_angle: float
-    friction: float
-    holes: tuple[tuple[float, float], ...]
-    masses: tuple[PointMass, ...]
-    adapter_at: tuple[float, float]
-    adapter_heading: float
-    gait_t: np.ndarray
-    gait_p: np.ndarray
-    source: Path | None = None
-    pattern_path: Path | None = None
-
-    @property
-    def blockers(self) -> dict[int, float]:
-        """``{crease edge: degrees}``: a blocker on every leg crease."""
-        return {leg.crease: self.blocker_angle for leg in self.legs}
-
-    @property
-    def cycle(self) -> float:
-        """Duration of one gait cycle, s."""
-        return float(self.gait_t[-1] - self.gait_t[0])
-
-
-def _shared_crease(cp: CreasePattern, a: int, b: int) -> int | None:
-    ef = cp.edge_faces()
-    hit = np.flatnonzero(((ef[:, 0] == a) & (ef[:, 1] == b)) | ((ef[:, 0] == b) & (ef[:, 1] == a)))
-    hit = [int(e) for e in hit if cp.assignments[e] in ("M", "V")]
-    return hit[0] if len(hit) == 1 else None
-
-
-def _robot_pattern(p: Path, robot: Table) -> tuple[CreasePattern, Path, str]:
-    """The ``[robot] pattern`` file, read: (pattern, its path, the name as given)."""
-    rel = robot.string("pattern")
-    pattern_path = (p.parent / rel).resolve()
-    if not pattern_path.is_file():
-        raise robot.error("pattern", f"{pattern_path}: no such file")
-    try:
-        cp = read_pattern(pattern_path)
-    except PatternError as exc:
-        raise SimulationError(f"{p}: [robot] pattern: {exc}") from None
-    return cp, pattern_path, rel
-
-
-def _read_legs(p: Path, legs_raw: Any, cp: CreasePattern, body: str, rel: str) -> list[Leg]:
-    """The ``[[leg]]`` tables: a panel sharing one crease with ``body``, an onboard route."""
-    if not isinstance(legs_raw, list) or not legs_raw:
-        raise SimulationError(f"{p}: expected at least one [[leg]] table")
-    body_face = cp.face_index(body)
-    legs = []
-    for i, item in enumerate(legs_raw):
-        t = Table(item, f"{p} [[leg]] #{i + 1}", SimulationError)
-        panel = t.string("panel")
-        if panel not in cp.face_labels:
-            raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
-        face = cp.face_index(panel)
-        crease = _shared_crease(cp, face, body_face)
-        if crease is None:
-            raise t.error("panel", f"panel {panel!r} does not share one crease with {body!r}")
-        route_path = (p.parent / t.string("route")).resolve()
-        if not route_path.is_file():
-            raise t.error("route", f"{route_path}: no such file")
-        try:
-            route = load_route(route_path, cp)
-        except StringsError as exc:
-            raise t.error("route", str(exc)) from None
-        if route.tsa.model != "onboard":
-            raise t.error("route", f"{route_path.name}: a leg's TSA must be onboard")
-        servo = t.integer("servo", low=0, high=252)
-        name = _leg_name(t, panel)
-        t.finish()
-        legs.append(Leg(panel, face, crease, route, servo, name, route_path))
-    ids = [leg.servo for leg in legs]
-    if len(set(ids)) != len(ids):
-        raise SimulationError(f"{p}: [[leg]] servo IDs must differ, got {ids}")
-    keys = [leg_key(leg.name).casefold() for leg in legs]
-    for i, key in enumerate(keys):
-        if key in keys[:i]:
-            raise SimulationError(
-                f"{p} [[leg]] #{i + 1}: key 'name': {legs[i].name!r} names the same files as "
-                f"[[leg]] #{keys.index(key) + 1} (names must differ, also in case and spaces)"
-            )
-    return legs
-
-
-def _leg_name(t: Table, panel: str) -> str:
-    """The ``name`` of a ``[[leg]]`` (default: its panel label), refused unless it can be
-    part of a file name (``tsa_module_<name>.stl``: no ``/``, ``..``, control characters)."""
-    name = t.string("name", panel)
-    try:
-        path_component(leg_key(name))
-    except ValueError as exc:
-        given = "" if t.has("name") else " (the panel label, as no name is given)"
-        raise t.error("name", f"{exc}{given}; the leg's name names its part files") from None
-    return name
-
-
-def leg_key(name: str) -> str:
-    """A leg name as it appears in file and part names: spaces become ``_``."""
-    return name.replace(" ", "_")
-
-
-def _read_masses(p: Path, masses_raw: Any, cp: CreasePattern, rel: str) -> list[PointMass]:
-    """The ``[[mass]]`` tables: grams at a point (mm) of a named panel."""
-    masses = []
-    for i, item in enumerate(masses_raw if isinstance(masses_raw, list) else [masses_raw]):
-        t = Table(item, f"{p} [[mass]] #{i + 1}", SimulationError)
-        name = t.string("name")
-        panel = t.string("panel")
-        if panel not in cp.face_labels:
-            raise t.error("panel", f"no panel labelled {panel!r} in {rel}")
-        at = t.point("at")
-        if cp.face_of_point(*at) != cp.face_index(panel):
-            raise t.error("at", f"({at[0]:g}, {at[1]:g}) mm is not on panel {panel!r}")
-        grams = t.number("grams", low=0)
-        t.finish()
-        masses.append(PointMass(name, panel, at, grams))
-    return masses
-
-
-def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndarray, np.ndarray]:
-    """The ``[[gait.keyframe]]`` tables: times (K,) s and fold ratios (K, legs) within the
-    blockers' ``blocker`` deg."""
-    frames = gait.data.get("keyframe")
-    gait.used.add("keyframe")
-    gait.finish()
-    if not isinstance(frames, list) or len(frames) < 2:
-        raise SimulationError(f"{p}: [gait] needs at least two [[gait.keyframe]] tables")
-    times, ratios = [], []
-    for i, item in enumerate(frames):
-        t = Table(item, f"{p} [[gait.keyframe]] #{i + 1}", SimulationError)
-        times.append(t.number("t", low=0))
-        ratios.append(
-            t.numbers("p", length=legs, check=lambda v: 0 <= v < 1, what="must lie in [0, 1)")
-        )
-        t.finish()
-    if np.any(np.diff(times) <= 0):
-        raise SimulationError(f"{p}: [[gait.keyframe]] times must increase, got {times}")
-    limit = blocker / 180.0
-    worst = max(max(r) for r in ratios)
-    if worst > limit + 1e-9:
-        raise SimulationError(
-            f"{p}: [[gait.keyframe]] p = {worst:g} folds a leg past its blocker "
-            f"({blocker:g} deg = p {limit:.3f})"
-        )
-    return np.asarray(times), np.asarray(ratios)
-
-
-def load_robot(path: str | os.PathLike[str]) -> Robot:
-    """Read a robot file; errors name the file, table and key (:class:`SimulationError`)."""
-    p = Path(path)
-    top = Table(load_toml(p, SimulationError), str(p), SimulationError)
-    robot = top.table("robot")
-    fab = top.table("fabrication", {})
-    adapter = top.table("adapter", {})
-    gait = top.table("gait")
-    legs_raw = top.data.get("leg")
-    masses_raw = top.data.get("mass", [])
-    top.used.update(("leg", "mass"))
-    top.finish()
-    cp, pattern_path, rel = _robot_pattern(p, robot)
-    body = robot.string("body")
-    if body not in cp.face_labels:
-        raise robot.error("body", f"no panel labelled {body!r} in {rel}")
-    blocker = robot.number("blocker_angle", 60.0, low=0, high=180, low_open=True, high_open=True)
-    friction = robot.number("friction", 0.6, low=0)
-    robot.finish()
-    given = fab.pairs("holes", None, min_length=1) if fab.has("holes") else None
-    fab.finish()
-    legs = _read_legs(p, legs_raw, cp, body, rel)
-    if given is None:  # the holes the strings run through, in route order
-        routed = [p for leg in legs for s in leg.route.strings for p in s.points]
-        holes = tuple(dict.fromkeys(routed))
-    else:
-        holes = tuple((float(x), float(y)) for x, y in given)
-    masses = _read_masses(p, masses_raw, cp, rel)
-    adapter_at = adapter.point("at", (0.0, 0.0))
-    heading = adapter.number("heading", 0.0)
-    adapter.finish()
-    times, ratios = _read_gait(p, gait, len(legs), blocker)
-    return Robot(
-        cp,
-        body,
-        tuple(legs),
-        blocker,
-        friction,
-        holes,
-        tuple(masses),
-        adapter_at,
-        heading,
-        times,
-        ratios,
-        p,
-        pattern_path,
-    )
-
-
-def _relative(path: Path | None, folder: Path, what: str) -> str:
-    if path is None:
-        raise SimulationError(f"the robot's {what} has no file to name")
-    return Path(os.path.relpath(path, folder)).as_posix()
-
-
-def dump_robot(
-    robot: Robot, folder: str | os.PathLike[str] | None = None, *, header: str = ""
-) -> str:
-    """A robot file (TOML text) of ``robot`` that :func:`load_robot` reads back.
-
-    The pattern and route files are named relative to ``folder``, where the robot file
-    goes (default: the folder it was read from); lengths mm, angles deg, masses g.
-    The ``[fabrication]`` holes are written only when they are not the routes' holes.
-
-    >>> robot = load_robot("examples/crawler/crawler.toml")
-    >>> text = dump_robot(robot)
-    >>> 'pattern = "crawler.fold"' in text and 'route = "route_fl.toml"' in text
-    True
-    """
-    base = Path(folder) if folder is not None else (robot.source or Path("x")).parent
-    base = base.resolve()
-    lines = [header.rstrip("\n")] if header else []
-    head = {
-        "pattern": _relative(robot.pattern_path, base, "pattern"),
-        "body": robot.body,
-        "blocker_angle": float(robot.blocker_angle),
-        "friction": float(robot.friction),
+#: Names that moved to :mod:`origami_cad.robot` (issue 29), forwarded for one release.
+MOVED_TO_ROBOT = frozenset(
+    {
+        "MOUNT_MARGIN",
+        "MOUNT_THICKNESS",
+        "SERVO",
+        "Leg",
+        "PointMass",
+        "Robot",
+        "dump_robot",
+        "leg_heading",
+        "leg_key",
+        "load_robot",
+        "robot_placements",
     }
-    lines += toml_table("robot", head, comments={"blocker_angle": "deg"})
-    routed = tuple(
-        dict.fromkeys(p for leg in robot.legs for s in leg.route.strings for p in s.points)
-    )
-    if tuple(robot.holes) != routed:
-        holes = [list(h) for h in robot.holes]
-        lines += ["", *toml_table("fabrication", {"holes": holes}, comments={"holes": "mm"})]
-    for leg in robot.legs:
-        route = _relative(leg.route_path, base, f"leg {leg.name!r}'s route")
-        table = {"panel": leg.panel, "route": route, "servo": leg.servo, "name": leg.name}
-        lines += ["", *toml_table("leg", table, array=True)]
-    for m in robot.masses:
-        table = {"name": m.name, "panel": m.panel, "at": list(m.at), "grams": float(m.grams)}
-        lines += ["", *toml_table("mass", table, array=True, comments={"at": "mm"})]
-    adapter = {"at": list(robot.adapter_at), "heading": float(robot.adapter_heading)}
-    lines += ["", *toml_table("adapter", adapter, comments={"heading": "deg"}), "", "[gait]"]
-    for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
-        frame = {"t": float(t), "p": [float(v) for v in p]}
-        lines += toml_table("gait.keyframe", frame, array=True)
-    return "\n".join(lines) + "\n"
+)
 
 
-#: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).
-SERVO = "XL330"
-#: Thickness of a leg module's mount plate, mm (thin: the leg panel carries the load).
-MOUNT_THICKNESS = 1.0
-#: How far a leg module's mount plate reaches around its servo, hub and guide, mm: a plate
-#: that size holds the module; the rest of the leg needs none (the whole leg face as the
-#: mount weighed 11.7 g a leg, docs/crawler.md, mass budget).
-MOUNT_MARGIN = 3.0
-
-
-def leg_heading(robot: Robot, leg: Leg) -> float:
-    """Direction (deg from +x) across the leg's crease toward the body: a module's twist axis."""
-    cp = robot.pattern
-    a, b = cp.vertices[cp.edges[leg.crease]]
-    d = (b - a) / np.linalg.norm(b - a)
-    normal = np.array([-d[1], d[0]])
-    centre = cp.vertices[cp.faces[leg.face]].mean(axis=0)
-    if np.dot(centre - a, normal) > 0:
-        normal = -normal
-    return math.degrees(math.atan2(normal[1], normal[0])) % 360.0
-
-
-def robot_placements(robot: Robot) -> dict[str, list]:
-    """The robot's parts as placements for :func:`origami_cad.parts.robot.robot_assembly`.
-
-    A TSA module (``SERVO``, strands = the route's TSA length as its guide distance, twist
-    axis toward the body) on every leg, a blocker on every leg crease and the driver
-    adapter (one connector per leg) at ``[adapter] at``. Names have no spaces (STEP
-    labels).
-    """
-    from origami_cad.parts.robot import BlockerPlacement, FreePlacement, ModulePlacement
-
-    modules = [
-        ModulePlacement(
-            f"tsa_module_{leg_key(leg.name)}",
-            leg.panel,
-            {
-                "servo": SERVO,
-                "guide_distance": leg.route.tsa.length,
-                "mount_thickness": MOUNT_THICKNESS,
-                "mount_margin": MOUNT_MARGIN,
-                "heading": leg_heading(robot, leg),
-                "tsa": leg.route.tsa,
-            },
+def __getattr__(name: str) -> Any:
+    """``origami_cad.simulation.crawler.<name>`` of a name that moved: the new one, warned."""
+    if name in MOVED_TO_ROBOT:
+        warnings.warn(
+            f"origami_cad.simulation.crawler.{name} moved to origami_cad.robot.{name}; "
+            "the old path goes in the next release",
+            DeprecationWarning,
+            stacklevel=2,
         )
-        for leg in robot.legs
-    ]
-    blockers = [
-        BlockerPlacement(f"blocker_{leg_key(leg.name)}", leg.crease, robot.blocker_angle)
-        for leg in robot.legs
-    ]
-    free = [
-        FreePlacement(
-            "driver_adapter",
-            "driver-adapter",
-            robot.adapter_at,
-            robot.adapter_heading,
-            {"connectors": len(robot.legs)},
-        )
-    ]
-    return {"modules": modules, "blockers": blockers, "free": free}
+        return getattr(importlib.import_module("origami_cad.robot"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # ----------------------------------------------------------------------------- strings
@@ -497,6 +182,33 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
     return out
 
 
+#: No-load speed of a leg's servo, rev/min: the XL330-M288 at 5 V (ROBOTIS e-manual).
+SERVO_SPEED_RPM = 103.0
+
+
+def turn_rates(robot: Robot) -> np.ndarray:
+    """Each TSA's twist rate between consecutive keyframes, turns/s ``(K - 1, legs)``."""
+    turns = gait_turns(robot)
+    return np.abs(np.diff(turns, axis=0)) / np.diff(robot.gait_t)[:, None]
+
+
+def check_servo_speed(robot: Robot, rpm: float = SERVO_SPEED_RPM, where: str = "") -> None:
+    """Refuse a gait whose TSA must twist faster than its servo turns (``rpm``, rev/min).
+
+    Raises :class:`SimulationError` naming the leg, its servo, the keyframes and the
+    limit; nothing is slowed down or clipped.
+    """
+    rates = turn_rates(robot) * 60.0
+    k, leg = np.unravel_index(int(np.argmax(rates)), rates.shape)
+    if rates[k, leg] > rpm * (1 + 1e-9):
+        name, t = robot.legs[leg], robot.gait_t
+        raise SimulationError(
+            f"{where or 'the gait'}: {name.name} (servo {name.servo}) must twist at "
+            f"{rates[k, leg]:.1f} rev/min between keyframes t = {t[k]:g} s and {t[k + 1]:g} s, "
+            f"over its servo's {rpm:g} rev/min"
+        )
+
+
 def gait_loads(robot: Robot, result: GaitResult) -> tuple[np.ndarray, np.ndarray]:
     """Each TSA's torque over one gait cycle: times (k,) s and torques (k, legs) N mm.
 
@@ -535,7 +247,12 @@ def gait_sequence_text(
     wrote the file, quoted in its header. ``current_limit`` (mA) stops a stalling servo.
     """
     p_max = robot.blocker_angle / 180.0
-    samples = np.unique(np.r_[np.arange(0.0, p_max, 0.02), p_max, robot.gait_p.ravel()])
+    # the samples as written (4 decimals), each once (drive needs them increasing), the
+    # last rounded up so that the mapping covers every keyframe's fold ratio
+    ceiling = math.ceil(float(robot.gait_p.max()) * 1e4 - 1e-6) / 1e4
+    top = p_max if round(p_max, 4) >= ceiling else ceiling
+    given = np.round(np.r_[np.arange(0.0, p_max, 0.02), robot.gait_p.ravel()], 4)
+    samples = np.unique(np.r_[given[given < top], top])
     source = robot.source.name if robot.source else "the robot file"
     lines = [
         f"# The gait of {one_line(source)} as TSA commands, written by origami-cad crawl: each",

@@ -58,7 +58,7 @@ from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.crawler import Robot, load_robot
+from origami_cad.robot import Robot, load_robot
 from origami_cad.simulation.mjcf_solids import MassProps, panel_solids
 from origami_cad.simulation.mjcf_strings import MJ, TSA_CODES, tendon_specs, tendon_xml
 from origami_cad.simulation.model import SimulationParams

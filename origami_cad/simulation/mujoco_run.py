@@ -207,10 +207,10 @@ def play_gait(model, data, robot, seconds: float, start: float = 0.0) -> None:
 def render_gait_frame(robot, path: str | os.PathLike[str], at: float = 11.0, size=(640, 480)):
     """A PNG of a robot in MuJoCo ``at`` seconds into its gait (default: mid-stride).
 
-    ``robot`` is a robot file or :class:`~origami_cad.simulation.crawler.Robot`.
+    ``robot`` is a robot file or :class:`~origami_cad.robot.Robot`.
     Renders off-screen (:func:`render_png`); :class:`MjcfError` without a GL context.
     """
-    from origami_cad.simulation.crawler import Robot, load_robot
+    from origami_cad.robot import Robot, load_robot
     from origami_cad.simulation.mjcf import to_mjcf
 
     robot = robot if isinstance(robot, Robot) else load_robot(robot)

@@ -11,7 +11,14 @@ import numpy as np
 from origami_cad._names import plot_text
 from origami_cad.viz.figure import png_subplots
 
-__all__ = ["save_crawl_gait_png", "save_crawl_loads_png", "save_crawl_position_png"]
+__all__ = [
+    "save_crawl_gait_png",
+    "save_crawl_loads_png",
+    "save_crawl_position_png",
+    "save_gait_convergence_png",
+    "save_gait_keyframes_png",
+    "save_gait_vs_hand_png",
+]
 
 
 def _label(top, bottom, top_label: str, bottom_label: str, legend: dict) -> None:
@@ -90,4 +97,72 @@ def save_crawl_gait_png(
             at.plot(t, turns[:, k], label=plot_text(name))
         af.set_title("solid: simulated, dashed: the gait's keyframes", fontsize=8, loc="left")
         _label(af, at, "leg fold angle (deg)", "TSA twist (turns)", {"ncol": 2})
+    return Path(path)
+
+
+def save_gait_convergence_png(
+    generations: np.ndarray,
+    scores: np.ndarray,
+    history: Sequence[Sequence[float]],
+    path: str | os.PathLike[str],
+    *,
+    hand: float | None = None,
+) -> Path:
+    """A gait search's convergence: every candidate's score (mm) by generation, the best
+    so far per run, and the hand gait's score."""
+    with png_subplots(path, 1, 1, figsize=(7.0, 4.0)) as (_, ax):
+        shown = np.maximum(scores, -300.0)
+        ax.plot(generations, shown, ".", color="0.6", ms=4, label="candidates (below -300: -300)")
+        for run, best in enumerate(history):
+            ax.plot(np.arange(1, len(best) + 1), best, "-o", ms=3, label=f"best, run {run}")
+        if hand is not None:
+            ax.axhline(hand, color="C3", ls="--", lw=0.8, label="the hand gait")
+        ax.set_xlabel("generation")
+        ax.set_ylabel("score (mm per cycle, penalised)")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    return Path(path)
+
+
+def save_gait_keyframes_png(
+    best: tuple[np.ndarray, np.ndarray],
+    hand: tuple[np.ndarray, np.ndarray],
+    legs: Sequence[str],
+    path: str | os.PathLike[str],
+) -> Path:
+    """Each leg's commanded fold angle (deg) over one cycle (s): the designed gait
+    (``best``: times, fold ratios) against the hand gait (``hand``)."""
+    n = len(legs)
+    with png_subplots(path, n, 1, figsize=(7.0, 1.6 * n + 1), sharex=True) as (_, axes):
+        for k, ax in enumerate(np.atleast_1d(axes)):
+            ax.plot(best[0], 180.0 * best[1][:, k], "-o", ms=3, color="C0", label="designed")
+            ax.plot(hand[0], 180.0 * hand[1][:, k], "--", color="C3", lw=1, label="hand")
+            ax.set_ylabel(plot_text(legs[k]) + " (deg)", fontsize=8)
+            ax.grid(alpha=0.3)
+        np.atleast_1d(axes)[0].legend(fontsize=8, ncol=2)
+        np.atleast_1d(axes)[-1].set_xlabel("time in the cycle (s)")
+    return Path(path)
+
+
+def save_gait_vs_hand_png(
+    frictions: Sequence[float],
+    designed: Sequence[float],
+    hand: Sequence[float],
+    path: str | os.PathLike[str],
+    *,
+    reference: float = 63.0,
+    drift: Sequence[float] | None = None,
+) -> Path:
+    """Forward displacement per cycle (mm) against friction: the designed gait, the hand
+    gait and the paper's ``reference``; with ``drift``, the designed gait's drift (mm)."""
+    with png_subplots(path, 1, 1, figsize=(6.5, 4.0)) as (_, ax):
+        ax.plot(frictions, designed, "-o", color="C0", label="designed gait")
+        ax.plot(frictions, hand, "-s", color="C3", label="hand gait")
+        ax.axhline(reference, color="k", ls="--", lw=0.8, label=f"paper: {reference:g} mm")
+        if drift is not None:
+            ax.plot(frictions, np.abs(drift), ":^", color="C2", label="designed: |drift|")
+        ax.set_xlabel("friction coefficient")
+        ax.set_ylabel("mm per 32 s cycle")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
     return Path(path)

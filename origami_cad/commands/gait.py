@@ -1,0 +1,213 @@
+"""The gait design command: ``design-gait`` (CMA-ES over a legged robot's gait, issue 31)."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from origami_cad._fileio import atomic_write
+from origami_cad.commands._base import Command, Option, Outputs, register, wrote
+from origami_cad.commands.robot import PAPER_CRAWL_MM
+from origami_cad.commands.simulation import GIF_FRAMES, gif_states
+from origami_cad.parallel import open_executor
+
+__all__: list[str] = []
+
+FILES = ("gait.toml", "results.json", "convergence.png", "gait.png", "friction.png", "gait.gif")
+
+
+def _command_line(a) -> str:
+    """The ``origami-cad design-gait`` command line that reproduces the search."""
+    args = ["origami-cad", "design-gait", str(a.robot), "-o", str(a.folder)]
+    for name in ("runs", "popsize", "generations", "seed", "steps", "cycle"):
+        if getattr(a, name) is not None:
+            args += [f"--{name}", f"{getattr(a, name):g}"]
+    if a.frictions is not None:
+        args += ["--frictions", *(f"{f:g}" for f in a.frictions)]
+    return " ".join([*args, *(["--mix", a.mix] if a.mix else [])])
+
+
+def _settings(a, robot):
+    """The search's settings: the library's defaults, the options given, the robot's limits."""
+    from origami_cad.design.gait import GaitLimits, GaitSettings
+
+    given = {k: getattr(a, k) for k in ("runs", "popsize", "generations", "seed", "steps")}
+    given |= {"cycle": a.cycle, "mix": a.mix}
+    given = {k: v for k, v in given.items() if v is not None}
+    if a.frictions is not None:
+        given["frictions"] = tuple(a.frictions)
+    return GaitSettings(limits=GaitLimits.of(robot), **given)
+
+
+def _gait_header(design, command: str) -> str:
+    best, hand = design.best, design.hand
+    per = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in best.terms)
+    was = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in hand)
+    return (
+        f"# A gait found by origami-cad design-gait (CMA-ES, score {best.score:.1f} mm, "
+        f"{design.settings.mix} over frictions): forward per cycle {per}\n"
+        f"# (the robot file's hand gait: {was}; the paper: {PAPER_CRAWL_MM:g} mm).\n"
+        "# crawl reads its keyframes (origami-cad crawl ROBOT.toml --gait gait.toml), drive\n"
+        "# runs it (origami-cad drive gait.toml --dry-run).\n"
+        f"#   {command}\n"
+    )
+
+
+def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) -> None:
+    """gait.toml, results.json, the plots and the side-view GIF into ``stage``."""
+    import numpy as np
+
+    from origami_cad.simulation.crawler import gait_sequence_text
+    from origami_cad.viz import crawl_plots as plots
+    from origami_cad.viz.render3d import render_folding_gif
+
+    best_robot, result = walked
+    text = gait_sequence_text(best_robot, result=result, command=report["command"])
+    with atomic_write(stage / FILES[0], "w", encoding="utf-8") as fh:
+        fh.write(_gait_header(design, report["command"]) + text)
+    with atomic_write(stage / FILES[1], "w", encoding="utf-8") as fh:
+        json.dump(report, fh, indent=1)
+    cands = design.candidates
+    plots.save_gait_convergence_png(
+        np.array([c.generation for c in cands]), np.array([c.score for c in cands]),
+        design.history, stage / FILES[2], hand=design.hand_score,
+    )  # fmt: skip
+    legs = [leg.name for leg in robot.legs]
+    best = (best_robot.gait_t, best_robot.gait_p)
+    plots.save_gait_keyframes_png(best, (robot.gait_t, robot.gait_p), legs, stage / FILES[3])
+    mus = [t.friction for t in design.best.terms]
+    plots.save_gait_vs_hand_png(
+        mus, [t.forward for t in design.best.terms], [t.forward for t in design.hand],
+        stage / FILES[4], reference=PAPER_CRAWL_MM, drift=[t.drift for t in design.best.terms],
+    )  # fmt: skip
+    picked = gif_states(len(result.states), gif_frames)
+    captions = [f"t = {result.t[k]:.1f} s, {result.body[k, 0] - result.body[0, 0]:+.1f} mm"
+                for k in picked]  # fmt: skip
+    shown = [result.states[k] for k in picked]
+    render_folding_gif(robot.pattern, shown, stage / FILES[5], view="xz", captions=captions)
+
+
+def _report(robot, design, seconds: float, command: str) -> dict:
+    """results.json: the settings, the best and the hand gait, the limits, every candidate."""
+    import dataclasses
+
+    from origami_cad.design.gait import stride_limits
+
+    return {
+        "robot": str(robot.source),
+        "command": command,
+        "search_s": seconds,
+        "settings": dataclasses.asdict(design.settings),
+        "paper_mm_per_cycle": PAPER_CRAWL_MM,
+        "best": design.best.to_dict(),
+        "hand_gait": {
+            "score_mm": design.hand_score,
+            "per_friction": [t.to_dict() for t in design.hand],
+        },
+        "best_score_per_generation": design.history,
+        "what_limits_the_stride": stride_limits(robot, design, PAPER_CRAWL_MM),
+        "candidates": [c.to_dict() for c in design.candidates],
+    }
+
+
+def _within_limits(a, design) -> None:
+    """Refuse a search whose every candidate passed a limit (crawl --gait and drive would
+    refuse its gait): one line naming the limit the best one passed."""
+    from origami_cad.errors import DesignError
+
+    hard = [h for t in design.best.terms for h in t.hits if "jammed" not in h]
+    if hard:
+        raise DesignError(
+            f"{a.robot}: none of {len(design.candidates)} gaits stays within the limits; "
+            f"the best: {hard[0]} (try a longer --cycle or more --generations)"
+        )
+
+
+def _numbers(design, seconds: float) -> list[tuple[str, str]]:
+    rows = [("search", f"{len(design.candidates)} candidates in {seconds:.0f} s")]
+    for best, hand in zip(design.best.terms, design.hand, strict=True):
+        rows.append((
+            f"friction {best.friction:g}: forward (hand gait; paper {PAPER_CRAWL_MM:g} mm)",
+            f"{best.forward:.1f} mm ({hand.forward:.1f} mm), drift {best.drift:+.1f} mm, "
+            f"yaw {best.yaw:+.1f} deg",
+        ))  # fmt: skip
+    hits = sorted({h for t in design.best.terms for h in t.hits})
+    return [*rows, ("limits hit by the best gait", "; ".join(hits) or "none")]
+
+
+@register
+class DesignGait(Command):
+    """CMA-ES gait design of a legged robot: gait.toml, results.json, plots and gait.gif.
+
+    Searches a four-stroke wave gait (each leg pair's fold range, left-right trims,
+    dwells) within the blockers, the servo's speed and stall torque and the strings'
+    tension limit, over one ``cycle``; each candidate is walked in simulation as
+    ``crawl`` does at every friction of ``frictions`` and scored by its forward
+    displacement per cycle less its drift, yaw, foot slip and limits hit, combined by
+    ``mix`` (the worst friction, or their mean). ``gait.toml`` is a sequence for
+    ``drive`` whose keyframes ``crawl --gait`` reads; ``results.json`` holds every
+    candidate and what limits the stride; ``scheduler`` runs the simulations on Dask.
+    """
+
+    NAME, INPUTS, OUTPUT, PROGRESS = "design-gait", ("robot",), "folder", "gait candidates"
+    OPTIONS = (
+        Option("frictions", "float", "Coulomb coefficients scored", min=0, max=100, nargs="+"),
+        Option("mix", "str", "how frictions combine", choices=("worst", "mean")),
+        Option("cycle", "float", "gait cycle", "s", min=1, max=3600),
+        Option("runs", "int", "independent CMA-ES runs", min=1, max=100),
+        Option("popsize", "int", "CMA-ES population", min=2, max=1000),
+        Option("generations", "int", "CMA-ES generations", min=1, max=10_000),
+        Option("seed", "int", "seed of run 0 (run k: seed + k)", min=0, max=2**32 - 1),
+        Option("steps", "int", "quasi-static steps between keyframes", min=1, max=100),
+        Option("scheduler", help="Dask scheduler", metavar="ADDR"),
+        Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
+               max=1000, flag=""),
+    )  # fmt: skip
+
+    @classmethod
+    def library_defaults(cls) -> dict:
+        """The search's defaults (``GaitSettings``), for the help."""
+        import dataclasses
+
+        from origami_cad.design.gait import GaitSettings
+
+        fields = dataclasses.asdict(GaitSettings())
+        return {o.name: fields[o.name] for o in cls.OPTIONS if o.name in fields}
+
+    def run(self, a) -> Outputs:
+        from origami_cad.design.gait import design_gait
+        from origami_cad.robot import load_robot
+        from origami_cad.simulation.crawler import simulate_gait
+
+        robot = load_robot(a.robot)
+        settings, command = _settings(a, robot), _command_line(a)
+        start = time.perf_counter()
+        with open_executor(a.scheduler) as executor:
+            design = design_gait(robot, settings, executor=executor, progress=a.progress)
+        seconds = time.perf_counter() - start
+        _within_limits(a, design)
+        best_robot = design.robot(robot)
+        result = simulate_gait(best_robot, cycles=settings.cycles, steps=settings.steps)
+        report = _report(robot, design, seconds, command)
+        with self.stage(a, robot.pattern_path, *(leg.route_path for leg in robot.legs)) as stage:
+            _write(stage, robot, design, (best_robot, result), report, a.gif_frames)
+        files = [Path(a.folder) / n for n in FILES]
+        best = design.best.terms
+        return Outputs(
+            files=files,
+            images=[
+                (files[4], "Forward per cycle against friction: designed, hand, the paper"),
+                (files[2], "Score per generation"),
+                (files[3], "Each leg's fold angle: the designed and the hand gait"),
+                (files[5], "The designed gait seen from the side"),
+            ],
+            numbers=_numbers(design, seconds),
+            messages=[
+                "designed gait: "
+                + ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in best)
+                + f" per cycle (paper {PAPER_CRAWL_MM:g} mm), {seconds:.0f} s",
+                wrote(a.folder, FILES),
+            ],
+            result=design,
+        )

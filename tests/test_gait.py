@@ -1,0 +1,183 @@
+"""The crawler's gait found by search (issue 31): design-gait and the chain after it.
+
+The searches here are tiny (one friction, two candidates, two steps between keyframes):
+they check that the search's outputs are what every chained step accepts, not how far
+the designed gait walks (``make bench`` runs the full search; docs/crawler.md).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from origami_cad.cli import main
+from origami_cad.commands import execute
+from origami_cad.design.gait import (
+    DIMENSION,
+    HAND_GENOME,
+    P_FLOOR,
+    cma_strategy,
+    decode_gait,
+)
+from origami_cad.design.search import UnitBox
+from origami_cad.drive.sequence import load_sequence
+from origami_cad.errors import SimulationError
+from origami_cad.robot import load_gait, load_robot, with_gait
+from origami_cad.simulation.crawler import (
+    SERVO_SPEED_RPM,
+    check_servo_speed,
+    gait_sequence_text,
+    turn_rates,
+)
+
+HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
+ROBOT = HERE / "crawler.toml"
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return load_robot(ROBOT)
+
+
+def _copy(folder: Path) -> Path:
+    for p in HERE.iterdir():
+        if p.suffix in (".toml", ".fold"):
+            shutil.copy(p, folder / p.name)
+    return folder / "crawler.toml"
+
+
+def test_every_genome_decodes_to_a_gait_within_the_limits_that_drive_and_crawl_accept(
+    robot, tmp_path
+):
+    """Random genomes (and the bounds' corners): keyframes within the floor and the
+    blockers, over one cycle, front legs first; written as gait.toml, read back by
+    crawl's reader and drive's, and slow enough for the servo."""
+    rng = np.random.default_rng(7)
+    genomes = [*rng.uniform(0, 1, (12, DIMENSION)), np.zeros(DIMENSION), np.ones(DIMENSION)]
+    for k, x in enumerate(genomes):
+        t, p = decode_gait(robot, x, cycle=32.0)
+        assert t[0] == 0 and t[-1] == 32.0 and np.all(np.diff(t) > 0)
+        assert p.min() >= P_FLOOR - 1e-9 and p.max() <= robot.blocker_angle / 180.0
+        np.testing.assert_array_equal(p[0], p[-1])  # a cycle ends where it starts
+        assert np.all(p[1, :2] > p[0, :2]) and np.all(p[1, 2:] == p[0, 2:])  # front first
+        walker = with_gait(robot, t, p)
+        check_servo_speed(walker)
+        path = tmp_path / f"gait_{k}.toml"
+        path.write_text(gait_sequence_text(walker), encoding="utf-8")
+        back = load_gait(path, robot)
+        np.testing.assert_allclose(back.gait_p, p, atol=1e-12)
+        np.testing.assert_allclose(back.gait_t, t, atol=1e-12)
+        assert len(load_sequence(path).keyframes) == len(t)
+
+
+def test_the_hand_genome_is_the_hand_gaits_strokes(robot):
+    _, p = decode_gait(robot, HAND_GENOME)
+    hand = robot.gait_p
+    # the same fold range as the robot file's crawl strokes (30 -> 55 deg), within 1 deg
+    assert abs(180 * p.min() - 180 * hand[1].min()) < 1.0
+    assert abs(180 * p.max() - 180 * hand.max()) < 1.0
+
+
+def test_a_gait_past_a_blocker_or_the_servo_speed_is_refused_by_name(robot, tmp_path):
+    path = tmp_path / "gait.toml"
+    path.write_text(
+        "[[keyframe]]\nt = 0\np = [0.2, 0.2, 0.2, 0.2]\n"
+        "[[keyframe]]\nt = 10\np = [0.34, 0.2, 0.2, 0.2]\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(SimulationError, match=r"gait.toml: p = 0.34 .*blocker \(60 deg"):
+        load_gait(path, robot)
+    fast = with_gait(robot, [0.0, 0.5, 1.0], [[0.12] * 4, [0.33] * 4, [0.12] * 4])
+    rate = float(turn_rates(fast).max()) * 60
+    assert rate > SERVO_SPEED_RPM
+    refused = r"\(servo \d\) must twist at .* over its servo's 103 rev/min"
+    with pytest.raises(SimulationError, match=refused):
+        check_servo_speed(fast)
+    path.write_text(
+        "[[tsa]]\nid = 9\n[[keyframe]]\nt = 0\np = [0.2, 0.2, 0.2, 0.2]\n"
+        "[[keyframe]]\nt = 10\np = [0.2, 0.2, 0.2, 0.2]\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(SimulationError, match=r"ids \[9\] are not the robot's servos"):
+        load_gait(path, robot)
+
+
+def test_crawl_refuses_a_too_fast_gait_in_one_line(tmp_path, capsys):
+    gait = tmp_path / "fast.toml"
+    gait.write_text(
+        "[[keyframe]]\nt = 0\np = [0.12, 0.12, 0.12, 0.12]\n"
+        "[[keyframe]]\nt = 0.5\np = [0.33, 0.33, 0.33, 0.33]\n",
+        encoding="utf-8",
+    )
+    rc = main(["crawl", str(ROBOT), "-o", str(tmp_path / "out"), "--gait", str(gait)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "rev/min" in err[0] and "fast.toml" in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("broken", ["legs", "routes"])
+def test_a_robot_without_legs_or_routes_gets_one_line(tmp_path, capsys, broken):
+    robot = _copy(tmp_path)
+    text = robot.read_text(encoding="utf-8")
+    if broken == "legs":
+        head, _, rest = text.partition("[[leg]]")
+        text = head + "[[mass]]" + rest.split("[[mass]]", 1)[1]
+    else:
+        (tmp_path / "route_rl.toml").unlink()
+    robot.write_text(text, encoding="utf-8")
+    rc = main(["design-gait", str(robot), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1, err
+    assert ("[[leg]]" in err[0]) if broken == "legs" else ("route_rl.toml" in err[0])
+    assert not (tmp_path / "out").exists()
+
+
+def test_design_gait_to_crawl_to_drive(tmp_path):
+    """The chain: design-gait's gait.toml walks in crawl --gait exactly as the search
+    scored it, and drive --dry-run runs it on emulated servos."""
+    out = tmp_path / "gait"
+    done = execute(
+        "design-gait", str(ROBOT), str(out), frictions=[0.6], popsize=2, generations=1,
+        steps=2, gif_frames=3,
+    )  # fmt: skip
+    names = {p.name for p in out.iterdir()}
+    assert names == {f.name for f in done.files}
+    design = done.result  # the library's data: every candidate, the best of the clean ones
+    assert len(design.candidates) == 1 + 2  # the hand genome, then the population
+    clean = [c for c in design.candidates if not any(t.hits for t in c.terms)]
+    assert design.best.score == max(c.score for c in clean or design.candidates)
+    assert design.history[0][-1] == max(c.score for c in design.candidates)
+    assert [t.friction for t in design.hand] == [0.6]
+    # reproducible: the seed gives the same population again (cma's seed 0 is the clock)
+    settings = design.settings
+    again = UnitBox(DIMENSION)(np.asarray(cma_strategy(0, settings).ask()))
+    np.testing.assert_array_equal(again, [c.genome for c in design.candidates[1:]])
+    report = json.loads((out / "results.json").read_text())
+    assert len(report["candidates"]) == 3 and report["what_limits_the_stride"]["leg_length_mm"]
+    best = report["best"]["per_friction"][0]
+    crawl = execute(
+        "crawl", str(ROBOT), str(tmp_path / "crawl"), gait=str(out / "gait.toml"),
+        cycles=1, steps=2, friction=0.6, gif_frames=2,
+    )  # fmt: skip
+    forward = float(crawl.result.displacement_per_cycle()[0])
+    assert forward == pytest.approx(best["forward_mm_per_cycle"], rel=1e-6, abs=1e-6)
+    assert (
+        main(["drive", str(out / "gait.toml"), "--dry-run", "--log", str(tmp_path / "l.csv")]) == 0
+    )
+
+
+def test_a_gait_too_fast_for_the_servo_is_never_walked_and_named(robot):
+    """Servo speed is known from the keyframes: such a candidate is not simulated, it is
+    scored below every walked one and names the limit (only the hand gait walks here)."""
+    from origami_cad.design.gait import FAILED, GaitLimits, GaitSettings, design_gait
+
+    slow = GaitLimits(servo_rpm=1.0)  # every stroke of a 32 s cycle needs more
+    settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2, limits=slow)
+    design = design_gait(robot, settings)
+    for c in design.candidates:
+        assert c.score < FAILED and "over the servo's 1 " in c.terms[0].hits[0] + " "
+    assert design.hand[0].score > FAILED  # the hand gait was walked
