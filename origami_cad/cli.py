@@ -64,18 +64,22 @@ def _call(args: argparse.Namespace) -> Outputs:
         return execute(cls, *positional, **given, **extra, progress=progress, **echo)
 
 
-def _help(cls: type[Command], opt: Option) -> str:
-    """An option's help: its text, unit and default (from the library when ``None``)."""
-    default = cls.default(opt.name)
-    text = opt.help + (f", {opt.unit}" if opt.unit else "")
-    if opt.kind == "flag" or default in (None, False, ()):
-        return text
-    return f"{text} (default {default})"
+class _DefaultsHelp(argparse.HelpFormatter):
+    """Help that asks for an option's default (the library's, when the option has none)
+    only when the help is shown: building the parser imports no stage."""
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        default = getattr(action, "shown_default", None)
+        if default is None:
+            return action.help
+        value = default()
+        return action.help if value in (None, False, ()) else f"{action.help} (default {value})"
 
 
 def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> str:
     """Add one option to a command's parser; its dest."""
-    kwargs: dict[str, Any] = {"help": _help(cls, opt), "default": None}
+    text = opt.help + (f", {opt.unit}" if opt.unit else "")
+    kwargs: dict[str, Any] = {"help": text, "default": None}
     if opt.kind == "flag":
         kwargs["action"] = "store_false" if opt.dest_negated else "store_true"
     else:
@@ -84,10 +88,12 @@ def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> 
         kwargs |= {"metavar": opt.metavar} if opt.metavar is not None else {}
         kwargs |= {"required": True} if opt.required and not opt.positional else {}
     if opt.positional:
-        p.add_argument(opt.name, **kwargs)
+        action = p.add_argument(opt.name, **kwargs)
     else:
         flags = [*([opt.short] if opt.short else []), opt.shown]
-        p.add_argument(*flags, dest=opt.name, **kwargs)
+        action = p.add_argument(*flags, dest=opt.name, **kwargs)
+    if opt.kind != "flag":  # its default, from the library when None: asked for by --help
+        action.shown_default = functools.partial(cls.default, opt.name)
     return opt.name
 
 
@@ -105,7 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
             continue
         doc = inspect.cleandoc(cls.__doc__ or "").split("\n\n")
         text = {"help": doc[0].splitlines()[0], "description": "\n\n".join(doc[:2])}
-        p = sub.add_parser(name, **text)
+        p = sub.add_parser(name, formatter_class=_DefaultsHelp, **text)
         for arg in cls.INPUTS:
             p.add_argument(arg)
         names = list(cls.INPUTS)
