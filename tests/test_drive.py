@@ -227,6 +227,10 @@ def test_sequence_checks(tmp_path):
         DriveError, match=r"\[\[keyframe\]\] #2: key 'p' \(t = 6 s\): servo 1 \(front left\)"
     ):
         load_sequence(bad)
+    # a mapping past the strands' length is named as the number written, not its numpy repr
+    bad.write_text(text.replace("length = 24 ", "length = 5 ", 1))
+    with pytest.raises(DriveError, match=r"item \d+: contraction 5\.\d+ mm is not within \[0, 5\)"):
+        load_sequence(bad)
     # issue 32: a rate too low to command every keyframe (1e-300 Hz ran one command)
     bad.write_text(text.replace("rate = 10 ", "rate = 1e-300 ", 1))
     with pytest.raises(DriveError, match=r"key 'rate': 1e-300 Hz .* the 5 s between two keyframes"):

@@ -225,7 +225,7 @@ def _mapping(t: Table, base: Path, length: float) -> np.ndarray:
         arr = np.array(t.pairs("mapping", min_length=2))
     else:
         raise t.error("mapping", "expected [[p, contraction_mm], ...] or a dcqc.json path")
-    for k, (fold, contraction) in enumerate(arr):
+    for k, (fold, contraction) in enumerate(arr.tolist()):  # Python floats: shown as 0.5
         if not (math.isfinite(fold) and 0.0 <= fold <= 1.0):
             raise t.error("mapping", f"item {k}: fold ratio {fold!r} is not within [0, 1]")
         if not (math.isfinite(contraction) and 0.0 <= contraction < length):
