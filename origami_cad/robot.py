@@ -168,6 +168,7 @@ def _leg_name(t: Table, panel: str) -> str:
     part of a file name (``tsa_module_<name>.stl``: no ``/``, ``..``, control characters)."""
     name = t.string("name", panel)
     try:
+        path_component(name)  # as given: leading or trailing spaces are refused too
         path_component(leg_key(name))
     except ValueError as exc:
         given = "" if t.has("name") else " (the panel label, as no name is given)"

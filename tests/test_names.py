@@ -189,7 +189,9 @@ def _robot_with_leg_name(tmp_path: Path, name: str) -> Path:
     return robot
 
 
-@pytest.mark.parametrize("name", ["../../x", "legs/front", "front\nleft", '"\n[evil]', "..", ""])
+@pytest.mark.parametrize(
+    "name", ["../../x", "legs/front", "front\nleft", '"\n[evil]', "..", "", "  ", " left"]
+)
 @pytest.mark.parametrize("command", ["robot", "crawl"])
 def test_a_leg_name_that_cannot_be_a_file_name_is_refused(tmp_path, capsys, name, command):
     robot = _robot_with_leg_name(tmp_path, name)
