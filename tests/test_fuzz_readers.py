@@ -35,6 +35,7 @@ import time
 import tracemalloc
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import ezdxf
 import numpy as np
@@ -343,14 +344,15 @@ def test_fuzz_svg_reader(root_attrs, units, good, children, nest, groups):
         root.set(k, v + units if k != "viewBox" else f"0 0 {v} {v}")
     if good:
         root.extend(_GOOD)
-    parent = root
-    for k in range(nest):  # the children inside nested groups, some transformed
-        parent = ET.SubElement(parent, "g")
-        if k < len(groups):
-            parent.set("transform", groups[k])
-    parent.extend(children)
+    root.append(ET.Element("nested"))  # where the nested groups go, written as text below:
+    # ElementTree writes recursively, and 20,000 levels would overflow the test's own stack
+    opens = [f"<g transform={quoteattr(t)}>" for t in groups[:nest]] + ["<g>"] * nest
+    inner = "".join(ET.tostring(c, encoding="unicode") for c in children)
+    text = ET.tostring(root, encoding="unicode").replace(
+        "<nested />", "".join(opens[:nest]) + inner + "</g>" * nest
+    )
     path = _DIR / "fuzz.svg"
-    ET.ElementTree(root).write(path, encoding="utf-8")
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
     cp = outcome(read_pattern, path)
     if cp is not None:
         sound(cp)
