@@ -64,6 +64,7 @@ def bambu_print_settings(settings: dict[str, object]) -> dict[str, object]:
         "sparse_infill_density": f"{100 * settings['fill_density']:g}%",
         "line_width": f"{settings['extrusion_width']:g}",
         "interface_shells": str(int(bool(settings["interface_shells"]))),
+        "thick_bridges": "0",
         "filament_density": config_strings(settings["filament_density"]),
     }
 
