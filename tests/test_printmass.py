@@ -155,4 +155,6 @@ def test_estimate_within_10_percent_of_prusaslicer(fab, overrides, tmp_path):
     s = slicer_settings(fab.params, overrides)
     estimate = sheet_print_mass(fab, s)
     sliced = dict(zip(s["materials"], _prusa_grams(path, tmp_path), strict=True))
+    for material, grams in sliced.items():
+        assert estimate[material] == pytest.approx(grams, rel=0.10), (material, estimate, sliced)
     assert sum(estimate.values()) == pytest.approx(sum(sliced.values()), rel=0.10)

@@ -95,7 +95,7 @@ MATERIAL_SETTINGS = {
 PRINT_SETTINGS = {
     "perimeters": 2,
     "top_solid_layers": 3,
-    "bottom_solid_layers": 2,
+    "bottom_solid_layers": 3,
     "fill_density": 0.15,
     "extrusion_width": 0.45,
     "interface_shells": True,
