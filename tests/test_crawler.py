@@ -280,8 +280,9 @@ def test_robot_mass_estimate_against_the_paper(printed):
     assert data["print_settings"] == PRINT_SETTINGS
     # printed with walls, skins and sparse infill: never more than solid, the shells less
     solids = data["solids"]
-    assert all(v["mass_g"] <= v["solid_mass_g"] + 1e-9 for v in solids.values())
-    assert solids["shells"]["mass_g"] < 0.8 * solids["shells"]["solid_mass_g"]
+    for name, v in solids.items():  # the mesh's volume within 0.5 % of the B-rep's
+        assert v["mass_g"] <= v["solid_mass_g"] * 1.005, (name, v["mass_g"], v["solid_mass_g"])
+    assert solids["shells"]["mass_g"] < 0.9 * solids["shells"]["solid_mass_g"]
     sheet = ("infills", "midlayers", "shells", "creases")
     assert budget["sheet_g"] == pytest.approx(sum(solids[n]["mass_g"] for n in sheet))
     # a module's mount plate holds its servo, hub and guide, not the whole leg: it lies
