@@ -28,6 +28,7 @@ from origami_cad.fabrication.assembly import MATERIAL_COLORS, moved_tree, solids
 from origami_cad.fabrication.build import Fabrication
 from origami_cad.fabrication.exports.step import export_step_tree
 from origami_cad.fabrication.params import DENSITY_G_CM3
+from origami_cad.fabrication.printmass import printed_mass
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 
 from .registry import build_part
@@ -169,11 +170,16 @@ def robot_assembly(
     return RobotAssembly(solids, materials, kinds, sheet, float(ratio))
 
 
-def robot_report(robot: RobotAssembly) -> dict[str, dict[str, Any]]:
+def robot_report(
+    robot: RobotAssembly, settings: Mapping[str, Any] | None = None
+) -> dict[str, dict[str, Any]]:
     """Per solid: kind, material, volume (mm^3), printed mass (g) and bounding box (mm).
 
-    ``printed_volume_mm3`` and ``mass_g`` leave out a TSA module's servo (a bought part,
-    modelled as its case): add its datasheet mass.
+    ``mass_g`` is the mass as printed with the print settings ``settings`` (walls, skins
+    and sparse infill: :func:`~origami_cad.fabrication.printmass.printed_mass`; default
+    the 3MF's, ``slicer_settings()``), ``solid_mass_g`` the solid volume's.
+    ``printed_volume_mm3``, ``mass_g`` and ``solid_mass_g`` leave out a TSA module's servo
+    (a bought part, modelled as its case): add its datasheet mass.
     """
     out = {}
     for name, shape in robot.solids.items():
@@ -191,10 +197,19 @@ def robot_report(robot: RobotAssembly) -> dict[str, dict[str, Any]]:
             "material": material,
             "volume_mm3": volume,
             "printed_volume_mm3": volume - bought,
-            "mass_g": (volume - bought) / 1000.0 * DENSITY_G_CM3[material],
+            "mass_g": printed_mass({material: _printed_solids(shape)}, settings)[material],
+            "solid_mass_g": (volume - bought) / 1000.0 * DENSITY_G_CM3[material],
             "bbox_mm": [[box.min.X, box.min.Y, box.min.Z], [box.max.X, box.max.Y, box.max.Z]],
         }
     return out
+
+
+def _printed_solids(shape: Any) -> list[Any]:
+    """The solids of ``shape`` that are printed: all but a TSA module's servo stand-in."""
+    children = getattr(shape, "children", ()) or ()
+    if not children:
+        return list(shape.solids())
+    return [s for c in children if getattr(c, "label", "") != "servo" for s in c.solids()]
 
 
 def robot_overlaps(robot: RobotAssembly, names: Sequence[str] | None = None) -> dict:
@@ -330,6 +345,7 @@ class MassBudget:
             "sheet_g": self.sheet_g,
             "printed_parts_g": self.printed_parts_g,
             "bought_parts_g": dict(self.bought_parts_g),
+            "printed_g": self.sheet_g + self.printed_parts_g,
             "total_g": self.total_g,
         }
         if reference_g is not None:
@@ -348,9 +364,12 @@ def robot_mass_budget(
     Parameters
     ----------
     sheet_g : float
-        The printed sheet's mass, g (``Fabrication.report()["total_mass_g"]``).
+        The printed sheet's mass, g: as printed, from the 3MF's print settings
+        (:func:`~origami_cad.fabrication.printmass.printed_mass` of its parts' solids;
+        ``Fabrication.report()["total_mass_g"]`` is the solid volume's).
     report : dict
-        :func:`robot_report`'s solids: each ``kind`` and printed ``mass_g`` (g); the sheet's
+        :func:`robot_report`'s solids: each ``kind`` and printed ``mass_g`` (g, from the
+        print settings); the sheet's
         own solids (kind ``"structure"``) are left out, as ``sheet_g`` holds them.
     bought : dict of str to float, or sequence of (str, float)
         The bought parts' masses by name, g (a robot file's ``[[mass]]`` tables); parts

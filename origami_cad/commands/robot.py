@@ -214,7 +214,7 @@ def _robot_numbers(budget, kinds, overlaps) -> list[tuple[str, str]]:
     bought = sum(budget["bought_parts_g"].values())
     difference = budget["difference_percent"]
     return [
-        ("sheet mass", f"{sheet:.1f} g"),
+        ("sheet mass (as printed)", f"{sheet:.1f} g"),
         ("printed parts", f"{printed:.1f} g"),
         ("bought parts (servos, driver module)", f"{bought:.1f} g"),
         ("mass estimate (paper: 361.45 g)", f"{total:.0f} g ({difference:+.0f} %)"),
@@ -251,6 +251,8 @@ class Robot(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.fabrication import FabricationParams, fabricate
+        from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
+        from origami_cad.fabrication.printmass import sheet_print_mass
         from origami_cad.parts.robot import (
             robot_assembly,
             robot_mass_budget,
@@ -263,11 +265,14 @@ class Robot(Command):
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
-        sheet, bought = fab.report()["total_mass_g"], [(m.name, m.grams) for m in spec.masses]
+        settings = slicer_settings(fab.params)
+        sheet = sum(sheet_print_mass(fab, settings).values())
+        bought = [(m.name, m.grams) for m in spec.masses]
         budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
         data = {
             "robot": str(a.robot),
             "mass_budget": budget,
+            "print_settings": {k: settings[k] for k in PRINT_SETTINGS},
             "solids": report,
             "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
         }

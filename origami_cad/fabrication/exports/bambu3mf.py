@@ -35,6 +35,7 @@ from origami_cad._names import xml_text
 __all__ = [
     "APPLICATIONS",
     "IDENTITY",
+    "bambu_print_settings",
     "config_strings",
     "model_settings_config",
     "project_settings_config",
@@ -52,6 +53,20 @@ IDENTITY = "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1"
 def config_strings(values) -> list[str]:
     """Values as the JSON settings hold them: strings, floats in ``%g``."""
     return [f"{v:g}" if isinstance(v, float) else str(v) for v in values]
+
+
+def bambu_print_settings(settings: dict[str, object]) -> dict[str, object]:
+    """Walls, skins, infill, line width and filament densities under Bambu / Orca's keys."""
+    return {
+        "wall_loops": str(settings["perimeters"]),
+        "top_shell_layers": str(settings["top_solid_layers"]),
+        "bottom_shell_layers": str(settings["bottom_solid_layers"]),
+        "sparse_infill_density": f"{100 * settings['fill_density']:g}%",
+        "line_width": f"{settings['extrusion_width']:g}",
+        "interface_shells": str(int(bool(settings["interface_shells"]))),
+        "thick_bridges": "0",
+        "filament_density": config_strings(settings["filament_density"]),
+    }
 
 
 def project_settings_config(settings: dict[str, object], version: str) -> str:
@@ -84,6 +99,7 @@ def project_settings_config(settings: dict[str, object], version: str) -> str:
                 settings["filament_max_volumetric_speed"]
             ),
             "nozzle_diameter": ["0.4"],
+            **bambu_print_settings(settings),
         },
         indent=1,
     )
