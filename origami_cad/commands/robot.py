@@ -190,6 +190,26 @@ def _render_robot(stage: Path, robot, assembly, stls) -> None:
     )
 
 
+def _robot_json(robot, spec, fab, report: dict, overlaps: dict) -> dict:
+    """``robot.json``'s content: the mass budget from the print settings the 3MF carries
+    (g, against the paper's crawler), the settings, each solid and the overlaps (mm^3)."""
+    from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
+    from origami_cad.fabrication.printmass import sheet_print_mass
+    from origami_cad.parts.robot import robot_mass_budget
+
+    settings = slicer_settings(fab.params)
+    sheet = sum(sheet_print_mass(fab, settings).values())
+    bought = [(m.name, m.grams) for m in spec.masses]
+    budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
+    return {
+        "robot": str(robot),
+        "mass_budget": budget,
+        "print_settings": {k: settings[k] for k in PRINT_SETTINGS},
+        "solids": report,
+        "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
+    }
+
+
 def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -> list:
     """The sheet's files, the parts' STLs, robot.step, robot.json and the pictures; images."""
     from origami_cad.fabrication import write_fabrication
@@ -251,31 +271,15 @@ class Robot(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.fabrication import FabricationParams, fabricate
-        from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
-        from origami_cad.fabrication.printmass import sheet_print_mass
-        from origami_cad.parts.robot import (
-            robot_assembly,
-            robot_mass_budget,
-            robot_overlaps,
-            robot_report,
-        )
+        from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
         from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
-        settings = slicer_settings(fab.params)
-        sheet = sum(sheet_print_mass(fab, settings).values())
-        bought = [(m.name, m.grams) for m in spec.masses]
-        budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
-        data = {
-            "robot": str(a.robot),
-            "mass_budget": budget,
-            "print_settings": {k: settings[k] for k in PRINT_SETTINGS},
-            "solids": report,
-            "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
-        }
+        data = _robot_json(a.robot, spec, fab, report, overlaps)
+        budget = data["mass_budget"]
         with self.stage(a, spec.pattern_path, *(leg.route_path for leg in spec.legs)) as stage:
             images = _write_robot(stage, a.robot, fab, assembly, data, a.renders)
             files = moved(staged(stage), stage, a.folder)
