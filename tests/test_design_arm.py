@@ -198,6 +198,14 @@ def test_runs_are_reproducible_and_executor_is_pluggable():
     assert len(seen) == 50 and all(g >= 1 for _, g, _ in seen)
 
 
+def test_seed_zero_is_reproducible_too():
+    """cma reads a seed of 0 as "from the clock": run 0 of --seed 0 gave a new arm each call."""
+    task, _ = load_task(PAPER_TASK)
+    settings = SearchSettings(runs=1, seed=0, max_generations=8)
+    a, b = run_one(task, settings, 0), run_one(task, settings, 0)
+    assert a.history == b.history and a.lengths == b.lengths
+
+
 def test_paper_task_winner_stays_within_eq6_and_reaches_p_end_in_the_rigid_fold():
     """Fig. 3 with b = 3, h = 2.2, t = 0.4 mm, checked on the folded 3D tessellation."""
     task, _ = load_task(PAPER_TASK)

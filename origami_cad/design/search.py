@@ -134,6 +134,26 @@ class UnitBox:
         return y
 
 
+#: the seed given to cma for our seed 0: cma reads 0 as "seed from the clock", and run ``k``
+#: of a search is seeded ``seed + k`` <= 2**32 - 2, so this one is used by no other run
+CMA_SEED_FOR_ZERO = 2**32 - 1
+
+
+def cma_seed(seed: int) -> int:
+    """The seed passed to ``cma`` for a run seeded ``seed``: itself, but 0 kept reproducible.
+
+    ``cma`` takes a seed of 0 as "from the clock", so ``design-arm --seed 0`` gave a new
+    result on every call; 0 maps to :data:`CMA_SEED_FOR_ZERO` instead, every other seed to
+    itself (the results of seeds 1 ... are unchanged).
+
+    Examples
+    --------
+    >>> cma_seed(0) == CMA_SEED_FOR_ZERO, cma_seed(1), cma_seed(7)
+    (True, 1, 7)
+    """
+    return CMA_SEED_FOR_ZERO if seed == 0 else seed
+
+
 def decode(task: ArmTask, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Decode normalised genomes ``x (D, 2n + 1)`` to lengths (mm) and shape angles (radians)."""
     x = np.clip(np.atleast_2d(np.asarray(x, dtype=float)), 0.0, 1.0)
@@ -248,7 +268,7 @@ def run_one(
         # [0, 1] by UnitBox, for the whole population at once; the step cap that
         # cma would derive from these bounds (a third of their range)
         "maxstd": 1.0 / 3.0,
-        "seed": seed,
+        "seed": cma_seed(seed),
         "verbose": -9,
         "verb_log": 0,
         "verb_disp": 0,
