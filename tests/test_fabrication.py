@@ -400,6 +400,30 @@ def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys
     assert not (tmp_path / "out").exists()
 
 
+def test_a_sheet_of_too_many_panels_is_refused_before_any_work(tmp_path, capsys):
+    """On a bed it fits, a 60 x 60 sheet would still build for minutes into gigabytes."""
+    from origami_cad.fabrication.plan import MAX_FABRICATED_PANELS
+
+    huge = miura_design(60, 60, 5.0, 5.0, 65.0)
+    assert len(huge.pattern.faces) > MAX_FABRICATED_PANELS
+    with pytest.raises(FabricationError, match=r"3,600 panels, more than the 2,500"):
+        fabricate(huge, bed=(1000.0, 1000.0))
+    design = tmp_path / "many.toml"
+    design.write_text(
+        '[pattern]\nkind = "miura"\nrows = 60\ncolumns = 60\npanel_length = 5.0\n'
+        "panel_width = 5.0\nsector_angle = 65.0\n"
+    )
+    out = tmp_path / "out"
+    assert main(["fabricate", str(design), "-o", str(out), "--bed", "900", "900"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "MAX_FABRICATED_PANELS" in err
+    assert not out.exists()
+    edge = miura_design(50, 50, 5.0, 5.0, 65.0).pattern  # exactly the limit: accepted
+    from origami_cad.fabrication import check_panel_count
+
+    check_panel_count(edge)
+
+
 def test_cli_writes_everything_or_nothing(tmp_path, capsys):
     out = tmp_path / "fab"
     design = str(EXAMPLES / "miura_6x4.toml")

@@ -22,6 +22,7 @@ from origami_cad.fabrication.plan import (
     CreaseLimits,
     PanelPlan,
     check_bed,
+    check_panel_count,
     plan_panels,
 )
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts, build_parts
@@ -157,12 +158,15 @@ def fabricate(
     Raises
     ------
     FabricationError
-        The sheet is larger than ``bed``.
+        The sheet is larger than ``bed``, or has more than
+        :data:`~origami_cad.fabrication.plan.MAX_FABRICATED_PANELS` panels.
     PatternError
         Naming the panel or hole that does not fit, or the pattern's defect.
     """
+    cp = source.pattern if isinstance(source, Design) else source
     if bed is not None:
-        check_bed(source.pattern if isinstance(source, Design) else source, bed)
+        check_bed(cp, bed)
+    check_panel_count(cp)
     fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED))
     fab.design = source if isinstance(source, Design) else None
     return fab

@@ -38,6 +38,7 @@ __all__ = [
     "LimitStatus",
     "PanelPlan",
     "check_bed",
+    "check_panel_count",
     "crease_limits",
     "largest_bias",
     "plan_panels",
@@ -286,6 +287,36 @@ def _bed_excess(cp: CreasePattern, bed: tuple[float, float]) -> str | None:
         f"the sheet is printed flat, {x1 - x0:.1f} x {y1 - y0:.1f} mm: larger than the "
         f"{bed[0]:g} x {bed[1]:g} mm print bed"
     )
+
+
+#: The most panels :func:`~origami_cad.fabrication.build.fabricate` builds: a 50 x 50 sheet.
+#: Memory grows with the panels (a 30 x 30 peaks near 1.5 GB), so a larger sheet is
+#: refused before any work instead of running for minutes into the machine's memory.
+MAX_FABRICATED_PANELS = 2_500
+
+
+def check_panel_count(cp: CreasePattern) -> None:
+    """Refuse a pattern of more than :data:`MAX_FABRICATED_PANELS` panels, before any work.
+
+    Raises
+    ------
+    FabricationError
+        Naming the panel count and the limit.
+
+    Examples
+    --------
+    >>> from origami_cad.pattern.design import miura_design
+    >>> check_panel_count(miura_design(60, 60, 5.0, 5.0, 70.0).pattern)
+    Traceback (most recent call last):
+    ...
+    origami_cad.errors.FabricationError: the sheet has 3,600 panels, more than the 2,500 fabricate builds (MAX_FABRICATED_PANELS, a 50 x 50 sheet): split it into sheets printed apart
+    """
+    n = len(cp.faces)
+    if n > MAX_FABRICATED_PANELS:
+        raise FabricationError(
+            f"the sheet has {n:,} panels, more than the {MAX_FABRICATED_PANELS:,} fabricate "
+            f"builds (MAX_FABRICATED_PANELS, a 50 x 50 sheet): split it into sheets printed apart"
+        )
 
 
 def check_bed(cp: CreasePattern, bed: tuple[float, float] = DEFAULT_BED) -> None:
