@@ -9,9 +9,26 @@ older build123d releases lose nested labels (build123d issues #954, #1197).
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 from pathlib import Path
 
-from build123d import Compound, Location, Solid, export_step
+import numpy as np
+from build123d import Location, export_step
+from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+from OCP.gp import gp_Trsf
+from OCP.IFSelect import IFSelect_RetDone
+from OCP.Interface import Interface_Static
+from OCP.Message import Message, Message_Gravity
+from OCP.STEPCAFControl import STEPCAFControl_Controller, STEPCAFControl_Writer
+from OCP.STEPControl import STEPControl_AsIs
+from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
+from OCP.TDataStd import TDataStd_Name
+from OCP.TDF import TDF_Label
+from OCP.TDocStd import TDocStd_Document
+from OCP.TopLoc import TopLoc_Location
+from OCP.XCAFApp import XCAFApp_Application
+from OCP.XCAFDoc import XCAFDoc_ColorGen, XCAFDoc_DocumentTool
+from OCP.XSControl import XSControl_WorkSession
 
 from origami_cad._fileio import atomic_path
 from origami_cad.fabrication.assembly import material_color, moved_tree
@@ -46,26 +63,129 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
     (``shells 0``, ``shells 1``...), every one carrying its part's colour. FreeCAD
     resolves a colour from a solid's own label, then its parent's: colours set on a
     compound alone come in grey.
+
+    Each distinct solid is written once, as a prototype, and every solid of a part is
+    an instance of one, placed: a solid that :func:`~origami_cad.fabrication.solids.build_parts`
+    made as a moved copy of another (``Parts.copy_of``) is that solid's prototype, moved
+    (:func:`_instances`). The XCAF document is built here with OCP
+    (:func:`_assembly_document`) and written without layers (there are none): see the
+    speed section of ``docs/fabrication.md`` for what each step costs.
     """
-    children = []
-    for name in PART_NAMES:
-        color = material_color(PART_MATERIALS[name])
-        solids = []
-        for k, solid in enumerate(parts.solids[name]):
-            child = Solid(solid.wrapped)
-            child.label = f"{name} {k}"
-            child.color = color
-            solids.append(child)
-        comp = Compound(children=solids)
-        comp.label = name
-        comp.color = color
-        children.append(comp)
-    assembly = Compound(children=children)
-    assembly.label = "origami_structure"
-    with atomic_path(path) as tmp:  # a new tree, attached nowhere: no copy needed
-        if export_step(assembly, str(tmp), write_pcurves=WRITE_PCURVES) is False:
+    doc = _assembly_document(parts)
+    writer = STEPCAFControl_Writer(XSControl_WorkSession(), False)
+    writer.SetColorMode(True)
+    writer.SetNameMode(True)
+    writer.SetLayerMode(False)
+    header = APIHeaderSection_MakeHeader(writer.Writer().Model())
+    if not header.IsDone():
+        header = APIHeaderSection_MakeHeader(0)
+        header.Apply(writer.Writer().Model())
+    header.SetName(TCollection_HAsciiString(ASSEMBLY_NAME))
+    header.SetOriginatingSystem(TCollection_HAsciiString("origami_cad"))
+    STEPCAFControl_Controller.Init_s()
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", int(WRITE_PCURVES))
+    Interface_Static.SetIVal_s("write.precision.mode", 0)  # average, as build123d's default
+    with _quiet_occt():
+        writer.Transfer(doc, STEPControl_AsIs)
+    with atomic_path(path) as tmp, _quiet_occt():
+        if writer.Write(str(tmp)) != IFSelect_RetDone:
             raise OSError(f"{path}: the STEP writer failed")
     return Path(path)
+
+
+#: the name of the assembly's root (and of the STEP file in its header)
+ASSEMBLY_NAME = "origami_structure"
+
+
+def _motion_location(motion: np.ndarray) -> TopLoc_Location:
+    """The location of a 3 x 3 plane motion (rotation about z, translation in x, y; mm)."""
+    m = np.asarray(motion, dtype=float)
+    trsf = gp_Trsf()
+    trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
+    return TopLoc_Location(trsf)
+
+
+def _instances(parts: Parts, name: str) -> list[tuple[int, TopLoc_Location]]:
+    """Per solid of part ``name``: ``(prototype, location)``, the solid as placed.
+
+    The prototype is the position of a solid of the part, whose shape (its own location
+    removed) moved by ``location`` is that solid. A solid still the one
+    :func:`~origami_cad.fabrication.solids.build_parts` built as a moved copy
+    (``Parts.copy_of``) of a solid also still as built is an instance of that solid's
+    shape, moved by the copy's motion; any other solid is its own prototype, at its own
+    location.
+    """
+    solids, built = parts.solids[name], parts.built.get(name, [])
+    copies = parts.copy_of.get(name, [])
+    same = [k < len(built) and built[k] is s for k, s in enumerate(solids)]
+    out = []
+    for k, solid in enumerate(solids):
+        copy = copies[k] if same[k] and k < len(copies) else None
+        if copy is not None and same[copy[0]] and copies[copy[0]] is None:
+            source = solids[copy[0]].wrapped.Location()
+            out.append((copy[0], _motion_location(copy[1]).Multiplied(source)))
+        else:
+            out.append((k, solid.wrapped.Location()))
+    return out
+
+
+def _assembly_document(parts: Parts) -> TDocStd_Document:
+    """The XCAF document of :func:`export_step_assembly`: root, four parts, their solids.
+
+    Each part is an assembly label, named and coloured (on its shape and on the
+    component placing it in the root, where build123d's ``import_step`` reads it). Each
+    prototype (:func:`_instances`) is one shape label, named ``"{part} shape {k}"``
+    after the first solid it is and coloured; each solid is a component of its part
+    placing a prototype, named ``"{part} {k}"`` and not coloured (a per-instance
+    colour is one costly styled item per solid in the file; readers take the
+    prototype's).
+    """
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    app = XCAFApp_Application.GetApplication_s()
+    app.NewDocument(TCollection_ExtendedString("MDTV-XCAF"), doc)
+    app.InitDocument(doc)
+    XCAFDoc_DocumentTool.SetLengthUnit_s(doc, 0.001)  # millimetres
+    shapes = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    colours = XCAFDoc_DocumentTool.ColorTool_s(doc.Main())
+    shapes.SetAutoNaming_s(False)
+    root = shapes.NewShape()
+    _name_label(root, ASSEMBLY_NAME)
+    for name in PART_NAMES:
+        colour = material_color(PART_MATERIALS[name]).wrapped
+        part = shapes.NewShape()
+        _name_label(part, name)
+        colours.SetColor(part, colour, XCAFDoc_ColorGen)
+        prototypes: dict[int, TDF_Label] = {}
+        for k, (first, location) in enumerate(_instances(parts, name)):
+            if first not in prototypes:
+                bare = parts.solids[name][first].wrapped.Located(TopLoc_Location())
+                prototypes[first] = shapes.AddShape(bare, False, False)
+                _name_label(prototypes[first], f"{name} shape {first}")
+                colours.SetColor(prototypes[first], colour, XCAFDoc_ColorGen)
+            _name_label(shapes.AddComponent(part, prototypes[first], location), f"{name} {k}")
+        placed = shapes.AddComponent(root, part, TopLoc_Location())
+        _name_label(placed, name)
+        colours.SetColor(placed, colour, XCAFDoc_ColorGen)
+    shapes.UpdateAssemblies()
+    return doc
+
+
+def _name_label(label, name: str) -> None:
+    TDataStd_Name.Set_s(label, TCollection_ExtendedString(name))
+
+
+@contextmanager
+def _quiet_occt():
+    """OCCT's messages to the console held to failures (as build123d's export does)."""
+    printers = list(Message.DefaultMessenger_s().Printers())
+    levels = [p.GetTraceLevel() for p in printers]
+    for p in printers:
+        p.SetTraceLevel(Message_Gravity.Message_Fail)
+    try:
+        yield
+    finally:
+        for p, level in zip(printers, levels, strict=True):
+            p.SetTraceLevel(level)
 
 
 def lay_on_bed(shape):
