@@ -221,3 +221,40 @@ def test_a_solid_replaced_after_the_build_is_its_own_prototype(tmp_path):
     path = export_step_assembly(fab.parts, tmp_path / "assembly.step")
     label, placed, _ = read_step_instances(path)["shells"][k]
     assert label == f"shells {k}" and Solid(placed).volume == pytest.approx(60.0, rel=1e-9)
+
+
+def test_a_crease_sheet_with_many_holes_is_written_as_strips_of_its_volume(tmp_path, monkeypatch):
+    """Strips of the sheet, cut across its longer side: valid solids, together its volume
+    (1e-9 relative), each in the crease colour."""
+    from build123d import Solid
+    from OCP.BRepCheck import BRepCheck_Analyzer
+
+    from origami_cad.fabrication.exports import step
+
+    fab = fabricate(miura_design(4, 4, 20.0, 20.0, 65.0))
+    monkeypatch.setattr(step, "HOLES_PER_STRIP", 4)
+    sheet = fab.parts.solids["creases"][0]
+    strips = step.crease_strips(sheet)
+    assert strips is not None and len(strips) >= 4
+    assert all(BRepCheck_Analyzer(s).IsValid() for s in strips)
+    assert sum(Solid(s).volume for s in strips) == pytest.approx(sheet.volume, rel=1e-9)
+    path = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    rows = read_step_instances(path)["creases"]
+    assert [r[0] for r in rows] == [f"creases 0 strip {i}" for i in range(len(strips))]
+    assert sum(Solid(r[1]).volume for r in rows) == pytest.approx(sheet.volume, rel=1e-9)
+    colours = read_step_colours(path)["creases"]
+    expected = _rgb(MATERIAL_COLORS["TPU"])
+    assert len(colours) == len(strips)
+    assert all(c == pytest.approx(expected, abs=2e-3) for c in colours)
+
+
+def test_a_sheet_that_is_no_prism_is_written_as_it_is(monkeypatch):
+    from build123d import Axis, Cylinder, Solid
+
+    from origami_cad.fabrication.exports import step
+
+    monkeypatch.setattr(step, "HOLES_PER_STRIP", 1)
+    assert step.crease_strips(Solid.make_box(10, 20, 1)) is None  # no holes: one strip
+    assert step.crease_strips(Cylinder(5, 1).solid()) is None
+    tilted = Solid.make_box(10, 10, 1) - Solid.make_box(10, 10, 1).rotate(Axis.X, 30)
+    assert step.crease_strips(tilted) is None

@@ -8,14 +8,24 @@ older build123d releases lose nested labels (build123d issues #954, #1197).
 
 from __future__ import annotations
 
+import itertools
+import math
 import os
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
+import shapely
 from build123d import Location, export_step
 from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
-from OCP.gp import gp_Trsf
+from OCP.BRep import BRep_Tool
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
+from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+from OCP.BRepTools import BRepTools_WireExplorer
+from OCP.collections import IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher as ShapeMap
+from OCP.GeomAbs import GeomAbs_Plane
+from OCP.gp import gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.Interface import Interface_Static
 from OCP.Message import Message, Message_Gravity
@@ -25,7 +35,10 @@ from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
 from OCP.TDataStd import TDataStd_Name
 from OCP.TDF import TDF_Label
 from OCP.TDocStd import TDocStd_Document
+from OCP.TopAbs import TopAbs_FACE, TopAbs_VERTEX
+from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS, TopoDS_Iterator
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_ColorGen, XCAFDoc_DocumentTool
 from OCP.XSControl import XSControl_WorkSession
@@ -152,22 +165,158 @@ def _assembly_document(parts: Parts) -> TDocStd_Document:
     _name_label(root, ASSEMBLY_NAME)
     for name in PART_NAMES:
         colour = material_color(PART_MATERIALS[name]).wrapped
-        part = shapes.NewShape()
-        _name_label(part, name)
-        colours.SetColor(part, colour, XCAFDoc_ColorGen)
-        prototypes: dict[int, TDF_Label] = {}
-        for k, (first, location) in enumerate(_instances(parts, name)):
-            if first not in prototypes:
-                bare = parts.solids[name][first].wrapped.Located(TopLoc_Location())
-                prototypes[first] = shapes.AddShape(bare, False, False)
-                _name_label(prototypes[first], f"{name} shape {first}")
-                colours.SetColor(prototypes[first], colour, XCAFDoc_ColorGen)
-            _name_label(shapes.AddComponent(part, prototypes[first], location), f"{name} {k}")
-        placed = shapes.AddComponent(root, part, TopLoc_Location())
+        placed = shapes.AddComponent(
+            root, _part_label(shapes, colours, parts, name), TopLoc_Location()
+        )
         _name_label(placed, name)
         colours.SetColor(placed, colour, XCAFDoc_ColorGen)
     shapes.UpdateAssemblies()
     return doc
+
+
+def _part_label(shapes, colours, parts: Parts, name: str) -> TDF_Label:
+    """Part ``name``'s assembly label: its prototypes placed, one component per solid.
+
+    A crease sheet with many holes is placed as strips (:func:`crease_strips`), each its
+    own shape named ``"{part} {k} strip {i}"``.
+    """
+    colour = material_color(PART_MATERIALS[name]).wrapped
+    part = shapes.NewShape()
+    _name_label(part, name)
+    colours.SetColor(part, colour, XCAFDoc_ColorGen)
+    prototypes: dict[str, TDF_Label] = {}
+
+    def place(key: str, shape, location: TopLoc_Location, label: str) -> None:
+        if key not in prototypes:
+            prototypes[key] = shapes.AddShape(shape.Located(TopLoc_Location()), False, False)
+            _name_label(prototypes[key], key)
+            colours.SetColor(prototypes[key], colour, XCAFDoc_ColorGen)
+        _name_label(shapes.AddComponent(part, prototypes[key], location), label)
+
+    for k, (first, location) in enumerate(_instances(parts, name)):
+        solid = parts.solids[name][k]
+        strips = crease_strips(solid) if name == "creases" else None
+        for i, piece in enumerate(strips or []):
+            strip = f"{name} {k} strip {i}"
+            place(strip, piece, piece.Location(), strip)
+        if strips is None:
+            source = parts.solids[name][first].wrapped
+            place(f"{name} shape {first}", source, location, f"{name} {k}")
+    return part
+
+
+#: Holes (mid-layer patches) per strip of the crease sheet in assembly.step, about: a
+#: sheet with more is written as vertical strips (:func:`crease_strips`)
+HOLES_PER_STRIP = 40
+
+
+def crease_strips(solid) -> list | None:
+    """The crease sheet cut into strips of about :data:`HOLES_PER_STRIP` holes, or ``None``.
+
+    OCC's STEP writer checks every pair of wires of a face for shared vertices (its
+    ``SplitCommonVertex`` pass, which cannot be turned off from OCP): quadratic in the
+    holes of the sheet's top and bottom faces, 1.4 s of the 20 x 20's 2.1 s. The strips
+    are the prisms (``TopoDS_Shape``) of the sheet's footprint cut by planes x or y =
+    const across its longer side: together exactly its volume. ``None`` when the sheet
+    has fewer holes or is not a vertical prism (a solid replaced by the user): then it is
+    written as it is.
+    """
+    footprint = _prism_footprint(solid.wrapped)
+    if footprint is None:
+        return None
+    poly, z0, z1 = footprint
+    count = math.ceil(len(poly.interiors) / HOLES_PER_STRIP)
+    if count < 2:
+        return None
+    x0, y0, x1, y1 = poly.bounds
+    along_x = x1 - x0 >= y1 - y0
+    cuts = np.linspace(x0 if along_x else y0, x1 if along_x else y1, count + 1)
+    cuts[0], cuts[-1] = cuts[0] - 1.0, cuts[-1] + 1.0
+    pieces = []
+    for a, b in itertools.pairwise(cuts.tolist()):
+        band = shapely.box(a, y0 - 1, b, y1 + 1) if along_x else shapely.box(x0 - 1, a, x1 + 1, b)
+        pieces += [p for p in shapely.get_parts(shapely.intersection(poly, band)) if p.area > 0]
+    if any(not isinstance(p, shapely.Polygon) for p in pieces):
+        return None
+    if abs(sum(p.area for p in pieces) - poly.area) > 1e-9 * poly.area:
+        return None
+    return [_prism(p, z0, z1) for p in pieces]
+
+
+def _prism(poly, z0: float, z1: float):
+    """The vertical prism (``TopoDS_Shape``) of a polygon with holes, z0 to z1 (mm)."""
+    poly = shapely.orient_polygons(poly)  # exterior counter-clockwise, holes clockwise
+
+    def wire(ring):
+        maker = BRepBuilderAPI_MakePolygon()
+        for x, y in shapely.get_coordinates(ring)[:-1].tolist():
+            maker.Add(gp_Pnt(x, y, z0))
+        maker.Close()
+        return maker.Wire()
+
+    face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, z0), gp_Dir(0, 0, 1)), wire(poly.exterior))
+    for ring in poly.interiors:
+        face.Add(wire(ring))
+    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, z1 - z0)).Shape()
+
+
+def _prism_footprint(shape):
+    """``(polygon, z0, z1)`` when ``shape`` is a vertical prism of a planar face, else ``None``.
+
+    Every face must be a plane; its bottom is the horizontal face with the most wires and
+    the lowest; every vertex must be one of that face's, at z0 or z1, and the faces its
+    sides (one per edge of the bottom), top and bottom.
+    """
+    horizontal, faces = [], 0
+    explorer = TopExp_Explorer(shape, TopAbs_FACE)
+    while explorer.More():
+        faces += 1
+        surface = BRepAdaptor_Surface(TopoDS.Face(explorer.Current()))
+        if surface.GetType() != GeomAbs_Plane:
+            return None
+        plane = surface.Plane()
+        if abs(plane.Axis().Direction().Z()) > 1 - 1e-12:
+            wires = _children(TopoDS.Face(explorer.Current()))
+            horizontal.append((-len(wires), plane.Location().Z(), wires))
+        explorer.Next()
+    if len(horizontal) != 2:
+        return None
+    (_, z0, wires), (_, z1, _) = sorted(horizontal, key=lambda f: f[:2])
+    rings = [_ring(w) for w in wires]
+    if min(len(r) for r in rings) < 3:
+        return None
+    rings.sort(key=lambda r: -abs(shapely.Polygon(r).area))
+    poly = shapely.Polygon(rings[0], rings[1:])
+    corners = {(round(x, 9), round(y, 9)) for r in rings for x, y in r}
+    vertices = ShapeMap()
+    TopExp.MapShapes_s(shape, TopAbs_VERTEX, vertices)
+    for i in range(1, vertices.Extent() + 1):
+        p = BRep_Tool.Pnt_s(TopoDS.Vertex(vertices.FindKey(i)))
+        if (round(p.X(), 9), round(p.Y(), 9)) not in corners or min(
+            abs(p.Z() - z0), abs(p.Z() - z1)
+        ) > 1e-9:
+            return None
+    edges = sum(len(r) for r in rings)
+    if not poly.is_valid or z1 <= z0 or faces != edges + 2 or vertices.Extent() != 2 * edges:
+        return None
+    return poly, z0, z1
+
+
+def _children(shape) -> list:
+    out, it = [], TopoDS_Iterator(shape)
+    while it.More():
+        out.append(it.Value())
+        it.Next()
+    return out
+
+
+def _ring(wire) -> list[tuple[float, float]]:
+    out, it = [], BRepTools_WireExplorer(TopoDS.Wire(wire))
+    while it.More():
+        p = BRep_Tool.Pnt_s(it.CurrentVertex())
+        out.append((p.X(), p.Y()))
+        it.Next()
+    return out
 
 
 def _name_label(label, name: str) -> None:
