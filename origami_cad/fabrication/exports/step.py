@@ -80,9 +80,10 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
     Each distinct solid is written once, as a prototype, and every solid of a part is
     an instance of one, placed: a solid that :func:`~origami_cad.fabrication.solids.build_parts`
     made as a moved copy of another (``Parts.copy_of``) is that solid's prototype, moved
-    (:func:`_instances`). The XCAF document is built here with OCP
-    (:func:`_assembly_document`) and written without layers (there are none): see the
-    speed section of ``docs/fabrication.md`` for what each step costs.
+    (:func:`_instances`). A crease sheet of many holes is written as strips
+    (:func:`crease_strips`). The XCAF document is built here with OCP
+    (:func:`_assembly_document`) and written without layers (there are none): see "How
+    assembly.step is laid out" in ``docs/fabrication.md`` for what each step costs.
     """
     doc = _assembly_document(parts)
     writer = STEPCAFControl_Writer(XSControl_WorkSession(), False)
