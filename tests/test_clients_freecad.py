@@ -77,16 +77,15 @@ def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
     rows = _freecad(tmp_path, SCRIPT, step)
     for name in PART_NAMES:
         expected = _rgb(MATERIAL_COLORS[PART_MATERIALS[name]])
-        solids = [r for r in rows if r[1] == "Part::Feature" and r[0].startswith(f"{name} ")]
-        if len(fab.parts.solids[name]) == 1:  # a part of one solid is that solid's feature
-            solids = [r for r in rows if r[1] == "Part::Feature" and r[0] == name]
-        assert len(solids) == len(fab.parts.solids[name]), name
-        for label, _, count, colour in solids:
-            assert count == 1, label
-            assert colour == pytest.approx(expected, abs=2e-3), label
         compounds = [r for r in rows if r[1] == "Part::Compound2" and r[0].startswith(name)]
+        assert compounds, name
         for label, _, _, colour in compounds:  # the part itself, not grey
             assert colour == pytest.approx(expected, abs=2e-3), label
+    modes = _freecad(tmp_path, SOLIDS_SCRIPT, step)
+    assert set(modes) == {"merge", "no merge"}
+    for mode, solids in modes.items():
+        assert len(solids) == sum(len(v) for v in fab.parts.solids.values()), mode
+        check_freecad_solids(solids, fab.parts)
 
 
 MODES_SCRIPT = """
@@ -112,6 +111,55 @@ for merge in (False, True):
 with open({out!r}, "w") as fh:
     json.dump(rows, fh)
 """
+
+
+SOLIDS_SCRIPT = """
+import json, FreeCAD, FreeCADGui, Part
+FreeCADGui.showMainWindow()
+import ImportGui
+rows = {{}}
+# compound merge off (link groups: a shape placed several times is one hidden feature and
+# App::Link arrays placing it), and on (with App::Part groups: a feature per solid)
+for merge in (False, True):
+    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Import/hSTEP").SetBool(
+        "ReadShapeCompoundMode", merge)
+    doc = FreeCAD.newDocument()
+    ImportGui.insert({path!r}, doc.Name, merge=merge, useLinkGroup=not merge)
+    FreeCADGui.updateGui()
+    out = []
+    for o in doc.Objects:
+        if o.TypeId not in ("Part::Feature", "App::Link"):
+            continue
+        if any(p.TypeId == "App::Link" for p in o.InList):
+            continue  # shown through the links placing it, counted there
+        shape = Part.getShape(o)  # a link's shape: the linked one, placed
+        colour = list(o.ViewObject.ShapeColor[:3])
+        for s in shape.Solids:
+            c = s.CenterOfMass
+            out.append([o.Label, o.TypeId, s.isValid(), colour, s.Volume, [c.x, c.y, c.z],
+                        bool(o.ViewObject.Visibility)])
+    rows["merge" if merge else "no merge"] = out
+with open({out!r}, "w") as fh:
+    json.dump(rows, fh)
+"""
+
+
+def check_freecad_solids(rows: list, parts, names=PART_NAMES) -> None:
+    """Every solid of ``parts`` (of the parts ``names``) in FreeCAD's import: one solid
+    there at its place (centre of mass within 1e-5 mm), valid, of its volume
+    (1e-6 relative), in its part's colour, counted once, whether a feature or a link."""
+    for name in names:
+        expected = _rgb(MATERIAL_COLORS[PART_MATERIALS[name]])
+        got = [r for r in rows if r[0].split(" ")[0].rstrip("0123456789") == name]
+        assert len(got) == len(parts.solids[name]), name
+        for solid in parts.solids[name]:
+            c = solid.center()
+            near = [r for r in got if max(abs(a - b) for a, b in zip(r[5], c, strict=True)) < 1e-5]
+            assert len(near) == 1, (name, c)
+            label, kind, valid, colour, volume, _, _ = near[0]
+            assert valid, (name, label, kind)
+            assert colour == pytest.approx(expected, abs=2e-3), (name, label)
+            assert volume == pytest.approx(solid.volume, rel=1e-6), (name, label)
 
 
 @pytest.mark.skipif(FREECAD is None, reason="FreeCAD is not installed (apt install freecad)")

@@ -155,3 +155,106 @@ def test_the_reader_sees_the_defect_of_a_colour_on_a_compound(tmp_path, fab):
     export_step(Compound(children=children), str(old))
     colours = read_step_colours(old)
     assert any(c is None for c in colours["shells"])  # grey in FreeCAD, as reported
+
+
+def read_step_instances(path: Path) -> dict[str, list]:
+    """Per part: ``(name, shape placed, prototype label)`` of each solid, in file order.
+
+    Each solid is a component of its part placing a prototype shape (its location
+    applied), as any XCAF reader sees it.
+    """
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    reader = STEPCAFControl_Reader()
+    reader.SetNameMode(True)
+    assert reader.ReadFile(str(path)) == IFSelect_RetDone
+    assert reader.Transfer(doc)
+    shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    free = TDF_LabelSequence()
+    shape_tool.GetFreeShapes(free)
+    parts = TDF_LabelSequence()
+    shape_tool.GetComponents_s(free.Value(1), parts)
+    out: dict[str, list] = {}
+    for i in range(1, parts.Length() + 1):
+        part = TDF_Label()
+        assert shape_tool.GetReferredShape_s(parts.Value(i), part)
+        solids = TDF_LabelSequence()
+        shape_tool.GetComponents_s(part, solids)
+        rows = out.setdefault(_name(part), [])
+        for j in range(1, solids.Length() + 1):
+            comp, proto = solids.Value(j), TDF_Label()
+            assert shape_tool.GetReferredShape_s(comp, proto)
+            placed = shape_tool.GetShape_s(proto).Moved(shape_tool.GetLocation_s(comp))
+            rows.append((_name(comp), placed, proto.Tag()))
+    return out
+
+
+def test_each_distinct_solid_is_written_once_and_every_instance_is_its_solid(tmp_path):
+    """Prototypes and placed instances: every solid where it is, of its volume."""
+    from build123d import Solid
+
+    fab = fabricate(miura_design(4, 4, 20.0, 20.0, 65.0))
+    path = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    parts = read_step_instances(path)
+    assert set(parts) == set(PART_NAMES)
+    for name in PART_NAMES:
+        rows, solids = parts[name], fab.parts.solids[name]
+        assert [r[0] for r in rows] == [f"{name} {k}" for k in range(len(solids))]
+        prototypes = {r[2] for r in rows}
+        copies = sum(c is not None for c in fab.parts.copy_of[name])
+        assert len(prototypes) == len(solids) - copies, name
+        for (label, placed, _), solid in zip(rows, solids, strict=True):
+            got = Solid(placed)
+            assert got.volume == pytest.approx(solid.volume, rel=1e-6), label
+            assert (got.center() - solid.center()).length < 1e-6, label
+            a, b = got.bounding_box(), solid.bounding_box()
+            assert (a.min - b.min).length < 1e-6 and (a.max - b.max).length < 1e-6, label
+    assert len({r[2] for r in parts["shells"]}) < len(parts["shells"])  # shared
+
+
+def test_a_solid_replaced_after_the_build_is_its_own_prototype(tmp_path):
+    from build123d import Solid
+
+    fab = fabricate(miura_design(3, 4, 20.0, 20.0, 65.0))
+    copies = fab.parts.copy_of["shells"]
+    k = next(i for i, c in enumerate(copies) if c is not None)
+    fab.parts.solids["shells"][k] = Solid.make_box(3, 4, 5)
+    path = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    label, placed, _ = read_step_instances(path)["shells"][k]
+    assert label == f"shells {k}" and Solid(placed).volume == pytest.approx(60.0, rel=1e-9)
+
+
+def test_a_crease_sheet_with_many_holes_is_written_as_strips_of_its_volume(tmp_path, monkeypatch):
+    """Strips of the sheet, cut across its longer side: valid solids, together its volume
+    (1e-9 relative), each in the crease colour."""
+    from build123d import Solid
+    from OCP.BRepCheck import BRepCheck_Analyzer
+
+    from origami_cad.fabrication.exports import step
+
+    fab = fabricate(miura_design(4, 4, 20.0, 20.0, 65.0))
+    monkeypatch.setattr(step, "HOLES_PER_STRIP", 4)
+    sheet = fab.parts.solids["creases"][0]
+    strips = step.crease_strips(sheet)
+    assert strips is not None and len(strips) >= 4
+    assert all(BRepCheck_Analyzer(s).IsValid() for s in strips)
+    assert sum(Solid(s).volume for s in strips) == pytest.approx(sheet.volume, rel=1e-9)
+    path = export_step_assembly(fab.parts, tmp_path / "assembly.step")
+    rows = read_step_instances(path)["creases"]
+    assert [r[0] for r in rows] == [f"creases 0 strip {i}" for i in range(len(strips))]
+    assert sum(Solid(r[1]).volume for r in rows) == pytest.approx(sheet.volume, rel=1e-9)
+    colours = read_step_colours(path)["creases"]
+    expected = _rgb(MATERIAL_COLORS["TPU"])
+    assert len(colours) == len(strips)
+    assert all(c == pytest.approx(expected, abs=2e-3) for c in colours)
+
+
+def test_a_sheet_that_is_no_prism_is_written_as_it_is(monkeypatch):
+    from build123d import Axis, Cylinder, Solid
+
+    from origami_cad.fabrication.exports import step
+
+    monkeypatch.setattr(step, "HOLES_PER_STRIP", 1)
+    assert step.crease_strips(Solid.make_box(10, 20, 1)) is None  # no holes: one strip
+    assert step.crease_strips(Cylinder(5, 1).solid()) is None
+    tilted = Solid.make_box(10, 10, 1) - Solid.make_box(10, 10, 1).rotate(Axis.X, 30)
+    assert step.crease_strips(tilted) is None

@@ -203,24 +203,31 @@ def test_a_sheet_of_copies_reads_back_closed_in_admesh_trimesh_and_lib3mf(fab, t
 @pytest.mark.skipif(
     shutil.which("freecadcmd") is None, reason="FreeCAD is not installed (apt install freecad)"
 )
-def test_freecad_reads_every_copied_solid_valid_coloured_and_of_its_volume(fab, tmp_path):
-    """assembly.step of a sheet of copies (written without pcurves) in FreeCAD itself."""
-    from test_clients_freecad import MODES_SCRIPT, _freecad, _rgb
+def test_freecad_reads_every_copied_solid_valid_coloured_and_of_its_volume(
+    fab, tmp_path, monkeypatch
+):
+    """assembly.step of a sheet of copies (each distinct solid written once, placed as
+    many times as it is used; no pcurves; the crease sheet in strips) in FreeCAD itself,
+    in both merge modes."""
+    from test_clients_freecad import SOLIDS_SCRIPT, _freecad, _rgb, check_freecad_solids
 
     from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
-    from origami_cad.fabrication.solids import PART_MATERIALS
+    from origami_cad.fabrication.exports import step as step_module
 
+    monkeypatch.setattr(step_module, "HOLES_PER_STRIP", 4)  # 16 holes: 4 strips
+    strips = len(step_module.crease_strips(fab.parts.solids["creases"][0]))
     step = export_step_assembly(fab.parts, tmp_path / "assembly.step")
-    rows = _freecad(tmp_path, MODES_SCRIPT, step)["no merge"]
-    features = {
-        label: (count, valid, colour, volume) for label, count, valid, colour, volume in rows
-    }
-    for name in ("infills", "midlayers", "shells"):
-        for k, solid in enumerate(fab.parts.solids[name]):
-            count, valid, colour, volume = features[f"{name} {k}"]
-            assert count == 1 and valid, (name, k)
-            assert colour == pytest.approx(_rgb(MATERIAL_COLORS[PART_MATERIALS[name]]), abs=2e-3)
-            assert volume == pytest.approx(solid.volume, rel=1e-6), (name, k)
+    modes = _freecad(tmp_path, SOLIDS_SCRIPT, step)
+    assert set(modes) == {"merge", "no merge"}
+    assert any(r[1] == "App::Link" for r in modes["no merge"])  # shared shapes, linked
+    for rows in modes.values():
+        check_freecad_solids(rows, fab.parts, names=("infills", "midlayers", "shells"))
+        creases = [r for r in rows if r[0].startswith("creases")]
+        assert len(creases) == strips >= 4
+        assert all(r[2] for r in creases)
+        assert all(r[3] == pytest.approx(_rgb(MATERIAL_COLORS["TPU"]), abs=2e-3) for r in creases)
+        volume = sum(r[4] for r in creases)
+        assert volume == pytest.approx(fab.parts.solids["creases"][0].volume, rel=1e-6)
 
 
 def test_a_solid_replaced_after_the_build_is_meshed_as_itself():
