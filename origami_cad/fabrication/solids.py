@@ -87,8 +87,23 @@ class Parts:
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])
 
+    def source(self, name: str, k: int) -> tuple[int, np.ndarray] | None:
+        """``(earlier solid, motion)`` when solid ``k`` of part ``name`` is, as built, a moved
+        copy of that earlier solid (both still the solids built there), else ``None``."""
+        solids, copies = self.solids[name], self.copy_of.get(name, [])
+        built = self.built.get(name, [])
+        src = copies[k] if k < len(copies) else None
+        if src is None or k >= len(built) or built[k] is not solids[k]:
+            return None
+        return src if built[src[0]] is solids[src[0]] else None
+
     def volume(self, name: str) -> float:
-        return float(sum(s.volume for s in self.solids[name]))
+        """The part's volume, mm^3: a moved copy's is its prototype's (computed once)."""
+        volumes: list[float] = []
+        for k, solid in enumerate(self.solids[name]):
+            src = self.source(name, k)
+            volumes.append(solid.volume if src is None else volumes[src[0]])
+        return float(sum(volumes))
 
 
 def _distinct(points: list) -> list:

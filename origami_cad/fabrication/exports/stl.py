@@ -179,17 +179,10 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
     if cached is not None and len(cached[0]) == len(solids):
         if all(a is b for a, b in zip(cached[0], solids, strict=True)):
             return cached[1]
-    copies, built = parts.copy_of.get(name, []), parts.built.get(name, [])
     meshes: list[tuple[np.ndarray, np.ndarray]] = []
     for k, solid in enumerate(solids):
-        source = copies[k] if k < len(copies) else None
-        as_built = (
-            source is not None
-            and k < len(built)
-            and built[k] is solid
-            and built[source[0]] is solids[source[0]]
-        )
-        if not as_built:
+        source = parts.source(name, k)
+        if source is None:
             meshes.append(solid_mesh(solid))
         else:
             meshes.append(moved_mesh(meshes[source[0]], source[1]))
