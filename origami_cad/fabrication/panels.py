@@ -296,7 +296,11 @@ def plan_holes(
             else [(x, y, diameter) for x, y in spec]
         )
         by_index = {o.index: o for o in outlines}
-        placed = [_given_hole(cp, by_index, k, x, y, d) for k, (x, y, d) in enumerate(points)]
+        faces = cp.faces_of_points(np.array([(x, y) for x, y, _ in points]).reshape(-1, 2))
+        placed = [
+            _given_hole(int(fi), by_index, k, x, y, d)
+            for k, ((x, y, d), fi) in enumerate(zip(points, faces.tolist(), strict=True))
+        ]
     return tuple(h for _, h in placed), np.array([i for i, _ in placed], dtype=np.int64)
 
 
@@ -315,9 +319,9 @@ def _auto_hole(o: PanelOutline, diameter: float) -> Hole:
 
 
 def _given_hole(
-    cp: CreasePattern, by_index: dict[int, PanelOutline], k: int, x: float, y: float, d: float
+    fi: int, by_index: dict[int, PanelOutline], k: int, x: float, y: float, d: float
 ) -> tuple[int, Hole]:
-    fi = cp.face_of_point(x, y)
+    """The hole ``k`` at ``(x, y)`` (diameter ``d``) on face ``fi`` (-1: none), checked."""
     if fi < 0:
         raise PatternError(f"hole {k} at ({x:g}, {y:g}) mm is not on any panel")
     o = by_index[fi]
