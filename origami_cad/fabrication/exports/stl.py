@@ -10,6 +10,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+import shapely
 from build123d import Solid, export_stl
 from OCP.BRep import BRep_Tool
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
@@ -20,7 +21,7 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
 
 from origami_cad._fileio import atomic_path
-from origami_cad.fabrication.solids import PART_NAMES, Parts
+from origami_cad.fabrication.solids import PART_NAMES, Parts, prism_rings
 
 __all__ = [
     "ANGULAR_TOLERANCE",
@@ -30,6 +31,7 @@ __all__ = [
     "moved_mesh",
     "part_meshes",
     "parts_tessellation",
+    "prism_mesh",
     "read_binary_stl",
     "solid_mesh",
     "stack_meshes",
@@ -158,6 +160,44 @@ def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
     return v[first], t
 
 
+def prism_mesh(poly, z0: float, z1: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The mesh of a polygon's :func:`~origami_cad.fabrication.solids.planar_prism`, mm.
+
+    The same surface as OCC's mesh of the prism (every face is planar, every edge
+    straight): the polygon's constrained Delaunay triangulation on the top and the bottom,
+    two triangles per side, on the prism's own corners; outward. ``None`` when the
+    triangulation does not stand on those corners alone (then the solid is meshed by OCC).
+    """
+    rings = [np.array(r, dtype=float) for r in prism_rings(poly)]
+    for k, ring in enumerate(rings):  # exterior counter-clockwise, holes clockwise
+        x, y = ring[:, 0], ring[:, 1]
+        area = np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)
+        if (area > 0) != (k == 0):
+            rings[k] = ring[::-1]
+    flat = np.vstack(rings)
+    n = len(flat)
+    triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
+    corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
+    corners = corners.reshape(len(triangles), 4, 2)[:, :3]
+    keys = {(x, y): i for i, (x, y) in enumerate(flat.tolist())}
+    try:
+        tri = np.array([keys[(x, y)] for x, y in corners.reshape(-1, 2).tolist()])
+    except KeyError:
+        return None
+    tri = tri.reshape(-1, 3)
+    a, b, c = flat[tri[:, 0]], flat[tri[:, 1]], flat[tri[:, 2]]
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    tri = np.where((cross < 0)[:, None], tri[:, [0, 2, 1]], tri)  # counter-clockwise: +z
+    nxt = np.concatenate([np.roll(np.arange(len(r)), -1) for r in rings])
+    nxt += np.repeat(np.cumsum([0, *[len(r) for r in rings[:-1]]]), [len(r) for r in rings])
+    i = np.arange(n)
+    sides = np.vstack([np.column_stack([i, nxt, nxt + n]), np.column_stack([i, nxt + n, i + n])])
+    verts = np.vstack(
+        [np.column_stack([flat, np.full(n, z0)]), np.column_stack([flat, np.full(n, z1)])]
+    )
+    return verts, np.vstack([tri[:, [0, 2, 1]], tri + n, sides]).astype(np.int64)
+
+
 def moved_mesh(mesh: tuple[np.ndarray, np.ndarray], motion: np.ndarray) -> tuple:
     """A mesh moved by a 3 x 3 plane motion (rotation about z, translation in mm)."""
     v, t = mesh
@@ -181,8 +221,11 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
             return cached[1]
     meshes: list[tuple[np.ndarray, np.ndarray]] = []
     for k, solid in enumerate(solids):
-        source = parts.source(name, k)
-        if source is None:
+        source, prism = parts.source(name, k), parts.prism(name, k)
+        mesh = prism_mesh(*prism) if prism is not None else None
+        if mesh is not None:
+            meshes.append(mesh)
+        elif source is None:
             meshes.append(solid_mesh(solid))
         else:
             meshes.append(moved_mesh(meshes[source[0]], source[1]))
