@@ -91,9 +91,28 @@ def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     count = int(np.frombuffer(raw, dtype="<u4", count=1, offset=80)[0])
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     data = np.frombuffer(raw, dtype=record, count=count, offset=84)
-    corners = data["v"].reshape(-1, 3).astype(float)
-    verts, inverse = weld(corners)
+    verts, inverse = _weld_float32(data["v"].reshape(-1, 3))
     return verts, inverse.reshape(-1, 3)
+
+
+def _weld_float32(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`weld` of float32 points (the same result, as float64), about twice as fast.
+
+    Each coordinate's bits are mapped to an unsigned integer in the order of the floats
+    (``-0.0`` is ``0.0``); x and y make one 64-bit key, z another: a sort of two integer
+    keys rather than three float ones.
+    """
+    points = np.asarray(points, dtype=np.float32).reshape(-1, 3)
+    bits = (points + np.float32(0.0)).view(np.uint32).astype(np.uint64)
+    key = np.where(bits >> np.uint64(31), bits ^ np.uint64(0xFFFFFFFF), bits | np.uint64(1 << 31))
+    xy = (key[:, 0] << np.uint64(32)) | key[:, 1]
+    order = np.lexsort((key[:, 2], xy))
+    ranked_xy, ranked_z = xy[order], key[order, 2]
+    new = np.ones(len(points), dtype=bool)
+    new[1:] = (ranked_xy[1:] != ranked_xy[:-1]) | (ranked_z[1:] != ranked_z[:-1])
+    inverse = np.empty(len(points), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return points[order[new]].astype(float), inverse
 
 
 def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
