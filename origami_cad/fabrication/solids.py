@@ -166,11 +166,10 @@ def _cylinders(holes: Sequence[Hole], z0: float, z1: float) -> list[Solid]:
 
 
 def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
+    """``solid`` less every tool, in one boolean: the solids left."""
     if not tools:
         return [solid]
-    result = solid
-    for tool in tools:
-        result = result - tool
+    result = solid.cut(*tools)
     return list(result.solids()) if hasattr(result, "solids") else [result]
 
 
@@ -226,7 +225,7 @@ def panel_solids(
     out: dict[str, list[Solid]] = {"halves": [lower, upper], "infills": [], "shells": []}
     for whole, core in ((lower, lower_in), (upper, upper_in)):
         out["infills"] += _cut(core, cyl)
-        out["shells"] += _cut(whole - core, cyl)
+        out["shells"] += _cut(whole, [core, *cyl])
     mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
     out["midlayers"] = _cut(mid, cyl)
     return out
