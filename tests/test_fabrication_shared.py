@@ -297,3 +297,22 @@ def test_an_stl_read_back_is_welded_as_weld_welds_it(tmp_path):
     got_v, got_t = read_binary_stl(path)
     want_v, inverse = weld(v.astype(np.float32).astype(float)[t].reshape(-1, 3))
     assert np.array_equal(got_v, want_v) and np.array_equal(got_t, inverse.reshape(-1, 3))
+
+
+def test_the_3mf_text_is_what_percent_formatting_writes(fab, tmp_path):
+    import zipfile
+
+    from origami_cad.fabrication.exports.threemf import export_3mf
+
+    for slicer in ("prusa", "bambu"):
+        path = export_3mf(fab.parts, tmp_path / f"{slicer}.3mf", slicer=slicer)
+        model = zipfile.ZipFile(path).read("3D/3dmodel.model").decode()
+        v, t = stack_meshes([m for n in PART_NAMES for m in part_meshes(fab.parts, n)])
+        want = [f'<vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in v.tolist()]
+        got = re.findall(r"<vertex [^>]*/>", model)
+        assert [w.replace('"-0.000000"', '"0.000000"') for w in want] == got
+        rows = re.findall(r'<triangle v1="(\d+)" v2="(\d+)" v3="(\d+)"', model)
+        offsets = np.cumsum([0, *[len(part_meshes(fab.parts, n)) for n in PART_NAMES]])
+        assert len(rows) == len(t) and offsets[-1] > 0
+        if slicer == "prusa":  # one mesh: the stacked triangles as they are
+            assert np.array_equal(np.array(rows, dtype=np.int64), t)
