@@ -240,3 +240,86 @@ def test_a_solid_replaced_after_the_build_is_meshed_as_itself():
     v, t = part_meshes(fab.parts, "shells")[k]
     assert len(v) != len(before[0]) and _closed(t)
     assert _mesh_volume(v, t) == pytest.approx(60.0, rel=1e-9)
+
+
+def test_a_parts_volume_counts_each_copy_as_its_own_solids(fab):
+    for name in PART_NAMES:
+        own = sum(Solid(s.wrapped).volume for s in fab.parts.solids[name])
+        assert fab.parts.volume(name) == pytest.approx(own, rel=1e-9), name
+
+
+def test_the_crease_sheet_is_meshed_from_its_polygon_as_occ_meshes_it(fab):
+    from origami_cad.fabrication.exports.stl import prism_mesh
+
+    (v, t), sheet = part_meshes(fab.parts, "creases")[0], fab.parts.solids["creases"][0]
+    assert fab.parts.prism("creases", 0) is not None
+    assert prism_mesh(*fab.parts.prism("creases", 0))[1].shape == t.shape
+    own_v, own_t = solid_mesh(Solid(sheet.wrapped))
+    assert _closed(t) and len(t) == len(own_t) and len(v) == len(own_v)
+    assert _mesh_volume(v, t) == pytest.approx(sheet.volume, rel=1e-9)
+    assert np.abs(np.sort(v, axis=0) - np.sort(own_v, axis=0)).max() < 1e-6
+
+
+def test_a_step_export_failing_in_its_child_process_fails_write_fabrication(
+    fab, tmp_path, monkeypatch
+):
+    from origami_cad.fabrication import exports
+
+    def failing(fab, folder):
+        raise OSError(f"{folder / 'assembly.step'}: the STEP writer failed")
+
+    monkeypatch.setitem(exports.WRITERS, "step", failing)
+    with pytest.raises(OSError, match=r"assembly\.step: the STEP writer failed"):
+        write_fabrication(fab, tmp_path)
+    assert not (tmp_path / "assembly.step").exists()
+    assert not list(tmp_path.glob(".oc-*"))
+
+
+def test_a_child_call_gives_its_value_or_its_error_with_the_same_text():
+    from origami_cad.parallel import ChildCall
+
+    assert ChildCall(sorted, [3, 1, 2]).result() == [1, 2, 3]
+
+    class Odd(Exception):
+        def __init__(self, a, b):
+            super().__init__(f"{a} and {b}")
+
+    def odd():
+        raise Odd(1, 2)  # does not survive pickling: a RuntimeError with its text
+
+    with pytest.raises(RuntimeError, match=r"^1 and 2$"):
+        ChildCall(odd).result()
+    with pytest.raises(ValueError, match="math domain"):
+        ChildCall(__import__("math").sqrt, -1.0).result()
+
+
+def test_an_stl_read_back_is_welded_as_weld_welds_it(tmp_path):
+    from origami_cad.fabrication.exports.stl import write_mesh_stl
+
+    rng = np.random.default_rng(7)
+    v = np.round(rng.uniform(-20, 20, (3000, 3)) * 4) / 4
+    v[:3] = [[0.0, -0.0, 1.0], [-0.0, 0.0, 1.0], [-1e-30, 2.0, -3.0]]
+    t = rng.integers(0, len(v), (4000, 3))
+    path = write_mesh_stl((v, t), tmp_path / "m.stl")
+    got_v, got_t = read_binary_stl(path)
+    want_v, inverse = weld(v.astype(np.float32).astype(float)[t].reshape(-1, 3))
+    assert np.array_equal(got_v, want_v) and np.array_equal(got_t, inverse.reshape(-1, 3))
+
+
+def test_the_3mf_text_is_what_percent_formatting_writes(fab, tmp_path):
+    import zipfile
+
+    from origami_cad.fabrication.exports.threemf import export_3mf
+
+    for slicer in ("prusa", "bambu"):
+        path = export_3mf(fab.parts, tmp_path / f"{slicer}.3mf", slicer=slicer)
+        model = zipfile.ZipFile(path).read("3D/3dmodel.model").decode()
+        v, t = stack_meshes([m for n in PART_NAMES for m in part_meshes(fab.parts, n)])
+        want = [f'<vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in v.tolist()]
+        got = re.findall(r"<vertex [^>]*/>", model)
+        assert [w.replace('"-0.000000"', '"0.000000"') for w in want] == got
+        rows = re.findall(r'<triangle v1="(\d+)" v2="(\d+)" v3="(\d+)"', model)
+        offsets = np.cumsum([0, *[len(part_meshes(fab.parts, n)) for n in PART_NAMES]])
+        assert len(rows) == len(t) and offsets[-1] > 0
+        if slicer == "prusa":  # one mesh: the stacked triangles as they are
+            assert np.array_equal(np.array(rows, dtype=np.int64), t)

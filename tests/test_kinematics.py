@@ -182,3 +182,18 @@ def test_fold_rejects_foreign_pattern_and_bad_ratio():
         fold_tessellation(d, tg_pattern(DESIGNS["classic-miura"]), 0.3)
     with pytest.raises(PatternError, match=r"\[0, 1\]"):
         fold_tessellation(d, tg_pattern(d), 1.2)
+
+
+def test_a_fold_sequence_is_each_state_folded_alone():
+    from origami_cad.kinematics.folding import fold_design, fold_sequence
+    from origami_cad.pattern.design import miura_design
+
+    design = miura_design(3, 4, 15.0, 20.0, 70.0)
+    ratios = [0.0, 0.13, 0.5, 0.97, 1.0]
+    for state, p in zip(fold_sequence(design, ratios), ratios, strict=True):
+        alone = fold_design(design, p)
+        assert state.p == p
+        np.testing.assert_allclose(state.coords, alone.coords, atol=1e-12)
+        np.testing.assert_allclose(state.fold_angles, alone.fold_angles, atol=1e-9)
+    with pytest.raises(PatternError, match=r"fold ratio must lie in \[0, 1\], got 1.5"):
+        fold_sequence(design, [0.2, 1.5])

@@ -172,3 +172,16 @@ def test_holes_and_labels_ride_along():
     assert cp.holes == ()
     with pytest.raises(PatternError, match="no panel labelled"):
         cp.face_index("nope")
+
+
+def test_faces_of_points_is_face_of_point_for_each():
+    from origami_cad.pattern.design import miura_design
+
+    cp = miura_design(3, 4, 15.0, 20.0, 70.0).pattern
+    x0, y0, x1, y1 = cp.bounds
+    rng = np.random.default_rng(5)
+    points = np.column_stack([rng.uniform(x0 - 2, x1 + 2, 400), rng.uniform(y0 - 2, y1 + 2, 400)])
+    points = np.vstack([points, cp.vertices])  # on the edges: no face contains them
+    want = [cp.face_of_point(x, y) for x, y in points]
+    assert cp.faces_of_points(points).tolist() == want
+    assert cp.faces_of_points(np.zeros((0, 2))).shape == (0,)

@@ -61,24 +61,23 @@ def offset_ring(
     u = d / length[:, None]
     n = np.column_stack([-u[:, 1], u[:, 0]])  # inward normal of a CCW ring
     base = pts + n * off[:, None]  # a point on each offset line
-    prev = np.roll(np.arange(len(pts)), 1)
-    out, keep_edges = [], []
-    for k in range(len(pts)):
-        a, b = prev[k], k
-        cross = u[a, 0] * u[b, 1] - u[a, 1] * u[b, 0]
-        if abs(cross) < 1e-12:
-            if abs(off[a] - off[b]) > 1e-9:
-                raise PatternError(
-                    f"panel {label}: collinear edges with different insets at corner "
-                    f"({pts[k, 0]:.4g}, {pts[k, 1]:.4g}) mm"
-                )
-            continue
-        # base[a] + s u[a] = base[b] + r u[b]
-        w = base[b] - base[a]
-        s = (w[0] * u[b, 1] - w[1] * u[b, 0]) / cross
-        out.append(base[a] + s * u[a])
-        keep_edges.append(b)
-    res = np.array(out)
+    a = np.roll(np.arange(len(pts)), 1)  # corner k joins edge a[k] to edge k
+    cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
+    collinear = np.abs(cross) < 1e-12
+    uneven = np.flatnonzero(collinear & (np.abs(off[a] - off) > 1e-9))
+    if uneven.size:
+        k = uneven[0]
+        raise PatternError(
+            f"panel {label}: collinear edges with different insets at corner "
+            f"({pts[k, 0]:.4g}, {pts[k, 1]:.4g}) mm"
+        )
+    keep_edges = np.flatnonzero(~collinear)
+    a, b = a[keep_edges], keep_edges
+    # base[a] + s u[a] = base[b] + r u[b]
+    w = base[b] - base[a]
+    s = (w[:, 0] * u[b, 1] - w[:, 1] * u[b, 0]) / cross[b]
+    out = base[a] + s[:, None] * u[a]
+    res = out.reshape(-1, 2)
     if len(res) < 3:
         raise PatternError(f"panel {label} is too small for the {what or 'inset'}")
     # every kept edge must keep its direction and a positive length
@@ -296,7 +295,11 @@ def plan_holes(
             else [(x, y, diameter) for x, y in spec]
         )
         by_index = {o.index: o for o in outlines}
-        placed = [_given_hole(cp, by_index, k, x, y, d) for k, (x, y, d) in enumerate(points)]
+        faces = cp.faces_of_points(np.array([(x, y) for x, y, _ in points]).reshape(-1, 2))
+        placed = [
+            _given_hole(int(fi), by_index, k, x, y, d)
+            for k, ((x, y, d), fi) in enumerate(zip(points, faces.tolist(), strict=True))
+        ]
     return tuple(h for _, h in placed), np.array([i for i, _ in placed], dtype=np.int64)
 
 
@@ -315,9 +318,9 @@ def _auto_hole(o: PanelOutline, diameter: float) -> Hole:
 
 
 def _given_hole(
-    cp: CreasePattern, by_index: dict[int, PanelOutline], k: int, x: float, y: float, d: float
+    fi: int, by_index: dict[int, PanelOutline], k: int, x: float, y: float, d: float
 ) -> tuple[int, Hole]:
-    fi = cp.face_of_point(x, y)
+    """The hole ``k`` at ``(x, y)`` (diameter ``d``) on face ``fi`` (-1: none), checked."""
     if fi < 0:
         raise PatternError(f"hole {k} at ({x:g}, {y:g}) mm is not on any panel")
     o = by_index[fi]

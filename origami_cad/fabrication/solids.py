@@ -37,6 +37,7 @@ __all__ = [
     "moved_copy",
     "panel_solids",
     "planar_prism",
+    "prism_rings",
 ]
 
 #: The four parts, in the order of the exports.
@@ -69,6 +70,11 @@ class Parts:
     )
     #: the solids as added, position by position (what ``copy_of`` describes)
     built: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
+    #: per solid of each part, as built: ``(polygon, z0, z1)`` when it is that polygon's
+    #: :func:`planar_prism` (meshed from the polygon: ``exports.stl.prism_mesh``), else ``None``
+    prisms: dict[str, list[tuple[shapely.Polygon, float, float] | None]] = field(
+        default_factory=dict
+    )
     #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
@@ -87,8 +93,31 @@ class Parts:
     def compound(self, name: str) -> Compound:
         return Compound(self.solids[name])
 
+    def source(self, name: str, k: int) -> tuple[int, np.ndarray] | None:
+        """``(earlier solid, motion)`` when solid ``k`` of part ``name`` is, as built, a moved
+        copy of that earlier solid (both still the solids built there), else ``None``."""
+        solids, copies = self.solids[name], self.copy_of.get(name, [])
+        built = self.built.get(name, [])
+        src = copies[k] if k < len(copies) else None
+        if src is None or k >= len(built) or built[k] is not solids[k]:
+            return None
+        return src if built[src[0]] is solids[src[0]] else None
+
+    def prism(self, name: str, k: int) -> tuple[shapely.Polygon, float, float] | None:
+        """``(polygon, z0, z1)`` when solid ``k`` of part ``name`` is, as built, that
+        polygon's :func:`planar_prism`, else ``None``."""
+        prisms, built = self.prisms.get(name, []), self.built.get(name, [])
+        if k >= len(prisms) or k >= len(built) or built[k] is not self.solids[name][k]:
+            return None
+        return prisms[k]
+
     def volume(self, name: str) -> float:
-        return float(sum(s.volume for s in self.solids[name]))
+        """The part's volume, mm^3: a moved copy's is its prototype's (computed once)."""
+        volumes: list[float] = []
+        for k, solid in enumerate(self.solids[name]):
+            src = self.source(name, k)
+            volumes.append(solid.volume if src is None else volumes[src[0]])
+        return float(sum(volumes))
 
 
 def _distinct(points: list) -> list:
@@ -137,23 +166,30 @@ def _cylinders(holes: Sequence[Hole], z0: float, z1: float) -> list[Solid]:
 
 
 def _cut(solid: Solid, tools: list[Solid]) -> list[Solid]:
+    """``solid`` less every tool, in one boolean: the solids left."""
     if not tools:
         return [solid]
-    result = solid
-    for tool in tools:
-        result = result - tool
+    result = solid.cut(*tools)
     return list(result.solids()) if hasattr(result, "solids") else [result]
+
+
+def prism_rings(poly: shapely.Polygon) -> list[list[tuple[float, float]]]:
+    """The corners of a polygon's rings as :func:`planar_prism` builds them (exterior first,
+    then the holes; no closing point, no repeated corner), mm."""
+    return [
+        _distinct([(float(x), float(y)) for x, y in shapely.get_coordinates(ring)[:-1]])
+        for ring in (poly.exterior, *poly.interiors)
+    ]
 
 
 def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
     """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm."""
 
-    def wire(ring) -> Wire:
-        c = _distinct([(float(x), float(y)) for x, y in shapely.get_coordinates(ring)[:-1]])
+    def wire(c) -> Wire:
         return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
 
-    inner = [wire(r) for r in poly.interiors]
-    face = Face(wire(poly.exterior), inner)
+    outer, *inner = [wire(c) for c in prism_rings(poly)]
+    face = Face(outer, inner)
     return Solid.extrude(face, Vector(0, 0, z1 - z0))
 
 
@@ -189,7 +225,7 @@ def panel_solids(
     out: dict[str, list[Solid]] = {"halves": [lower, upper], "infills": [], "shells": []}
     for whole, core in ((lower, lower_in), (upper, upper_in)):
         out["infills"] += _cut(core, cyl)
-        out["shells"] += _cut(whole - core, cyl)
+        out["shells"] += _cut(whole, [core, *cyl])
     mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
     out["midlayers"] = _cut(mid, cyl)
     return out
@@ -256,7 +292,10 @@ def build_parts(
             parts.add(name, solids[name], o.index, copies)
     z_layer_lo = params.half_height
     sheet = crease_sheet(outlines, sheet_outline)
-    for poly in shapely.get_parts(sheet):
-        prism = planar_prism(poly, z_layer_lo, z_layer_lo + params.thickness)
+    z_layer_hi = z_layer_lo + params.thickness
+    for poly in shapely.get_parts(sheet):  # no owner: the crease sheet is no panel's
+        prism = planar_prism(poly, z_layer_lo, z_layer_hi)
         parts.solids["creases"].append(prism)
+        parts.built["creases"].append(prism)
+        parts.prisms.setdefault("creases", []).append((poly, z_layer_lo, z_layer_hi))
     return parts

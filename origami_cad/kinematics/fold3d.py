@@ -37,6 +37,7 @@ __all__ = [
     "face_normals",
     "fold_angles_from_coords",
     "fold_tessellation",
+    "fold_tessellation_many",
     "tessellation_vertices",
 ]
 
@@ -106,25 +107,26 @@ def tessellation_vertices(design: TGDesign, p: float | np.ndarray) -> np.ndarray
 def face_normals(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
     """Unit normal of every face in 3D (Newell's method), shape (f, 3).
 
-    ``coords`` has shape (n, 3), one row per pattern vertex, mm. Normals point
-    to the side of the sheet's top face (+z when flat).
+    ``coords`` has shape (n, 3), one row per pattern vertex, mm (or (..., n, 3): several
+    states at once, normals (..., f, 3)). Normals point to the side of the sheet's top
+    face (+z when flat).
     """
     counts = np.array([len(f) for f in cp.faces])
     flat = np.concatenate(cp.faces)
     starts = np.r_[0, np.cumsum(counts)[:-1]]
     nxt = np.arange(len(flat)) + 1
     nxt[starts + counts - 1] = starts
-    a, b = coords[flat], coords[flat[nxt]]
+    a, b = coords[..., flat, :], coords[..., flat[nxt], :]
     terms = np.stack(
         [
-            (a[:, 1] - b[:, 1]) * (a[:, 2] + b[:, 2]),
-            (a[:, 2] - b[:, 2]) * (a[:, 0] + b[:, 0]),
-            (a[:, 0] - b[:, 0]) * (a[:, 1] + b[:, 1]),
+            (a[..., 1] - b[..., 1]) * (a[..., 2] + b[..., 2]),
+            (a[..., 2] - b[..., 2]) * (a[..., 0] + b[..., 0]),
+            (a[..., 0] - b[..., 0]) * (a[..., 1] + b[..., 1]),
         ],
-        axis=1,
+        axis=-1,
     )
-    nrm = np.add.reduceat(terms, starts, axis=0)
-    length = np.linalg.norm(nrm, axis=1, keepdims=True)
+    nrm = np.add.reduceat(terms, starts, axis=-2)
+    length = np.linalg.norm(nrm, axis=-1, keepdims=True)
     if np.any(length == 0):
         raise PatternError("a panel has zero area in the folded state")
     return nrm / length
@@ -134,19 +136,20 @@ def fold_angles_from_coords(cp: CreasePattern, coords: np.ndarray) -> np.ndarray
     """Signed fold angle of every edge of a folded state, radians.
 
     Valley positive, mountain negative (FOLD convention); 0 for edges with fewer
-    than two faces (border).
+    than two faces (border). ``coords`` (n, 3) mm, or (..., n, 3) for several states
+    (angles (..., m)).
     """
     normals = face_normals(cp, coords)
     ef = cp.edge_faces()
     both = (ef >= 0).all(axis=1)
-    out = np.zeros(cp.n_edges)
+    out = np.zeros((*coords.shape[:-2], cp.n_edges))
     e = np.flatnonzero(both)
-    n_left, n_right = normals[ef[e, 0]], normals[ef[e, 1]]
-    axis = coords[cp.edges[e, 1]] - coords[cp.edges[e, 0]]
-    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
-    sin = np.einsum("ij,ij->i", np.cross(n_right, n_left), axis)
-    cos = np.einsum("ij,ij->i", n_left, n_right)
-    out[e] = np.arctan2(sin, cos)
+    n_left, n_right = normals[..., ef[e, 0], :], normals[..., ef[e, 1], :]
+    axis = coords[..., cp.edges[e, 1], :] - coords[..., cp.edges[e, 0], :]
+    axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
+    sin = np.einsum("...ij,...ij->...i", np.cross(n_right, n_left), axis)
+    cos = np.einsum("...ij,...ij->...i", n_left, n_right)
+    out[..., e] = np.arctan2(sin, cos)
     return out
 
 
@@ -158,9 +161,18 @@ def fold_tessellation(
     Returns ``(coords, fold_angles)``: vertex coordinates (n, 3) in mm in the
     vertex order of ``cp``, and every edge's fold angle in degrees.
     """
-    grid = tessellation_vertices(design, float(p)).reshape(-1, 3)
-    flat = tessellation_vertices(design, 0.0).reshape(-1, 3)[:, :2]
+    coords, angles = fold_tessellation_many(design, cp, np.array([float(p)]))
+    return coords[0], angles[0]
+
+
+def fold_tessellation_many(
+    design: TGDesign, cp: CreasePattern, ratios: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`fold_tessellation` at many fold ratios at once: (P, n, 3) mm, (P, m) degrees."""
+    ratios = np.asarray(ratios, dtype=float).reshape(-1)
+    grid = tessellation_vertices(design, np.r_[0.0, ratios])
+    flat = grid[0].reshape(-1, 3)[:, :2]
     if len(flat) != cp.n_vertices or not np.allclose(flat, cp.vertices, atol=cp.tolerance):
         raise PatternError("the crease pattern is not the tessellation of this TG design")
-    coords = grid
+    coords = grid[1:].reshape(len(ratios), -1, 3)
     return coords, np.degrees(fold_angles_from_coords(cp, coords))

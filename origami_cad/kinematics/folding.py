@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from origami_cad.errors import PatternError
-from origami_cad.kinematics.fold3d import fold_tessellation
+from origami_cad.kinematics.fold3d import fold_tessellation, fold_tessellation_many
 from origami_cad.pattern.design import Design
 
 __all__ = ["FoldedState", "fold_coords", "fold_design", "fold_sequence"]
@@ -54,8 +54,15 @@ def fold_design(design: Design, p: float) -> FoldedState:
 
 
 def fold_sequence(design: Design, ratios: Sequence[float]) -> list[FoldedState]:
-    """Fold ``design`` to each fold ratio of ``ratios``."""
-    return [fold_design(design, float(p)) for p in ratios]
+    """Fold ``design`` to each fold ratio of ``ratios`` (a TG tessellation: all at once)."""
+    if design.tg is None or not len(ratios):
+        return [fold_design(design, float(p)) for p in ratios]
+    values = [float(p) for p in ratios]
+    for p in values:
+        if not 0.0 <= p <= 1.0:
+            raise PatternError(f"fold ratio must lie in [0, 1], got {p}")
+    coords, angles = fold_tessellation_many(design.tg, design.pattern, np.array(values))
+    return [FoldedState(p, c, a) for p, c, a in zip(values, coords, angles, strict=True)]
 
 
 def fold_coords(design: Design, ratios: Sequence[float]) -> np.ndarray:

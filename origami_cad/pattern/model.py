@@ -397,10 +397,14 @@ class CreasePattern:
         ``edges[:, 0]`` to ``edges[:, 1]``; column 1 the face running it backwards.
         """
         out = np.full((self.n_edges, 2), -1, dtype=np.int64)
-        for fi, (ring, fedges) in enumerate(zip(self._faces, self._face_edges, strict=True)):
-            forward = self.edges[fedges, 0] == ring
-            out[fedges[forward], 0] = fi
-            out[fedges[~forward], 1] = fi
+        if not self._faces:
+            return out
+        ring = np.concatenate(self._faces)
+        fedges = np.concatenate(self._face_edges)
+        face = np.repeat(np.arange(len(self._faces)), [len(f) for f in self._faces])
+        forward = self.edges[fedges, 0] == ring
+        out[fedges[forward], 0] = face[forward]  # a face seen twice: the later one, as before
+        out[fedges[~forward], 1] = face[~forward]
         return out
 
     def face_of_point(self, x: float, y: float) -> int:
@@ -409,6 +413,17 @@ class CreasePattern:
         polys = self.face_polygons()
         hit = np.flatnonzero(shapely.contains(polys, pt))
         return int(hit[0]) if hit.size else -1
+
+    def faces_of_points(self, points: np.ndarray) -> np.ndarray:
+        """:meth:`face_of_point` of many points at once, ``(k, 2)`` mm: face indices, -1 none."""
+        pts = shapely.points(np.asarray(points, dtype=float).reshape(-1, 2))
+        out = np.full(len(pts), -1, dtype=np.int64)
+        if not self._faces or not len(pts):
+            return out
+        point, face = shapely.STRtree(self.face_polygons()).query(pts, predicate="within")
+        order = np.lexsort((-face, point))  # per point, the lowest face index written last
+        out[point[order]] = face[order]
+        return out
 
     # ------------------------------------------------------------- derivation
     def with_holes(self, holes: Iterable[Hole]) -> CreasePattern:

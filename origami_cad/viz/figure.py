@@ -18,7 +18,11 @@ from matplotlib.figure import Figure
 
 from origami_cad._fileio import atomic_path
 
-__all__ = ["new_axes", "png_subplots"]
+__all__ = ["PNG_COMPRESS_LEVEL", "new_axes", "png_subplots"]
+
+#: zlib level of the PNGs: 3 compresses a 20 x 20 sheet's panels.png within 2 % of the
+#: default (6) in about half the time.
+PNG_COMPRESS_LEVEL = 3
 
 
 def new_axes(figsize: tuple[float, float]) -> Axes:
@@ -50,4 +54,4 @@ def png_subplots(
     yield fig, axes
     fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png")
+        fig.savefig(tmp, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})

@@ -10,6 +10,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+import shapely
 from build123d import Solid, export_stl
 from OCP.BRep import BRep_Tool
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
@@ -20,7 +21,7 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
 
 from origami_cad._fileio import atomic_path
-from origami_cad.fabrication.solids import PART_NAMES, Parts
+from origami_cad.fabrication.solids import PART_NAMES, Parts, prism_rings
 
 __all__ = [
     "ANGULAR_TOLERANCE",
@@ -30,6 +31,7 @@ __all__ = [
     "moved_mesh",
     "part_meshes",
     "parts_tessellation",
+    "prism_mesh",
     "read_binary_stl",
     "solid_mesh",
     "stack_meshes",
@@ -89,9 +91,28 @@ def read_binary_stl(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarra
     count = int(np.frombuffer(raw, dtype="<u4", count=1, offset=80)[0])
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     data = np.frombuffer(raw, dtype=record, count=count, offset=84)
-    corners = data["v"].reshape(-1, 3).astype(float)
-    verts, inverse = weld(corners)
+    verts, inverse = _weld_float32(data["v"].reshape(-1, 3))
     return verts, inverse.reshape(-1, 3)
+
+
+def _weld_float32(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`weld` of float32 points (the same result, as float64), about twice as fast.
+
+    Each coordinate's bits are mapped to an unsigned integer in the order of the floats
+    (``-0.0`` is ``0.0``); x and y make one 64-bit key, z another: a sort of two integer
+    keys rather than three float ones.
+    """
+    points = np.asarray(points, dtype=np.float32).reshape(-1, 3)
+    bits = (points + np.float32(0.0)).view(np.uint32).astype(np.uint64)
+    key = np.where(bits >> np.uint64(31), bits ^ np.uint64(0xFFFFFFFF), bits | np.uint64(1 << 31))
+    xy = (key[:, 0] << np.uint64(32)) | key[:, 1]
+    order = np.lexsort((key[:, 2], xy))
+    ranked_xy, ranked_z = xy[order], key[order, 2]
+    new = np.ones(len(points), dtype=bool)
+    new[1:] = (ranked_xy[1:] != ranked_xy[:-1]) | (ranked_z[1:] != ranked_z[:-1])
+    inverse = np.empty(len(points), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return points[order[new]].astype(float), inverse
 
 
 def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -158,6 +179,44 @@ def solid_mesh(solid: Solid) -> tuple[np.ndarray, np.ndarray]:
     return v[first], t
 
 
+def prism_mesh(poly, z0: float, z1: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The mesh of a polygon's :func:`~origami_cad.fabrication.solids.planar_prism`, mm.
+
+    The same surface as OCC's mesh of the prism (every face is planar, every edge
+    straight): the polygon's constrained Delaunay triangulation on the top and the bottom,
+    two triangles per side, on the prism's own corners; outward. ``None`` when the
+    triangulation does not stand on those corners alone (then the solid is meshed by OCC).
+    """
+    rings = [np.array(r, dtype=float) for r in prism_rings(poly)]
+    for k, ring in enumerate(rings):  # exterior counter-clockwise, holes clockwise
+        x, y = ring[:, 0], ring[:, 1]
+        area = np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)
+        if (area > 0) != (k == 0):
+            rings[k] = ring[::-1]
+    flat = np.vstack(rings)
+    n = len(flat)
+    triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
+    corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
+    corners = corners.reshape(len(triangles), 4, 2)[:, :3]
+    keys = {(x, y): i for i, (x, y) in enumerate(flat.tolist())}
+    try:
+        tri = np.array([keys[(x, y)] for x, y in corners.reshape(-1, 2).tolist()])
+    except KeyError:
+        return None
+    tri = tri.reshape(-1, 3)
+    a, b, c = flat[tri[:, 0]], flat[tri[:, 1]], flat[tri[:, 2]]
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    tri = np.where((cross < 0)[:, None], tri[:, [0, 2, 1]], tri)  # counter-clockwise: +z
+    nxt = np.concatenate([np.roll(np.arange(len(r)), -1) for r in rings])
+    nxt += np.repeat(np.cumsum([0, *[len(r) for r in rings[:-1]]]), [len(r) for r in rings])
+    i = np.arange(n)
+    sides = np.vstack([np.column_stack([i, nxt, nxt + n]), np.column_stack([i, nxt + n, i + n])])
+    verts = np.vstack(
+        [np.column_stack([flat, np.full(n, z0)]), np.column_stack([flat, np.full(n, z1)])]
+    )
+    return verts, np.vstack([tri[:, [0, 2, 1]], tri + n, sides]).astype(np.int64)
+
+
 def moved_mesh(mesh: tuple[np.ndarray, np.ndarray], motion: np.ndarray) -> tuple:
     """A mesh moved by a 3 x 3 plane motion (rotation about z, translation in mm)."""
     v, t = mesh
@@ -179,17 +238,13 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
     if cached is not None and len(cached[0]) == len(solids):
         if all(a is b for a, b in zip(cached[0], solids, strict=True)):
             return cached[1]
-    copies, built = parts.copy_of.get(name, []), parts.built.get(name, [])
     meshes: list[tuple[np.ndarray, np.ndarray]] = []
     for k, solid in enumerate(solids):
-        source = copies[k] if k < len(copies) else None
-        as_built = (
-            source is not None
-            and k < len(built)
-            and built[k] is solid
-            and built[source[0]] is solids[source[0]]
-        )
-        if not as_built:
+        source, prism = parts.source(name, k), parts.prism(name, k)
+        mesh = prism_mesh(*prism) if prism is not None else None
+        if mesh is not None:
+            meshes.append(mesh)
+        elif source is None:
             meshes.append(solid_mesh(solid))
         else:
             meshes.append(moved_mesh(meshes[source[0]], source[1]))

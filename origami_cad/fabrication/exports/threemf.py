@@ -277,7 +277,7 @@ def _part_mesh(parts: Parts, part: str) -> tuple[np.ndarray, np.ndarray]:
     return stack_meshes(part_meshes(parts, part))
 
 
-def _prusa_entries(meshes, name: str, settings) -> dict[str, str]:
+def _prusa_entries(meshes, name: str, settings) -> dict[str, str | bytes]:
     """The files of the PrusaSlicer flavour (one object, a triangle range per part)."""
     all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
     for n in PART_NAMES:
@@ -298,7 +298,7 @@ def _prusa_entries(meshes, name: str, settings) -> dict[str, str]:
     ]
     prusa, bambu = _slicer_configs(ranges, name)
     return {
-        "3D/3dmodel.model": "\n".join(model),
+        "3D/3dmodel.model": _join_lines(model),
         "Metadata/Slic3r_PE_model.config": "\n".join(prusa),
         "Metadata/model_settings.config": "\n".join(bambu),
         "Metadata/Slic3r_PE.config": _prusa_print_config(settings),
@@ -306,7 +306,7 @@ def _prusa_entries(meshes, name: str, settings) -> dict[str, str]:
     }
 
 
-def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str]:
+def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str | bytes]:
     """The files of the Bambu Studio / OrcaSlicer flavour (a mesh object per part)."""
     application = APPLICATIONS[slicer]
     head = _model_head(application, name, bambu=True)
@@ -327,7 +327,7 @@ def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str]:
     model += ["   </components>", "  </object>", *_model_tail(assembly)]
     version = application.split("-", 1)[1]
     return {
-        "3D/3dmodel.model": "\n".join(model),
+        "3D/3dmodel.model": _join_lines(model),
         "Metadata/model_settings.config": "\n".join(model_settings_config(assembly, parts, name)),
         "Metadata/project_settings.config": project_settings_config(settings, version),
     }
@@ -356,30 +356,103 @@ def _model_tail(item: int) -> list[str]:
     return [" </resources>", " <build>", f'  <item objectid="{item}"/>', " </build>", "</model>"]
 
 
-def _rows(template: str, values: list, width: int, chunk: int = 4096) -> list[str]:
-    """``template % row`` for each row of ``width`` values (a flat list), one string per chunk.
+#: Four ASCII digits per number, by table look-up: "0000" ... "9999" (rows 0 ... 9999), then
+#: the same without leading zeros, NUL-padded ("\\0\\0\\00" ... "9999"), then four NULs.
+_FOUR_DIGITS = np.frombuffer(
+    b"".join(b"%04d" % i for i in range(10000))
+    + b"".join((b"%4d" % i).replace(b" ", b"\0") for i in range(10000))
+    + b"\0" * 4,
+    dtype=np.uint32,
+)
 
-    One ``%`` per chunk of rows rather than one per row: the same text, formatted in C.
+
+def _digit_groups(values: np.ndarray, groups: int, leading: bool) -> np.ndarray:
+    """Non-negative integers as ``4 * groups`` ASCII digits each: (n, 4 g) bytes.
+
+    With ``leading``, the leading zeros are NUL (a zero is written ``0``), else kept.
     """
-    out = []
-    for start in range(0, len(values), chunk * width):
-        part = values[start : start + chunk * width]
-        out.append("\n".join([template] * (len(part) // width)) % tuple(part))
-    return out
+    parts = []
+    rest = values
+    for _ in range(groups):
+        rest, low = np.divmod(rest, 10000)
+        parts.append(low)
+    out = np.empty((len(values), groups), dtype=np.uint32)
+    ahead = np.full(len(values), leading)  # only zeros so far
+    for g, low in enumerate(parts[::-1]):
+        if not leading:
+            out[:, g] = _FOUR_DIGITS[low]
+            continue
+        row = np.where(ahead, low + 10000, low)
+        if g < groups - 1:
+            row = np.where(ahead & (low == 0), 20000, row)
+        out[:, g] = _FOUR_DIGITS[row]
+        ahead &= low == 0
+    return out.view(np.uint8)
 
 
-def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list[str]:
-    """``<mesh>`` of an object; with ``mat``, each triangle's base material index."""
-    vertex = '     <vertex x="%.6f" y="%.6f" z="%.6f"/>'
-    lines = ["   <mesh>", "    <vertices>", *_rows(vertex, verts.ravel().tolist(), 3)]
+def _number_fields(values: np.ndarray, decimals: int) -> list[np.ndarray]:
+    """Each value as ``"%.<decimals>f"`` writes it (``%d`` with 0): NUL-padded byte blocks.
+
+    The blocks (sign, whole part, and with decimals the point and the fraction), each
+    (n, w) bytes, side by side make the text. Rounded half to even at ``decimals`` (0 to 8);
+    a value that rounds to zero has no sign.
+    """
+    if decimals == 0:
+        q = np.asarray(values, dtype=np.int64)
+    else:
+        q = np.rint(np.asarray(values, dtype=float) * 10.0**decimals).astype(np.int64)
+    whole, frac = np.divmod(np.abs(q), 10**decimals)
+    top = int(whole.max()) if len(whole) else 0
+    digits = _digit_groups(whole, max(1, -(-len(str(top)) // 4)), leading=True)
+    sign = np.where(q < 0, ord("-"), 0).astype(np.uint8)[:, None]
+    if not decimals:
+        return [sign, digits]
+    fraction = _digit_groups(frac, 2, leading=False)[:, 8 - decimals :]
+    return [sign, digits, np.frombuffer(b".", dtype=np.uint8), fraction]
+
+
+def _rows(pieces: list[str], columns: np.ndarray, decimals: int) -> bytes:
+    """One line per row of ``columns``: ``pieces[0] col0 pieces[1] col1 ... pieces[-1]``.
+
+    The numbers are written as ``%.<decimals>f`` writes them (``%d`` with 0 decimals;
+    rounded half to even, no ``-`` on a zero); the lines are joined by newlines.
+    Formatted with NumPy, a whole column at once.
+    """
+    rows = len(columns)
+    if not rows:
+        return b""
+    literal = [np.frombuffer(p.encode(), dtype=np.uint8) for p in pieces]
+    literal[-1] = np.append(literal[-1], np.uint8(10))
+    blocks = [literal[0]]
+    for k in range(columns.shape[1]):
+        blocks += [*_number_fields(columns[:, k], decimals), literal[k + 1]]
+    widths = [b.shape[-1] for b in blocks]
+    text = np.empty((rows, sum(widths)), dtype=np.uint8)
+    for block, start in zip(blocks, np.cumsum([0, *widths[:-1]]).tolist(), strict=True):
+        text[:, start : start + block.shape[-1]] = block
+    return text.tobytes().replace(b"\0", b"")[:-1]
+
+
+def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list:
+    """``<mesh>`` of an object (lines; the vertices and the triangles each one ``bytes``).
+
+    With ``mat``, each triangle's base material index.
+    """
+    vertex = ['     <vertex x="', '" y="', '" z="', '"/>']
+    lines = ["   <mesh>", "    <vertices>", _rows(vertex, verts.reshape(-1, 3), 6)]
     lines += ["    </vertices>", "    <triangles>"]
     if mat is None:
-        triangle = '     <triangle v1="%d" v2="%d" v3="%d"/>'
-        lines += _rows(triangle, tris.ravel().tolist(), 3)
+        triangle = ['     <triangle v1="', '" v2="', '" v3="', '"/>']
+        lines.append(_rows(triangle, tris.reshape(-1, 3), 0))
     else:
-        triangle = '     <triangle v1="%d" v2="%d" v3="%d" pid="1" p1="%d"/>'
-        lines += _rows(triangle, np.column_stack([tris, mat]).ravel().tolist(), 4)
+        triangle = ['     <triangle v1="', '" v2="', '" v3="', '" pid="1" p1="', '"/>']
+        lines.append(_rows(triangle, np.column_stack([tris, mat]).astype(np.int64), 0))
     return [*lines, "    </triangles>", "   </mesh>"]
+
+
+def _join_lines(lines: list) -> bytes:
+    """Lines (``str`` or ``bytes``; an empty ``bytes`` is no line) joined by newlines."""
+    return b"\n".join(x if isinstance(x, bytes) else x.encode() for x in lines if x != b"")
 
 
 def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str], list[str]]:
