@@ -119,11 +119,20 @@ def _child_main(conn, fn: Callable[..., Any], args: tuple) -> None:
         os._exit(0)  # no clean-up of the parent's (atexit, open files' buffers) in the child
 
 
+def _can_fork() -> bool:
+    """Whether :class:`ChildCall` may fork: ``fork`` exists and this process may have children."""
+    return (
+        "fork" in multiprocessing.get_all_start_methods()
+        and not multiprocessing.current_process().daemon
+    )
+
+
 class ChildCall:
     """``fn(*args)`` run in a forked child process while this one goes on; :meth:`result`.
 
-    Where ``fork`` is not available (Windows, macOS' default is kept as is) the call runs
-    here, at once. The child is a copy of this process: ``fn`` sees every object as it is
+    Where ``fork`` is not available (Windows, macOS' default is kept as is), or in a
+    daemonic process (a ``multiprocessing.Pool`` or Dask worker, which may have no
+    children), the call runs here, at once. The child is a copy of this process: ``fn`` sees every object as it is
     now, and what it changes stays in the child; its return value (or its exception, the
     same type and text; a ``RuntimeError`` with the text when it cannot be pickled) comes
     back through a pipe. The child takes SIGINT and SIGTERM only while ``fn`` runs, so an
@@ -137,7 +146,7 @@ class ChildCall:
     def __init__(self, fn: Callable[..., Any], *args: Any) -> None:
         self._proc = None
         self._outcome: tuple[str, Any] = ("ok", None)
-        if "fork" not in multiprocessing.get_all_start_methods():
+        if not _can_fork():
             self._outcome = ("ok", fn(*args))
             return
         ctx = multiprocessing.get_context("fork")
