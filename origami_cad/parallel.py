@@ -132,12 +132,12 @@ class ChildCall:
 
     Where ``fork`` is not available (Windows, macOS' default is kept as is), or in a
     daemonic process (a ``multiprocessing.Pool`` or Dask worker, which may have no
-    children), the call runs here, at once. The child is a copy of this process: ``fn`` sees every object as it is
-    now, and what it changes stays in the child; its return value (or its exception, the
-    same type and text; a ``RuntimeError`` with the text when it cannot be pickled) comes
-    back through a pipe. The child takes SIGINT and SIGTERM only while ``fn`` runs, so an
-    interrupt is ``fn``'s to clean up (``_fileio.atomic_path`` removes its temporary file);
-    :meth:`stop` forwards one.
+    children), the call runs here, at once. The child is a copy of this process: ``fn`` sees
+    every object as it is now, and what it changes stays in the child; its return value (or
+    its exception, the same type and text; a ``RuntimeError`` with the text when it cannot
+    be pickled) comes back through a pipe. The child takes SIGINT and SIGTERM only while
+    ``fn`` runs, so an interrupt is ``fn``'s to clean up (``_fileio.atomic_path`` removes
+    its temporary file); :meth:`stop` forwards one.
 
     >>> ChildCall(sum, [1, 2, 3]).result()
     6
