@@ -191,6 +191,39 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     assert (
         main(["drive", str(out / "gait.toml"), "--dry-run", "--log", str(tmp_path / "l.csv")]) == 0
     )
+    # sequence takes the robot and its designed gait: the same keyframes, drive runs them
+    seq = tmp_path / "seq.toml"
+    assert main(["sequence", str(ROBOT), str(out / "gait.toml"), "-o", str(seq)]) == 0
+    written, designed = load_sequence(seq), load_sequence(out / "gait.toml")
+    assert written.keyframes == designed.keyframes  # times, kinds (p) and fold ratios
+    assert "origami-cad sequence" in seq.read_text(encoding="utf-8")
+    assert main(["drive", str(seq), "--dry-run", "--log", str(tmp_path / "s.csv")]) == 0
+
+
+def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path, capsys):
+    """``sequence ROBOT.toml GAIT.toml``: the robot file's own gait written as a gait file
+    gives back its keyframes; keyframes on the command line, or none for a pattern, are
+    refused in one line."""
+    gait = tmp_path / "hand.toml"
+    robot = load_robot(ROBOT)
+    gait.write_text(gait_sequence_text(robot), encoding="utf-8")
+    seq = tmp_path / "seq.toml"
+    assert main(["sequence", str(ROBOT), str(gait), "-o", str(seq), "--repeat", "2"]) == 0
+    back = load_gait(seq, robot)
+    np.testing.assert_allclose(back.gait_p, robot.gait_p)
+    assert load_sequence(seq).repeat == 2
+    capsys.readouterr()
+    argv = ["sequence", str(ROBOT), str(gait), "-o", str(tmp_path / "no.toml")]
+    for extra, said in ((["--keyframes", "0:0.1"], "--keyframes: not with a robot file"),
+                        (["--ids", "1,2"], "--ids: not with a robot file")):  # fmt: skip
+        assert main([*argv, *extra]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and said in err[0] and "crawler.toml" in err[0], err
+    pattern = ["sequence", str(HERE / "crawler.fold"), str(HERE / "route_fl.toml")]
+    assert main([*pattern, "-o", str(tmp_path / "no.toml")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--keyframes: required" in err[0], err
+    assert not (tmp_path / "no.toml").exists()
 
 
 def test_a_gait_too_fast_for_the_servo_is_never_walked_and_named(robot):
