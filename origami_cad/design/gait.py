@@ -653,7 +653,8 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
     rigid stride capped by it; the foot slip as the rigid stride less the simulated
     one; the TSA turns the blocker needs against the route's ``max_turns`` (string
     stroke); and the leg length that would give ``target`` mm at the measured share of
-    the rigid stride.
+    the rigid stride (the stride taken as proportional to the leg length), at each
+    friction and, at the top level, at the friction nearest the robot file's.
     """
     length = _leg_length(robot)
     best = np.asarray(design.best.ratios) * 180.0
@@ -670,8 +671,9 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
             "simulated_mm": t.forward,
             "slip_loss_mm": rigid - t.forward,
             "share_of_rigid": t.forward / rigid if rigid > 0 else 0.0,
+            "leg_length_for_target_mm": target * length / t.forward if t.forward > 0 else math.inf,
         }
-    share = min(v["share_of_rigid"] for v in per.values())
+    own = min(design.best.terms, key=lambda t: abs(t.friction - robot.friction))
     stroke = gait_turns(robot, np.full((1, len(robot.legs)), blocker / 180.0))[0]
     return {
         "leg_length_mm": length,
@@ -682,9 +684,7 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
         "per_friction": per,
         "tsa_turns_at_blocker": float(stroke.max()),
         "route_max_turns": min(leg.route.max_turns for leg in robot.legs),
-        "leg_length_for_target_mm": target
-        / (share * per[next(iter(per))]["rigid_stride_of_best_mm"] / length)
-        if share > 0
-        else math.inf,
+        "leg_length_for_target_mm": per[f"{own.friction:g}"]["leg_length_for_target_mm"],
+        "target_friction": own.friction,
         "target_mm": target,
     }
