@@ -76,10 +76,8 @@ def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
         (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
         (f"{name}: theta_max, p_max (eq. 6)", limits),
         (f"{name}: volumes", vols),
-        (
-            f"{name}: mass estimate",
-            f"{report['printed_mass_g']:.1f} g as printed ({report['total_mass_g']:.1f} g solid)",
-        ),
+        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),  # as solid
+        (f"{name}: mass as printed (the 3MF's settings)", f"{report['printed_mass_g']:.1f} g"),
     ]
     if fab.limits.p_max_kinematic is not None:
         kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
