@@ -43,6 +43,10 @@ scores over the frictions: their mean (``mix = "mean"``, the default), their wor
 to ``SCORE_RESOLUTION`` before CMA-ES ranks them, and the eigen-decomposition is
 ``canonical_eigh``, so a search is the same on any CPU up to its simulations' last bits.
 
+The robot file's own gait is scored first and kept as a candidate, and run 0 starts
+CMA-ES from its nearest genome (:func:`encode_gait`): the best returned never scores
+below it (when it is within the limits).
+
 Units: mm, deg, s, N, N mm at the edges; fold ratios ``p = fold angle / 180 deg``.
 """
 
