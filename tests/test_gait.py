@@ -215,7 +215,8 @@ def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path,
     capsys.readouterr()
     argv = ["sequence", str(ROBOT), str(gait), "-o", str(tmp_path / "no.toml")]
     for extra, said in ((["--keyframes", "0:0.1"], "--keyframes: not with a robot file"),
-                        (["--ids", "1,2"], "--ids: not with a robot file")):  # fmt: skip
+                        (["--ids", "1,2"], "--ids: not with a robot file"),
+                        (["--model", "simulation"], "--model: not with a robot file")):  # fmt: skip
         assert main([*argv, *extra]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and said in err[0] and "crawler.toml" in err[0], err

@@ -81,6 +81,7 @@ def _robot_sequence(a) -> Outputs:
 
     shown = {o.name: o.shown for o in SequenceCommand.OPTIONS}
     given = [n for n in ("keyframes", "more_routes", "ids", "fixed_panel") if getattr(a, n)]
+    given += ["model"] if a.model != "dcqc" else []  # the robot's own leg model is used
     if given:
         raise OptionsError(
             f"{shown[given[0]]}: not with a robot file ({one_line(a.design)}): its gait "
