@@ -47,6 +47,8 @@ CASES: dict[str, tuple[list[str], bool]] = {
                   "--steps", "6"], False),
     "sequence": (["sequence", "{ex}/arm_design.toml", "{ex}/arm_route.toml", "-o",
                   "{out}/seq.toml", "--keyframes", "0:0", "10:0.3", "20:0"], True),
+    "sequence-robot": (["sequence", "{ex}/" + CR, "{ex}/crawler_gait.toml", "-o",
+                        "{out}/seq.toml"], True),
     "arm-scene": (["arm-scene", "{ex}/arm_task.toml", "{ex}/arm_design.toml",
                    "{ex}/arm_route.toml", "-o", "{out}/scene", "--steps", "8"], False),
     "robot": (["robot", "{ex}/" + CR, "-o", "{out}/robot", "--no-renders"], False),

@@ -18,10 +18,13 @@ from origami_cad.cli import main
 from origami_cad.commands import execute
 from origami_cad.design.gait import (
     DIMENSION,
-    HAND_GENOME,
     P_FLOOR,
+    GaitSettings,
     cma_strategy,
     decode_gait,
+    design_gait,
+    encode_gait,
+    hard_hits,
 )
 from origami_cad.design.search import UnitBox
 from origami_cad.drive.sequence import load_sequence
@@ -74,12 +77,31 @@ def test_every_genome_decodes_to_a_gait_within_the_limits_that_drive_and_crawl_a
         assert len(load_sequence(path).keyframes) == len(t)
 
 
-def test_the_hand_genome_is_the_hand_gaits_strokes(robot):
-    _, p = decode_gait(robot, HAND_GENOME)
+def test_the_hand_gaits_genome_is_its_strokes(robot):
+    """encode_gait: the robot file's crawl strokes (30 -> 55 deg, front legs first), not
+    its rest at 20 deg before and after them; a decoded genome encodes back to itself."""
+    _, p = decode_gait(robot, encode_gait(robot))
     hand = robot.gait_p
-    # the same fold range as the robot file's crawl strokes (30 -> 55 deg), within 1 deg
     assert abs(180 * p.min() - 180 * hand[1].min()) < 1.0
     assert abs(180 * p.max() - 180 * hand.max()) < 1.0
+    x = np.array([0.2, 0.7, 0.6, 0.3, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(encode_gait(with_gait(robot, *decode_gait(robot, x))), x, atol=1e-3)
+
+
+def test_the_search_never_returns_a_gait_worse_than_the_robots_own(robot):
+    """The best scores at least the hand gait's objective, however the budget and the
+    mix: at 0.8 the hand gait's legs jam, which is scored, not a reason to discard it."""
+    settings = GaitSettings(
+        frictions=(0.6, 0.8), mix="worst", popsize=2, generations=1, steps=2, sigma0=0.3
+    )
+    design = design_gait(robot, settings)
+    hand = design.candidates[0]
+    assert hand.hand and hand.terms == design.hand and hand.score == design.hand_score
+    np.testing.assert_array_equal(hand.ratios, robot.gait_p)  # the file's own keyframes
+    assert not hard_hits(design.best)
+    assert design.best.score >= design.hand_score
+    assert design.best.score == max(c.score for c in design.candidates if not hard_hits(c))
+    assert min(design.history[0]) >= design.hand_score
 
 
 def test_a_gait_past_a_blocker_or_the_servo_speed_is_refused_by_name(robot, tmp_path):
@@ -147,14 +169,15 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     names = {p.name for p in out.iterdir()}
     assert names == {f.name for f in done.files}
     design = done.result  # the library's data: every candidate, the best of the clean ones
-    assert len(design.candidates) == 1 + 2  # the hand genome, then the population
-    clean = [c for c in design.candidates if not any(t.hits for t in c.terms)]
+    assert len(design.candidates) == 1 + 2  # the hand gait, then the population
+    clean = [c for c in design.candidates if not hard_hits(c)]
     assert design.best.score == max(c.score for c in clean or design.candidates)
     assert design.history[0][-1] == max(c.score for c in design.candidates)
     assert [t.friction for t in design.hand] == [0.6]
     # reproducible: the seed gives the same population again (cma's seed 0 is the clock)
     settings = design.settings
-    again = UnitBox(DIMENSION)(np.asarray(cma_strategy(0, settings).ask()))
+    start = design.candidates[0].genome
+    again = UnitBox(DIMENSION)(np.asarray(cma_strategy(0, settings, start).ask()))
     np.testing.assert_array_equal(again, [c.genome for c in design.candidates[1:]])
     report = json.loads((out / "results.json").read_text())
     assert len(report["candidates"]) == 3 and report["what_limits_the_stride"]["leg_length_mm"]
@@ -168,16 +191,51 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     assert (
         main(["drive", str(out / "gait.toml"), "--dry-run", "--log", str(tmp_path / "l.csv")]) == 0
     )
+    # sequence takes the robot and its designed gait: the same keyframes, drive runs them
+    seq = tmp_path / "seq.toml"
+    assert main(["sequence", str(ROBOT), str(out / "gait.toml"), "-o", str(seq)]) == 0
+    written, designed = load_sequence(seq), load_sequence(out / "gait.toml")
+    assert written.keyframes == designed.keyframes  # times, kinds (p) and fold ratios
+    assert "origami-cad sequence" in seq.read_text(encoding="utf-8")
+    assert main(["drive", str(seq), "--dry-run", "--log", str(tmp_path / "s.csv")]) == 0
+
+
+def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path, capsys):
+    """``sequence ROBOT.toml GAIT.toml``: the robot file's own gait written as a gait file
+    gives back its keyframes; keyframes on the command line, or none for a pattern, are
+    refused in one line."""
+    gait = tmp_path / "hand.toml"
+    robot = load_robot(ROBOT)
+    gait.write_text(gait_sequence_text(robot), encoding="utf-8")
+    seq = tmp_path / "seq.toml"
+    assert main(["sequence", str(ROBOT), str(gait), "-o", str(seq), "--repeat", "2"]) == 0
+    back = load_gait(seq, robot)
+    np.testing.assert_allclose(back.gait_p, robot.gait_p)
+    assert load_sequence(seq).repeat == 2
+    capsys.readouterr()
+    argv = ["sequence", str(ROBOT), str(gait), "-o", str(tmp_path / "no.toml")]
+    for extra, said in ((["--keyframes", "0:0.1"], "--keyframes: not with a robot file"),
+                        (["--ids", "1,2"], "--ids: not with a robot file"),
+                        (["--model", "simulation"], "--model: not with a robot file")):  # fmt: skip
+        assert main([*argv, *extra]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and said in err[0] and "crawler.toml" in err[0], err
+    pattern = ["sequence", str(HERE / "crawler.fold"), str(HERE / "route_fl.toml")]
+    assert main([*pattern, "-o", str(tmp_path / "no.toml")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--keyframes: required" in err[0], err
+    assert not (tmp_path / "no.toml").exists()
 
 
 def test_a_gait_too_fast_for_the_servo_is_never_walked_and_named(robot):
     """Servo speed is known from the keyframes: such a candidate is not simulated, it is
     scored below every walked one and names the limit (only the hand gait walks here)."""
-    from origami_cad.design.gait import FAILED, GaitLimits, GaitSettings, design_gait
+    from origami_cad.design.gait import FAILED, GaitLimits
 
     slow = GaitLimits(servo_rpm=1.0)  # every stroke of a 32 s cycle needs more
     settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2, limits=slow)
     design = design_gait(robot, settings)
-    for c in design.candidates:
+    for c in design.candidates[1:]:
         assert c.score < FAILED and "over the servo's 1 " in c.terms[0].hits[0] + " "
-    assert design.hand[0].score > FAILED  # the hand gait was walked
+    assert design.hand[0].score > FAILED  # the hand gait was walked, past the limit
+    assert design.candidates[0].hand and hard_hits(design.candidates[0])

@@ -106,6 +106,23 @@ def test_printed_mass_is_grams_per_material(fab):
     )
 
 
+def test_fabrication_json_reports_the_solid_and_the_printed_mass(fab, tmp_path):
+    """fabrication.json: total_mass_g the solid mass (unchanged), printed_mass_g the mass
+    as printed with the 3MF's settings, the sheet's figure in robot.json."""
+    from origami_cad.fabrication import write_fabrication
+    from origami_cad.fabrication.params import DENSITY_G_CM3
+
+    report = json.loads(write_fabrication(fab, tmp_path)["json"].read_text(encoding="utf-8"))
+    solid = sum(fab.parts.volume(n) / 1000 * DENSITY_G_CM3[PART_MATERIALS[n]] for n in PART_NAMES)
+    assert report["total_mass_g"] == pytest.approx(solid, rel=1e-12)
+    printed = sum(sheet_print_mass(fab).values())
+    assert report["printed_mass_g"] == pytest.approx(printed, rel=1e-12)
+    parts = report["parts"].values()
+    assert sum(p["printed_mass_g"] for p in parts) == pytest.approx(printed, rel=1e-12)
+    assert all(p["printed_mass_g"] <= p["mass_g"] * (1 + 5e-3) for p in parts)  # meshed
+    assert report["printed_mass_g"] < report["total_mass_g"]  # sparse infill
+
+
 def test_slicer_settings_refuse_an_unknown_setting_or_a_bad_fraction():
     with pytest.raises(FabricationError, match=r"unknown print setting.*walls"):
         slicer_settings(print_settings={"walls": 3})

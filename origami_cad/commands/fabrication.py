@@ -76,7 +76,8 @@ def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
         (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
         (f"{name}: theta_max, p_max (eq. 6)", limits),
         (f"{name}: volumes", vols),
-        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),
+        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),  # as solid
+        (f"{name}: mass as printed (the 3MF's settings)", f"{report['printed_mass_g']:.1f} g"),
     ]
     if fab.limits.p_max_kinematic is not None:
         kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
@@ -104,7 +105,7 @@ def _summary(fab) -> str:
     return (
         f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
         f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
-        f"mass {report['total_mass_g']:.1f} g"
+        f"mass {report['printed_mass_g']:.1f} g as printed ({report['total_mass_g']:.1f} g solid)"
     )
 
 

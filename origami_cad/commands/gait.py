@@ -114,9 +114,10 @@ def _report(robot, design, seconds: float, command: str) -> dict:
 def _within_limits(a, design) -> None:
     """Refuse a search whose every candidate passed a limit (crawl --gait and drive would
     refuse its gait): one line naming the limit the best one passed."""
+    from origami_cad.design.gait import hard_hits
     from origami_cad.errors import DesignError
 
-    hard = [h for t in design.best.terms for h in t.hits if "jammed" not in h]
+    hard = hard_hits(design.best)
     if hard:
         raise DesignError(
             f"{a.robot}: none of {len(design.candidates)} gaits stays within the limits; "
@@ -145,15 +146,17 @@ class DesignGait(Command):
     tension limit, over one ``cycle``; each candidate is walked in simulation as
     ``crawl`` does at every friction of ``frictions`` and scored by its forward
     displacement per cycle less its drift, yaw, foot slip and limits hit, combined by
-    ``mix`` (the worst friction, or their mean). ``gait.toml`` is a sequence for
-    ``drive`` whose keyframes ``crawl --gait`` reads; ``results.json`` holds every
-    candidate and what limits the stride; ``scheduler`` runs the simulations on Dask.
+    ``mix`` (their mean, the worst friction, or the average of the two). The search
+    starts from the robot file's own gait, which stays a candidate: the best is never
+    worse. ``gait.toml`` is a sequence for ``drive`` whose keyframes ``crawl --gait``
+    reads; ``results.json`` holds every candidate and what limits the stride;
+    ``scheduler`` runs the simulations on Dask.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "design-gait", ("robot",), "folder", "gait candidates"
     OPTIONS = (
         Option("frictions", "float", "Coulomb coefficients scored", min=0, max=100, nargs="+"),
-        Option("mix", "str", "how frictions combine", choices=("worst", "mean")),
+        Option("mix", "str", "how frictions combine", choices=("mean", "worst", "worst+mean")),
         Option("cycle", "float", "gait cycle", "s", min=1, max=3600),
         Option("runs", "int", "independent CMA-ES runs", min=1, max=100),
         Option("popsize", "int", "CMA-ES population", min=2, max=1000),

@@ -8,7 +8,7 @@ from origami_cad._fileio import atomic_path
 from origami_cad._names import one_line
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.commands.drive import parse_ids
-from origami_cad.errors import DriveError
+from origami_cad.errors import DriveError, OptionsError
 
 __all__: list[str] = []
 
@@ -59,6 +59,51 @@ def _route_tsa(a, loaded, path, servo: int, at):
     return tsa, numbers, result
 
 
+def _is_robot(path) -> bool:
+    """Whether ``path`` is a robot file: a TOML file with a ``[robot]`` table."""
+    import tomllib
+
+    if Path(path).suffix.lower() != ".toml":
+        return False
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False
+    return isinstance(data.get("robot"), dict)
+
+
+def _robot_sequence(a) -> Outputs:
+    """A robot file and its gait file as the sequence ``drive`` runs (what ``crawl`` writes,
+    without the simulated loads): each leg's mapping from the robot's leg model."""
+    from origami_cad.drive.sequence import load_sequence
+    from origami_cad.robot import load_gait, load_robot
+    from origami_cad.simulation.crawler import check_servo_speed, gait_sequence_text
+
+    shown = {o.name: o.shown for o in SequenceCommand.OPTIONS}
+    given = [n for n in ("keyframes", "more_routes", "ids", "fixed_panel") if getattr(a, n)]
+    given += ["model"] if a.model != "dcqc" else []  # the robot's own leg model is used
+    if given:
+        raise OptionsError(
+            f"{shown[given[0]]}: not with a robot file ({one_line(a.design)}): its gait "
+            f"{one_line(a.route)} gives the keyframes and the robot its legs"
+        )
+    robot = load_gait(a.route, load_robot(a.design))
+    check_servo_speed(robot, where=str(a.route))
+    argv = f"origami-cad sequence {a.design} {a.route} -o {a.output} --rate {a.rate:g}"
+    text = gait_sequence_text(
+        robot, repeat=a.repeat, rate=a.rate, command=f"{argv} --repeat {a.repeat}"
+    ).replace("written by origami-cad crawl", "written by origami-cad sequence", 1)
+    with atomic_path(a.output) as tmp:
+        Path(tmp).write_text(text, encoding="utf-8")
+        load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist
+    return Outputs(
+        files=[Path(a.output)],
+        numbers=[("keyframes of the gait", f"{len(robot.gait_t)} over {robot.cycle:g} s")],
+        messages=[f"{len(robot.legs)} TSA(s) of {one_line(a.design)}; {wrote(a.output)}"],
+        result=robot,
+    )
+
+
 @register
 class SequenceCommand(Command):
     """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
@@ -73,13 +118,19 @@ class SequenceCommand(Command):
     without a one-parameter folding is measured by its most folded crease
     (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
     (e.g. a robot's body while one leg folds), instead of each route's own setting.
+
+    With a robot file as ``design`` (``[robot]``, legs with their routes), ``route`` is
+    a gait file (``design-gait``'s ``gait.toml``, or any gait ``crawl --gait`` reads):
+    its keyframes, checked against the blockers and the servos' speed, become the
+    sequence with each leg's mapping from the robot's leg model, as ``crawl`` writes it
+    (without the simulated loads); ``keyframes`` and the route options are then not taken.
     """
 
     NAME, INPUTS, OUTPUT = "sequence", ("design", "route"), "output"
     SUFFIXES, WHAT = (".toml",), "a sequence"
     OPTIONS = (
-        Option("keyframes", help="time s : fold ratio (one per route)", nargs="+",
-               required=True, metavar="T:P[,P...]"),
+        Option("keyframes", help="time s : fold ratio (one per route; not with a robot file)",
+               nargs="+", metavar="T:P[,P...]"),
         Option("more_routes", help="more TSAs", nargs="+", metavar="ROUTE"),
         Option("model", help="string model", default="dcqc", choices=("dcqc", "simulation")),
         _IDS,
@@ -98,6 +149,10 @@ class SequenceCommand(Command):
         from origami_cad.drive.sequence import load_sequence
         from origami_cad.pattern.design import load_pattern_source
 
+        if _is_robot(a.design):
+            return _robot_sequence(a)
+        if not a.keyframes:
+            raise OptionsError("--keyframes: required (unless DESIGN is a robot file)")
         routes = [a.route, *(a.more_routes or [])]
         a.ids = list(a.ids) if a.ids else list(range(1, len(routes) + 1))
         if len(a.ids) != len(routes):

@@ -37,10 +37,15 @@ For every friction of ``settings.frictions`` the gait is simulated as ``crawl`` 
 
 (mm per cycle; drift sideways, mm; yaw of the body, deg; slip: the feet's backward
 travel, mm; hits: limits passed; jam: deg by which the legs that jammed, more than
-``STUCK_DEG`` past their command, stayed past it). The candidate's score is the worst
-over the frictions (``mix = "worst"``) or their mean (``"mean"``). Scores are rounded
+``STUCK_DEG`` past their command, stayed past it). The candidate's score combines its
+scores over the frictions: their mean (``mix = "mean"``, the default), their worst
+(``"worst"``) or the average of the two (``"worst+mean"``). Scores are rounded
 to ``SCORE_RESOLUTION`` before CMA-ES ranks them, and the eigen-decomposition is
 ``canonical_eigh``, so a search is the same on any CPU up to its simulations' last bits.
+
+The robot file's own gait is scored first and kept as a candidate, and run 0 starts
+CMA-ES from its nearest genome (:func:`encode_gait`): the best returned never scores
+below it (when it is within the limits).
 
 Units: mm, deg, s, N, N mm at the edges; fold ratios ``p = fold angle / 180 deg``.
 """
@@ -73,7 +78,7 @@ from origami_cad.simulation.crawler import (
 __all__ = [
     "DIMENSION",
     "FAILED",
-    "HAND_GENOME",
+    "MIXES",
     "P_FLOOR",
     "SCORE_RESOLUTION",
     "GaitCandidate",
@@ -84,8 +89,10 @@ __all__ = [
     "cma_strategy",
     "decode_gait",
     "design_gait",
+    "encode_gait",
     "evaluate_gait",
     "gait_terms",
+    "hard_hits",
     "stride_limits",
 ]
 
@@ -100,9 +107,6 @@ TRIM = 0.03
 MAX_DWELL = 0.15
 #: Variables of the genome.
 DIMENSION = 10
-#: The hand gait of examples/crawler/crawler.toml in this genome (30 -> 55 deg strokes,
-#: no trim, short dwells): where every search starts.
-HAND_GENOME = (0.4, 0.78, 0.4, 0.78, 0.5, 0.5, 0.1, 0.1, 0.1, 0.1)
 #: Scores are rounded to this (mm) before CMA-ES ranks them.
 SCORE_RESOLUTION = 1e-3
 #: Score of a candidate whose simulation failed, mm.
@@ -145,8 +149,10 @@ class GaitSettings:
     ----------
     frictions : tuple of float
         Coulomb coefficients each candidate is simulated at.
-    mix : {"worst", "mean"}
-        How the frictions' scores combine.
+    mix : {"mean", "worst", "worst+mean"}
+        How the frictions' scores combine (``MIXES``): their mean (the default: the
+        worst case trades most of the stride at 0.4-0.6 for the friction the robot walks
+        worst at, docs/crawler.md), the worst, or the average of the two.
     cycle : float
         Gait cycle, s.
     runs, popsize, generations, seed : int
@@ -162,7 +168,7 @@ class GaitSettings:
     """
 
     frictions: tuple[float, ...] = (0.4, 0.6, 0.8)
-    mix: str = "worst"
+    mix: str = "mean"
     cycle: float = 32.0
     runs: int = 1
     popsize: int = 8
@@ -217,6 +223,44 @@ def _leg_groups(robot: Robot) -> tuple[list[int], list[float]]:
     group = [0 if c[0] >= body[0] else 1 for c in centres]
     side = [1.0 if c[1] >= body[1] else -1.0 for c in centres]
     return group, side
+
+
+def _held_range(moving: np.ndarray, p: np.ndarray, others: np.ndarray) -> tuple[float, float]:
+    """The lowest and highest fold ratio a leg pair holds still while the other pair
+    strokes (its ``p_low`` and ``p_high`` in a wave gait); its whole range if it never does."""
+    held = p[~moving & others]
+    held = held if held.size else p
+    return float(held.min()), float(held.max())
+
+
+def encode_gait(robot: Robot) -> np.ndarray:
+    """The genome (DIMENSION,) in [0, 1] nearest to ``robot``'s own gait: where a search starts.
+
+    Each leg pair's ``p_low`` and ``p_high`` are the fold ratios it holds still while the
+    other pair strokes (the hand gait of examples/crawler/crawler.toml: 30 and 55 deg; its
+    rest at 20 deg before and after the strokes is not part of the wave), its trim is half
+    the difference of its left and right legs' top, and each dwell is an equal share of
+    the time no leg moves. A gait the genome cannot express (another stroke order, more
+    strokes) gets the genome of the same fold ranges; values are clipped to [0, 1].
+    """
+    times = np.linspace(robot.gait_t[0], robot.gait_t[-1], 641)
+    p = np.stack([np.interp(times, robot.gait_t, col) for col in robot.gait_p.T], axis=1)
+    group, side = _leg_groups(robot)
+    group, side = np.asarray(group), np.asarray(side)
+    moving = np.abs(np.gradient(p, times, axis=0)) > 1e-6  # (samples, legs)
+    pair = [moving[:, group == g].any(axis=1) for g in (0, 1)]
+    p_max, x = robot.blocker_angle / 180.0, np.zeros(DIMENSION)
+    for g in (0, 1):
+        mean = p[:, group == g].mean(axis=1)
+        low, high = _held_range(pair[g], mean, pair[1 - g])
+        low = min(max(low, P_FLOOR), LOW_TOP)
+        x[2 * g] = (low - P_FLOOR) / (LOW_TOP - P_FLOOR)
+        x[2 * g + 1] = (high - low - MIN_STROKE) / max(p_max - low - MIN_STROKE, 1e-9)
+        tops = [p[:, (group == g) & (side == s)].max(initial=high) for s in (1.0, -1.0)]
+        x[4 + g] = 0.5 + (tops[0] - tops[1]) / 2 / (2 * TRIM)
+    still = float(np.mean(~moving.any(axis=1))) * (times[-1] - times[0])
+    x[6:10] = still / 4 / (MAX_DWELL * (times[-1] - times[0]))
+    return np.clip(x, 0.0, 1.0)
 
 
 #: A dwell shorter than this (s) is no keyframe of its own: its stroke takes its time.
@@ -367,16 +411,29 @@ def evaluate_gait(robot: Robot, x, friction: float, settings: GaitSettings) -> G
     return gait_terms(walker, result, settings)
 
 
+#: How a candidate's per-friction scores combine (``GaitSettings.mix``), mm.
+MIXES: dict[str, Callable[[list[float]], float]] = {
+    "mean": lambda s: float(np.mean(s)),
+    "worst": lambda s: float(min(s)),
+    "worst+mean": lambda s: 0.5 * (float(min(s)) + float(np.mean(s))),
+}
+
+
 def _combine(terms: list[GaitTerms], mix: str) -> float:
-    """One score of a candidate's per-friction terms: their worst, or their mean."""
-    scores = [t.score for t in terms]
-    value = min(scores) if mix == "worst" else float(np.mean(scores))
+    """One score of a candidate's per-friction terms, by ``MIXES[mix]``, rounded."""
+    if mix not in MIXES:
+        raise ValueError(f"mix {mix!r} is not one of {', '.join(MIXES)}")
+    value = MIXES[mix]([t.score for t in terms])
     return float(np.round(value / SCORE_RESOLUTION) * SCORE_RESOLUTION)
 
 
 @dataclass(frozen=True)
 class GaitCandidate:
-    """One evaluated genome: run, generation, genome, keyframes, its terms and score."""
+    """One evaluated gait: run, generation, genome, keyframes, its terms and score.
+
+    ``hand`` marks the robot file's own gait (run 0, generation 0; its genome is the
+    nearest one, :func:`encode_gait`, its keyframes are the file's own).
+    """
 
     run: int
     generation: int
@@ -385,10 +442,12 @@ class GaitCandidate:
     ratios: tuple[tuple[float, ...], ...]
     terms: tuple[GaitTerms, ...]
     score: float
+    hand: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """The candidate for ``results.json`` (fold angles in deg, times in s)."""
         return {
+            "hand_gait": self.hand,
             "run": self.run,
             "generation": self.generation,
             "genome": list(self.genome),
@@ -406,9 +465,11 @@ class GaitDesign:
     Attributes
     ----------
     best : GaitCandidate
-        The best feasible candidate (no limit hit) of every run, else the best.
+        The best candidate within every limit (jams are scored, not excluded), of the
+        hand gait and every run's; at least as good as the hand gait when that is within
+        the limits.
     candidates : list of GaitCandidate
-        Every evaluated candidate, in order (run, generation, index).
+        Every evaluated candidate, in order: the hand gait, then (run, generation, index).
     history : list of list of float
         Best score after each generation, per run, mm.
     hand : tuple of GaitTerms
@@ -451,12 +512,14 @@ def _candidate(robot, run, generation, x, terms, settings) -> GaitCandidate:
     )  # fmt: skip
 
 
-def cma_strategy(run: int, settings: GaitSettings) -> cma.CMAEvolutionStrategy:
-    """Run ``run``'s CMA-ES, seeded ``settings.seed + run``: run 0 starts at the hand
-    gait (``HAND_GENOME``), the others at random; the same populations on every call."""
+def cma_strategy(run: int, settings: GaitSettings, start=None) -> cma.CMAEvolutionStrategy:
+    """Run ``run``'s CMA-ES, seeded ``settings.seed + run``: run 0 starts at ``start``
+    (the robot's own gait, :func:`encode_gait`; default the middle of the box), the others
+    at random; the same populations on every call."""
     seed = settings.seed + run
     rng = np.random.default_rng(seed)
-    x0 = np.array(HAND_GENOME) if run == 0 else rng.uniform(0.15, 0.85, DIMENSION)
+    first = np.full(DIMENSION, 0.5) if start is None else np.asarray(start, dtype=float)
+    x0 = first if run == 0 else rng.uniform(0.15, 0.85, DIMENSION)
     opts = {
         "maxstd": 1.0 / 3.0,
         "seed": seed + 1,  # cma takes seed 0 as "from the clock"
@@ -470,15 +533,11 @@ def cma_strategy(run: int, settings: GaitSettings) -> cma.CMAEvolutionStrategy:
     return cma.CMAEvolutionStrategy(x0, settings.sigma0, opts)
 
 
-def _run(robot, settings, run, executor, report) -> tuple[list[GaitCandidate], list[float]]:
-    """One CMA-ES run: every candidate it evaluated, and its best score per generation."""
-    es, box = cma_strategy(run, settings), UnitBox(DIMENSION)
-    out: list[GaitCandidate] = []
-    if run == 0:  # the start, the hand gait in the genome, is a candidate too
-        start = [np.array(HAND_GENOME)]
-        terms = _evaluate_all(executor, robot, start, settings)
-        out.append(_candidate(robot, run, 0, start[0], terms[0], settings))
-        report(1)
+def _run(robot, settings, run, executor, report, hand: GaitCandidate):
+    """One CMA-ES run from the hand gait's genome: every candidate it evaluated, and the
+    best score so far (the hand gait's included) after each generation."""
+    es, box = cma_strategy(run, settings, hand.genome), UnitBox(DIMENSION)
+    out: list[GaitCandidate] = [hand]
     history: list[float] = []
     for generation in range(1, settings.generations + 1):
         genotypes = es.ask()
@@ -492,13 +551,23 @@ def _run(robot, settings, run, executor, report) -> tuple[list[GaitCandidate], l
         out += found
         history.append(max(c.score for c in out))
         report(len(found))
-    return out, history
+    return out[1:], history
+
+
+def hard_hits(candidate: GaitCandidate) -> list[str]:
+    """The limits ``candidate`` passed at any friction (servo speed or torque, string
+    tension, a stopped or failed simulation); its jammed legs are scored, not listed."""
+    return [h for t in candidate.terms for h in t.hits if "jammed" not in h]
 
 
 def _best(candidates: list[GaitCandidate]) -> GaitCandidate:
-    """The highest score among the candidates that hit no limit (else among all); the
-    first found wins a tie (scores are rounded: the same on any CPU)."""
-    clean = [c for c in candidates if not any(t.hits for t in c.terms)] or candidates
+    """The highest score among the candidates within every limit (else among all); the
+    first found (the hand gait) wins a tie (scores are rounded: the same on any CPU).
+
+    A leg that jams (friction lock, docs/crawler.md) is no limit of the robot's hardware
+    but the model's outcome at that friction: it is penalised in the score, and a gait
+    whose legs jam at some friction (the hand gait does at 0.8) may still be the best."""
+    clean = [c for c in candidates if not hard_hits(c)] or candidates
     return max(clean, key=lambda c: c.score)
 
 
@@ -539,17 +608,27 @@ def design_gait(
     own = executor is None
     pool = local_pool(settings.popsize * len(settings.frictions)) if own else executor
     try:
-        hand = _evaluate_all(pool, robot, [None], settings)[0]
-        candidates, history = [], []
+        hand = _hand_candidate(robot, _evaluate_all(pool, robot, [None], settings)[0], settings)
+        report(1)
+        candidates, history = [hand], []
         for run in range(settings.runs):
-            found, best = _run(robot, settings, run, pool, report)
+            found, best = _run(robot, settings, run, pool, report, hand)
             candidates += found
             history.append(best)
     finally:
         if own:
             pool.shutdown(wait=True, cancel_futures=True)
-    hand_score = _combine(list(hand), settings.mix)
-    return GaitDesign(_best(candidates), candidates, history, hand, hand_score, settings)
+    return GaitDesign(_best(candidates), candidates, history, hand.terms, hand.score, settings)
+
+
+def _hand_candidate(robot: Robot, terms, settings: GaitSettings) -> GaitCandidate:
+    """The robot file's own gait as a candidate: the search never returns a worse one."""
+    return GaitCandidate(
+        0, 0, tuple(float(v) for v in encode_gait(robot)),
+        tuple(float(t) for t in robot.gait_t),
+        tuple(tuple(float(v) for v in row) for row in robot.gait_p), tuple(terms),
+        _combine(list(terms), settings.mix), hand=True,
+    )  # fmt: skip
 
 
 def _leg_length(robot: Robot) -> float:
@@ -578,7 +657,8 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
     rigid stride capped by it; the foot slip as the rigid stride less the simulated
     one; the TSA turns the blocker needs against the route's ``max_turns`` (string
     stroke); and the leg length that would give ``target`` mm at the measured share of
-    the rigid stride.
+    the rigid stride (the stride taken as proportional to the leg length), at each
+    friction and, at the top level, at the friction nearest the robot file's.
     """
     length = _leg_length(robot)
     best = np.asarray(design.best.ratios) * 180.0
@@ -595,8 +675,9 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
             "simulated_mm": t.forward,
             "slip_loss_mm": rigid - t.forward,
             "share_of_rigid": t.forward / rigid if rigid > 0 else 0.0,
+            "leg_length_for_target_mm": target * length / t.forward if t.forward > 0 else math.inf,
         }
-    share = min(v["share_of_rigid"] for v in per.values())
+    own = min(design.best.terms, key=lambda t: abs(t.friction - robot.friction))
     stroke = gait_turns(robot, np.full((1, len(robot.legs)), blocker / 180.0))[0]
     return {
         "leg_length_mm": length,
@@ -607,9 +688,7 @@ def stride_limits(robot: Robot, design: GaitDesign, target: float = 63.0) -> dic
         "per_friction": per,
         "tsa_turns_at_blocker": float(stroke.max()),
         "route_max_turns": min(leg.route.max_turns for leg in robot.legs),
-        "leg_length_for_target_mm": target
-        / (share * per[next(iter(per))]["rigid_stride_of_best_mm"] / length)
-        if share > 0
-        else math.inf,
+        "leg_length_for_target_mm": per[f"{own.friction:g}"]["leg_length_for_target_mm"],
+        "target_friction": own.friction,
         "target_mm": target,
     }

@@ -107,9 +107,28 @@ class Fabrication:
         """Volume of each part, mm^3."""
         return {n: self.parts.volume(n) for n in PART_NAMES}
 
-    def report(self) -> dict[str, Any]:
-        """The content of ``fabrication.json``."""
+    def solid_mass(self) -> dict[str, float]:
+        """Mass of each part as a solid (its whole volume at its material's density), g."""
         vols = self.volumes()
+        return {n: vols[n] / 1000.0 * DENSITY_G_CM3[PART_MATERIALS[n]] for n in PART_NAMES}
+
+    def printed_mass(self) -> dict[str, float]:
+        """Mass of each part as printed with the settings ``print.3mf`` carries (perimeters,
+        top and bottom layers, infill: :mod:`~origami_cad.fabrication.printmass`), g."""
+        from origami_cad.fabrication.exports.stl import part_meshes
+        from origami_cad.fabrication.exports.threemf import slicer_settings
+        from origami_cad.fabrication.printmass import printed_mass
+
+        s = slicer_settings(self.params)
+        return {
+            n: printed_mass({PART_MATERIALS[n]: part_meshes(self.parts, n)}, s)[PART_MATERIALS[n]]
+            for n in PART_NAMES
+        }
+
+    def report(self) -> dict[str, Any]:
+        """The content of ``fabrication.json``: masses in g, ``total_mass_g`` the parts as
+        solids, ``printed_mass_g`` as printed with the 3MF's settings (``robot.json``'s)."""
+        vols, solid, printed = self.volumes(), self.solid_mass(), self.printed_mass()
         labels = self.pattern.face_labels
         return {
             "origami_cad_version": __version__,
@@ -122,13 +141,13 @@ class Fabrication:
                     "material": PART_MATERIALS[n],
                     "solids": len(self.parts.solids[n]),
                     "volume_mm3": vols[n],
-                    "mass_g": vols[n] / 1000.0 * DENSITY_G_CM3[PART_MATERIALS[n]],
+                    "mass_g": solid[n],
+                    "printed_mass_g": printed[n],
                 }
                 for n in PART_NAMES
             },
-            "total_mass_g": sum(
-                vols[n] / 1000.0 * DENSITY_G_CM3[PART_MATERIALS[n]] for n in PART_NAMES
-            ),
+            "total_mass_g": sum(solid.values()),
+            "printed_mass_g": sum(printed.values()),
             "holes": [
                 {"panel": labels[i], "x_mm": h.x, "y_mm": h.y, "diameter_mm": h.diameter}
                 for h, i in zip(self.holes, self.plan.hole_panels.tolist(), strict=True)

@@ -89,7 +89,7 @@ class PanelSolids:
 
 def panel_solids(source, params: FabricationParams) -> tuple[dict[int, PanelSolids], float]:
     """Each panel's printed solids (face index -> :class:`PanelSolids`) and the sheet's
-    printed mass, g (``Fabrication.report()["total_mass_g"]``, for checks).
+    mass as solids, g (``fabrication.json``'s ``total_mass_g``, for checks).
 
     ``source`` is the pattern or design :func:`fabricate` takes.
     """
@@ -106,7 +106,7 @@ def panel_solids(source, params: FabricationParams) -> tuple[dict[int, PanelSoli
         for piece in shapely.get_parts(share):
             if isinstance(piece, shapely.Polygon) and piece.area > 1e-6:
                 out[face].add(PART_MATERIALS["creases"], planar_prism(piece, z0, z1), half)
-    return out, float(fab.report()["total_mass_g"])
+    return out, float(sum(fab.solid_mass().values()))
 
 
 def _mesh(solid) -> tuple[np.ndarray, np.ndarray]:
