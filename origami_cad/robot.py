@@ -293,18 +293,24 @@ def with_gait(robot: Robot, times, ratios, *, where: str | None = None) -> Robot
         raise SimulationError(f"{where}: keyframe times and fold ratios must be finite")
     if np.any(np.diff(t) <= 0) or t[0] < 0:
         raise SimulationError(f"{where}: keyframe times must start at 0 s or later and increase")
-    _check_blocker(where, p, robot.blocker_angle)
+    _check_blocker(where, t, p, robot.blocker_angle, [leg.name for leg in robot.legs])
     return dataclasses.replace(robot, gait_t=t, gait_p=p)
 
 
-def _check_blocker(where: str, ratios: np.ndarray, blocker: float) -> None:
-    """Refuse fold ratios outside [0, 1) or past the blockers' ``blocker`` deg, by name."""
+def _check_blocker(
+    where: str, times: np.ndarray, ratios: np.ndarray, blocker: float, names: list[str]
+) -> None:
+    """Refuse fold ratios outside [0, 1) or past the blockers' ``blocker`` deg, naming the
+    first keyframe (its time, s) and leg that is."""
     if np.any(ratios < 0) or np.any(ratios >= 1):
         raise SimulationError(f"{where}: fold ratios p must lie in [0, 1)")
-    limit, worst = blocker / 180.0, float(np.max(ratios))
-    if worst > limit + 1e-9:
+    limit = blocker / 180.0
+    over = np.argwhere(ratios > limit + 1e-9)
+    if len(over):
+        k, j = (int(i) for i in over[0])
         raise SimulationError(
-            f"{where}: p = {worst:g} folds a leg past its blocker ({blocker:g} deg = p {limit:.3f})"
+            f"{where}: keyframe #{k + 1} (t = {float(times[k]):g} s): p = {float(ratios[k, j]):g} "
+            f"folds leg {names[j]!r} past its blocker ({blocker:g} deg = p {limit:.3f})"
         )
 
 

@@ -159,6 +159,19 @@ def test_a_gait_past_the_blockers_is_refused(tmp_path):
     bad.write_text(text, encoding="utf-8")
     with pytest.raises(SimulationError, match="past its blocker"):
         load_robot(bad)
+    # a gait file names the keyframe and the leg (the third leg, at its fourth keyframe)
+    from origami_cad.robot import with_gait
+
+    robot = load_robot(ROBOT)
+    p = np.array(robot.gait_p, copy=True)
+    p[3, 2] = 0.35
+    with pytest.raises(SimulationError) as err:
+        with_gait(robot, robot.gait_t, p, where="gait.toml")
+    t = robot.gait_t[3]
+    assert str(err.value) == (
+        f"gait.toml: keyframe #4 (t = {t:g} s): p = 0.35 folds leg "
+        f"{robot.legs[2].name!r} past its blocker (60 deg = p 0.333)"
+    )
 
 
 def test_crawl_command(tmp_path, capsys):

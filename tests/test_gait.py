@@ -111,7 +111,8 @@ def test_a_gait_past_a_blocker_or_the_servo_speed_is_refused_by_name(robot, tmp_
         "[[keyframe]]\nt = 10\np = [0.34, 0.2, 0.2, 0.2]\n",
         encoding="utf-8",
     )
-    with pytest.raises(SimulationError, match=r"gait.toml: p = 0.34 .*blocker \(60 deg"):
+    named = r"gait.toml: keyframe #2 \(t = 10 s\): p = 0.34 folds leg .*blocker \(60 deg"
+    with pytest.raises(SimulationError, match=named):
         load_gait(path, robot)
     fast = with_gait(robot, [0.0, 0.5, 1.0], [[0.12] * 4, [0.33] * 4, [0.12] * 4])
     rate = float(turn_rates(fast).max()) * 60
