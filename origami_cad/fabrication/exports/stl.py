@@ -143,8 +143,9 @@ def _face_mesh(face) -> tuple[np.ndarray, np.ndarray]:
     tri = BRep_Tool.Triangulation_s(face, loc)
     if tri is None:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    v = np.array([tri.Node(i).Coord() for i in range(1, tri.NbNodes() + 1)], dtype=float)
-    t = [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]
+    node, triangle = tri.Node, tri.Triangle  # bound once: a call per node and triangle
+    v = np.array([node(i).Coord() for i in range(1, tri.NbNodes() + 1)], dtype=float)
+    t = [triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]
     t = np.array(t, dtype=np.int64).reshape(-1, 3) - 1
     if not loc.IsIdentity():
         tr = loc.Transformation()
