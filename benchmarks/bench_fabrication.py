@@ -42,7 +42,7 @@ def _one(rows: int, columns: int, length: float, width: float) -> tuple[float, f
     with tempfile.TemporaryDirectory() as tmp:
         write_fabrication(fab, tmp)
         for stage, write in (
-            ("glb", lambda: write_parts_glb(tmp, Path(tmp) / "parts.glb")),
+            ("glb", lambda: write_parts_glb(fab, Path(tmp) / "parts.glb")),
             ("panels png", lambda: save_panels_png(fab, Path(tmp) / "panels.png")),
         ):
             t0 = time.perf_counter()

@@ -160,3 +160,17 @@ def test_khronos_gltf_validator_finds_no_issue(which, request):
     done = subprocess.run([*command, str(path)], capture_output=True, text=True, timeout=120)
     issues = json.loads(done.stdout)
     assert issues["numErrors"] == 0 and issues["numWarnings"] == 0, issues["messages"]
+
+
+def test_the_parts_glb_of_a_folder_is_the_one_of_its_fabrication(parts_folder, tmp_path):
+    """``write_parts_glb`` of the STL folder (read back) draws what the fabrication's
+    shared meshes draw (``fabricate`` passes the fabrication: no STL read)."""
+    from origami_cad.viz.gltf import write_parts_glb
+
+    again = write_parts_glb(parts_folder, tmp_path / "again.glb")
+    ours, theirs = trimesh.load(parts_folder / "parts.glb"), trimesh.load(again)
+    assert set(ours.geometry) == set(theirs.geometry)
+    for name, mesh in ours.geometry.items():
+        assert len(mesh.faces) == len(theirs.geometry[name].faces), name
+        np.testing.assert_allclose(mesh.bounds, theirs.geometry[name].bounds, atol=1e-4)
+        assert mesh.volume == pytest.approx(theirs.geometry[name].volume, rel=1e-5), name

@@ -169,7 +169,7 @@ class Fabricate(Command):
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
             write_fabrication(fab, stage, slicer=a.slicer)
-            write_parts_glb(stage, stage / "parts.glb")
+            write_parts_glb(fab, stage / "parts.glb")
             save_panels_png(fab, stage / "panels.png")
             images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
             images.append((stage / "panels.png", f"{label}: panels, operation regions and holes"))

@@ -302,15 +302,23 @@ def parts_meshes(meshes: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> list[Gl
     return out
 
 
-def write_parts_glb(folder: str | os.PathLike[str], path: str | os.PathLike[str]) -> Path:
-    """Write the four part STLs of a fabrication folder as one glb, coloured by material.
+def write_parts_glb(folder, path: str | os.PathLike[str]) -> Path:
+    """Write the four printed parts as one glb, coloured by material (``path``, atomic).
 
-    Reads ``infills.stl``, ``midlayers.stl``, ``shells.stl`` and ``creases.stl``
-    (as :func:`~origami_cad.fabrication.write_fabrication` writes them, in
-    assembly position) and writes ``path`` (atomic).
+    ``folder`` is a :class:`~origami_cad.fabrication.build.Fabrication`: its shared
+    meshes (``fabrication.exports.stl.parts_tessellation``, the STLs' triangles; no file
+    read), or a fabrication folder (path-like): its ``infills.stl``, ``midlayers.stl``,
+    ``shells.stl`` and ``creases.stl`` as
+    :func:`~origami_cad.fabrication.write_fabrication` writes them, in assembly position.
     """
-    from origami_cad.fabrication.export import read_binary_stl
     from origami_cad.fabrication.solids import PART_NAMES
 
-    stls = {n: read_binary_stl(Path(folder) / f"{n}.stl") for n in PART_NAMES}
-    return write_glb(path, parts_meshes(stls))
+    if isinstance(folder, (str, os.PathLike)):
+        from origami_cad.fabrication.export import read_binary_stl
+
+        meshes = {n: read_binary_stl(Path(folder) / f"{n}.stl") for n in PART_NAMES}
+    else:  # a Fabrication: the meshes in memory
+        from origami_cad.fabrication.exports.stl import parts_tessellation
+
+        meshes = parts_tessellation(folder.parts)
+    return write_glb(path, parts_meshes(meshes))

@@ -71,17 +71,21 @@ def stack_meshes(meshes) -> tuple[np.ndarray, np.ndarray]:
 def write_mesh_stl(mesh: tuple[np.ndarray, np.ndarray], path: str | os.PathLike[str]) -> Path:
     """Write a mesh (vertices in mm, triangles) as one binary STL (atomic), unit normals."""
     v, t = mesh
-    corners = v[t]
-    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    length = np.linalg.norm(normal, axis=1)
-    normal = normal / np.where(length > 0, length, 1.0)[:, None]
     record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
-    data = np.zeros(len(t), dtype=record)
-    data["normal"], data["v"] = normal, corners
+    data = np.empty(len(t), dtype=record)
+    data["attr"] = 0
+    data["v"] = corners = np.asarray(v, dtype=np.float32)[t]  # the normals of what is written
+    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    normal = data["normal"]
+    normal[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    normal[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    normal[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    length = np.sqrt(np.einsum("ij,ij->i", normal, normal))
+    normal /= np.where(length > 0, length, np.float32(1.0))[:, None]
     header = b"binary STL written by origami_cad".ljust(80, b"\0")  # NUL-ended for admesh
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         fh.write(header + np.array([len(t)], dtype="<u4").tobytes())
-        fh.write(data.tobytes())
+        fh.write(memoryview(data).cast("B"))
     return Path(path)
 
 
@@ -139,8 +143,9 @@ def _face_mesh(face) -> tuple[np.ndarray, np.ndarray]:
     tri = BRep_Tool.Triangulation_s(face, loc)
     if tri is None:
         return np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64)
-    v = np.array([tri.Node(i).Coord() for i in range(1, tri.NbNodes() + 1)], dtype=float)
-    t = [tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]
+    node, triangle = tri.Node, tri.Triangle  # bound once: a call per node and triangle
+    v = np.array([node(i).Coord() for i in range(1, tri.NbNodes() + 1)], dtype=float)
+    t = [triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)]
     t = np.array(t, dtype=np.int64).reshape(-1, 3) - 1
     if not loc.IsIdentity():
         tr = loc.Transformation()

@@ -430,7 +430,8 @@ def _rows(pieces: list[str], columns: np.ndarray, decimals: int) -> bytes:
     text = np.empty((rows, sum(widths)), dtype=np.uint8)
     for block, start in zip(blocks, np.cumsum([0, *widths[:-1]]).tolist(), strict=True):
         text[:, start : start + block.shape[-1]] = block
-    return text.tobytes().replace(b"\0", b"")[:-1]
+    flat = text.reshape(-1)  # the NULs dropped by a mask: faster than bytes.replace
+    return flat[flat != 0][:-1].tobytes()
 
 
 def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list:
