@@ -2,8 +2,10 @@
 
 Each panel half is a polyhedron whose faces are planes (outer face, chamfers of
 eq. 6, vertical free sides), built face by face from the footprints of
-:mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean:
-the only booleans are per panel (shell = half minus infill, and the holes).
+:mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean. A
+panel's solids with their holes are assembled from their faces too
+(:mod:`origami_cad.fabrication.polyhedra`); only a panel whose holes come near its
+footprints is built with booleans (shell = half minus infill, and the holes).
 The crease sheet is one planar face with a hole per mid-layer, extruded once.
 
 build123d objects never leave ``origami_cad.fabrication``.
@@ -25,12 +27,14 @@ from OCP.gp import gp_Trsf
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
+from origami_cad.fabrication.polyhedra import fast_panel_solids
 from origami_cad.pattern.model import Hole
 
 __all__ = [
     "PART_MATERIALS",
     "PART_NAMES",
     "Parts",
+    "boolean_panel_solids",
     "build_parts",
     "crease_sheet",
     "half_solid",
@@ -205,6 +209,28 @@ def panel_solids(
     o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
 ) -> dict[str, list[Solid]]:
     """One panel's solids, built: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``.
+
+    Assembled from their faces without booleans
+    (:func:`~origami_cad.fabrication.polyhedra.fast_panel_solids`) when the holes are
+    clear of the footprints, else :func:`boolean_panel_solids`: the same solids.
+
+    Parameters
+    ----------
+    o : PanelOutline
+        The panel's footprints, mm.
+    holes : sequence of Hole
+        The panel's string holes, mm.
+    params : FabricationParams
+        Heights and thicknesses, mm.
+    """
+    fast = fast_panel_solids(o, holes, params)
+    return fast if fast is not None else boolean_panel_solids(o, holes, params)
+
+
+def boolean_panel_solids(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> dict[str, list[Solid]]:
+    """:func:`panel_solids` by booleans: each half less its infill and the holes' cylinders.
 
     Parameters
     ----------
