@@ -20,9 +20,8 @@ from typing import Any
 import numpy as np
 import shapely
 from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
-from build123d.topology.shape_core import downcast
-from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
 from OCP.gp import gp_Trsf
+from OCP.TopLoc import TopLoc_Location
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
@@ -258,14 +257,16 @@ def boolean_panel_solids(
 
 
 def moved_copy(solid: Solid, motion: np.ndarray) -> Solid:
-    """A copy of ``solid`` (its own geometry, no shared shape) moved by a plane motion.
+    """``solid`` moved by a plane motion: the same shape (geometry shared) at a new location.
 
     ``motion`` is 3 x 3 homogeneous: a rotation about z and a translation in x, y (mm).
+    The copy is ``solid``'s shape under another ``TopLoc_Location`` (no geometry copied:
+    a copy's faces are its prototype's, meshed once).
     """
     m = np.asarray(motion, dtype=float)
     trsf = gp_Trsf()
     trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
-    return Solid(downcast(BRepBuilderAPI_Transform(solid.wrapped, trsf, True).Shape()))
+    return Solid(solid.wrapped.Moved(TopLoc_Location(trsf)))
 
 
 def build_parts(
