@@ -12,12 +12,20 @@ from __future__ import annotations
 from collections import Counter
 
 import pytest
+import shapely
+from build123d import Face, Solid, Vector, Wire
 from OCP.BRepCheck import BRepCheck_Analyzer
 
 from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.fabrication.congruent import congruent_panels
 from origami_cad.fabrication.polyhedra import fast_panel_solids, holes_clear
-from origami_cad.fabrication.solids import boolean_panel_solids, panel_solids
+from origami_cad.fabrication.solids import (
+    boolean_panel_solids,
+    crease_sheet,
+    panel_solids,
+    planar_prism,
+    prism_rings,
+)
 from origami_cad.pattern.design import miura_design
 from origami_cad.pattern.model import Hole
 
@@ -77,3 +85,22 @@ def test_a_hole_near_a_footprint_is_cut_by_booleans():
     assert {n: [s.volume for s in v] for n, v in built.items()} == {
         n: [s.volume for s in v] for n, v in boolean.items()
     }
+
+
+def test_a_planar_prism_is_build123ds_face_of_its_rings_extruded():
+    plan = plan_panels(miura_design(3, 4, 15.0, 15.0, 70.0), FabricationParams())
+    sheet = shapely.union_all([shapely.Polygon(o.polygon) for o in plan.outlines])
+    polys = [*shapely.get_parts(crease_sheet(plan.outlines, sheet))]
+    polys += [shapely.Polygon(o.midlayer) for o in plan.outlines[:2]]
+    polys.append(shapely.Polygon(plan.outlines[0].midlayer[::-1]))  # clockwise
+    for poly in polys:
+        wires = [
+            Wire.make_polygon([Vector(x, y, 1.0) for x, y in ring], close=True)
+            for ring in prism_rings(poly)
+        ]
+        want = Solid.extrude(Face(wires[0], wires[1:]), Vector(0, 0, 0.4))
+        got = planar_prism(poly, 1.0, 1.4)
+        assert BRepCheck_Analyzer(got.wrapped).IsValid()
+        assert got.volume == pytest.approx(want.volume, rel=1e-12)
+        assert _topology(got) == _topology(want)
+        assert (got - want).volume + (want - got).volume < 1e-9 * want.volume

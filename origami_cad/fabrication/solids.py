@@ -20,8 +20,13 @@ from typing import Any
 import numpy as np
 import shapely
 from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
-from OCP.gp import gp_Trsf
+from OCP.BRep import BRep_Builder
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakePolygon
+from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+from OCP.Geom import Geom_Plane
+from OCP.gp import gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS, TopoDS_Face
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
@@ -186,14 +191,25 @@ def prism_rings(poly: shapely.Polygon) -> list[list[tuple[float, float]]]:
 
 
 def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
-    """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm."""
+    """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm.
 
-    def wire(c) -> Wire:
-        return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
-
-    outer, *inner = [wire(c) for c in prism_rings(poly)]
-    face = Face(outer, inner)
-    return Solid.extrude(face, Vector(0, 0, z1 - z0))
+    The bottom face is made with OCP directly (a plane, its outer ring anticlockwise and
+    its holes clockwise seen from above) and swept up (``BRepPrimAPI_MakePrism``): the
+    solid build123d's face of the rings, extruded, gives, without its shape fixing.
+    """
+    brep, face = BRep_Builder(), TopoDS_Face()
+    brep.MakeFace(face, Geom_Plane(gp_Pln(gp_Pnt(0.0, 0.0, z0), gp_Dir(0.0, 0.0, 1.0))), 1e-7)
+    for k, ring in enumerate(prism_rings(poly)):
+        ccw = shapely.LinearRing(ring).is_ccw
+        if ccw != (k == 0):  # the exterior anticlockwise, the holes clockwise
+            ring = ring[::-1]
+        polygon = BRepBuilderAPI_MakePolygon()
+        for x, y in ring:
+            polygon.Add(gp_Pnt(x, y, z0))
+        polygon.Close()
+        brep.Add(face, polygon.Wire())
+    prism = BRepPrimAPI_MakePrism(face, gp_Vec(0.0, 0.0, z1 - z0)).Shape()
+    return Solid(TopoDS.Solid(prism))
 
 
 def crease_sheet(
