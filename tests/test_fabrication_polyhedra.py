@@ -2,21 +2,23 @@
 
 :func:`~origami_cad.fabrication.polyhedra.fast_panel_solids` builds each solid face by
 face; :func:`~origami_cad.fabrication.solids.boolean_panel_solids` cuts the same solids
-by booleans. On several panels (holes placed automatically, none, several per panel)
-both must give valid solids of the same volume, in the same place, with the same faces
+by booleans. On every distinct panel of a few sheets (holes placed automatically, none,
+several per panel; the Fig. 2 design's panels with vanished edges) both must give valid
+solids of the same volume, in the same place, with the same faces
 (planes and cylinders), edges, vertices and shells.
 """
 
 from __future__ import annotations
 
 from collections import Counter
+from pathlib import Path
 
 import pytest
 import shapely
 from build123d import Face, Solid, Vector, Wire
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from origami_cad.fabrication import FabricationParams, plan_panels
+from origami_cad.fabrication import FabricationParams, largest_bias, plan_panels
 from origami_cad.fabrication.congruent import congruent_panels
 from origami_cad.fabrication.polyhedra import fast_panel_solids, holes_clear
 from origami_cad.fabrication.solids import (
@@ -26,10 +28,13 @@ from origami_cad.fabrication.solids import (
     planar_prism,
     prism_rings,
 )
-from origami_cad.pattern.design import miura_design
+from origami_cad.pattern.design import load_design, miura_design
 from origami_cad.pattern.model import Hole
 
+FIG2 = load_design(Path(__file__).resolve().parents[1] / "examples" / "fig2_tg.toml")
 PLANS = {
+    # panels with vanished edges (corners of zero length on some footprints)
+    "Fig. 2 at its largest bias": (FIG2, FabricationParams(bias=largest_bias(FIG2))),
     "6 x 4, auto holes": (miura_design(4, 6, 20.0, 30.0, 70.0), FabricationParams()),
     "2 x 3, no holes": (miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(holes="none")),
     "2 x 3, two holes in a panel": (
