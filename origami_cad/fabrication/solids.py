@@ -2,8 +2,10 @@
 
 Each panel half is a polyhedron whose faces are planes (outer face, chamfers of
 eq. 6, vertical free sides), built face by face from the footprints of
-:mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean:
-the only booleans are per panel (shell = half minus infill, and the holes).
+:mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean. A
+panel's solids with their holes are assembled from their faces too
+(:mod:`origami_cad.fabrication.polyhedra`); only a panel whose holes come near its
+footprints is built with booleans (shell = half minus infill, and the holes).
 The crease sheet is one planar face with a hole per mid-layer, extruded once.
 
 build123d objects never leave ``origami_cad.fabrication``.
@@ -18,19 +20,25 @@ from typing import Any
 import numpy as np
 import shapely
 from build123d import Compound, Face, Plane, Shell, Solid, Vector, Wire
-from build123d.topology.shape_core import downcast
-from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
-from OCP.gp import gp_Trsf
+from OCP.BRep import BRep_Builder
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakePolygon
+from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+from OCP.Geom import Geom_Plane
+from OCP.gp import gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS, TopoDS_Face
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
+from origami_cad.fabrication.polyhedra import fast_panel_solids
 from origami_cad.pattern.model import Hole
 
 __all__ = [
     "PART_MATERIALS",
     "PART_NAMES",
     "Parts",
+    "boolean_panel_solids",
     "build_parts",
     "crease_sheet",
     "half_solid",
@@ -183,14 +191,25 @@ def prism_rings(poly: shapely.Polygon) -> list[list[tuple[float, float]]]:
 
 
 def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
-    """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm."""
+    """The vertical prism of a polygon (holes kept) between heights ``z0 < z1``, mm.
 
-    def wire(c) -> Wire:
-        return Wire.make_polygon([Vector(x, y, z0) for x, y in c], close=True)
-
-    outer, *inner = [wire(c) for c in prism_rings(poly)]
-    face = Face(outer, inner)
-    return Solid.extrude(face, Vector(0, 0, z1 - z0))
+    The bottom face is made with OCP directly (a plane, its outer ring anticlockwise and
+    its holes clockwise seen from above) and swept up (``BRepPrimAPI_MakePrism``): the
+    solid build123d's face of the rings, extruded, gives, without its shape fixing.
+    """
+    brep, face = BRep_Builder(), TopoDS_Face()
+    brep.MakeFace(face, Geom_Plane(gp_Pln(gp_Pnt(0.0, 0.0, z0), gp_Dir(0.0, 0.0, 1.0))), 1e-7)
+    for k, ring in enumerate(prism_rings(poly)):
+        ccw = shapely.LinearRing(ring).is_ccw
+        if ccw != (k == 0):  # the exterior anticlockwise, the holes clockwise
+            ring = ring[::-1]
+        polygon = BRepBuilderAPI_MakePolygon()
+        for x, y in ring:
+            polygon.Add(gp_Pnt(x, y, z0))
+        polygon.Close()
+        brep.Add(face, polygon.Wire())
+    prism = BRepPrimAPI_MakePrism(face, gp_Vec(0.0, 0.0, z1 - z0)).Shape()
+    return Solid(TopoDS.Solid(prism))
 
 
 def crease_sheet(
@@ -205,6 +224,28 @@ def panel_solids(
     o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
 ) -> dict[str, list[Solid]]:
     """One panel's solids, built: ``halves`` (lower, upper), ``infills``, ``shells``, ``midlayers``.
+
+    Assembled from their faces without booleans
+    (:func:`~origami_cad.fabrication.polyhedra.fast_panel_solids`) when the holes are
+    clear of the footprints, else :func:`boolean_panel_solids`: the same solids.
+
+    Parameters
+    ----------
+    o : PanelOutline
+        The panel's footprints, mm.
+    holes : sequence of Hole
+        The panel's string holes, mm.
+    params : FabricationParams
+        Heights and thicknesses, mm.
+    """
+    fast = fast_panel_solids(o, holes, params)
+    return fast if fast is not None else boolean_panel_solids(o, holes, params)
+
+
+def boolean_panel_solids(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> dict[str, list[Solid]]:
+    """:func:`panel_solids` by booleans: each half less its infill and the holes' cylinders.
 
     Parameters
     ----------
@@ -232,14 +273,16 @@ def panel_solids(
 
 
 def moved_copy(solid: Solid, motion: np.ndarray) -> Solid:
-    """A copy of ``solid`` (its own geometry, no shared shape) moved by a plane motion.
+    """``solid`` moved by a plane motion: the same shape (geometry shared) at a new location.
 
     ``motion`` is 3 x 3 homogeneous: a rotation about z and a translation in x, y (mm).
+    The copy is ``solid``'s shape under another ``TopLoc_Location`` (no geometry copied:
+    a copy's faces are its prototype's, meshed once).
     """
     m = np.asarray(motion, dtype=float)
     trsf = gp_Trsf()
     trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
-    return Solid(downcast(BRepBuilderAPI_Transform(solid.wrapped, trsf, True).Shape()))
+    return Solid(solid.wrapped.Moved(TopLoc_Location(trsf)))
 
 
 def build_parts(

@@ -1,0 +1,255 @@
+"""A panel's solids built face by face with OCP, no boolean (issue 30).
+
+The solids of :func:`origami_cad.fabrication.solids.panel_solids` are bounded by planes
+(the footprint rings of :mod:`origami_cad.fabrication.panels` at their heights: outer
+faces, chamfers of eq. 6, free sides, the crease layer) and by the vertical cylinders
+of the string holes. When every hole lies well inside every footprint it crosses (a
+convex panel, discs apart), those faces are known without any boolean: each solid is
+assembled here from its faces, with shared vertices and edges (``BRep_Builder``), the
+same faces a boolean chain leaves (planes, one cylinder per hole with its seam).
+:func:`fast_panel_solids` returns ``None`` when that does not hold, and the caller
+builds with booleans.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import shapely
+from build123d import Solid
+from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeVertex
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+from OCP.Geom import Geom_Plane
+from OCP.gp import gp_Ax2, gp_Dir, gp_Pln, gp_Pnt
+from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED
+from OCP.TopExp import TopExp, TopExp_Explorer
+from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shell, TopoDS_Solid, TopoDS_Wire
+
+from origami_cad.fabrication.panels import PanelOutline
+from origami_cad.fabrication.params import FabricationParams
+from origami_cad.pattern.model import Hole
+
+__all__ = ["HOLE_CLEARANCE", "fast_panel_solids", "holes_clear"]
+
+#: Least distance (mm) between a hole's wall and any footprint ring or other hole for
+#: :func:`fast_panel_solids` to build without booleans.
+HOLE_CLEARANCE = 1e-3
+#: Vertex tolerance, mm (OCC's ``Precision::Confusion``)
+_TOL = 1e-7
+
+
+class _Builder:
+    """One solid's faces, sharing vertices and edges keyed by their points."""
+
+    def __init__(self) -> None:
+        self.brep = BRep_Builder()
+        self.vertices: dict[tuple, object] = {}
+        self.edges: dict[tuple, object] = {}
+        self.faces: list = []
+
+    def _edge(self, a: tuple, b: tuple):
+        key = (a, b) if a < b else (b, a)
+        edge = self.edges.get(key)
+        if edge is None:
+            v = [self.vertices.get(p) for p in key]
+            for i, p in enumerate(key):
+                if v[i] is None:
+                    v[i] = self.vertices[p] = BRepBuilderAPI_MakeVertex(gp_Pnt(*p)).Vertex()
+            edge = self.edges[key] = BRepBuilderAPI_MakeEdge(v[0], v[1]).Edge()
+        return edge.Oriented(TopAbs_FORWARD if key[0] == a else TopAbs_REVERSED)
+
+    def _wire(self, points: list[tuple]) -> TopoDS_Wire:
+        wire = TopoDS_Wire()
+        self.brep.MakeWire(wire)
+        for i, p in enumerate(points):
+            self.brep.Add(wire, self._edge(p, points[(i + 1) % len(points)]))
+        wire.Closed(True)
+        return wire
+
+    def face(self, plane: gp_Pln, outer: list[tuple], inner=(), circles=()) -> None:
+        """A planar face: ``outer`` counter-clockwise about the plane's normal, ``inner``
+        polygons clockwise, ``circles`` closed edges oriented clockwise."""
+        face = TopoDS_Face()
+        self.brep.MakeFace(face, Geom_Plane(plane), _TOL)
+        self.brep.Add(face, self._wire(outer))
+        for ring in inner:
+            self.brep.Add(face, self._wire(ring))
+        for edge in circles:
+            wire = TopoDS_Wire()
+            self.brep.MakeWire(wire)
+            self.brep.Add(wire, edge)
+            wire.Closed(True)
+            self.brep.Add(face, wire)
+        self.faces.append(face)
+
+    def polygon(self, points: list[tuple]) -> None:
+        """The planar face through ``points`` (counter-clockwise seen from outside);
+        nothing when they collapse to a segment. Raises ``ValueError`` if not planar."""
+        points = [p for i, p in enumerate(points) if p != points[i - 1]]
+        if len(points) < 3:
+            return
+        m = len(points)
+        c = [sum(p[i] for p in points) / m for i in range(3)]
+        n = [0.0, 0.0, 0.0]
+        for i, p in enumerate(points):  # Newell's normal
+            q = points[(i + 1) % m]
+            n[0] += (p[1] - q[1]) * (p[2] + q[2])
+            n[1] += (p[2] - q[2]) * (p[0] + q[0])
+            n[2] += (p[0] - q[0]) * (p[1] + q[1])
+        norm = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+        n = [x / norm for x in n]
+        if max(abs(sum((p[i] - c[i]) * n[i] for i in range(3))) for p in points) > _TOL / 10:
+            raise ValueError("not planar")
+        self.face(gp_Pln(gp_Pnt(*c), gp_Dir(*n)), points)
+
+    def solid(self) -> Solid:
+        shell = TopoDS_Shell()
+        self.brep.MakeShell(shell)
+        for face in self.faces:
+            self.brep.Add(shell, face)
+        shell.Closed(True)
+        solid = TopoDS_Solid()
+        self.brep.MakeSolid(solid)
+        self.brep.Add(solid, shell)
+        return Solid(solid)
+
+
+def _ring(ring: np.ndarray, z: float) -> list[tuple]:
+    """A footprint ring at height ``z`` as point tuples, one per corner; corners within
+    1e-9 mm of the one before (a vanished edge) are that same point."""
+    pts = [(float(x), float(y), float(z)) for x, y in np.asarray(ring, dtype=float)]
+    for i in range(1, len(pts)):
+        if math.dist(pts[i], pts[i - 1]) <= 1e-9:
+            pts[i] = pts[i - 1]
+    i = len(pts) - 1
+    while i > 0 and math.dist(pts[i], pts[0]) <= 1e-9:
+        pts[i] = pts[0]
+        i -= 1
+    return pts
+
+
+def _distinct(points: list[tuple]) -> list[tuple]:
+    return [p for i, p in enumerate(points) if p != points[i - 1]]
+
+
+def _cap(b: _Builder, ring: list[tuple], up: bool, inner=(), circles=()) -> None:
+    """The horizontal face of ``ring`` (counter-clockwise seen from above), its normal up
+    or down, less ``inner`` rings (counter-clockwise) and the holes' ``circles``."""
+    z = ring[0][2]
+    plane = gp_Pln(gp_Pnt(0.0, 0.0, z), gp_Dir(0.0, 0.0, 1.0 if up else -1.0))
+    outer = _distinct(ring if up else ring[::-1])
+    holes = [_distinct(r[::-1] if up else r) for r in inner]
+    turn = TopAbs_REVERSED if up else TopAbs_FORWARD  # circles run anticlockwise from above
+    b.face(plane, outer, holes, [c.Oriented(turn) for c in circles])
+
+
+def _band(b: _Builder, lo: list[tuple], hi: list[tuple], outward: bool = True) -> None:
+    """The side faces between rings ``lo`` (below) and ``hi`` of corresponding corners;
+    their normals out of the ring (``outward``) or into it."""
+    k = len(lo)
+    for i in range(k):
+        j = (i + 1) % k
+        quad = [lo[i], lo[j], hi[j], hi[i]]
+        b.polygon(quad if outward else quad[::-1])
+
+
+def _cylinders(b: _Builder, holes: Sequence[Hole], z0: float, z1: float) -> tuple[list, list]:
+    """The holes' walls from ``z0`` to ``z1`` (normals into the hole); their bottom and
+    top circles, as edges run anticlockwise seen from above."""
+    bottom, top = [], []
+    for h in holes:
+        axes = gp_Ax2(gp_Pnt(h.x, h.y, z0), gp_Dir(0.0, 0.0, 1.0), gp_Dir(1.0, 0.0, 0.0))
+        wall = BRepPrimAPI_MakeCylinder(axes, h.diameter / 2.0, z1 - z0).Face()
+        explorer = TopExp_Explorer(wall, TopAbs_EDGE)
+        while explorer.More():
+            edge = TopoDS.Edge(explorer.Current())
+            first, last = TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge)
+            if first.IsSame(last):
+                z = BRep_Tool.Pnt_s(first).Z()
+                (bottom if abs(z - z0) < abs(z - z1) else top).append(edge.Oriented(TopAbs_FORWARD))
+            explorer.Next()
+        b.faces.append(TopoDS.Face(wall.Reversed()))
+    return bottom, top
+
+
+def frustum(
+    lo: np.ndarray, z_lo: float, hi: np.ndarray, z_hi: float, holes: Sequence[Hole] = ()
+) -> Solid:
+    """The polyhedron between two rings of corresponding corners (counter-clockwise),
+    ``lo`` at ``z_lo`` below ``hi`` at ``z_hi``, less the holes' vertical cylinders."""
+    b = _Builder()
+    bottom, top = _cylinders(b, holes, z_lo, z_hi)
+    ring_lo, ring_hi = _ring(lo, z_lo), _ring(hi, z_hi)
+    _cap(b, ring_lo, False, circles=bottom)
+    _cap(b, ring_hi, True, circles=top)
+    _band(b, ring_lo, ring_hi)
+    return b.solid()
+
+
+def cup(whole: tuple, core: tuple, holes: Sequence[Hole], open_up: bool) -> Solid:
+    """``whole`` less ``core`` and the holes: each ``(lo ring, z_lo, hi ring, z_hi)``,
+    the core inside the whole and flush with its top (``open_up``) or bottom."""
+    a, za, bb, zb = whole
+    c, zc, d, zd = core
+    b = _Builder()
+    ring_a, ring_b, ring_c, ring_d = _ring(a, za), _ring(bb, zb), _ring(c, zc), _ring(d, zd)
+    if open_up:  # the floor: za .. zc
+        bottom, top = _cylinders(b, holes, za, zc)
+        _cap(b, ring_a, False, circles=bottom)
+        _cap(b, ring_b, True, inner=[ring_d])
+        _cap(b, ring_c, True, circles=top)
+    else:  # the roof: zd .. zb
+        bottom, top = _cylinders(b, holes, zd, zb)
+        _cap(b, ring_a, False, inner=[ring_c])
+        _cap(b, ring_b, True, circles=top)
+        _cap(b, ring_d, False, circles=bottom)
+    _band(b, ring_a, ring_b)
+    _band(b, ring_c, ring_d, outward=False)
+    return b.solid()
+
+
+def _convex(ring: np.ndarray) -> bool:
+    poly = shapely.Polygon(ring)
+    return poly.is_valid and poly.area > 0 and abs(poly.convex_hull.area - poly.area) < 1e-9
+
+
+def holes_clear(o: PanelOutline, holes: Sequence[Hole]) -> bool:
+    """Whether every hole of the panel lies at least :data:`HOLE_CLEARANCE` inside every
+    footprint of the panel (all convex) and apart from the others."""
+    rings = (o.outer, o.inner, o.infill_outer, o.infill_inner, o.midlayer)
+    if not all(_convex(r) for r in rings):
+        return False
+    discs = [shapely.Point(h.x, h.y).buffer(h.diameter / 2.0 + HOLE_CLEARANCE) for h in holes]
+    for ring in rings:
+        poly = shapely.Polygon(ring)
+        if not all(poly.contains(d) for d in discs):
+            return False
+    return all(not discs[i].intersects(discs[j]) for i in range(len(discs)) for j in range(i))
+
+
+def fast_panel_solids(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> dict[str, list[Solid]] | None:
+    """The solids of :func:`~origami_cad.fabrication.solids.panel_solids`, assembled
+    from their faces; ``None`` when the holes are not clear (:func:`holes_clear`) or a
+    side face is not planar."""
+    if not holes_clear(o, holes):
+        return None
+    h, half, s = params.height, params.half_height, params.shell
+    lo_z, hi_z = half, half + params.thickness
+    try:
+        lower = (o.outer, 0.0, o.inner, lo_z)
+        upper = (o.inner, hi_z, o.outer, h)
+        lower_in = (o.infill_outer, s, o.infill_inner, lo_z)
+        upper_in = (o.infill_inner, hi_z, o.infill_outer, h - s)
+        return {
+            "halves": [frustum(*lower), frustum(*upper)],
+            "infills": [frustum(*lower_in, holes), frustum(*upper_in, holes)],
+            "shells": [cup(lower, lower_in, holes, True), cup(upper, upper_in, holes, False)],
+            "midlayers": [frustum(o.midlayer, lo_z, o.midlayer, hi_z, holes)],
+        }
+    except ValueError:
+        return None
