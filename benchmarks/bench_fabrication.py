@@ -8,9 +8,7 @@ time is the steadier figure). The cost against the panel count is fitted as
 ``t = c * panels ** k`` over 5 x 5 ... 30 x 30 (CPU times). Peak memory is the process's
 peak RSS (``resource``), reached on the 30 x 30, the last and largest: it counts OCC's
 C++ allocations, which ``tracemalloc`` does not see (and tracing would slow the run
-being timed); the child process that writes ``assembly.step`` (``write_fabrication``) is
-reported on its own (its RSS counts the pages it shares with the parent). CPU times
-count the child's too. Benchmarks, never tests.
+being timed). Benchmarks, never tests.
 """
 
 from __future__ import annotations
@@ -37,7 +35,7 @@ LARGEST = (30, 30, 15.0, 15.0)
 def _one(rows: int, columns: int, length: float, width: float) -> tuple[float, float, dict, int]:
     """Wall and CPU seconds of the build and every export; the stages; the panels."""
     design = miura_design(rows, columns, length, width, 70.0)
-    wall, cpu = time.perf_counter(), time.process_time() + _children_cpu()
+    wall, cpu = time.perf_counter(), time.process_time()
     fab = fabricate(design, bed=(1000.0, 1000.0))
     with tempfile.TemporaryDirectory() as tmp:
         write_fabrication(fab, tmp)
@@ -48,14 +46,8 @@ def _one(rows: int, columns: int, length: float, width: float) -> tuple[float, f
             t0 = time.perf_counter()
             write()
             fab.timings[stage] = time.perf_counter() - t0
-    cpu = time.process_time() + _children_cpu() - cpu
+    cpu = time.process_time() - cpu
     return time.perf_counter() - wall, cpu, fab.timings, len(fab.outlines)
-
-
-def _children_cpu() -> float:
-    """CPU seconds of this process's ended children (the STEP writer's)."""
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
 
 
 def _exponent(panels: list[int], seconds: list[float]) -> float:
@@ -79,12 +71,10 @@ def run() -> list[tuple[str, float, str]]:
     panels.append(count)
     cpus.append(cpu)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
-    child = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
     out += [
         (f"{LARGEST[0]} x {LARGEST[1]} Miura ({count} panels): all, wall s", total, ""),
         ("  CPU s", cpu, ""),
         ("  peak RSS of the process (resource), MB", rss, "target < 2048"),
-        ("  peak RSS of its largest child (the STEP writer; shares pages), MB", child, ""),
         ("cost ~ panels ** k, k (CPU, 25 ... 900 panels)", _exponent(panels, cpus), "<= 1.1"),
     ]
     return out

@@ -260,7 +260,7 @@ def test_the_crease_sheet_is_meshed_from_its_polygon_as_occ_meshes_it(fab):
     assert np.abs(np.sort(v, axis=0) - np.sort(own_v, axis=0)).max() < 1e-6
 
 
-def test_a_step_export_failing_in_its_child_process_fails_write_fabrication(
+def test_a_step_export_failing_fails_write_fabrication_and_leaves_no_step(
     fab, tmp_path, monkeypatch
 ):
     from origami_cad.fabrication import exports
@@ -275,33 +275,15 @@ def test_a_step_export_failing_in_its_child_process_fails_write_fabrication(
     assert not list(tmp_path.glob(".oc-*"))
 
 
-def test_a_child_call_gives_its_value_or_its_error_with_the_same_text():
-    from origami_cad.parallel import ChildCall
-
-    assert ChildCall(sorted, [3, 1, 2]).result() == [1, 2, 3]
-
-    class Odd(Exception):
-        def __init__(self, a, b):
-            super().__init__(f"{a} and {b}")
-
-    def odd():
-        raise Odd(1, 2)  # does not survive pickling: a RuntimeError with its text
-
-    with pytest.raises(RuntimeError, match=r"^1 and 2$"):
-        ChildCall(odd).result()
-    with pytest.raises(ValueError, match="math domain"):
-        ChildCall(__import__("math").sqrt, -1.0).result()
-
-
 def _write_in_a_pool_worker(folder: str) -> list[str]:
     fab = fabricate(miura_design(2, 2, 20.0, 20.0, 70.0))
     return sorted(p.name for p in write_fabrication(fab, folder).values())
 
 
 def test_write_fabrication_works_in_a_daemonic_pool_worker(tmp_path):
-    """A multiprocessing.Pool (or Dask) worker may have no children: the STEP is written
-    there in the worker itself instead of failing with "daemonic processes are not allowed
-    to have children"."""
+    """A multiprocessing.Pool (or Dask) worker may have no children: every export is
+    written in the worker itself (a forked STEP writer failed there with "daemonic
+    processes are not allowed to have children")."""
     import multiprocessing
 
     if "fork" not in multiprocessing.get_all_start_methods():

@@ -30,7 +30,6 @@ from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
-    "BACKGROUND_FORMATS",
     "Fabrication",
     "build_fabrication",
     "fabricate",
@@ -197,12 +196,6 @@ def fabricate(
     return fab
 
 
-#: The formats ``write_fabrication`` writes in a forked child process while this one writes
-#: the others (``origami_cad.parallel.ChildCall``; at once, here, where there is no fork):
-#: the STEP export, the longest, beside the STLs and the 3MF on a second core.
-BACKGROUND_FORMATS = ("step",)
-
-
 def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], float]:
     """``write(fab, out)`` and the seconds it took."""
     t0 = time.perf_counter()
@@ -215,14 +208,14 @@ def write_fabrication(
     """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD.
 
     ``slicer`` (``"prusa"``, ``"bambu"`` or ``"orca"``; default :attr:`Fabrication.slicer`)
-    is the slicer ``print.3mf`` is laid out for. The formats of :data:`BACKGROUND_FORMATS`
-    are written in a forked child process meanwhile (each file written whole or not at
-    all, as the others; an error there is raised here; on an error or interrupt here, the
-    child is interrupted and waited for before it propagates).
+    is the slicer ``print.3mf`` is laid out for. Each file is written whole or not at all.
+
+    Every format is written here, in this process: a forked writer beside the others (tried
+    for the STEP) hangs when OCC's thread pool is running in the parent (the child waits for
+    workers that were not copied with it).
     """
     from origami_cad.fabrication.exports import WRITERS
     from origami_cad.fabrication.exports.threemf import SLICERS
-    from origami_cad.parallel import ChildCall
     from origami_cad.pattern.formats.fold import write_fold
 
     if slicer is not None:
@@ -233,21 +226,8 @@ def write_fabrication(
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     written: dict[str, dict[str, Path]] = {}
-    children = {
-        fmt: ChildCall(_timed_write, WRITERS[fmt], fab, out)
-        for fmt in BACKGROUND_FORMATS
-        if fmt in WRITERS
-    }
-    try:
-        for fmt, write in WRITERS.items():
-            if fmt not in children:
-                written[fmt], fab.timings[fmt] = _timed_write(write, fab, out)
-        for fmt, child in children.items():
-            written[fmt], fab.timings[fmt] = child.result()
-    except BaseException:
-        for child in children.values():
-            child.stop()
-        raise
+    for fmt, write in WRITERS.items():
+        written[fmt], fab.timings[fmt] = _timed_write(write, fab, out)
     paths = {key: path for fmt in WRITERS for key, path in written[fmt].items()}
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"
