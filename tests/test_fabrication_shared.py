@@ -275,24 +275,6 @@ def test_a_step_export_failing_fails_write_fabrication_and_leaves_no_step(
     assert not list(tmp_path.glob(".oc-*"))
 
 
-def _write_in_a_pool_worker(folder: str) -> list[str]:
-    fab = fabricate(miura_design(2, 2, 20.0, 20.0, 70.0))
-    return sorted(p.name for p in write_fabrication(fab, folder).values())
-
-
-def test_write_fabrication_works_in_a_daemonic_pool_worker(tmp_path):
-    """A multiprocessing.Pool (or Dask) worker may have no children: every export is
-    written in the worker itself (a forked STEP writer failed there with "daemonic
-    processes are not allowed to have children")."""
-    import multiprocessing
-
-    if "fork" not in multiprocessing.get_all_start_methods():
-        pytest.skip("no fork here")
-    with multiprocessing.get_context("fork").Pool(1) as pool:
-        names = pool.apply(_write_in_a_pool_worker, (str(tmp_path),))
-    assert "assembly.step" in names and (tmp_path / "assembly.step").stat().st_size > 0
-
-
 def test_an_stl_read_back_is_welded_as_weld_welds_it(tmp_path):
     from origami_cad.fabrication.exports.stl import write_mesh_stl
 
