@@ -279,10 +279,16 @@ def moved_copy(solid: Solid, motion: np.ndarray) -> Solid:
     The copy is ``solid``'s shape under another ``TopLoc_Location`` (no geometry copied:
     a copy's faces are its prototype's, meshed once).
     """
+    return Solid(solid.wrapped.Moved(motion_location(motion)))
+
+
+def motion_location(motion: np.ndarray) -> TopLoc_Location:
+    """The ``TopLoc_Location`` of a 3 x 3 plane motion (rotation about z, translation in x,
+    y; mm), as :func:`moved_copy` and the STEP instances place a copy."""
     m = np.asarray(motion, dtype=float)
     trsf = gp_Trsf()
     trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
-    return Solid(solid.wrapped.Moved(TopLoc_Location(trsf)))
+    return TopLoc_Location(trsf)
 
 
 def build_parts(

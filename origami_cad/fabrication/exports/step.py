@@ -20,12 +20,9 @@ from build123d import Location, export_step
 from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Surface
-from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
-from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
 from OCP.BRepTools import BRepTools_WireExplorer
 from OCP.collections import IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher as ShapeMap
 from OCP.GeomAbs import GeomAbs_Plane
-from OCP.gp import gp_Dir, gp_Pln, gp_Pnt, gp_Trsf, gp_Vec
 from OCP.IFSelect import IFSelect_RetDone
 from OCP.Interface import Interface_Static
 from OCP.Message import Message, Message_Gravity
@@ -45,7 +42,13 @@ from OCP.XSControl import XSControl_WorkSession
 
 from origami_cad._fileio import atomic_path
 from origami_cad.fabrication.assembly import material_color, moved_tree
-from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
+from origami_cad.fabrication.solids import (
+    PART_MATERIALS,
+    PART_NAMES,
+    Parts,
+    motion_location,
+    planar_prism,
+)
 
 __all__ = ["WRITERS", "export_step_assembly", "export_step_tree", "lay_on_bed"]
 
@@ -111,14 +114,6 @@ def export_step_assembly(parts: Parts, path: str | os.PathLike[str]) -> Path:
 ASSEMBLY_NAME = "origami_structure"
 
 
-def _motion_location(motion: np.ndarray) -> TopLoc_Location:
-    """The location of a 3 x 3 plane motion (rotation about z, translation in x, y; mm)."""
-    m = np.asarray(motion, dtype=float)
-    trsf = gp_Trsf()
-    trsf.SetValues(m[0, 0], m[0, 1], 0.0, m[0, 2], m[1, 0], m[1, 1], 0.0, m[1, 2], 0, 0, 1, 0)
-    return TopLoc_Location(trsf)
-
-
 def _instances(parts: Parts, name: str) -> list[tuple[int, TopLoc_Location]]:
     """Per solid of part ``name``: ``(prototype, location)``, the solid as placed.
 
@@ -129,15 +124,13 @@ def _instances(parts: Parts, name: str) -> list[tuple[int, TopLoc_Location]]:
     shape, moved by the copy's motion; any other solid is its own prototype, at its own
     location.
     """
-    solids, built = parts.solids[name], parts.built.get(name, [])
-    copies = parts.copy_of.get(name, [])
-    same = [k < len(built) and built[k] is s for k, s in enumerate(solids)]
+    solids, copies = parts.solids[name], parts.copy_of.get(name, [])
     out = []
     for k, solid in enumerate(solids):
-        copy = copies[k] if same[k] and k < len(copies) else None
-        if copy is not None and same[copy[0]] and copies[copy[0]] is None:
+        copy = parts.source(name, k)
+        if copy is not None and copies[copy[0]] is None:
             source = solids[copy[0]].wrapped.Location()
-            out.append((copy[0], _motion_location(copy[1]).Multiplied(source)))
+            out.append((copy[0], motion_location(copy[1]).Multiplied(source)))
         else:
             out.append((k, solid.wrapped.Location()))
     return out
@@ -241,24 +234,7 @@ def crease_strips(solid) -> list | None:
         return None
     if abs(sum(p.area for p in pieces) - poly.area) > 1e-9 * poly.area:
         return None
-    return [_prism(p, z0, z1) for p in pieces]
-
-
-def _prism(poly, z0: float, z1: float):
-    """The vertical prism (``TopoDS_Shape``) of a polygon with holes, z0 to z1 (mm)."""
-    poly = shapely.orient_polygons(poly)  # exterior counter-clockwise, holes clockwise
-
-    def wire(ring):
-        maker = BRepBuilderAPI_MakePolygon()
-        for x, y in shapely.get_coordinates(ring)[:-1].tolist():
-            maker.Add(gp_Pnt(x, y, z0))
-        maker.Close()
-        return maker.Wire()
-
-    face = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, z0), gp_Dir(0, 0, 1)), wire(poly.exterior))
-    for ring in poly.interiors:
-        face.Add(wire(ring))
-    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, z1 - z0)).Shape()
+    return [planar_prism(p, z0, z1).wrapped for p in pieces]
 
 
 def _prism_footprint(shape):
