@@ -92,7 +92,7 @@ def _robot_sequence(a) -> Outputs:
     argv = f"origami-cad sequence {a.design} {a.route} -o {a.output} --rate {a.rate:g}"
     text = gait_sequence_text(
         robot, repeat=a.repeat, rate=a.rate, command=f"{argv} --repeat {a.repeat}"
-    ).replace("written by origami-cad crawl", "written by origami-cad sequence", 1)
+    )
     with atomic_path(a.output) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")
         load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist

@@ -244,7 +244,8 @@ def gait_sequence_text(
     the simulation needs of its servo over one cycle, N mm (:func:`gait_loads`), which a
     dry run's emulated servo carries. ``reverse`` writes the keyframes backwards (as
     ``simulate_gait(reverse=True)`` plays them); ``command`` is the command line that
-    wrote the file, quoted in its header. ``current_limit`` (mA) stops a stalling servo.
+    wrote the file, quoted in its header and named by its first two words (without it, by
+    ``origami_cad``: a script wrote it). ``current_limit`` (mA) stops a stalling servo.
     """
     p_max = robot.blocker_angle / 180.0
     # the samples as written (4 decimals), each once (drive needs them increasing), the
@@ -254,8 +255,10 @@ def gait_sequence_text(
     given = np.round(np.r_[np.arange(0.0, p_max, 0.02), robot.gait_p.ravel()], 4)
     samples = np.unique(np.r_[given[given < top], top])
     source = robot.source.name if robot.source else "the robot file"
+    # the program and command that wrote it, from ``command`` (crawl, design-gait, sequence)
+    writer = " ".join(command.split()[:2]) if command else "origami_cad"
     lines = [
-        f"# The gait of {one_line(source)} as TSA commands, written by origami-cad crawl: each",
+        f"# The gait of {one_line(source)} as TSA commands, written by {one_line(writer)}: each",
         "# mapping is the model's string take-up (the leg folded rigidly about its crease,",
         "# strings measured through their holes), so fold ratios become motor turns;",
         "# each load is the TSA's torque in the simulated crawl (N mm, one cycle, the most",
