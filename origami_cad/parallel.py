@@ -15,22 +15,56 @@ import concurrent.futures as cf
 import contextlib
 import multiprocessing
 import multiprocessing.context
+import sys
 from collections.abc import Iterator
 
 from origami_cad.errors import OptionsError
 
-__all__ = ["local_pool", "open_executor", "start_context"]
+__all__ = ["local_pool", "occ_loaded", "open_executor", "start_context"]
+
+
+def occ_loaded() -> bool:
+    """Whether OpenCascade (OCP, build123d's kernel) is loaded in this process.
+
+    build123d runs OCC's booleans, validity checks and meshing in parallel, on OCC's
+    thread pool. A process forked after that pool has started inherits the pool but not
+    its threads, and its first parallel OCC operation waits for ever. Without OCP loaded,
+    no such pool can exist.
+
+    Examples
+    --------
+    >>> isinstance(occ_loaded(), bool)
+    True
+    """
+    return "OCP" in sys.modules
 
 
 def start_context() -> multiprocessing.context.BaseContext:
-    """The start method of the pool's workers: fork where available (so that user scripts
-    without a ``__main__`` guard can run searches), else spawn."""
+    """The start method of the pool's workers.
+
+    ``fork`` while OpenCascade is not loaded (:func:`occ_loaded`): it is the fastest, and a
+    user script without an ``if __name__ == "__main__":`` guard can run a search. Once OCP
+    is loaded, ``forkserver``: its workers are forked from a fresh server process that
+    never ran OCC, so a worker may build and mesh solids (a forked worker would hang on
+    OCC's thread pool); a script that starts such a pool needs the ``__main__`` guard, as
+    on every platform without ``fork``. ``spawn`` where neither is available.
+
+    Examples
+    --------
+    >>> start_context().get_start_method() in ("fork", "forkserver", "spawn")
+    True
+    """
     methods = multiprocessing.get_all_start_methods()
-    return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    if "fork" in methods and not occ_loaded():
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
 def local_pool(tasks: int) -> cf.ProcessPoolExecutor:
     """A process pool with one worker per core, and no more workers than ``tasks``.
+
+    Its workers start by :func:`start_context`, so they may run OpenCascade even when this
+    process already has.
 
     >>> with local_pool(3) as pool:
     ...     list(pool.map(abs, [-1, 2, -3]))
