@@ -15,6 +15,7 @@ import contextlib
 import functools
 import importlib
 import inspect
+import re
 import signal
 import sys
 import threading
@@ -97,6 +98,18 @@ def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> 
     return opt.name
 
 
+def plain_text(doc: str) -> str:
+    """A docstring's reST markup as a terminal shows it: roles by their last name, no
+    double backquotes.
+
+    >>> plain_text("keywords of :func:`~origami_cad.fabrication.fabrication_params`, ``bias``")
+    'keywords of fabrication_params(), bias'
+    """
+    doc = re.sub(r":(?:func|meth):`~?(?:[\w.]*\.)?(\w+)`", r"\1()", doc)
+    doc = re.sub(r":\w+:`~?(?:[\w.]*\.)?(\w+)`", r"\1", doc)
+    return doc.replace("``", "")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``origami-cad``: one subcommand per registered command."""
     parser = _Parser(
@@ -109,7 +122,7 @@ def build_parser() -> argparse.ArgumentParser:
     for name, cls in COMMANDS.items():
         if cls.HIDDEN:
             continue
-        doc = inspect.cleandoc(cls.__doc__ or "").split("\n\n")
+        doc = plain_text(inspect.cleandoc(cls.__doc__ or "")).split("\n\n")
         text = {"help": doc[0].splitlines()[0], "description": "\n\n".join(doc[:2])}
         p = sub.add_parser(name, formatter_class=_DefaultsHelp, **text)
         for arg in cls.INPUTS:

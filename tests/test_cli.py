@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import subprocess
 import sys
@@ -24,6 +25,18 @@ def test_help_lists_every_command(capsys):
     out = capsys.readouterr().out
     for cmd in ("convert", "check", "pattern", "fold", "tg", "demo"):
         assert cmd in out
+
+
+def test_every_command_help_is_plain_text():
+    """The descriptions come from the commands' docstrings: no reST roles or ``literals``."""
+    from origami_cad.cli import build_parser
+
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    assert len(subs.choices) > 10
+    for name, sub in subs.choices.items():
+        text = sub.format_help()
+        assert "``" not in text and ":func:`" not in text and ":class:`" not in text, name
 
 
 def test_pattern_fold_and_tg_from_the_fig2_example(tmp_path, capsys):
