@@ -73,8 +73,11 @@ def _wall(mesh: _Mesh, wall: tuple) -> None:
 
 
 def _cap(mesh: _Mesh, cap: Cap) -> bool:
-    """A horizontal face, triangulated on its own corners (:func:`_annulus` when it has
-    one hole, else constrained Delaunay); ``False`` when that needs another point."""
+    """A horizontal face, triangulated on its own corners (a fan when it is convex and
+    has no hole, :func:`_annulus` when it has one, else constrained Delaunay); ``False``
+    when that needs another point."""
+    if not cap.inner and not cap.discs and _polygon(mesh, cap.outer[:: 1 if cap.up else -1]):
+        return True
     rings = [cap.outer, *cap.inner, *(mesh.circle(d, cap.z) for d in cap.discs)]
     ids = [mesh.ids(ring) for ring in rings]
     xy = [np.array(ring, dtype=float)[:, :2] for ring in rings]
