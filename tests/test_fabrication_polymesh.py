@@ -4,7 +4,8 @@
 distinct panel of several sheets (the examples, vanished edges, no hole, two holes in a
 panel), a closed mesh, outward, whose vertices are OCC's mesh's (every B-rep vertex
 among them, each hole's circle OCC's polygon) and whose volume is OCC's mesh's and
-the B-rep's less the chordal error of the holes' polygons. A panel built by booleans
+the B-rep's less the chordal error of the holes' polygons; the faces' own volume is the
+B-rep's. A panel built by booleans
 (holes near its footprints) has no faces kept and is meshed by OCC.
 """
 
@@ -92,6 +93,7 @@ def _check(solid: Solid, facets: Facets, where: str) -> None:
     assert len(v) == len(occ_v) and len(t) == len(occ_t), where  # no point inside a face
     assert _nearest(v, occ_v).max() < 1e-9 and _nearest(occ_v, v).max() < 1e-9, where
     assert _nearest(_brep_vertices(solid), v).max() < 1e-12, where
+    assert facets.volume() == pytest.approx(solid.volume, rel=1e-12), where  # exact
     volume, loss = _mesh_volume(v, t), _chordal_loss(facets)
     assert volume == pytest.approx(_mesh_volume(occ_v, occ_t), rel=1e-9, abs=1e-9), where
     slack = 1e-9 * solid.volume  # rounding

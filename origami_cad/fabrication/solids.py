@@ -145,11 +145,15 @@ class Parts:
         return rows[k]
 
     def volume(self, name: str) -> float:
-        """The part's volume, mm^3: a moved copy's is its prototype's (computed once)."""
+        """The part's volume, mm^3: a moved copy's is its prototype's (computed once), a
+        solid assembled from its faces has theirs (``Facets.volume``), exact."""
         volumes: list[float] = []
         for k, solid in enumerate(self.solids[name]):
-            src = self.source(name, k)
-            volumes.append(solid.volume if src is None else volumes[src[0]])
+            src, facets = self.source(name, k), self.faces_of(name, k)
+            if src is not None:
+                volumes.append(volumes[src[0]])
+            else:
+                volumes.append(facets.volume() if facets is not None else solid.volume)
         return float(sum(volumes))
 
 
