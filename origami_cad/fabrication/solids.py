@@ -146,14 +146,19 @@ class Parts:
 
     def volume(self, name: str) -> float:
         """The part's volume, mm^3: a moved copy's is its prototype's (computed once), a
-        solid assembled from its faces has theirs (``Facets.volume``), exact."""
+        solid assembled from its faces has theirs (``Facets.volume``), a prism its
+        polygon's area times its height; others OCC's."""
         volumes: list[float] = []
         for k, solid in enumerate(self.solids[name]):
-            src, facets = self.source(name, k), self.faces_of(name, k)
+            src, facets, prism = self.source(name, k), self.faces_of(name, k), self.prism(name, k)
             if src is not None:
                 volumes.append(volumes[src[0]])
+            elif facets is not None:
+                volumes.append(facets.volume())
+            elif prism is not None:
+                volumes.append(prism[0].area * (prism[2] - prism[1]))
             else:
-                volumes.append(facets.volume() if facets is not None else solid.volume)
+                volumes.append(solid.volume)
         return float(sum(volumes))
 
 
