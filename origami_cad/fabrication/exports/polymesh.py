@@ -56,10 +56,12 @@ class _Mesh:
         return self.circles[key]
 
     def ids(self, points: list[tuple]) -> np.ndarray:
+        """The vertex index of each point, a new vertex for a point not seen before."""
         index = self.index
         return np.array([index.setdefault(p, len(index)) for p in points], dtype=np.int64)
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The vertices (mm, in the order first seen) and the triangles."""
         verts = np.array(list(self.index), dtype=float).reshape(-1, 3)
         return verts, np.vstack(self.triangles).astype(np.int64)
 
@@ -96,6 +98,7 @@ def _turned(a: np.ndarray) -> np.ndarray:
 
 
 def _area(xy: np.ndarray) -> float:
+    """The signed area (mm^2, anticlockwise positive) of a ring of ``(x, y)`` corners."""
     return 0.5 * float(np.dot(xy[:, 0], _turned(xy[:, 1])) - np.dot(_turned(xy[:, 0]), xy[:, 1]))
 
 
