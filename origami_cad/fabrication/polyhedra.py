@@ -8,13 +8,17 @@ convex panel, discs apart), those faces are known without any boolean: each soli
 assembled here from its faces, with shared vertices and edges (``BRep_Builder``), the
 same faces a boolean chain leaves (planes, one cylinder per hole with its seam).
 :func:`fast_panel_solids` returns ``None`` when that does not hold, and the caller
-builds with booleans.
+builds with booleans. Each solid's faces are kept as plain data too (:class:`Facets`,
+from :func:`fast_panel_build`): the exports mesh the solid from them
+(:func:`origami_cad.fabrication.exports.polymesh.facets_mesh`), not through OCC.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -32,7 +36,16 @@ from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import Hole
 
-__all__ = ["HOLE_CLEARANCE", "fast_panel_solids", "holes_clear"]
+__all__ = [
+    "HOLE_CLEARANCE",
+    "Cap",
+    "Facets",
+    "cup",
+    "fast_panel_build",
+    "fast_panel_solids",
+    "frustum",
+    "holes_clear",
+]
 
 #: Least distance (mm) between a hole's wall and any footprint ring or other hole for
 #: :func:`fast_panel_solids` to build without booleans.
@@ -41,14 +54,74 @@ HOLE_CLEARANCE = 1e-3
 _TOL = 1e-7
 
 
+#: A hole's circle in a horizontal face: centre x, y and radius, mm.
+Disc = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Cap:
+    """A horizontal face of a :class:`Facets` solid, mm.
+
+    ``outer`` runs counter-clockwise seen from above, ``inner`` rings clockwise (all
+    corners at height ``z``, no corner repeated); ``discs`` are the holes' circles
+    through it; the face's normal points up (``up``) or down.
+    """
+
+    z: float
+    up: bool
+    outer: list[tuple[float, float, float]]
+    inner: list[list[tuple[float, float, float]]]
+    discs: list[Disc]
+
+
+@dataclass
+class Facets:
+    """The faces of a solid assembled here, as plain data (mm): what its mesh is made of.
+
+    ``polygons``: planar faces, corners counter-clockwise seen from outside (the same
+    point tuples as the B-rep's vertices); ``caps``: the horizontal faces, which may hold
+    rings and the holes' circles; ``walls``: the holes' cylinders, ``(x, y, radius, z0,
+    z1)``, whose faces look into the hole.
+    """
+
+    polygons: list[list[tuple[float, float, float]]] = field(default_factory=list)
+    caps: list[Cap] = field(default_factory=list)
+    walls: list[tuple[float, float, float, float, float]] = field(default_factory=list)
+
+    def volume(self) -> float:
+        """The solid's volume, mm^3, exactly: the flux of the field ``(0, 0, z)`` through
+        its faces (vertical faces, the holes' walls among them, carry none)."""
+        total = 0.0
+        for cap in self.caps:
+            area = abs(_area(cap.outer)) - sum(abs(_area(r)) for r in cap.inner)
+            area -= sum(math.pi * r * r for _, _, r in cap.discs)
+            total += cap.z * area if cap.up else -cap.z * area
+        for points in self.polygons:  # a fan: each triangle's z-area times its mean z
+            x0, y0, z0 = points[0]
+            for (x1, y1, z1), (x2, y2, z2) in itertools.pairwise(points[1:]):
+                up = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
+                total += up * (z0 + z1 + z2) / 6.0
+        return total
+
+
+def _area(ring: list[tuple]) -> float:
+    """The signed area (mm^2, anticlockwise positive) of a ring seen from above."""
+    return 0.5 * sum(
+        x0 * y1 - x1 * y0
+        for (x0, y0, *_), (x1, y1, *_) in zip(ring, ring[1:] + ring[:1], strict=True)
+    )
+
+
 class _Builder:
-    """One solid's faces, sharing vertices and edges keyed by their points."""
+    """One solid's faces, sharing vertices and edges keyed by their points; the faces
+    recorded as plain data too (``facets``)."""
 
     def __init__(self) -> None:
         self.brep = BRep_Builder()
         self.vertices: dict[tuple, object] = {}
         self.edges: dict[tuple, object] = {}
         self.faces: list = []
+        self.facets = Facets()
 
     def _edge(self, a: tuple, b: tuple):
         key = (a, b) if a < b else (b, a)
@@ -104,6 +177,7 @@ class _Builder:
         if max(abs(sum((p[i] - c[i]) * n[i] for i in range(3))) for p in points) > _TOL / 10:
             raise ValueError("not planar")
         self.face(gp_Pln(gp_Pnt(*c), gp_Dir(*n)), points)
+        self.facets.polygons.append(points)
 
     def solid(self) -> Solid:
         shell = TopoDS_Shell()
@@ -137,13 +211,17 @@ def _distinct(points: list[tuple]) -> list[tuple]:
 
 def _cap(b: _Builder, ring: list[tuple], up: bool, inner=(), circles=()) -> None:
     """The horizontal face of ``ring`` (counter-clockwise seen from above), its normal up
-    or down, less ``inner`` rings (counter-clockwise) and the holes' ``circles``."""
+    or down, less ``inner`` rings (counter-clockwise) and the holes' ``circles``
+    (``(edge, disc)`` pairs of :func:`_cylinders`)."""
     z = ring[0][2]
     plane = gp_Pln(gp_Pnt(0.0, 0.0, z), gp_Dir(0.0, 0.0, 1.0 if up else -1.0))
     outer = _distinct(ring if up else ring[::-1])
     holes = [_distinct(r[::-1] if up else r) for r in inner]
     turn = TopAbs_REVERSED if up else TopAbs_FORWARD  # circles run anticlockwise from above
-    b.face(plane, outer, holes, [c.Oriented(turn) for c in circles])
+    b.face(plane, outer, holes, [c.Oriented(turn) for c, _ in circles])
+    b.facets.caps.append(
+        Cap(z, up, _distinct(ring), [_distinct(r[::-1]) for r in inner], [d for _, d in circles])
+    )
 
 
 def _band(b: _Builder, lo: list[tuple], hi: list[tuple], outward: bool = True) -> None:
@@ -158,9 +236,11 @@ def _band(b: _Builder, lo: list[tuple], hi: list[tuple], outward: bool = True) -
 
 def _cylinders(b: _Builder, holes: Sequence[Hole], z0: float, z1: float) -> tuple[list, list]:
     """The holes' walls from ``z0`` to ``z1`` (normals into the hole); their bottom and
-    top circles, as edges run anticlockwise seen from above."""
+    top circles, as ``(edge, disc)``: the edge run anticlockwise seen from above."""
     bottom, top = [], []
     for h in holes:
+        disc = (float(h.x), float(h.y), h.diameter / 2.0)
+        b.facets.walls.append((*disc, z0, z1))
         axes = gp_Ax2(gp_Pnt(h.x, h.y, z0), gp_Dir(0.0, 0.0, 1.0), gp_Dir(1.0, 0.0, 0.0))
         wall = BRepPrimAPI_MakeCylinder(axes, h.diameter / 2.0, z1 - z0).Face()
         explorer = TopExp_Explorer(wall, TopAbs_EDGE)
@@ -169,7 +249,8 @@ def _cylinders(b: _Builder, holes: Sequence[Hole], z0: float, z1: float) -> tupl
             first, last = TopExp.FirstVertex_s(edge), TopExp.LastVertex_s(edge)
             if first.IsSame(last):
                 z = BRep_Tool.Pnt_s(first).Z()
-                (bottom if abs(z - z0) < abs(z - z1) else top).append(edge.Oriented(TopAbs_FORWARD))
+                circle = (edge.Oriented(TopAbs_FORWARD), disc)
+                (bottom if abs(z - z0) < abs(z - z1) else top).append(circle)
             explorer.Next()
         b.faces.append(TopoDS.Face(wall.Reversed()))
     return bottom, top
@@ -177,21 +258,23 @@ def _cylinders(b: _Builder, holes: Sequence[Hole], z0: float, z1: float) -> tupl
 
 def frustum(
     lo: np.ndarray, z_lo: float, hi: np.ndarray, z_hi: float, holes: Sequence[Hole] = ()
-) -> Solid:
+) -> tuple[Solid, Facets]:
     """The polyhedron between two rings of corresponding corners (counter-clockwise),
-    ``lo`` at ``z_lo`` below ``hi`` at ``z_hi``, less the holes' vertical cylinders."""
+    ``lo`` at ``z_lo`` below ``hi`` at ``z_hi``, less the holes' vertical cylinders; and
+    its faces as data."""
     b = _Builder()
     bottom, top = _cylinders(b, holes, z_lo, z_hi)
     ring_lo, ring_hi = _ring(lo, z_lo), _ring(hi, z_hi)
     _cap(b, ring_lo, False, circles=bottom)
     _cap(b, ring_hi, True, circles=top)
     _band(b, ring_lo, ring_hi)
-    return b.solid()
+    return b.solid(), b.facets
 
 
-def cup(whole: tuple, core: tuple, holes: Sequence[Hole], open_up: bool) -> Solid:
+def cup(whole: tuple, core: tuple, holes: Sequence[Hole], open_up: bool) -> tuple[Solid, Facets]:
     """``whole`` less ``core`` and the holes: each ``(lo ring, z_lo, hi ring, z_hi)``,
-    the core inside the whole and flush with its top (``open_up``) or bottom."""
+    the core inside the whole and flush with its top (``open_up``) or bottom; and its
+    faces as data."""
     a, za, bb, zb = whole
     c, zc, d, zd = core
     b = _Builder()
@@ -208,7 +291,7 @@ def cup(whole: tuple, core: tuple, holes: Sequence[Hole], open_up: bool) -> Soli
         _cap(b, ring_d, False, circles=bottom)
     _band(b, ring_a, ring_b)
     _band(b, ring_c, ring_d, outward=False)
-    return b.solid()
+    return b.solid(), b.facets
 
 
 def _convex(ring: np.ndarray) -> bool:
@@ -236,16 +319,25 @@ def fast_panel_solids(
     """The solids of :func:`~origami_cad.fabrication.solids.panel_solids`, assembled
     from their faces; ``None`` when the holes are not clear (:func:`holes_clear`) or a
     side face is not planar."""
+    built = fast_panel_build(o, holes, params)
+    return None if built is None else built[0]
+
+
+def fast_panel_build(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> tuple[dict[str, list[Solid]], dict[str, list[Facets]]] | None:
+    """:func:`fast_panel_solids` and each solid's :class:`Facets` (the same keys and
+    order); ``None`` when the solids are not built here."""
     if not holes_clear(o, holes):
         return None
     h, half, s = params.height, params.half_height, params.shell
     lo_z, hi_z = half, half + params.thickness
+    lower = (o.outer, 0.0, o.inner, lo_z)
+    upper = (o.inner, hi_z, o.outer, h)
+    lower_in = (o.infill_outer, s, o.infill_inner, lo_z)
+    upper_in = (o.infill_inner, hi_z, o.infill_outer, h - s)
     try:
-        lower = (o.outer, 0.0, o.inner, lo_z)
-        upper = (o.inner, hi_z, o.outer, h)
-        lower_in = (o.infill_outer, s, o.infill_inner, lo_z)
-        upper_in = (o.infill_inner, hi_z, o.infill_outer, h - s)
-        return {
+        built = {
             "halves": [frustum(*lower), frustum(*upper)],
             "infills": [frustum(*lower_in, holes), frustum(*upper_in, holes)],
             "shells": [cup(lower, lower_in, holes, True), cup(upper, upper_in, holes, False)],
@@ -253,3 +345,5 @@ def fast_panel_solids(
         }
     except ValueError:
         return None
+    solids = {name: [solid for solid, _ in pairs] for name, pairs in built.items()}
+    return solids, {name: [faces for _, faces in pairs] for name, pairs in built.items()}

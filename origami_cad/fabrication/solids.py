@@ -4,8 +4,9 @@ Each panel half is a polyhedron whose faces are planes (outer face, chamfers of
 eq. 6, vertical free sides), built face by face from the footprints of
 :mod:`origami_cad.fabrication.panels`, with no lofts and no sheet-wide boolean. A
 panel's solids with their holes are assembled from their faces too
-(:mod:`origami_cad.fabrication.polyhedra`); only a panel whose holes come near its
-footprints is built with booleans (shell = half minus infill, and the holes).
+(:mod:`origami_cad.fabrication.polyhedra`), which keeps their faces as plain data for
+the exports' meshes; only a panel whose holes come near its footprints is built with
+booleans (shell = half minus infill, and the holes).
 The crease sheet is one planar face with a hole per mid-layer, extruded once.
 
 build123d objects never leave ``origami_cad.fabrication``.
@@ -31,7 +32,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Face
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import FabricationParams
-from origami_cad.fabrication.polyhedra import fast_panel_solids
+from origami_cad.fabrication.polyhedra import Facets, fast_panel_build
 from origami_cad.pattern.model import Hole
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "crease_sheet",
     "half_solid",
     "moved_copy",
+    "panel_build",
     "panel_solids",
     "planar_prism",
     "prism_rings",
@@ -83,14 +85,28 @@ class Parts:
     prisms: dict[str, list[tuple[shapely.Polygon, float, float] | None]] = field(
         default_factory=dict
     )
+    #: per solid of each part, as built: its faces as data when it was assembled from
+    #: them (:mod:`~origami_cad.fabrication.polyhedra`; meshed from them:
+    #: ``exports.polymesh.facets_mesh``), else ``None``
+    facets: dict[str, list[Facets | None]] = field(default_factory=dict)
     #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
-    def add(self, name: str, solids: list[Solid], face: int, copy_of: list | None = None) -> None:
+    def add(
+        self,
+        name: str,
+        solids: list[Solid],
+        face: int,
+        copy_of: list | None = None,
+        facets: list[Facets] | None = None,
+    ) -> None:
         """Append ``solids`` to part ``name``, as solids of panel (face index) ``face``.
 
-        ``copy_of`` (one per solid): ``(earlier solid of the part, motion)`` for a moved copy.
+        ``copy_of`` (one per solid): ``(earlier solid of the part, motion)`` for a moved
+        copy; ``facets`` (one per solid): the faces each was assembled from.
         """
+        self.facets.setdefault(name, [None] * len(self.solids[name]))
+        self.facets[name] += facets if facets is not None else [None] * len(solids)
         self.solids[name] += solids
         self.owners[name] += [face] * len(solids)
         self.copy_of.setdefault(name, [])
@@ -114,17 +130,35 @@ class Parts:
     def prism(self, name: str, k: int) -> tuple[shapely.Polygon, float, float] | None:
         """``(polygon, z0, z1)`` when solid ``k`` of part ``name`` is, as built, that
         polygon's :func:`planar_prism`, else ``None``."""
-        prisms, built = self.prisms.get(name, []), self.built.get(name, [])
-        if k >= len(prisms) or k >= len(built) or built[k] is not self.solids[name][k]:
+        return self._as_built(self.prisms, name, k)
+
+    def faces_of(self, name: str, k: int) -> Facets | None:
+        """The faces solid ``k`` of part ``name`` was assembled from (plain data), when it
+        is still the solid built there, else ``None``."""
+        return self._as_built(self.facets, name, k)
+
+    def _as_built(self, table: dict[str, list], name: str, k: int) -> Any:
+        """``table[name][k]`` when solid ``k`` is still the one built there, else ``None``."""
+        rows, built = table.get(name, []), self.built.get(name, [])
+        if k >= len(rows) or k >= len(built) or built[k] is not self.solids[name][k]:
             return None
-        return prisms[k]
+        return rows[k]
 
     def volume(self, name: str) -> float:
-        """The part's volume, mm^3: a moved copy's is its prototype's (computed once)."""
+        """The part's volume, mm^3: a moved copy's is its prototype's (computed once), a
+        solid assembled from its faces has theirs (``Facets.volume``), a prism its
+        polygon's area times its height; others OCC's."""
         volumes: list[float] = []
         for k, solid in enumerate(self.solids[name]):
-            src = self.source(name, k)
-            volumes.append(solid.volume if src is None else volumes[src[0]])
+            src, facets, prism = self.source(name, k), self.faces_of(name, k), self.prism(name, k)
+            if src is not None:
+                volumes.append(volumes[src[0]])
+            elif facets is not None:
+                volumes.append(facets.volume())
+            elif prism is not None:
+                volumes.append(prism[0].area * (prism[2] - prism[1]))
+            else:
+                volumes.append(solid.volume)
         return float(sum(volumes))
 
 
@@ -238,8 +272,16 @@ def panel_solids(
     params : FabricationParams
         Heights and thicknesses, mm.
     """
-    fast = fast_panel_solids(o, holes, params)
-    return fast if fast is not None else boolean_panel_solids(o, holes, params)
+    return panel_build(o, holes, params)[0]
+
+
+def panel_build(
+    o: PanelOutline, holes: Sequence[Hole], params: FabricationParams
+) -> tuple[dict[str, list[Solid]], dict[str, list[Facets]] | None]:
+    """:func:`panel_solids` and, when they were assembled from their faces, those faces
+    (:class:`~origami_cad.fabrication.polyhedra.Facets`, per solid), else ``None``."""
+    fast = fast_panel_build(o, holes, params)
+    return fast if fast is not None else (boolean_panel_solids(o, holes, params), None)
 
 
 def boolean_panel_solids(
@@ -325,8 +367,9 @@ def build_parts(
     built: list[dict[str, list[Solid]]] = []
     starts: list[dict[str, int]] = []
     for o, own, same in zip(outlines, holes_of, congruent_panels(outlines, holes_of), strict=True):
+        faces = None
         if same is None:
-            solids = panel_solids(o, own, params)
+            solids, faces = panel_build(o, own, params)
         else:
             solids = {n: [moved_copy(x, same[1]) for x in v] for n, v in built[same[0]].items()}
         built.append(solids)
@@ -338,7 +381,7 @@ def build_parts(
             if same is not None:
                 first = starts[same[0]][name]
                 copies = [(first + i, same[1]) for i in range(len(solids[name]))]
-            parts.add(name, solids[name], o.index, copies)
+            parts.add(name, solids[name], o.index, copies, None if faces is None else faces[name])
     z_layer_lo = params.half_height
     sheet = crease_sheet(outlines, sheet_outline)
     z_layer_hi = z_layer_lo + params.thickness

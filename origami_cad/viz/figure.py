@@ -10,15 +10,21 @@ from __future__ import annotations
 
 import contextlib
 import os
+import struct
+import zlib
 from collections.abc import Iterator
+from pathlib import Path
 from typing import Any
 
+import matplotlib
+import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from origami_cad._fileio import atomic_path
 
-__all__ = ["PNG_COMPRESS_LEVEL", "new_axes", "png_subplots"]
+__all__ = ["PNG_COMPRESS_LEVEL", "new_axes", "png_bytes", "png_subplots", "write_png"]
 
 #: zlib level of the PNGs: 3 compresses a 20 x 20 sheet's panels.png within 2 % of the
 #: default (6) in about half the time.
@@ -53,5 +59,54 @@ def png_subplots(
     axes = fig.subplots(*args, **kwargs)
     yield fig, axes
     fig.tight_layout()
+    write_png(fig, path, dpi=dpi)
+
+
+def write_png(fig: Figure, path: str | os.PathLike[str], *, dpi: float = 150) -> Path:
+    """Render ``fig`` with Agg at ``dpi`` (dots per inch) and write it as a PNG (atomic).
+
+    The picture ``fig.savefig(path, dpi=dpi)`` draws, encoded by :func:`png_bytes`
+    (about three times faster than Pillow's encoder, whose filter search dominates).
+    """
+    fig.dpi = dpi
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    data = png_bytes(np.asarray(canvas.buffer_rgba()), dpi)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
+        Path(tmp).write_bytes(data)
+    return Path(path)
+
+
+def png_bytes(rgba: np.ndarray, dpi: float) -> bytes:
+    """A PNG file of an RGBA picture (``(rows, columns, 4)`` bytes), its resolution ``dpi``.
+
+    RGB when every pixel is opaque, else RGBA; 8 bits a channel; rows unfiltered,
+    deflated at :data:`PNG_COMPRESS_LEVEL`; a ``Software`` text chunk naming matplotlib.
+    """
+    rows, cols = rgba.shape[:2]
+    pixels = rgba[..., :3] if bool(np.all(rgba[..., 3] == 255)) else rgba
+    raw = np.zeros((rows, 1 + cols * pixels.shape[2]), dtype=np.uint8)  # filter 0: none
+    raw[:, 1:] = pixels.reshape(rows, -1)
+    per_metre = round(dpi / 0.0254)
+    colour = 2 if pixels.shape[2] == 3 else 6
+    return b"".join(
+        [
+            b"\x89PNG\r\n\x1a\n",
+            _chunk(b"IHDR", struct.pack(">IIBBBBB", cols, rows, 8, colour, 0, 0, 0)),
+            _chunk(b"pHYs", struct.pack(">IIB", per_metre, per_metre, 1)),
+            _chunk(b"tEXt", _SOFTWARE),
+            _chunk(b"IDAT", zlib.compress(raw.tobytes(), PNG_COMPRESS_LEVEL)),
+            _chunk(b"IEND", b""),
+        ]
+    )
+
+
+#: The text chunk ``savefig`` writes, as it writes it.
+_SOFTWARE = (
+    f"Software\0Matplotlib version{matplotlib.__version__}, https://matplotlib.org/".encode()
+)
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    """One PNG chunk: length, type, data, CRC-32 of type and data."""
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))

@@ -1,6 +1,7 @@
 """Exports of the printed parts, one module per format, and their registry.
 
-* :mod:`.stl`: one binary STL per part (and the meshes behind every export);
+* :mod:`.stl`: one binary STL per part (and the meshes behind every export; those of
+  the solids assembled from their faces made by :mod:`.polymesh`);
 * :mod:`.step`: the STEP assembly of named, coloured solids, any labelled tree;
 * :mod:`.threemf`: the slicer-ready 3MF (extruders, colours, print settings).
 

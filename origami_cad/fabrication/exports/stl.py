@@ -1,7 +1,10 @@
 """STL export of the printed parts: one binary STL per part, and the meshes behind every export.
 
-The meshes (:func:`solid_mesh`) are OCC's tessellation of each solid, welded within the
-solid only; the 3MF and the glb files are made of the same meshes.
+The meshes are OCC's tessellation of each solid (:func:`solid_mesh`), welded within the
+solid only, or the same surface made straight from what the solid was built from: a
+polygon's prism (:func:`prism_mesh`), a solid assembled from its faces
+(:func:`~origami_cad.fabrication.exports.polymesh.facets_mesh`). The 3MF and the glb
+files are made of the same meshes.
 """
 
 from __future__ import annotations
@@ -21,12 +24,14 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
 
 from origami_cad._fileio import atomic_path
+from origami_cad.fabrication.exports.polymesh import circle_segments, facets_mesh
 from origami_cad.fabrication.solids import PART_NAMES, Parts, prism_rings
 
 __all__ = [
     "ANGULAR_TOLERANCE",
     "TOLERANCE",
     "WRITERS",
+    "built_mesh",
     "export_stls",
     "moved_mesh",
     "part_meshes",
@@ -40,7 +45,7 @@ __all__ = [
     "write_stl",
 ]
 
-#: Tessellation of the exports: chordal tolerance (mm) and angular tolerance (rad).
+#: Tessellation of the exports: chordal tolerance (relative) and angular tolerance (rad).
 TOLERANCE, ANGULAR_TOLERANCE = 0.01, 0.1
 
 
@@ -235,8 +240,9 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
     """The meshes of every solid of a part (see :func:`solid_mesh`), tessellated once.
 
     A solid that is, as built, a moved copy of an earlier one (``parts.copy_of``) gets
-    that solid's mesh, moved; the meshes are kept on ``parts`` and shared by every export
-    (STL, 3MF, glb, renders) until the part's solids change.
+    that solid's mesh, moved; a prism or a solid assembled from its faces, as built, is
+    meshed from them (:func:`built_mesh`). The meshes are kept on ``parts`` and shared
+    by every export (STL, 3MF, glb, renders) until the part's solids change.
     """
     solids = parts.solids[name]
     cached = parts.mesh_cache.get(name)
@@ -245,8 +251,7 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
             return cached[1]
     meshes: list[tuple[np.ndarray, np.ndarray]] = []
     for k, solid in enumerate(solids):
-        source, prism = parts.source(name, k), parts.prism(name, k)
-        mesh = prism_mesh(*prism) if prism is not None else None
+        source, mesh = parts.source(name, k), built_mesh(parts, name, k)
         if mesh is not None:
             meshes.append(mesh)
         elif source is None:
@@ -255,6 +260,18 @@ def part_meshes(parts: Parts, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
             meshes.append(moved_mesh(meshes[source[0]], source[1]))
     parts.mesh_cache[name] = (list(solids), meshes)
     return meshes
+
+
+def built_mesh(parts: Parts, name: str, k: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """Solid ``k``'s mesh made from what it was built from (a prism's polygon, the faces
+    it was assembled from), the surface OCC's mesh of it has; ``None`` for other solids."""
+    prism = parts.prism(name, k)
+    if prism is not None:
+        return prism_mesh(*prism)
+    facets = parts.faces_of(name, k)
+    if facets is not None:
+        return facets_mesh(facets, circle_segments(ANGULAR_TOLERANCE))
+    return None
 
 
 def parts_tessellation(parts: Parts) -> dict[str, tuple[np.ndarray, np.ndarray]]:
