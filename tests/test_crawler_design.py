@@ -34,17 +34,46 @@ from origami_cad.design.crawler_search import (
 )
 from origami_cad.design.gait import GaitSettings
 from origami_cad.errors import DesignError
-from origami_cad.robot import load_robot
+from origami_cad.robot import load_gait, load_robot
 from origami_cad.simulation.crawler import robot_params, simulate_gait
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 
 
+NAMES = ["crawler.fold", "crawler.toml", *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr"))]
+
+
+def _make_crawler():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_crawler", HERE / "make_crawler.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def test_the_generator_with_the_default_numbers_writes_the_committed_example(tmp_path):
     write_crawler(crawler_files(envelope=None), tmp_path)
-    names = ["crawler.fold", "crawler.toml", *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr"))]
-    for name in names:
+    for name in NAMES:
         assert (tmp_path / name).read_bytes() == (HERE / name).read_bytes(), name
+
+
+def test_the_designed_crawler_is_the_generators_and_within_the_envelope(tmp_path):
+    from origami_cad.design.crawler_toml import gait_file_text
+
+    gen, designed = _make_crawler(), HERE.parent / "crawler_designed"
+    files = crawler_files(gen.DESIGNED, gen.FLAT_GAIT, header=gen.FLAT_HEADER)  # checks it
+    write_crawler(files, tmp_path)
+    for name in NAMES:
+        assert (tmp_path / name).read_bytes() == (designed / name).read_bytes(), name
+    grip = gait_file_text(*gen.GRIP_GAIT, gen.GRIP_HEADER)
+    assert (designed / "gait_grip.toml").read_text(encoding="utf-8") == grip
+    extent = check_envelope(gen.DESIGNED)
+    assert all(e <= limit for e, limit in zip(extent, ENVELOPE, strict=True))
+    robot = load_robot(designed / "crawler.toml")
+    sheet = robot.sheet(holes="auto")  # what the robot command prints: eq. 6's checks pass
+    assert (sheet.thickness, sheet.shell) == (0.7, 0.7) and sheet.holes == "auto"
+    assert load_gait(designed / "gait_grip.toml", robot).gait_p.max() <= 60.0 / 180.0
 
 
 @pytest.mark.parametrize("body", [180.0, 130.0])

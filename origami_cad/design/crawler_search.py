@@ -333,6 +333,7 @@ def design_crawler(
     bounds: dict | str | None = None,
     executor: cf.Executor | None = None,
     progress: Callable[[int, int], None] | None = None,
+    start=None,
 ) -> CrawlerSearch:
     """Search the crawler's design genes and its gait together with CMA-ES; returns data.
 
@@ -347,6 +348,10 @@ def design_crawler(
         The design genes' bounds (:func:`parse_design_bounds`).
     executor, progress
         As :func:`~origami_cad.design.gait.design_gait`'s.
+    start : array-like, optional
+        The genome CMA-ES starts from and scores first (design genes, then gait genes, in
+        [0, 1]; e.g. a previous search's ``results.json`` best ``genome``); default the
+        built robot's numbers within ``bounds`` and the robot file's gait.
 
     Returns
     -------
@@ -361,7 +366,10 @@ def design_crawler(
     own = executor is None
     pool = local_pool(settings.popsize * len(settings.frictions)) if own else executor
     try:
-        start = _start_genome(robot, bounds)
+        dim_ok = start is None or len(start) == dim
+        if not dim_ok:
+            raise DesignError(f"design_crawler: start genome has {len(start)} genes, not {dim}")
+        start = _start_genome(robot, bounds) if start is None else np.clip(start, 0.0, 1.0)
         cands, designs = _candidates(pool, bounds, [start], settings, 0)
         done[0] += 1
         if progress is not None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["robot_text"]
+__all__ = ["gait_file_text", "robot_text"]
 
 _BODY = """# The crawling robot of the paper's Fig. 7 (340 x 320 x 122 mm, 361 g, 63 mm per 32 s cycle).
 # Written with its pattern and routes by make_crawler.py (origami_cad.design.crawler, from
@@ -158,6 +158,16 @@ def _gait_text(times, ratios, header: str | None) -> str:
     for t, p in zip(np.asarray(times, float), np.asarray(ratios, float), strict=True):
         row = ", ".join(f"{v:.6g}" for v in p)
         lines += ["[[gait.keyframe]]", f"t = {t:.6g}", f"p = [{row}]"]
+    return "\n".join(lines) + "\n"
+
+
+def gait_file_text(times, ratios, header: str = "") -> str:
+    """A gait file (``[[keyframe]]`` tables of ``t`` s and ``p`` fold ratios per leg) that
+    ``crawl --gait`` reads; fold ratios as the robot file writes them (6 digits)."""
+    lines = [header.rstrip("\n")] if header else []
+    for t, p in zip(np.asarray(times, float), np.asarray(ratios, float), strict=True):
+        row = ", ".join(f"{v:.6g}" for v in p)
+        lines += ["[[keyframe]]", f"t = {t:.6g}", f"p = [{row}]"]
     return "\n".join(lines) + "\n"
 
 
