@@ -9,6 +9,7 @@ walks (docs/crawler.md, "Designing the crawler").
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 
 import numpy as np
@@ -35,7 +36,7 @@ from origami_cad.design.crawler_search import (
 from origami_cad.design.gait import GaitSettings
 from origami_cad.errors import DesignError
 from origami_cad.robot import load_gait, load_robot
-from origami_cad.simulation.crawler import robot_params, simulate_gait
+from origami_cad.simulation.crawler import robot_params
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 
@@ -149,6 +150,9 @@ def test_every_decoded_design_is_within_the_envelope_and_its_bounds():
             low, high = bounds[name]
             assert low - 1e-9 <= getattr(d, name) <= high + 1e-9
         assert d.shell < (2.2 - d.crease_thickness) / 2
+    # legs that leave no body within the 340 mm are refused by name, not drawn
+    with pytest.raises(DesignError, match="body of"):
+        decode_design(parse_design_bounds("leg_length=150:160"), np.zeros(5))
 
 
 def test_a_tiny_joint_search_writes_a_crawler_that_walks_the_scored_stride(tmp_path):
@@ -158,9 +162,12 @@ def test_a_tiny_joint_search_writes_a_crawler_that_walks_the_scored_stride(tmp_p
     assert len(search.designs) == len(search.gait.candidates) == 3
     best = search.best_design
     assert 100.0 <= best.leg_length <= 110.0 and best.body_length < 180.0
-    robot = load_robot(write_crawler(search.files(), tmp_path))
-    again = simulate_gait(robot, cycles=1, steps=2, friction=0.6)
-    forward = float(again.body[-1, 0] - again.body[0, 0])
+    written = write_crawler(search.files(), tmp_path / "robot")
+    robot = load_robot(written)
+    out = tmp_path / "crawl"
+    args = ["--steps", "2", "--cycles", "1", "--friction", "0.6"]
+    assert main(["crawl", str(written), "-o", str(out), *args]) == 0
+    forward = json.loads((out / "crawl.json").read_text())["displacement_total_mm"]
     assert forward == pytest.approx(search.gait.best.terms[0].forward, abs=1e-6)
     assert np.allclose(robot.gait_p, search.gait.best.ratios)
     info = search.to_dict()

@@ -115,7 +115,9 @@ class CrawlerDesign:
         The blockers on the leg creases, deg (the paper's: up to 60).
     crease_thickness : float
         The printed crease layer t (TPU), mm: the crease's bending stiffness is
-        ``E t^3 / (12 w)``; ``None`` of ``shell`` and t = 0.4 is the paper's sheet.
+        ``E t^3 / (12 w)``. With t = 0.4 and s = 0.8 (the paper's sheet) the routes carry no
+        ``[fabrication]`` table; otherwise they do, and the simulation and the printed
+        robot take it.
     shell : float
         The TPU shell s on the panels' faces, mm (eq. 6's sheet needs s < (h - t) / 2).
     """

@@ -241,14 +241,15 @@ class CrawlerSearch:
         The candidates as a gait search's (genomes: design genes, then gait genes; the
         ``hand`` candidate is the start: the built robot's numbers and the hand gait's
         genome); ``gait.best`` is the best candidate.
-    designs : list of CrawlerDesign
-        Each candidate's design, in ``gait.candidates``' order.
+    designs : list of CrawlerDesign or None
+        Each candidate's design, in ``gait.candidates``' order (``None``: refused, e.g.
+        legs leaving too short a body; such a candidate scores ``FAILED``).
     bounds : dict
         The design genes' bounds.
     """
 
     gait: GaitDesign
-    designs: list[CrawlerDesign]
+    designs: list[CrawlerDesign | None]
     bounds: dict[str, tuple[float, float]]
 
     @property
@@ -277,7 +278,7 @@ class CrawlerSearch:
             "best_design": self.best_design.to_dict(),
             "best_extent_mm": list(max_extent(self.best_design)),
             "start_design": self.designs[0].to_dict(),
-            "candidate_designs": [d.to_dict() for d in self.designs],
+            "candidate_designs": [d.to_dict() if d else None for d in self.designs],
         }
 
 
@@ -316,8 +317,8 @@ def _candidates(executor, bounds, pop, settings, generation: int):
             design = decode_design(bounds, x[:k])
             walker = _cached_robot(design, settings.cycle)
             times, ratios = decode_gait(walker, x[k:], settings.cycle)
-        except OrigamiCadError:
-            design, times, ratios = CrawlerDesign(), (0.0,), ((P_FLOOR,) * 4,)
+        except OrigamiCadError:  # refused (scored FAILED): no design, no gait
+            design, times, ratios = None, (0.0,), ((P_FLOOR,) * 4,)
         out.append(GaitCandidate(
             0, generation, tuple(float(v) for v in x), tuple(float(t) for t in times),
             tuple(tuple(float(v) for v in row) for row in ratios), terms,
