@@ -46,6 +46,7 @@ from origami_cad.design.crawler import (
     ENVELOPE,
     FLOOR_DEG,
     LAYER,
+    MODULE_FRONT,
     CrawlerDesign,
     CrawlerFiles,
     crawler_extent,
@@ -189,7 +190,7 @@ def decode_design(bounds: dict[str, tuple[float, float]], u) -> CrawlerDesign:
     hole = min(round(float(v["body_hole"]), 1), math.floor((body / 2 - 20) * 10) / 10)
     d = dataclasses.replace(d, body_length=body, body_hole=hole)
     cp_leg = module_centre(crawler_pattern(d), "leg_fl")[0] - body / 2.0
-    near = math.floor((cp_leg - 32.0) * 10.0) / 10.0  # MODULE_FRONT before the module's centre
+    near = math.floor((cp_leg - MODULE_FRONT) * 10.0) / 10.0  # the module's near edge
     return dataclasses.replace(d, leg_hole=min(d.leg_hole, near))
 
 
