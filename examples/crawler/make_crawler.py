@@ -36,7 +36,7 @@ from origami_cad.design.crawler_toml import gait_file_text  # noqa: E402
 #: The built robot's design numbers (mm, deg): CrawlerDesign's defaults.
 DESIGN = CrawlerDesign()
 #: The designed crawler (mm, deg): longer legs on a body shortened to keep 340 mm at the
-#: 20 deg rest, and a 0.7 mm TPU crease layer (0.7 mm shell) that unfolds the legs.
+#: 20 deg rest, and a 0.7 mm TPU crease layer (0.6 mm shell) that unfolds the legs.
 DESIGNED = CrawlerDesign(
     body_length=108.2,
     leg_length=122.9,
@@ -44,7 +44,7 @@ DESIGNED = CrawlerDesign(
     body_hole=24.9,
     blocker_angle=60.0,
     crease_thickness=0.7,
-    shell=0.7,
+    shell=0.6,
 )
 #: Keyframes (s; fold ratios p = fold angle / 180 deg, [FL, FR, RL, RR]) of the designed
 #: crawler's gait for friction 0.4-0.6 (design-gait --frictions 0.6 on it).

@@ -170,9 +170,14 @@ class CrawlerDesign:
 
 def shell_for(crease_thickness: float) -> float:
     """The TPU shell (mm) for crease layer ``crease_thickness``: the paper's 0.8 mm, or the
-    thickest whole layer that leaves the panel halves room (s < (h - t) / 2)."""
-    room = (SHEET_HEIGHT - crease_thickness) / 2.0
-    return round(min(0.8, math.ceil(room / LAYER - 1.0 - 1e-6) * LAYER), 3)
+    thickest whole layer that leaves the panel halves ((h - t) / 2) one layer of infill, as
+    the paper's sheet does (0.9 - 0.8 = 0.1 mm).
+
+    >>> shell_for(0.4), shell_for(0.5), shell_for(0.7), shell_for(0.8)
+    (0.8, 0.7, 0.6, 0.6)
+    """
+    room = (SHEET_HEIGHT - crease_thickness) / 2.0 - LAYER
+    return round(min(0.8, math.floor(room / LAYER + 1e-6) * LAYER), 3)
 
 
 def crawler_pattern(design: CrawlerDesign | None = None) -> CreasePattern:

@@ -16,7 +16,7 @@ body_hole         15 .. 45 mm         the body's string holes from the hinge (at
                                       20 mm short of the body's middle)
 blocker_angle     45 .. 60 deg        the blockers (the paper's: up to 60 deg)
 crease_thickness  0.4 .. 0.8 mm       the TPU crease layer t, in 0.1 mm layers; the shell
-                                      s thins to stay below (h - t) / 2 (eq. 6's sheet):
+                                      s thins to leave one 0.1 mm layer of infill (shell_for):
                                       a stiffer crease (E t^3 / (12 w)) unfolds the legs
 ================  ==================  ===================================================
 
