@@ -28,7 +28,7 @@ from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.strings.route import RouteSpec, load_route
+from origami_cad.strings.route import RouteSpec, load_route, route_sheet
 
 __all__ = [
     "MOUNT_MARGIN",
@@ -95,6 +95,11 @@ class Robot:
     def blockers(self) -> dict[int, float]:
         """``{crease edge: degrees}``: a blocker on every leg crease."""
         return {leg.crease: self.blocker_angle for leg in self.legs}
+
+    def sheet(self, **fields):
+        """The printed sheet (``FabricationParams``): the first leg's route's
+        ``[fabrication]`` (crease thickness, shell), else the paper's; ``fields`` replaced."""
+        return route_sheet(self.legs[0].route, **fields)
 
     @property
     def cycle(self) -> float:

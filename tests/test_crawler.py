@@ -67,15 +67,17 @@ def forward(robot):
 
 
 def test_files_are_what_the_generator_writes(robot):
-    gen = _generator()
-    cp = gen.crawler_pattern()
+    from origami_cad.design.crawler import crawler_files
+
+    files = crawler_files(_generator().DESIGN, envelope=None)  # make_crawler.py's numbers
+    cp = files.pattern
     on_disk = read_pattern(HERE / "crawler.fold")
     assert np.allclose(cp.vertices, on_disk.vertices)
     assert cp.assignments.tolist() == on_disk.assignments.tolist()
     assert sorted(on_disk.face_labels) == ["body", "leg_fl", "leg_fr", "leg_rl", "leg_rr"]
-    for label, servo, name, sx, sy in gen.LEGS:
-        text = (HERE / f"route_{label[4:]}.toml").read_text(encoding="utf-8")
-        assert text == gen.route_text(cp, label, servo, name, sx, sy)
+    for name, text in files.routes.items():
+        assert (HERE / name).read_text(encoding="utf-8") == text
+    assert (HERE / "crawler.toml").read_text(encoding="utf-8") == files.robot
     # the printed holes are the routed holes
     routed = {p for leg in robot.legs for s in leg.route.strings for p in s.points}
     assert routed == set(robot.holes)

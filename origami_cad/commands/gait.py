@@ -15,6 +15,12 @@ from origami_cad.parallel import open_executor
 __all__: list[str] = []
 
 FILES = ("gait.toml", "results.json", "convergence.png", "gait.png", "friction.png", "gait.gif")
+#: With ``--design``: the designed crawler, its robot file walking the designed gait.
+ROBOT_FILES = (
+    "crawler.toml",
+    "crawler.fold",
+    *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr")),
+)
 
 
 def _command_line(a) -> str:
@@ -25,6 +31,7 @@ def _command_line(a) -> str:
             args += [f"--{name}", f"{getattr(a, name):g}"]
     if a.frictions is not None:
         args += ["--frictions", *(f"{f:g}" for f in a.frictions)]
+    args += ["--design", a.design] if a.design is not None else []
     return " ".join([*args, *(["--mix", a.mix] if a.mix else [])])
 
 
@@ -85,7 +92,7 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
     captions = [f"t = {result.t[k]:.1f} s, {result.body[k, 0] - result.body[0, 0]:+.1f} mm"
                 for k in picked]  # fmt: skip
     shown = [result.states[k] for k in picked]
-    render_folding_gif(robot.pattern, shown, stage / FILES[5], view="xz", captions=captions)
+    render_folding_gif(best_robot.pattern, shown, stage / FILES[5], view="xz", captions=captions)
 
 
 def _report(robot, design, seconds: float, command: str) -> dict:
@@ -137,6 +144,29 @@ def _numbers(design, seconds: float) -> list[tuple[str, str]]:
     return [*rows, ("limits hit by the best gait", "; ".join(hits) or "none")]
 
 
+def _search(a, robot, settings):
+    """The gait search, or with ``--design`` the joint design and gait search:
+    ``(GaitDesign, CrawlerSearch or None)``."""
+    from origami_cad.design.crawler_search import design_crawler, parse_design_bounds
+    from origami_cad.design.gait import design_gait
+
+    bounds = parse_design_bounds(a.design) if a.design is not None else None
+    with open_executor(a.scheduler) as executor:
+        if bounds is None:
+            return design_gait(robot, settings, executor=executor, progress=a.progress), None
+        search = design_crawler(robot, settings, bounds, executor=executor, progress=a.progress)
+    return search.gait, search
+
+
+def _robot_gait_header(design, command: str) -> str:
+    per = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in design.best.terms)
+    return (
+        f"# The gait found with this crawler's design by design-gait --design (forward per\n"
+        f"# cycle {per}; the paper: {PAPER_CRAWL_MM:g} mm). Fold ratios p = fold angle / 180 deg\n"
+        f"# of the legs [front left, front right, rear left, rear right].\n#   {command}"
+    )
+
+
 @register
 class DesignGait(Command):
     """CMA-ES gait design of a legged robot: gait.toml, results.json, plots and gait.gif.
@@ -150,7 +180,10 @@ class DesignGait(Command):
     starts from the robot file's own gait, which stays a candidate: the best is never
     worse. ``gait.toml`` is a sequence for ``drive`` whose keyframes ``crawl --gait``
     reads; ``results.json`` holds every candidate and what limits the stride;
-    ``scheduler`` runs the simulations on Dask.
+    ``scheduler`` runs the simulations on Dask. ``design`` searches the crawler's design
+    genes too (leg length with the body shortened to keep the paper's 340 mm, string
+    holes, blocker, crease thickness; docs/crawler.md) and writes the designed crawler's
+    ``crawler.toml`` (walking the designed gait), ``crawler.fold`` and routes.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "design-gait", ("robot",), "folder", "gait candidates"
@@ -163,6 +196,8 @@ class DesignGait(Command):
         Option("generations", "int", "CMA-ES generations", min=1, max=10_000),
         Option("seed", "int", "seed of run 0 (run k: seed + k)", min=0, max=2**32 - 1),
         Option("steps", "int", "quasi-static steps between keyframes", min=1, max=100),
+        Option("design", "str", "search the crawler's design too: 'default' or "
+               "gene=low:high,... (docs/crawler.md, design search)", metavar="BOUNDS"),
         Option("scheduler", help="Dask scheduler", metavar="ADDR"),
         Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
                max=1000, flag=""),
@@ -179,23 +214,26 @@ class DesignGait(Command):
         return {o.name: fields[o.name] for o in cls.OPTIONS if o.name in fields}
 
     def run(self, a) -> Outputs:
-        from origami_cad.design.gait import design_gait
+        from origami_cad.design.crawler import write_crawler
         from origami_cad.robot import load_robot
         from origami_cad.simulation.crawler import simulate_gait
 
         robot = load_robot(a.robot)
         settings, command = _settings(a, robot), _command_line(a)
         start = time.perf_counter()
-        with open_executor(a.scheduler) as executor:
-            design = design_gait(robot, settings, executor=executor, progress=a.progress)
+        design, search = _search(a, robot, settings)
         seconds = time.perf_counter() - start
         _within_limits(a, design)
-        best_robot = design.robot(robot)
+        best_robot = search.robot() if search else design.robot(robot)
         result = simulate_gait(best_robot, cycles=settings.cycles, steps=settings.steps)
-        report = _report(robot, design, seconds, command)
+        report = _report(best_robot if search else robot, design, seconds, command)
+        if search is not None:
+            report["crawler_design"] = search.to_dict()
         with self.stage(a, robot.pattern_path, *(leg.route_path for leg in robot.legs)) as stage:
             _write(stage, robot, design, (best_robot, result), report, a.gif_frames)
-        files = [Path(a.folder) / n for n in FILES]
+            if search is not None:
+                write_crawler(search.files(_robot_gait_header(design, command)), stage)
+        files = [Path(a.folder) / n for n in FILES + (ROBOT_FILES if search else ())]
         best = design.best.terms
         return Outputs(
             files=files,
@@ -210,7 +248,7 @@ class DesignGait(Command):
                 "designed gait: "
                 + ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in best)
                 + f" per cycle (paper {PAPER_CRAWL_MM:g} mm), {seconds:.0f} s",
-                wrote(a.folder, FILES),
+                wrote(a.folder, FILES + (ROBOT_FILES if search is not None else ())),
             ],
             result=design,
         )

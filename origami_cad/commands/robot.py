@@ -270,12 +270,12 @@ class Robot(Command):
     )
 
     def run(self, a) -> Outputs:
-        from origami_cad.fabrication import FabricationParams, fabricate
+        from origami_cad.fabrication import fabricate
         from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
         from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
-        fab = fabricate(spec.pattern, FabricationParams(holes=spec.holes or "auto"))
+        fab = fabricate(spec.pattern, spec.sheet(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
         data = _robot_json(a.robot, spec, fab, report, overlaps)

@@ -87,6 +87,7 @@ __all__ = [
     "GaitSettings",
     "GaitTerms",
     "cma_strategy",
+    "combine_terms",
     "decode_gait",
     "design_gait",
     "encode_gait",
@@ -419,7 +420,7 @@ MIXES: dict[str, Callable[[list[float]], float]] = {
 }
 
 
-def _combine(terms: list[GaitTerms], mix: str) -> float:
+def combine_terms(terms: list[GaitTerms], mix: str) -> float:
     """One score of a candidate's per-friction terms, by ``MIXES[mix]``, rounded."""
     if mix not in MIXES:
         raise ValueError(f"mix {mix!r} is not one of {', '.join(MIXES)}")
@@ -508,7 +509,7 @@ def _candidate(robot, run, generation, x, terms, settings) -> GaitCandidate:
     return GaitCandidate(
         run, generation, tuple(float(v) for v in x), tuple(float(t) for t in times),
         tuple(tuple(float(v) for v in row) for row in ratios), terms,
-        _combine(list(terms), settings.mix),
+        combine_terms(list(terms), settings.mix),
     )  # fmt: skip
 
 
@@ -627,7 +628,7 @@ def _hand_candidate(robot: Robot, terms, settings: GaitSettings) -> GaitCandidat
         0, 0, tuple(float(v) for v in encode_gait(robot)),
         tuple(float(t) for t in robot.gait_t),
         tuple(tuple(float(v) for v in row) for row in robot.gait_p), tuple(terms),
-        _combine(list(terms), settings.mix), hand=True,
+        combine_terms(list(terms), settings.mix), hand=True,
     )  # fmt: skip
 
 

@@ -60,6 +60,7 @@ __all__ = [
     "gait_sequence_text",
     "gait_turns",
     "leg_contraction",
+    "robot_params",
     "simulate_gait",
     "turn_rates",
 ]
@@ -623,6 +624,18 @@ def _empty_result(
     )
 
 
+def robot_params(robot: Robot, **overrides) -> SimulationParams:
+    """The robot's sheet on the ground: gravity 9810 mm/s^2, the ground at z = 0, the
+    robot's friction, and the printed sheet of its routes' ``[fabrication]`` (the first
+    leg's; crease thickness t, so the crease stiffness E t^3 / (12 w), and eq. 6's fold
+    limit), else the paper's sheet. ``overrides`` set any field."""
+    values = {"gravity": 9810.0, "ground": 0.0, "friction": robot.friction, **overrides}
+    fab = robot.legs[0].route.fabrication if robot.legs else None
+    if fab is None:
+        return SimulationParams(**values)
+    return SimulationParams.from_fabrication(fab, **values)
+
+
 def simulate_gait(
     robot: Robot,
     *,
@@ -647,8 +660,8 @@ def simulate_gait(
     reverse : bool
         Play the gait backwards (keyframes in reverse order).
     params : SimulationParams, optional
-        Materials and loads (default: the printed sheet, gravity 9810 mm/s^2, the ground
-        at z = 0 and the robot's friction coefficient).
+        Materials and loads (default: :func:`robot_params`, the routes' printed sheet,
+        gravity 9810 mm/s^2, the ground at z = 0 and the robot's friction coefficient).
     friction : float, optional
         Override the robot's Coulomb coefficient.
     prefold : float, optional
@@ -665,7 +678,7 @@ def simulate_gait(
     """
     mu = robot.friction if friction is None else friction
     if params is None:
-        params = SimulationParams(gravity=9810.0, ground=0.0, friction=mu)
+        params = robot_params(robot, friction=mu)
     walk, mass_g = _start_walk(robot, params, mu, prefold)
     times, ratios = _schedule(robot, cycles, steps, reverse)
     out = _empty_result(robot, walk, times, ratios, steps)

@@ -11,6 +11,7 @@ Route file (TOML)::
     bias = 3.0                # mm, b
     height = 2.2              # mm, h (also the default route thickness)
     thickness = 0.4           # mm, t (crease layer)
+    shell = 0.8               # mm, s: the TPU shell, s < (h - t) / 2
     midlayer_bias = 0.5       # mm, m
     [route]
     thickness = 2.2           # mm, panel thickness: hole exits sit half of it off the sheet
@@ -47,7 +48,7 @@ from __future__ import annotations
 import functools
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -73,6 +74,7 @@ __all__ = [
     "panel_frame",
     "parse_route",
     "rigid_fit",
+    "route_sheet",
     "side_rule",
     "string_lengths",
     "string_path",
@@ -248,7 +250,7 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
     )  # fmt: skip
     fab = spec.fabrication
     if fab is not None:
-        keys = ("bias", "height", "thickness", "midlayer_bias")
+        keys = ("bias", "height", "thickness", "shell", "midlayer_bias")
         lines += ["", *toml_table("fabrication", {k: getattr(fab, k) for k in keys})]
     finite = {k: getattr(spec, k) for k in ("max_tension", "max_torque")}
     settings = {
@@ -274,6 +276,12 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
+def route_sheet(route: RouteSpec, **fields) -> FabricationParams:
+    """The sheet ``route`` is printed with (its ``[fabrication]``, else the paper's
+    ``FabricationParams()``), with ``fields`` replaced (e.g. ``holes``)."""
+    return replace(route.fabrication or FabricationParams(), **fields)
+
+
 def _read_fabrication(fab_t: Table) -> FabricationParams:
     """The route's ``[fabrication]`` table: the printed sheet (mm), defaults for what is missing."""
     defaults = FabricationParams()
@@ -281,6 +289,7 @@ def _read_fabrication(fab_t: Table) -> FabricationParams:
         bias=fab_t.number("bias", defaults.bias, low=0, low_open=True),
         height=fab_t.number("height", defaults.height, low=0, low_open=True),
         thickness=fab_t.number("thickness", defaults.thickness, low=0, low_open=True),
+        shell=fab_t.number("shell", defaults.shell, low=0, low_open=True),
         midlayer_bias=fab_t.number("midlayer_bias", defaults.midlayer_bias, low=0),
     )
     fab_t.finish()
