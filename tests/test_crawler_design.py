@@ -35,7 +35,7 @@ from origami_cad.design.crawler_search import (
 )
 from origami_cad.design.gait import GaitSettings
 from origami_cad.errors import DesignError
-from origami_cad.robot import load_gait, load_robot
+from origami_cad.robot import load_robot
 from origami_cad.simulation.crawler import robot_params
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
@@ -60,22 +60,19 @@ def test_the_generator_with_the_default_numbers_writes_the_committed_example(tmp
 
 
 def test_the_designed_crawler_is_the_generators_and_within_the_envelope(tmp_path):
-    from origami_cad.design.crawler_toml import gait_file_text
-
     gen, designed = _make_crawler(), HERE.parent / "crawler_designed"
-    files = crawler_files(gen.DESIGNED, gen.FLAT_GAIT, header=gen.FLAT_HEADER)  # checks it
+    files = crawler_files(gen.DESIGNED, gen.GAIT, header=gen.HEADER)  # checks it
     write_crawler(files, tmp_path)
     for name in NAMES:
         assert (tmp_path / name).read_bytes() == (designed / name).read_bytes(), name
-    grip = gait_file_text(*gen.GRIP_GAIT, gen.GRIP_HEADER)
-    assert (designed / "gait_grip.toml").read_text(encoding="utf-8") == grip
+    assert sorted(p.name for p in designed.iterdir()) == sorted(NAMES)  # one gait, no other
     extent = check_envelope(gen.DESIGNED)
     assert all(e <= limit for e, limit in zip(extent, ENVELOPE, strict=True))
     robot = load_robot(designed / "crawler.toml")
     sheet = robot.sheet(holes="auto")  # what the robot command prints: eq. 6's checks pass
-    assert (sheet.thickness, sheet.shell) == (0.7, 0.6) and sheet.holes == "auto"
+    assert (sheet.thickness, sheet.shell) == (0.9, 0.5) and sheet.holes == "auto"
     assert sheet.half_height - sheet.shell >= 0.1 - 1e-9  # one layer of infill is left
-    assert load_gait(designed / "gait_grip.toml", robot).gait_p.max() <= 60.0 / 180.0
+    assert robot.gait_p.max() <= robot.blocker_angle / 180.0
 
 
 @pytest.mark.parametrize("body", [180.0, 130.0])

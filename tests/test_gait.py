@@ -20,11 +20,14 @@ from origami_cad.design.gait import (
     DIMENSION,
     P_FLOOR,
     GaitSettings,
+    GaitTerms,
     cma_strategy,
+    combine_terms,
     decode_gait,
     design_gait,
     encode_gait,
     hard_hits,
+    settings_score,
 )
 from origami_cad.design.search import UnitBox
 from origami_cad.drive.sequence import load_sequence
@@ -102,6 +105,56 @@ def test_the_search_never_returns_a_gait_worse_than_the_robots_own(robot):
     assert design.best.score >= design.hand_score
     assert design.best.score == max(c.score for c in design.candidates if not hard_hits(c))
     assert min(design.history[0]) >= design.hand_score
+
+
+def _terms(scores, frictions=(0.4, 0.6, 0.8)):
+    return [GaitTerms(mu, s, 0, 0, 0, 0, 0, (), s) for mu, s in zip(frictions, scores, strict=True)]
+
+
+def test_the_shortfall_mix_ranks_candidates_by_their_worst_shortfall():
+    """Even (60 mm everywhere: 3 mm short of 63 at 0.6) against lopsided (46 / 70 / 46:
+    1 mm over every target): the mean and the worst prefer the even one, the shortfall
+    mix the one that meets the issue's 45 / 63 / 45, and the targets given decide."""
+    even, lopsided = _terms([60.0, 60.0, 60.0]), _terms([46.0, 70.0, 46.0])
+    for mix in ("mean", "worst"):
+        assert combine_terms(even, mix) > combine_terms(lopsided, mix)
+    shortfall = GaitSettings(mix="shortfall")
+    assert shortfall.target_values() == (45.0, 63.0, 45.0)
+    assert settings_score(even, shortfall) == -3.0
+    assert settings_score(lopsided, shortfall) == 1.0
+    easy = GaitSettings(mix="shortfall", targets=(50.0, 50.0, 50.0))
+    assert settings_score(even, easy) == 10.0 > settings_score(lopsided, easy) == -4.0
+    order = GaitSettings(mix="shortfall", frictions=(0.8, 0.6, 0.4))  # targets by friction
+    assert settings_score(_terms([46.0, 70.0, 40.0], (0.8, 0.6, 0.4)), order) == -5.0
+
+
+def test_targets_must_match_the_frictions():
+    with pytest.raises(ValueError, match="2 targets for 3 frictions"):
+        GaitSettings(targets=(45.0, 63.0))
+    with pytest.raises(ValueError, match=r"no target at friction 0\.5"):
+        GaitSettings(mix="shortfall", frictions=(0.5,))
+    with pytest.raises(ValueError, match="one target per friction"):
+        combine_terms(_terms([50.0, 50.0, 50.0]), "shortfall")
+
+
+def test_a_shortfall_search_scores_every_candidate_by_its_shortfall(robot):
+    settings = GaitSettings(
+        frictions=(0.6,), mix="shortfall", targets=(63.0,), popsize=2, generations=1, steps=2
+    )
+    design = design_gait(robot, settings)
+    assert len(design.candidates) == 3
+    for c in design.candidates:
+        assert c.score == pytest.approx(c.terms[0].score - 63.0, abs=1e-3)
+
+
+@pytest.mark.parametrize("given", [["--targets", "45", "63"], ["--frictions", "0.5", "--mix",
+                                   "shortfall"]])  # fmt: skip
+def test_design_gait_refuses_targets_that_do_not_match_the_frictions(tmp_path, capsys, given):
+    out = tmp_path / "out"
+    rc = main(["design-gait", str(ROBOT), "-o", str(out), *given])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "--targets" in err[0] and "friction" in err[0]
+    assert not out.exists()
 
 
 def test_a_gait_past_a_blocker_or_the_servo_speed_is_refused_by_name(robot, tmp_path):
@@ -182,6 +235,7 @@ def test_design_gait_to_crawl_to_drive(tmp_path):
     np.testing.assert_array_equal(again, [c.genome for c in design.candidates[1:]])
     report = json.loads((out / "results.json").read_text())
     assert len(report["candidates"]) == 3 and report["what_limits_the_stride"]["leg_length_mm"]
+    assert report["targets_mm"] is None  # the mean mix has none
     best = report["best"]["per_friction"][0]
     crawl = execute(
         "crawl", str(ROBOT), str(tmp_path / "crawl"), gait=str(out / "gait.toml"),

@@ -29,22 +29,32 @@ def _command_line(a) -> str:
     for name in ("runs", "popsize", "generations", "seed", "steps", "cycle"):
         if getattr(a, name) is not None:
             args += [f"--{name}", f"{getattr(a, name):g}"]
-    if a.frictions is not None:
-        args += ["--frictions", *(f"{f:g}" for f in a.frictions)]
+    for name in ("frictions", "targets"):
+        if getattr(a, name) is not None:
+            args += [f"--{name}", *(f"{f:g}" for f in getattr(a, name))]
     args += ["--design", a.design] if a.design is not None else []
     return " ".join([*args, *(["--mix", a.mix] if a.mix else [])])
 
 
 def _settings(a, robot):
-    """The search's settings: the library's defaults, the options given, the robot's limits."""
+    """The search's settings: the library's defaults, the options given, the robot's limits.
+
+    Raises :class:`OptionsError` in one line when ``targets`` does not give one target per
+    friction (or ``--mix shortfall`` has a friction without the issue's target)."""
     from origami_cad.design.gait import GaitLimits, GaitSettings
+    from origami_cad.errors import OptionsError
 
     given = {k: getattr(a, k) for k in ("runs", "popsize", "generations", "seed", "steps")}
     given |= {"cycle": a.cycle, "mix": a.mix}
     given = {k: v for k, v in given.items() if v is not None}
     if a.frictions is not None:
         given["frictions"] = tuple(a.frictions)
-    return GaitSettings(limits=GaitLimits.of(robot), **given)
+    if a.targets is not None:
+        given["targets"] = tuple(a.targets)
+    try:
+        return GaitSettings(limits=GaitLimits.of(robot), **given)
+    except ValueError as exc:  # targets against frictions
+        raise OptionsError(f"design-gait: {exc} (--targets)") from None
 
 
 def _gait_header(design, command: str) -> str:
@@ -106,6 +116,9 @@ def _report(robot, design, seconds: float, command: str) -> dict:
         "command": command,
         "search_s": seconds,
         "settings": dataclasses.asdict(design.settings),
+        "targets_mm": (  # the shortfall mix's target per friction, resolved
+            list(design.settings.target_values()) if design.settings.mix == "shortfall" else None
+        ),
         "paper_mm_per_cycle": PAPER_CRAWL_MM,
         "best": design.best.to_dict(),
         "hand_gait": {
@@ -176,7 +189,8 @@ class DesignGait(Command):
     tension limit, over one ``cycle``; each candidate is walked in simulation as
     ``crawl`` does at every friction of ``frictions`` and scored by its forward
     displacement per cycle less its drift, yaw, foot slip and limits hit, combined by
-    ``mix`` (their mean, the worst friction, or the average of the two). The search
+    ``mix`` (their mean, the worst friction, the average of the two, or the worst
+    shortfall against ``targets``, mm per cycle per friction). The search
     starts from the robot file's own gait, which stays a candidate: the best is never
     worse. ``gait.toml`` is a sequence for ``drive`` whose keyframes ``crawl --gait``
     reads; ``results.json`` holds every candidate and what limits the stride;
@@ -189,7 +203,10 @@ class DesignGait(Command):
     NAME, INPUTS, OUTPUT, PROGRESS = "design-gait", ("robot",), "folder", "gait candidates"
     OPTIONS = (
         Option("frictions", "float", "Coulomb coefficients scored", min=0, max=100, nargs="+"),
-        Option("mix", "str", "how frictions combine", choices=("mean", "worst", "worst+mean")),
+        Option("mix", "str", "how frictions combine",
+               choices=("mean", "worst", "worst+mean", "shortfall")),
+        Option("targets", "float", "shortfall's target per friction (default 45 63 45 at "
+               "0.4 0.6 0.8)", "mm", min=0, max=1000, nargs="+"),
         Option("cycle", "float", "gait cycle", "s", min=1, max=3600),
         Option("runs", "int", "independent CMA-ES runs", min=1, max=100),
         Option("popsize", "int", "CMA-ES population", min=2, max=1000),

@@ -64,11 +64,11 @@ from origami_cad.design.gait import (
     GaitDesign,
     GaitSettings,
     GaitTerms,
-    combine_terms,
     decode_gait,
     encode_gait,
     evaluate_gait,
     hard_hits,
+    settings_score,
 )
 from origami_cad.design.search import UnitBox
 from origami_cad.errors import DesignError, OrigamiCadError
@@ -323,7 +323,7 @@ def _candidates(executor, bounds, pop, settings, generation: int):
         out.append(GaitCandidate(
             0, generation, tuple(float(v) for v in x), tuple(float(t) for t in times),
             tuple(tuple(float(v) for v in row) for row in ratios), terms,
-            combine_terms(list(terms), settings.mix), hand=generation == 0,
+            settings_score(terms, settings), hand=generation == 0,
         ))  # fmt: skip
         designs.append(design)
     return out, designs

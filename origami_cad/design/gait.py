@@ -39,7 +39,10 @@ For every friction of ``settings.frictions`` the gait is simulated as ``crawl`` 
 travel, mm; hits: limits passed; jam: deg by which the legs that jammed, more than
 ``STUCK_DEG`` past their command, stayed past it). The candidate's score combines its
 scores over the frictions: their mean (``mix = "mean"``, the default), their worst
-(``"worst"``) or the average of the two (``"worst+mean"``). Scores are rounded
+(``"worst"``), the average of the two (``"worst+mean"``), or the worst shortfall against
+per-friction targets (``"shortfall"``: the smallest ``score - target`` over the
+frictions, ``GaitSettings.targets``; by default the issue's 45 / 63 / 45 mm per cycle at
+0.4 / 0.6 / 0.8, ``ISSUE_TARGETS``). Scores are rounded
 to ``SCORE_RESOLUTION`` before CMA-ES ranks them, and the eigen-decomposition is
 ``canonical_eigh``, so a search is the same on any CPU up to its simulations' last bits.
 
@@ -78,6 +81,7 @@ from origami_cad.simulation.crawler import (
 __all__ = [
     "DIMENSION",
     "FAILED",
+    "ISSUE_TARGETS",
     "MIXES",
     "P_FLOOR",
     "SCORE_RESOLUTION",
@@ -94,6 +98,7 @@ __all__ = [
     "evaluate_gait",
     "gait_terms",
     "hard_hits",
+    "settings_score",
     "stride_limits",
 ]
 
@@ -112,6 +117,10 @@ DIMENSION = 10
 SCORE_RESOLUTION = 1e-3
 #: Score of a candidate whose simulation failed, mm.
 FAILED = -1e3
+#: Issue 31's targets, mm per cycle by friction: the paper's 63 mm at 0.6 (PVC mat), and
+#: 45 mm on a slipperier (0.4) and a grippier (0.8) ground; the ``"shortfall"`` mix's
+#: default.
+ISSUE_TARGETS = {0.4: 45.0, 0.6: 63.0, 0.8: 45.0}
 
 
 @dataclass(frozen=True)
@@ -150,10 +159,16 @@ class GaitSettings:
     ----------
     frictions : tuple of float
         Coulomb coefficients each candidate is simulated at.
-    mix : {"mean", "worst", "worst+mean"}
+    mix : {"mean", "worst", "worst+mean", "shortfall"}
         How the frictions' scores combine (``MIXES``): their mean (the default: the
         worst case trades most of the stride at 0.4-0.6 for the friction the robot walks
-        worst at, docs/crawler.md), the worst, or the average of the two.
+        worst at, docs/crawler.md), the worst, the average of the two, or the worst
+        shortfall ``min(score - target)`` against ``targets``.
+    targets : tuple of float or None
+        The ``"shortfall"`` mix's target per friction, mm per cycle, one per friction;
+        ``None``: ``ISSUE_TARGETS``' value at each friction (45 / 63 / 45 mm at 0.4 / 0.6
+        / 0.8). Raises ``ValueError`` (one line) when its count differs from the
+        frictions', or when ``None`` and a friction has no issue target.
     cycle : float
         Gait cycle, s.
     runs, popsize, generations, seed : int
@@ -170,6 +185,7 @@ class GaitSettings:
 
     frictions: tuple[float, ...] = (0.4, 0.6, 0.8)
     mix: str = "mean"
+    targets: tuple[float, ...] | None = None
     cycle: float = 32.0
     runs: int = 1
     popsize: int = 8
@@ -184,6 +200,27 @@ class GaitSettings:
     w_limit: float = 100.0
     w_jam: float = 0.2
     limits: GaitLimits = field(default_factory=GaitLimits)
+
+    def __post_init__(self) -> None:
+        if self.targets is not None and len(self.targets) != len(self.frictions):
+            raise ValueError(
+                f"{len(self.targets)} targets for {len(self.frictions)} frictions: "
+                "give one target (mm per cycle) per friction"
+            )
+        if self.mix == "shortfall":
+            self.target_values()  # refuse a friction without a target now, not mid-search
+
+    def target_values(self) -> tuple[float, ...]:
+        """The target per friction, mm per cycle: ``targets``, or ``ISSUE_TARGETS``'."""
+        if self.targets is not None:
+            return tuple(float(t) for t in self.targets)
+        missing = [f for f in self.frictions if round(f, 6) not in ISSUE_TARGETS]
+        if missing:
+            raise ValueError(
+                f"no target at friction {missing[0]:g} (the issue's are at "
+                f"{', '.join(f'{f:g}' for f in ISSUE_TARGETS)}): give targets"
+            )
+        return tuple(ISSUE_TARGETS[round(f, 6)] for f in self.frictions)
 
 
 def _stroke_top(low: float, u: float, p_max: float) -> float:
@@ -412,20 +449,34 @@ def evaluate_gait(robot: Robot, x, friction: float, settings: GaitSettings) -> G
     return gait_terms(walker, result, settings)
 
 
-#: How a candidate's per-friction scores combine (``GaitSettings.mix``), mm.
-MIXES: dict[str, Callable[[list[float]], float]] = {
-    "mean": lambda s: float(np.mean(s)),
-    "worst": lambda s: float(min(s)),
-    "worst+mean": lambda s: 0.5 * (float(min(s)) + float(np.mean(s))),
+#: How a candidate's per-friction scores ``s`` combine (``GaitSettings.mix``) against
+#: the per-friction targets ``g`` (used by ``"shortfall"`` only), mm.
+MIXES: dict[str, Callable[[list[float], list[float]], float]] = {
+    "mean": lambda s, g: float(np.mean(s)),
+    "worst": lambda s, g: float(min(s)),
+    "worst+mean": lambda s, g: 0.5 * (float(min(s)) + float(np.mean(s))),
+    "shortfall": lambda s, g: float(min(a - b for a, b in zip(s, g, strict=True))),
 }
 
 
-def combine_terms(terms: list[GaitTerms], mix: str) -> float:
-    """One score of a candidate's per-friction terms, by ``MIXES[mix]``, rounded."""
+def combine_terms(terms: list[GaitTerms], mix: str, targets=None) -> float:
+    """One score of a candidate's per-friction terms, by ``MIXES[mix]``, rounded (mm).
+
+    ``targets`` (mm per cycle, one per term, in the terms' order) are the
+    ``"shortfall"`` mix's; it needs them (``ValueError`` without), the others ignore them.
+    """
     if mix not in MIXES:
         raise ValueError(f"mix {mix!r} is not one of {', '.join(MIXES)}")
-    value = MIXES[mix]([t.score for t in terms])
+    if mix == "shortfall" and (targets is None or len(targets) != len(terms)):
+        raise ValueError(f"mix 'shortfall' needs one target per friction ({len(terms)})")
+    value = MIXES[mix]([t.score for t in terms], list(targets or ()))
     return float(np.round(value / SCORE_RESOLUTION) * SCORE_RESOLUTION)
+
+
+def settings_score(terms, settings: GaitSettings) -> float:
+    """``combine_terms`` of ``terms`` by ``settings``' mix and (for ``"shortfall"``) targets."""
+    targets = settings.target_values() if settings.mix == "shortfall" else None
+    return combine_terms(list(terms), settings.mix, targets)
 
 
 @dataclass(frozen=True)
@@ -509,7 +560,7 @@ def _candidate(robot, run, generation, x, terms, settings) -> GaitCandidate:
     return GaitCandidate(
         run, generation, tuple(float(v) for v in x), tuple(float(t) for t in times),
         tuple(tuple(float(v) for v in row) for row in ratios), terms,
-        combine_terms(list(terms), settings.mix),
+        settings_score(terms, settings),
     )  # fmt: skip
 
 
@@ -628,7 +679,7 @@ def _hand_candidate(robot: Robot, terms, settings: GaitSettings) -> GaitCandidat
         0, 0, tuple(float(v) for v in encode_gait(robot)),
         tuple(float(t) for t in robot.gait_t),
         tuple(tuple(float(v) for v in row) for row in robot.gait_p), tuple(terms),
-        combine_terms(list(terms), settings.mix), hand=True,
+        settings_score(terms, settings), hand=True,
     )  # fmt: skip
 
 
