@@ -19,7 +19,7 @@ import shapely
 
 from origami_cad.fabrication.polyhedra import Cap, Facets
 
-__all__ = ["circle_segments", "facets_mesh"]
+__all__ = ["circle_segments", "facets_mesh", "polygon_triangles", "ring_area"]
 
 
 def circle_segments(angular_tolerance: float) -> int:
@@ -97,7 +97,7 @@ def _turned(a: np.ndarray) -> np.ndarray:
     return np.concatenate([a[1:], a[:1]])
 
 
-def _area(xy: np.ndarray) -> float:
+def ring_area(xy: np.ndarray) -> float:
     """The signed area (mm^2, anticlockwise positive) of a ring of ``(x, y)`` corners."""
     return 0.5 * float(np.dot(xy[:, 0], _turned(xy[:, 1])) - np.dot(_turned(xy[:, 0]), xy[:, 1]))
 
@@ -112,7 +112,7 @@ def _annulus(xy: list[np.ndarray], ids: np.ndarray) -> np.ndarray | None:
     pts, index, begin = np.vstack(xy), [], 0
     for ring in xy:
         k = np.arange(begin, begin + len(ring))
-        index.append(k if _area(ring) > 0 else k[::-1])  # both anticlockwise
+        index.append(k if ring_area(ring) > 0 else k[::-1])  # both anticlockwise
         begin += len(ring)
     first = np.concatenate(index)  # each edge's first corner, then its last
     last = np.concatenate([_turned(k) for k in index])
@@ -126,7 +126,7 @@ def _annulus(xy: list[np.ndarray], ids: np.ndarray) -> np.ndarray | None:
     )
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
     turns = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-    want = _area(pts[index[0]]) - _area(pts[index[1]])
+    want = ring_area(pts[index[0]]) - ring_area(pts[index[1]])
     if np.any(turns <= 0) or abs(0.5 * turns.sum() - want) > 1e-9 * max(want, 1.0):
         return None
     return ids[tri]
@@ -145,17 +145,40 @@ def _next(mask: np.ndarray) -> np.ndarray:
 def _delaunay(xy: list[np.ndarray], ids: np.ndarray) -> np.ndarray | None:
     """The constrained Delaunay triangles of the rings (the first the outer one),
     anticlockwise from above; ``None`` if a triangle has a corner of no ring."""
-    poly = shapely.Polygon(xy[0], xy[1:])
-    keys = {p: i for p, i in zip(map(tuple, np.vstack(xy).tolist()), ids.tolist(), strict=True)}
+    return polygon_triangles(shapely.Polygon(xy[0], xy[1:]), np.vstack(xy), ids)
+
+
+def polygon_triangles(
+    poly: shapely.Polygon, corners: np.ndarray, ids: np.ndarray
+) -> np.ndarray | None:
+    """A polygon's constrained Delaunay triangles on its own corners, anticlockwise
+    from above.
+
+    Parameters
+    ----------
+    poly : shapely.Polygon
+        The polygon, mm.
+    corners : (n, 2) ndarray
+        Its corners (every ring's), mm.
+    ids : (n,) ndarray
+        The vertex index of each corner.
+
+    Returns
+    -------
+    (m, 3) ndarray of int64, or None
+        Vertex indices per triangle; ``None`` if a triangle has a corner that is not
+        one of ``corners``.
+    """
+    keys = {p: i for p, i in zip(map(tuple, corners.tolist()), ids.tolist(), strict=True)}
     triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
-    corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
-    corners = corners.reshape(len(triangles), 4, 2)[:, :3]
+    points = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
+    points = points.reshape(len(triangles), 4, 2)[:, :3]
     try:
-        tri = np.array([keys[(x, y)] for x, y in corners.reshape(-1, 2).tolist()])
+        tri = np.array([keys[(x, y)] for x, y in points.reshape(-1, 2).tolist()])
     except KeyError:
         return None
     tri = tri.reshape(-1, 3).astype(np.int64)
-    a, b = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    a, b = points[:, 1] - points[:, 0], points[:, 2] - points[:, 0]
     clockwise = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] < 0
     return np.where(clockwise[:, None], tri[:, [0, 2, 1]], tri)
 

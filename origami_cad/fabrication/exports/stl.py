@@ -13,7 +13,6 @@ import os
 from pathlib import Path
 
 import numpy as np
-import shapely
 from build123d import Solid, export_stl
 from OCP.BRep import BRep_Tool
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
@@ -24,7 +23,12 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS
 
 from origami_cad._fileio import atomic_path
-from origami_cad.fabrication.exports.polymesh import circle_segments, facets_mesh
+from origami_cad.fabrication.exports.polymesh import (
+    circle_segments,
+    facets_mesh,
+    polygon_triangles,
+    ring_area,
+)
 from origami_cad.fabrication.solids import PART_NAMES, Parts, prism_rings
 
 __all__ = [
@@ -199,24 +203,13 @@ def prism_mesh(poly, z0: float, z1: float) -> tuple[np.ndarray, np.ndarray] | No
     """
     rings = [np.array(r, dtype=float) for r in prism_rings(poly)]
     for k, ring in enumerate(rings):  # exterior counter-clockwise, holes clockwise
-        x, y = ring[:, 0], ring[:, 1]
-        area = np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)
-        if (area > 0) != (k == 0):
+        if (ring_area(ring) > 0) != (k == 0):
             rings[k] = ring[::-1]
     flat = np.vstack(rings)
     n = len(flat)
-    triangles = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
-    corners = shapely.get_coordinates(shapely.get_exterior_ring(triangles))
-    corners = corners.reshape(len(triangles), 4, 2)[:, :3]
-    keys = {(x, y): i for i, (x, y) in enumerate(flat.tolist())}
-    try:
-        tri = np.array([keys[(x, y)] for x, y in corners.reshape(-1, 2).tolist()])
-    except KeyError:
+    tri = polygon_triangles(poly, flat, np.arange(n))  # counter-clockwise: +z
+    if tri is None:
         return None
-    tri = tri.reshape(-1, 3)
-    a, b, c = flat[tri[:, 0]], flat[tri[:, 1]], flat[tri[:, 2]]
-    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-    tri = np.where((cross < 0)[:, None], tri[:, [0, 2, 1]], tri)  # counter-clockwise: +z
     nxt = np.concatenate([np.roll(np.arange(len(r)), -1) for r in rings])
     nxt += np.repeat(np.cumsum([0, *[len(r) for r in rings[:-1]]]), [len(r) for r in rings])
     i = np.arange(n)
