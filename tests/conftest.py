@@ -142,3 +142,16 @@ def pytest_collection_modifyitems(session, config, items):
     """Start the long files first (the order within a file is kept)."""
     rank = {name: k for k, name in enumerate(LONG_FILES)}
     items.sort(key=lambda item: rank.get(item.path.name, len(LONG_FILES)))
+
+
+def mesh_volume(v: np.ndarray, t: np.ndarray) -> float:
+    """The volume (mm^3) a closed, outward triangle mesh encloses."""
+    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
+    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+
+def closed_mesh(t: np.ndarray) -> bool:
+    """Every edge used by exactly two triangles, once in each direction."""
+    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
+    forward = {tuple(e) for e in directed.tolist()}
+    return len(forward) == len(directed) and all((b, a) in forward for a, b in forward)

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 import shapely
 from build123d import Solid
+from conftest import closed_mesh, mesh_volume
 from OCP.BRep import BRep_Tool
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.TopAbs import TopAbs_VERTEX
@@ -53,18 +54,6 @@ PLANS = {
 SEGMENTS = circle_segments(ANGULAR_TOLERANCE)
 
 
-def _mesh_volume(v: np.ndarray, t: np.ndarray) -> float:
-    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
-    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
-
-
-def _closed(t: np.ndarray) -> bool:
-    """Every edge used by exactly two triangles, once in each direction."""
-    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    forward = {tuple(e) for e in directed.tolist()}
-    return len(forward) == len(directed) and all((b, a) in forward for a, b in forward)
-
-
 def _nearest(points: np.ndarray, among: np.ndarray) -> np.ndarray:
     """Each point's distance (mm) to the nearest of ``among``."""
     return np.sqrt(((points[:, None, :] - among[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
@@ -88,14 +77,14 @@ def _check(solid: Solid, facets: Facets, where: str) -> None:
     mesh = facets_mesh(facets, SEGMENTS)
     assert mesh is not None, where
     v, t = mesh
-    assert len(np.unique(v, axis=0)) == len(v) and _closed(t), where
+    assert len(np.unique(v, axis=0)) == len(v) and closed_mesh(t), where
     occ_v, occ_t = solid_mesh(Solid(solid.wrapped))
     assert len(v) == len(occ_v) and len(t) == len(occ_t), where  # no point inside a face
     assert _nearest(v, occ_v).max() < 1e-9 and _nearest(occ_v, v).max() < 1e-9, where
     assert _nearest(_brep_vertices(solid), v).max() < 1e-12, where
     assert facets.volume() == pytest.approx(solid.volume, rel=1e-12), where  # exact
-    volume, loss = _mesh_volume(v, t), _chordal_loss(facets)
-    assert volume == pytest.approx(_mesh_volume(occ_v, occ_t), rel=1e-9, abs=1e-9), where
+    volume, loss = mesh_volume(v, t), _chordal_loss(facets)
+    assert volume == pytest.approx(mesh_volume(occ_v, occ_t), rel=1e-9, abs=1e-9), where
     slack = 1e-9 * solid.volume  # rounding
     assert -slack <= volume - solid.volume <= loss * (1 + 1e-6) + slack, where
 
@@ -153,9 +142,9 @@ def test_a_sheet_with_a_hole_near_a_footprint_meshes_that_panel_with_occ():
     parts = build_parts(plan.outlines, holes, np.array([0, 3]), plan.params, sheet)
     for name in PART_NAMES:
         for k, (v, t) in enumerate(part_meshes(parts, name)):
-            assert _closed(t), (name, k)
+            assert closed_mesh(t), (name, k)
             volume = parts.solids[name][k].volume
-            assert _mesh_volume(v, t) == pytest.approx(volume, rel=2e-3), (name, k)
+            assert mesh_volume(v, t) == pytest.approx(volume, rel=2e-3), (name, k)
     for name in ("infills", "shells", "midlayers"):
         for k, owner in enumerate(parts.owners[name]):
             if owner == near.index:  # built by booleans: meshed by OCC

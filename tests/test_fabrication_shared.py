@@ -13,6 +13,7 @@ import subprocess
 import numpy as np
 import pytest
 from build123d import Compound, Solid
+from conftest import closed_mesh, mesh_volume
 
 from origami_cad.fabrication import fabricate, write_fabrication
 from origami_cad.fabrication.assembly import moved_tree
@@ -34,18 +35,6 @@ from origami_cad.pattern.design import miura_design
 @pytest.fixture(scope="module")
 def fab():
     return fabricate(miura_design(4, 4, 20.0, 20.0, 65.0))
-
-
-def _mesh_volume(v: np.ndarray, t: np.ndarray) -> float:
-    a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
-    return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
-
-
-def _closed(t: np.ndarray) -> bool:
-    """Every edge used by exactly two triangles, once in each direction."""
-    directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
-    forward = {tuple(e) for e in directed.tolist()}
-    return len(forward) == len(directed) and all((b, a) in forward for a, b in forward)
 
 
 def test_a_miura_builds_few_shapes_and_every_copy_is_the_fresh_solid(fab):
@@ -111,8 +100,8 @@ def test_shared_meshes_are_each_solids_own_mesh_moved(fab):
         for k, (v, t) in enumerate(meshes):
             own_v, own_t = solid_mesh(Solid(fab.parts.solids[name][k].wrapped))
             assert len(v) == len(own_v) and len(t) == len(own_t), (name, k)
-            assert _closed(t), (name, k)
-            assert _mesh_volume(v, t) == pytest.approx(_mesh_volume(own_v, own_t), rel=1e-9)
+            assert closed_mesh(t), (name, k)
+            assert mesh_volume(v, t) == pytest.approx(mesh_volume(own_v, own_t), rel=1e-9)
             assert np.abs(np.sort(v, axis=0) - np.sort(own_v, axis=0)).max() < 1e-6
 
 
@@ -137,9 +126,9 @@ def test_the_stls_are_the_shared_meshes_closed_and_outward(fab, tmp_path):
         v, t = stack_meshes(part_meshes(fab.parts, name))
         read_v, read_t = read_binary_stl(paths[name])
         assert len(read_t) == len(t)
-        volume = _mesh_volume(read_v, read_t)
+        volume = mesh_volume(read_v, read_t)
         assert volume == pytest.approx(fab.parts.volume(name), rel=2e-3)  # chordal error only
-        assert volume == pytest.approx(_mesh_volume(v, t), rel=1e-5)  # float32 corners
+        assert volume == pytest.approx(mesh_volume(v, t), rel=1e-5)  # float32 corners
         raw = paths[name].read_bytes()
         record = np.dtype([("normal", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
         data = np.frombuffer(raw, dtype=record, offset=84)
@@ -238,8 +227,8 @@ def test_a_solid_replaced_after_the_build_is_meshed_as_itself():
     box = Solid.make_box(3, 4, 5)
     fab.parts.solids["shells"][k] = box  # no longer the copy it was built as
     v, t = part_meshes(fab.parts, "shells")[k]
-    assert len(v) != len(before[0]) and _closed(t)
-    assert _mesh_volume(v, t) == pytest.approx(60.0, rel=1e-9)
+    assert len(v) != len(before[0]) and closed_mesh(t)
+    assert mesh_volume(v, t) == pytest.approx(60.0, rel=1e-9)
 
 
 def test_a_parts_volume_counts_each_copy_as_its_own_solids(fab):
@@ -255,8 +244,8 @@ def test_the_crease_sheet_is_meshed_from_its_polygon_as_occ_meshes_it(fab):
     assert fab.parts.prism("creases", 0) is not None
     assert prism_mesh(*fab.parts.prism("creases", 0))[1].shape == t.shape
     own_v, own_t = solid_mesh(Solid(sheet.wrapped))
-    assert _closed(t) and len(t) == len(own_t) and len(v) == len(own_v)
-    assert _mesh_volume(v, t) == pytest.approx(sheet.volume, rel=1e-9)
+    assert closed_mesh(t) and len(t) == len(own_t) and len(v) == len(own_v)
+    assert mesh_volume(v, t) == pytest.approx(sheet.volume, rel=1e-9)
     assert np.abs(np.sort(v, axis=0) - np.sort(own_v, axis=0)).max() < 1e-6
 
 
