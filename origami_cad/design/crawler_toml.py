@@ -32,31 +32,7 @@ friction = 0.6                # TPU shell on a PVC cutting mat (docs/crawler.md,
 # thick and 3 mm around the servo, hub and guide, not the whole leg: docs/crawler.md, mass
 # budget) rides on the leg, twist axis pointing at the body; servo IDs as
 # examples/crawler_gait.toml.
-[[leg]]
-panel = "leg_fl"
-route = "route_fl.toml"
-servo = 1
-name = "front left"
-
-[[leg]]
-panel = "leg_fr"
-route = "route_fr.toml"
-servo = 2
-name = "front right"
-
-[[leg]]
-panel = "leg_rl"
-route = "route_rl.toml"
-servo = 3
-name = "rear left"
-
-[[leg]]
-panel = "leg_rr"
-route = "route_rr.toml"
-servo = 4
-name = "rear right"
-
-# Hardware carried by the sheet, as point masses (g) for the simulation and the mass budget.
+{legs}# Hardware carried by the sheet, as point masses (g) for the simulation and the mass budget.
 # XL330-M288: 18 g (ROBOTIS e-manual); the module's printed hub, guide and mount are counted
 # from their solids by the robot command. A servo's case lies 13 mm behind its module's
 # centre (the leg's inset top face's centroid, {cx:.1f} mm, +-{cy:.1f} mm), away from the body. Driver module (battery + controller): the paper's
@@ -67,34 +43,27 @@ panel = "body"
 at = [0.0, 0.0]
 grams = 109.71
 
-[[mass]]
-name = "servo front left"
-panel = "leg_fl"
-at = [{x_fl}, {y_fl}]
-grams = 18.0
-
-[[mass]]
-name = "servo front right"
-panel = "leg_fr"
-at = [{x_fr}, {y_fr}]
-grams = 18.0
-
-[[mass]]
-name = "servo rear left"
-panel = "leg_rl"
-at = [{x_rl}, {y_rl}]
-grams = 18.0
-
-[[mass]]
-name = "servo rear right"
-panel = "leg_rr"
-at = [{x_rr}, {y_rr}]
-grams = 18.0
-
-# The driver adapter (parts library, 4 connectors) lies on the body's top face at its centre.
+{servo_masses}# The driver adapter (parts library, 4 connectors) lies on the body's top face at its centre.
 [adapter]
 at = [0.0, 0.0]
 heading = 0.0                 # deg: its long side along +x
+
+"""
+
+#: One ``[[leg]]`` table of the robot file.
+_LEG = """[[leg]]
+panel = "{label}"
+route = "{route}"
+servo = {servo}
+name = "{name}"
+
+"""
+#: One servo's ``[[mass]]`` table (XL330-M288, 18 g), ``at`` its case's centre on the leg.
+_SERVO_MASS = """[[mass]]
+name = "servo {name}"
+panel = "{label}"
+at = {at}
+grams = 18.0
 
 """
 
@@ -154,21 +123,25 @@ def _gait_text(times, ratios, header: str | None) -> str:
             "[front left, front right, rear left, rear right]."
         ]
     )
-    lines.append("[gait]")
+    lines += ["[gait]", *_keyframe_lines(times, ratios, "gait.keyframe")]
+    return "\n".join(lines) + "\n"
+
+
+def _keyframe_lines(times, ratios, table: str) -> list[str]:
+    """``[[table]]`` tables of each keyframe's ``t`` (s) and ``p`` (fold ratios per leg),
+    6 significant digits."""
+    lines = []
     for t, p in zip(np.asarray(times, float), np.asarray(ratios, float), strict=True):
         row = ", ".join(f"{v:.6g}" for v in p)
-        lines += ["[[gait.keyframe]]", f"t = {t:.6g}", f"p = [{row}]"]
-    return "\n".join(lines) + "\n"
+        lines += [f"[[{table}]]", f"t = {t:.6g}", f"p = [{row}]"]
+    return lines
 
 
 def gait_file_text(times, ratios, header: str = "") -> str:
     """A gait file (``[[keyframe]]`` tables of ``t`` s and ``p`` fold ratios per leg) that
     ``crawl --gait`` reads; fold ratios as the robot file writes them (6 digits)."""
     lines = [header.rstrip("\n")] if header else []
-    for t, p in zip(np.asarray(times, float), np.asarray(ratios, float), strict=True):
-        row = ", ".join(f"{v:.6g}" for v in p)
-        lines += ["[[keyframe]]", f"t = {t:.6g}", f"p = [{row}]"]
-    return "\n".join(lines) + "\n"
+    return "\n".join([*lines, *_keyframe_lines(times, ratios, "keyframe")]) + "\n"
 
 
 def robot_text(cp, design, gait=None, header: str | None = None) -> str:
@@ -176,11 +149,14 @@ def robot_text(cp, design, gait=None, header: str | None = None) -> str:
     fold ratios (K, 4)) replaces the hand gait, ``header`` its comment lines."""
     from origami_cad.design.crawler import LEGS, SERVO_BEHIND, module_centre
 
-    values = {}
-    for label, _, _, sx, _ in LEGS:
+    legs, masses = [], []
+    for label, servo, name, sx, _ in LEGS:
         cx, cy = module_centre(cp, label)
-        values[f"x_{label[4:]}"] = float(round(cx + sx * SERVO_BEHIND))
-        values[f"y_{label[4:]}"] = float(round(cy))
+        at = f"[{float(round(cx + sx * SERVO_BEHIND))}, {float(round(cy))}]"
+        legs.append(
+            _LEG.format(label=label, route=f"route_{label[4:]}.toml", servo=servo, name=name)
+        )
+        masses.append(_SERVO_MASS.format(label=label, name=name, at=at))
     cx, cy = module_centre(cp, "leg_fl")
     text = _BODY.format(
         blocker_line=f"{'blocker_angle = ' + format(design.blocker_angle, '.1f'):<30}",
@@ -189,7 +165,8 @@ def robot_text(cp, design, gait=None, header: str | None = None) -> str:
         body_hole=design.body_hole,
         cx=cx,
         cy=cy,
-        **values,
+        legs="".join(legs),
+        servo_masses="".join(masses),
     )
     if gait is None:
         return text + _HAND_GAIT
