@@ -45,6 +45,7 @@ __all__ = [
     "fast_panel_solids",
     "frustum",
     "holes_clear",
+    "newell_normal",
 ]
 
 #: Least distance (mm) between a hole's wall and any footprint ring or other hole for
@@ -102,6 +103,17 @@ class Facets:
                 up = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
                 total += up * (z0 + z1 + z2) / 6.0
         return total
+
+
+def newell_normal(points: list[tuple]) -> tuple[float, float, float]:
+    """Newell's normal of a polygon of ``(x, y, z)`` corners (mm): twice its area vector,
+    mm^2, pointing where the corners turn anticlockwise."""
+    nx = ny = nz = 0.0
+    for (x0, y0, z0), (x1, y1, z1) in zip(points, points[1:] + points[:1], strict=True):
+        nx += (y0 - y1) * (z0 + z1)
+        ny += (z0 - z1) * (x0 + x1)
+        nz += (x0 - x1) * (y0 + y1)
+    return nx, ny, nz
 
 
 def _area(ring: list[tuple]) -> float:
@@ -166,12 +178,7 @@ class _Builder:
             return
         m = len(points)
         c = [sum(p[i] for p in points) / m for i in range(3)]
-        n = [0.0, 0.0, 0.0]
-        for i, p in enumerate(points):  # Newell's normal
-            q = points[(i + 1) % m]
-            n[0] += (p[1] - q[1]) * (p[2] + q[2])
-            n[1] += (p[2] - q[2]) * (p[0] + q[0])
-            n[2] += (p[0] - q[0]) * (p[1] + q[1])
+        n = newell_normal(points)
         norm = math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
         n = [x / norm for x in n]
         if max(abs(sum((p[i] - c[i]) * n[i] for i in range(3))) for p in points) > _TOL / 10:

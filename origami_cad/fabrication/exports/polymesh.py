@@ -17,7 +17,7 @@ import math
 import numpy as np
 import shapely
 
-from origami_cad.fabrication.polyhedra import Cap, Facets
+from origami_cad.fabrication.polyhedra import Cap, Facets, newell_normal
 
 __all__ = ["circle_segments", "facets_mesh", "polygon_triangles", "ring_area"]
 
@@ -186,7 +186,7 @@ def polygon_triangles(
 def _polygon(mesh: _Mesh, points: list[tuple]) -> bool:
     """A planar polygon as a fan from its first corner; ``False`` unless it is convex
     (each triangle of the fan turning as the whole polygon does)."""
-    normal = _newell(points)
+    normal = newell_normal(points)
     x0, y0, z0 = points[0]
     for (x1, y1, z1), (x2, y2, z2) in itertools.pairwise(points[1:]):
         ax, ay, az, bx, by, bz = x1 - x0, y1 - y0, z1 - z0, x2 - x0, y2 - y0, z2 - z0
@@ -196,16 +196,6 @@ def _polygon(mesh: _Mesh, points: list[tuple]) -> bool:
     ids = mesh.ids(points)
     mesh.triangles.append(np.column_stack([np.full(len(ids) - 2, ids[0]), ids[1:-1], ids[2:]]))
     return True
-
-
-def _newell(points: list[tuple]) -> tuple[float, float, float]:
-    """Newell's normal of a polygon (twice its area vector)."""
-    nx = ny = nz = 0.0
-    for (x0, y0, z0), (x1, y1, z1) in zip(points, points[1:] + points[:1], strict=True):
-        nx += (y0 - y1) * (z0 + z1)
-        ny += (z0 - z1) * (x0 + x1)
-        nz += (x0 - x1) * (y0 + y1)
-    return nx, ny, nz
 
 
 def facets_mesh(facets: Facets, segments: int) -> tuple[np.ndarray, np.ndarray] | None:
