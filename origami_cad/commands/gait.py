@@ -40,7 +40,7 @@ def _settings(a, robot):
     """The search's settings: the library's defaults, the options given, the robot's limits.
 
     Raises :class:`OptionsError` in one line when ``targets`` does not give one target per
-    friction (or ``--mix shortfall`` has a friction without the issue's target)."""
+    friction (or ``--mix shortfall`` has a friction without a default target)."""
     from origami_cad.design.gait import GaitLimits, GaitSettings
     from origami_cad.errors import OptionsError
 

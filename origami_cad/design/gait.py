@@ -41,8 +41,8 @@ travel, mm; hits: limits passed; jam: deg by which the legs that jammed, more th
 scores over the frictions: their mean (``mix = "mean"``, the default), their worst
 (``"worst"``), the average of the two (``"worst+mean"``), or the worst shortfall against
 per-friction targets (``"shortfall"``: the smallest ``score - target`` over the
-frictions, ``GaitSettings.targets``; by default the issue's 45 / 63 / 45 mm per cycle at
-0.4 / 0.6 / 0.8, ``ISSUE_TARGETS``). Scores are rounded
+frictions, ``GaitSettings.targets``; by default 45 / 63 / 45 mm per cycle at
+0.4 / 0.6 / 0.8, ``DEFAULT_TARGETS``). Scores are rounded
 to ``SCORE_RESOLUTION`` before CMA-ES ranks them, and the eigen-decomposition is
 ``canonical_eigh``, so a search is the same on any CPU up to its simulations' last bits.
 
@@ -79,9 +79,9 @@ from origami_cad.simulation.crawler import (
 )
 
 __all__ = [
+    "DEFAULT_TARGETS",
     "DIMENSION",
     "FAILED",
-    "ISSUE_TARGETS",
     "MIXES",
     "P_FLOOR",
     "SCORE_RESOLUTION",
@@ -117,10 +117,10 @@ DIMENSION = 10
 SCORE_RESOLUTION = 1e-3
 #: Score of a candidate whose simulation failed, mm.
 FAILED = -1e3
-#: Issue 31's targets, mm per cycle by friction: the paper's 63 mm at 0.6 (PVC mat), and
+#: The default targets, mm per cycle by friction: the paper's 63 mm at 0.6 (PVC mat), and
 #: 45 mm on a slipperier (0.4) and a grippier (0.8) ground; the ``"shortfall"`` mix's
 #: default.
-ISSUE_TARGETS = {0.4: 45.0, 0.6: 63.0, 0.8: 45.0}
+DEFAULT_TARGETS = {0.4: 45.0, 0.6: 63.0, 0.8: 45.0}
 
 
 @dataclass(frozen=True)
@@ -166,9 +166,9 @@ class GaitSettings:
         shortfall ``min(score - target)`` against ``targets``.
     targets : tuple of float or None
         The ``"shortfall"`` mix's target per friction, mm per cycle, one per friction;
-        ``None``: ``ISSUE_TARGETS``' value at each friction (45 / 63 / 45 mm at 0.4 / 0.6
+        ``None``: ``DEFAULT_TARGETS``' value at each friction (45 / 63 / 45 mm at 0.4 / 0.6
         / 0.8). Raises ``ValueError`` (one line) when its count differs from the
-        frictions', or when ``None`` and a friction has no issue target.
+        frictions', or when ``None`` and a friction has no default target.
     cycle : float
         Gait cycle, s.
     runs, popsize, generations, seed : int
@@ -211,16 +211,16 @@ class GaitSettings:
             self.target_values()  # refuse a friction without a target now, not mid-search
 
     def target_values(self) -> tuple[float, ...]:
-        """The target per friction, mm per cycle: ``targets``, or ``ISSUE_TARGETS``'."""
+        """The target per friction, mm per cycle: ``targets``, or ``DEFAULT_TARGETS``'."""
         if self.targets is not None:
             return tuple(float(t) for t in self.targets)
-        missing = [f for f in self.frictions if round(f, 6) not in ISSUE_TARGETS]
+        missing = [f for f in self.frictions if round(f, 6) not in DEFAULT_TARGETS]
         if missing:
             raise ValueError(
-                f"no target at friction {missing[0]:g} (the issue's are at "
-                f"{', '.join(f'{f:g}' for f in ISSUE_TARGETS)}): give targets"
+                f"no target at friction {missing[0]:g} (the default targets are at "
+                f"{', '.join(f'{f:g}' for f in DEFAULT_TARGETS)}): give targets"
             )
-        return tuple(ISSUE_TARGETS[round(f, 6)] for f in self.frictions)
+        return tuple(DEFAULT_TARGETS[round(f, 6)] for f in self.frictions)
 
 
 def _stroke_top(low: float, u: float, p_max: float) -> float:
