@@ -7,7 +7,7 @@ from typing import Any
 
 from build123d import Align, Box, Compound, Cylinder, Location, Mode, Part
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
 from .parameters import resolve_params, spec
@@ -89,9 +89,9 @@ def _build(p: DriverAdapterParams) -> tuple[Compound, Location]:
     board_width, board_length, pitch = p.board_width, p.board_length, p.pitch
     slot_width, slot_depth, mounting_hole = p.slot_width, p.slot_depth, p.mounting_hole
     if connectors < 1:
-        raise DesignError(f"connectors must be >= 1, got {connectors}")
+        raise FabricationError(f"connectors must be >= 1, got {connectors}")
     if pocket >= thickness:
-        raise DesignError(
+        raise FabricationError(
             f"pocket ({pocket:g} mm) must be shallower than the plate ({thickness:g})"
         )
     row = connectors * pitch

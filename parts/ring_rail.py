@@ -29,7 +29,7 @@ from build123d import (
     Wire,
 )
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
 from .parameters import resolve_params, spec
@@ -156,13 +156,13 @@ def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     centre, z_top, carriage_length = p.centre, p.z_top, p.carriage_length
     carriage_height, lock_screw, eyelet = p.carriage_height, p.lock_screw, p.eyelet
     if not inner_diameter > 0 or not width > 0 or not height > 0:
-        raise DesignError("inner_diameter, width and height must be > 0 mm")
+        raise FabricationError("inner_diameter, width and height must be > 0 mm")
     if not len(angles):
-        raise DesignError("at least one carriage angle is needed")
+        raise FabricationError("at least one carriage angle is needed")
     r_in = inner_diameter / 2.0
     r_out = r_in + width
     if r_in - WALL <= 0:
-        raise DesignError(f"inner_diameter must exceed {2 * WALL:g} mm (the carriage walls)")
+        raise FabricationError(f"inner_diameter must exceed {2 * WALL:g} mm (the carriage walls)")
     cx, cy = float(centre[0]), float(centre[1])
     z0 = z_top - height
     ring = Cylinder(r_out, height, align=None) - Cylinder(r_in, height, align=None)
@@ -172,7 +172,7 @@ def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     r_mid = (r_in + r_out) / 2.0
     half = math.degrees(carriage_length / 2.0 / r_mid)  # half the carriage's arc, deg
     if not half < 90.0:
-        raise DesignError(
+        raise FabricationError(
             f"carriage_length {carriage_length:g} mm is too long for a ring of "
             f"inner diameter {inner_diameter:g} mm"
         )

@@ -31,7 +31,7 @@ from build123d import (
     make_face,
 )
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
@@ -167,7 +167,7 @@ def _build(
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
-            raise DesignError(
+            raise FabricationError(
                 f"unknown servo {servo!r}: give its body=(w, l, h) in mm "
                 f"(known: {', '.join(SERVOS)})"
             )
@@ -178,7 +178,7 @@ def _build(
     tsa = p.tsa or TSAParams()
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
-        raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
+        raise FabricationError(f"servo body dimensions must be > 0 mm, got {body}")
     reach = _reach(p, tsa, horn_d, horn_offset, length, h)
     mount, cx, cy, z_base = _mount(p, plan, panel, reach)
     # the servo lies on its side: its height runs along the twist axis (local x, horn face
@@ -233,7 +233,7 @@ def _mount(
     holes: list[tuple[float, float, float]] = []
     if plan is not None:
         if panel is None:
-            raise DesignError("give the panel label to mount the TSA module on")
+            raise FabricationError("give the panel label to mount the TSA module on")
         outline = plan.outline(panel)
         foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
         holes = [(h.x, h.y, h.diameter) for h in plan.holes_of(outline.index)]
@@ -242,7 +242,7 @@ def _mount(
         if p.mount_margin is not None:
             foot = foot.intersection(_footprint(p, reach, p.mount_margin, cx, cy))
             if not isinstance(foot, shapely.Polygon) or foot.is_empty:
-                raise DesignError(f"the TSA module's mount does not fit panel {panel!r}")
+                raise FabricationError(f"the TSA module's mount does not fit panel {panel!r}")
     else:
         cx, cy = p.centre
         margin = 2.0 if p.mount_margin is None else p.mount_margin

@@ -29,7 +29,7 @@ from origami_cad.parts import (
 from origami_cad.parts.parameters import param_info
 
 from origami_cad.cli import main
-from origami_cad.errors import DesignError, PatternError
+from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, theta_max
 from origami_cad.fabrication.export import export_part
 from origami_cad.pattern import CreasePattern
@@ -89,7 +89,7 @@ def test_driver_adapter_volume_is_the_plate_minus_its_cuts():
         width * length * 3.0 - 25 * 45 * 1.2 - 5 * 7.8 * 2.8 * 3.0 - 4 * math.pi * 1.6**2 * 3.0
     )
     assert plate.volume == pytest.approx(expected, rel=1e-6)
-    with pytest.raises(DesignError, match="connectors must be >= 1"):
+    with pytest.raises(FabricationError, match="connectors must be >= 1"):
         driver_adapter(connectors=0)
 
 
@@ -139,7 +139,7 @@ def test_tsa_mount_fits_its_panel_and_its_holes():
     z = plan.params.height + 1.5
     assert not mount.is_inside(Vector(x, y, z))  # the panel's hole goes through the mount
     assert mount.is_inside(Vector(x + d / 2 + 0.5, y, z))
-    with pytest.raises(DesignError, match="unknown servo"):
+    with pytest.raises(FabricationError, match="unknown servo"):
         tsa_module(servo="XM999")
 
 
@@ -171,7 +171,7 @@ def test_blocker_stops_the_fold_at_its_angle(angle):
     at = panel_b.rotate(axis, -angle)
     assert at.distance_to(blk) < 1e-6 and overlap(at, blk) < 1e-6  # contact
     assert overlap(panel_b.rotate(axis, -(angle + 2.0)), blk) > 1e-2  # beyond: blocked
-    with pytest.raises(DesignError, match="theta_max"):
+    with pytest.raises(FabricationError, match="theta_max"):
         blocker(fab.plan, crease, angle=170.0)
 
 
@@ -246,7 +246,7 @@ def test_text_parameters_get_their_declared_types():
     ],
 )
 def test_bad_part_parameters_are_named(name, values, message):
-    with pytest.raises(DesignError, match=message):
+    with pytest.raises(FabricationError, match=message):
         build_part(name, values)
 
 
@@ -258,13 +258,13 @@ def test_placement_follows_the_registry(tmp_path):
         "driver-adapter": Placement.NONE,
     }
     design = EXAMPLES / "miura_6x4.toml"
-    with pytest.raises(DesignError, match="give the panel label"):
+    with pytest.raises(FabricationError, match="give the panel label"):
         build_part("tsa-module", pattern=design)
-    with pytest.raises(DesignError, match="give the crease edge"):
+    with pytest.raises(FabricationError, match="give the crease edge"):
         build_part("blocker", pattern=design)
-    with pytest.raises(DesignError, match="not placed on a pattern"):
+    with pytest.raises(FabricationError, match="not placed on a pattern"):
         build_part("ring-rail", pattern=design)
-    with pytest.raises(DesignError, match="need --pattern"):
+    with pytest.raises(FabricationError, match="need --pattern"):
         build_part("blocker", crease=3)
     with pytest.raises(PatternError, match="no panel labelled 'zz'"):
         build_part("tsa-module", pattern=design, panel="zz")
@@ -285,7 +285,7 @@ def test_blocker_limit_is_eq6_of_its_panels():
     params = BlockerParams(bias=1.0, height=3.0, thickness=1.0)
     limit = math.degrees(theta_max(1.0, 3.0, 1.0))  # 90 deg
     blocker(params=params, angle=limit - 1.0)
-    with pytest.raises(DesignError, match=f"\\(0, {limit:.1f}\\) deg"):
+    with pytest.raises(FabricationError, match=f"\\(0, {limit:.1f}\\) deg"):
         blocker(params=params, angle=limit + 1.0)
 
 
