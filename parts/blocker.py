@@ -65,6 +65,8 @@ def blocker_frame(
     panel ``B`` (the face on the crease's right), and the two face indices.
     """
     cp = pattern
+    if isinstance(crease, bool) or not isinstance(crease, int | np.integer):
+        raise FabricationError(f"crease must be an edge index (an integer), got {crease!r}")
     if not 0 <= crease < cp.n_edges or cp.assignments[crease] not in ("M", "V"):
         raise FabricationError(f"edge {crease} is not a mountain or valley crease of the pattern")
     ef = cp.edge_faces()[crease]
@@ -147,6 +149,12 @@ def _build(
     """The blocker's solid and its ``crease`` joint, mm."""
     angle, length, reach, base, clearance = p.angle, p.length, p.reach, p.base, p.clearance
     bias, height, thickness = p.bias, p.height, p.thickness
+    if not clearance >= 0:
+        raise FabricationError(f"parameter clearance: must be >= 0 mm, got {clearance!r}")
+    if plan is None and crease is not None:
+        raise FabricationError("crease needs plan (the PanelPlan of the pattern it is on)")
+    if plan is not None and crease is None:
+        raise FabricationError("plan needs crease (the edge index of the crease to stop)")
     limit = math.degrees(theta_max(bias, height, thickness))
     if not 0 < angle < min(limit, 180.0):
         raise FabricationError(f"angle must lie in (0, {limit:.1f}) deg (theta_max), got {angle}")

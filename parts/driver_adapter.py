@@ -94,6 +94,16 @@ def _build(p: DriverAdapterParams) -> tuple[Compound, Location]:
         raise FabricationError(
             f"pocket ({pocket:g} mm) must be shallower than the plate ({thickness:g})"
         )
+    if not slot_depth < pitch:
+        raise FabricationError(
+            f"parameter slot_depth: {slot_depth:g} mm leaves no wall between slots "
+            f"{pitch:g} mm apart (pitch); it must be < {pitch:g} mm"
+        )
+    if not mounting_hole < margin:
+        raise FabricationError(
+            f"parameter mounting_hole: {mounting_hole:g} mm does not fit the {margin:g} mm "
+            f"border it sits in (margin); it must be < {margin:g} mm"
+        )
     row = connectors * pitch
     width = max(board_width, slot_width) + 2 * margin
     length = board_length + row + 3 * margin

@@ -150,6 +150,31 @@ def ring_rail(params: RingRailParams | None = None, **values: Any) -> RingRail:
     return RingRail(params, **values)
 
 
+def _check_carriages(p: RingRailParams, half: float) -> None:
+    """Refuse carriages that cannot be made: holes wider than their walls, overlaps (mm, deg)."""
+    if not p.eyelet < min(p.height, p.carriage_length):
+        limit = min(p.height, p.carriage_length)
+        raise FabricationError(
+            f"parameter eyelet: {p.eyelet:g} mm does not fit the carriage's wall beside a ring "
+            f"{p.height:g} mm high and a carriage {p.carriage_length:g} mm long; it must be "
+            f"< {limit:g} mm"
+        )
+    if not p.lock_screw < min(p.width, p.carriage_length):
+        limit = min(p.width, p.carriage_length)
+        raise FabricationError(
+            f"parameter lock_screw: {p.lock_screw:g} mm is wider than the {p.width:g} mm ring "
+            f"it presses on (width); it must be < {limit:g} mm"
+        )
+    order = sorted(((a % 360.0, k) for k, a in enumerate(p.angles)))
+    for (a, i), (b, j) in zip(order, [*order[1:], (order[0][0] + 360.0, order[0][1])], strict=True):
+        if len(order) > 1 and b - a < 2 * half:
+            raise FabricationError(
+                f"parameter angles: carriages {i + 1} ({p.angles[i]:g} deg) and {j + 1} "
+                f"({p.angles[j]:g} deg) overlap; carriages {p.carriage_length:g} mm long "
+                f"need at least {2 * half:.1f} deg between them on this ring"
+            )
+
+
 def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     """The rail's tree and its carriage seats, mm."""
     inner_diameter, width, height, angles = p.inner_diameter, p.width, p.height, p.angles
@@ -176,6 +201,7 @@ def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
             f"carriage_length {carriage_length:g} mm is too long for a ring of "
             f"inner diameter {inner_diameter:g} mm"
         )
+    _check_carriages(p, half)
     top = z0 + carriage_height + WALL
     for k, a in enumerate(angles):
         # a U-shaped arc straddling the ring, hanging a wall inside it with the eyelet

@@ -7,6 +7,7 @@ import runpy
 from pathlib import Path
 
 import numpy as np
+import origami_cad.parts
 import pytest
 import shapely
 import trimesh
@@ -28,6 +29,7 @@ from origami_cad.parts import (
 )
 from origami_cad.parts.parameters import param_info
 
+import origami_cad as oc
 from origami_cad.cli import main
 from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, theta_max
@@ -243,6 +245,16 @@ def test_text_parameters_get_their_declared_types():
         ("tsa-module", {"heading": "1e300"}, "parameter heading: at most 360 deg"),
         ("driver-adapter", {"connectors": 10**12}, r"connectors: at most 64 \(.*MAX_COUNT"),
         ("ring-rail", {"angles": ",".join(["1"] * 65)}, "angles: 65 values, at most 64"),
+        # parameters that cannot make the part, refused by name with the limit
+        ("ring-rail", {"eyelet": 50, "width": 12}, r"eyelet: 50 mm .* must be < 8 mm"),
+        ("ring-rail", {"lock_screw": 40}, r"lock_screw: 40 mm .* must be < 12 mm"),
+        ("ring-rail", {"angles": "0,90,90"}, r"angles: carriages 2 \(90 deg\) and 3 .* overlap"),
+        ("ring-rail", {"angles": "0,359"}, r"carriages 2 \(359 deg\) and 1 \(0 deg\) overlap"),
+        ("driver-adapter", {"slot_depth": 9, "pitch": 8}, r"slot_depth: 9 mm .* must be < 8 mm"),
+        ("driver-adapter", {"mounting_hole": 60}, r"mounting_hole: 60 mm .* must be < 6 mm"),
+        ("tsa-module", {"guide_hole": 500}, r"guide_hole: 500 mm .* must be < \d+ mm"),
+        ("tsa-module", {"horn_offset": 1e4}, r"horn_offset: 10000 mm .* in \[0, 34\] mm"),
+        ("blocker", {"clearance": -1}, r"clearance: must be >= 0 mm, got -1"),
     ],
 )
 def test_bad_part_parameters_are_named(name, values, message):
@@ -363,3 +375,17 @@ def test_every_exported_part_lies_on_the_bed(tmp_path):
     step, _ = export_part(rail, tmp_path / "labels", "ring-rail")
     children = import_step(step).children
     assert children[0].label == "rail" and len(children) == len(rail.children)
+
+
+def test_parts_refuse_what_cannot_be_placed():
+    fab = fabricate(load_design(EXAMPLES / "arm_design.toml"))
+    with pytest.raises(FabricationError, match="larger than panel 'c1r0s0'"):
+        oc.parts.TSAModule(plan=fab.plan, panel="c1r0s0", body=(200, 200, 200), horn_offset=10)
+    with pytest.raises(FabricationError, match="panel needs plan"):
+        oc.parts.TSAModule(panel="c1r0s0")
+    crease = int(np.flatnonzero(fab.plan.pattern.assignments == "V")[0])
+    with pytest.raises(FabricationError, match=r"crease must be an edge index .* got 1.5"):
+        oc.parts.Blocker(fab.plan, 1.5)
+    with pytest.raises(FabricationError, match="crease needs plan"):
+        oc.parts.Blocker(None, crease)
+    assert oc.parts.Blocker(fab.plan, crease).volume > 0  # the valid call still builds
