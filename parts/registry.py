@@ -126,7 +126,10 @@ def parse_part_options(tokens: Sequence[str]) -> dict[str, str]:
         key = items.pop(0)
         if not key.startswith("--") or not items:
             raise FabricationError(f"expected --name value pairs after the part name, got {key!r}")
-        out[key[2:].replace("-", "_")] = items.pop(0)
+        name = key[2:].replace("-", "_")
+        if name in out:
+            raise FabricationError(f"{key} is given twice; give each part parameter once")
+        out[name] = items.pop(0)
     return out
 
 

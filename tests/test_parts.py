@@ -223,6 +223,8 @@ def test_text_parameters_get_their_declared_types():
     assert plate.label == "driver adapter (2 connectors)"
     assert plate.bounding_box().size.Z == pytest.approx(4.0)
     assert parse_part_options(["--horn-offset", "12"]) == {"horn_offset": "12"}
+    with pytest.raises(FabricationError, match="--angle is given twice"):
+        parse_part_options(["--angle", "30", "--angle", "45"])
 
 
 @pytest.mark.parametrize(
