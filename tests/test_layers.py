@@ -25,6 +25,7 @@ BASE = {
     "origami_cad._libm",
     "origami_cad._names",
     "origami_cad._toml",
+    "origami_cad._args",
 }
 PAGE = ROOT / "docs" / "architecture.md"
 ARROW = re.compile(r"^(\w+)\s*→\s*(.*)$")

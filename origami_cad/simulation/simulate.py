@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, check_number, checked
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
@@ -288,6 +289,18 @@ class StopRules:
     max_states: int = 5000
 
 
+@checked(
+    SimulationError,
+    steps=Arg("int", min=1, max=100_000),
+    prefold=Arg(min=0.0, max=90.0),
+    tension_limit=Arg(min=0.0, open_min=True, max=1e6),
+    jam_ratio=Arg(min=0.0, open_min=True, max=1.0),
+    jam_steps=Arg("int", min=1, max=10_000),
+    max_string_strain=Arg(min=0.0, open_min=True, max=1.0),
+    max_bar_strain=Arg(min=0.0, open_min=True, max=1.0),
+    max_dp=Arg(min=1e-4, max=1.0),
+    max_states=Arg("int", min=1, max=1_000_000),
+)
 def simulate(
     cp: CreasePattern,
     route: RouteSpec,
@@ -347,6 +360,7 @@ def simulate(
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
     """
+    fold_limits = _checked_limits(cp, fold_limits)
     params = _default_params(route, params, free)
     cap = route.max_tension if tension_limit is None else tension_limit
     rules = StopRules(
@@ -359,6 +373,39 @@ def simulate(
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
     return _result(rows, stop, run.notes)
+
+
+def _checked_limits(cp: CreasePattern, fold_limits: Any) -> dict[int, float] | None:
+    """``{edge: degrees}`` checked: mountain or valley creases of ``cp``, limits in (0, 180]."""
+    if fold_limits is None:
+        return None
+    if not isinstance(fold_limits, dict):
+        raise SimulationError(
+            f"simulate: fold_limits: expected {{edge: degrees}}, got {fold_limits!r}"
+        )
+    out = {}
+    for key, value in fold_limits.items():
+        edge = check_number(
+            "simulate: fold_limits edge",
+            key,
+            kind="int",
+            low=0,
+            high=cp.n_edges - 1,
+            error=SimulationError,
+        )
+        if cp.assignments[edge] not in ("M", "V"):
+            raise SimulationError(
+                f"simulate: fold_limits: edge {edge} is not a mountain or valley crease"
+            )
+        out[edge] = check_number(
+            f"simulate: fold_limits[{edge}]",
+            value,
+            low=0.0,
+            open_min=True,
+            high=180.0,
+            error=SimulationError,
+        )
+    return out
 
 
 def _route_limits(route: RouteSpec, design: Design | None, fold_limits: dict | None):

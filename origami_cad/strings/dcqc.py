@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
@@ -58,6 +59,7 @@ from origami_cad.strings.route import (
 
 __all__ = [
     "MAX_STRING_STRAIN",
+    "MIN_DP",
     "DCQCResult",
     "FoldLimit",
     "Jam",
@@ -71,6 +73,10 @@ __all__ = [
     "tsa_step",
     "turn_limit_stop",
 ]
+
+#: The smallest ``max_dp`` of :func:`simulate_dcqc`: a step of the fold ratio below it would
+#: need over 10,000 states to cross the fold (the halving of a step is bounded by it).
+MIN_DP = 1e-4
 
 
 MAX_STRING_STRAIN = 0.02  #: an elastic string strained beyond this jams (both models)
@@ -354,6 +360,13 @@ def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:
     return None
 
 
+@checked(
+    SimulationError,
+    grid=Arg("int", min=2, max=100_000),
+    crease_stiffness=Arg(min=0.0, max=1e9),
+    max_dp=Arg(min=MIN_DP, max=1.0),
+    string_stiffness=Arg(min=0.0, open_min=True, max=1e12),
+)
 def simulate_dcqc(
     design: Design,
     route: RouteSpec,
@@ -378,8 +391,8 @@ def simulate_dcqc(
         Rotational stiffness of the creases per unit length, N mm / rad / mm
         (e.g. ``SimulationParams.crease_stiffness``); gives tensions and torque.
     max_dp : float
-        Largest change of the fold ratio between two states; a TSA step that
-        folds more is halved.
+        Largest change of the fold ratio between two states, in [:data:`MIN_DP`, 1]; a
+        TSA step that folds more is halved.
     string_stiffness : float, optional
         Axial stiffness ``EA`` of the strings, N (e.g.
         ``SimulationParams.string_axial_stiffness``). With ``crease_stiffness`` the
