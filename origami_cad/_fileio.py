@@ -40,7 +40,9 @@ from typing import IO
 from origami_cad.errors import OutputError
 
 __all__ = [
+    "WRITE_ERRORS",
     "Interrupted",
+    "WriteRefused",
     "atomic_directory",
     "atomic_path",
     "atomic_write",
@@ -268,8 +270,29 @@ def _target(path: PathLike) -> tuple[Path, os.stat_result | None]:
     return _real(path), st
 
 
+#: What a file system says when it refuses to store what was written: a full disk, a
+#: quota, a file over the size limit, a read-only file system, an I/O error.
+WRITE_ERRORS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO})
+
+
+def _sync(path: PathLike, folder: bool = False) -> None:
+    """Flush ``path`` (a file, or with ``folder`` a folder's entries) to the disk.
+
+    A folder's flush is best effort: some file systems cannot flush a folder.
+    """
+    fd = os.open(path, os.O_RDONLY | (os.O_DIRECTORY if folder else 0))
+    try:
+        os.fsync(fd)
+    except OSError:
+        if not folder:
+            raise
+    finally:
+        os.close(fd)
+
+
 def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
-    """Put the finished file ``src`` in place of ``dest`` (already resolved)."""
+    """Put the finished file ``src`` in place of ``dest`` (already resolved): flushed to
+    the disk first, then renamed over it, so ``dest`` is the old file or the whole new one."""
     if st is not None and not stat.S_ISREG(st.st_mode):
         # a device or pipe: write into it, never rename over it
         with open(src, "rb") as fin, open(dest, "wb") as fout:
@@ -277,6 +300,7 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         src.unlink()
         return
     os.chmod(src, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
+    _sync(src)
     try:
         os.replace(src, dest)
     except OSError as exc:
@@ -286,20 +310,45 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         try:
             shutil.copyfile(src, tmp)
             os.chmod(tmp, 0o666 & ~_umask())
+            _sync(tmp)
             os.replace(tmp, dest)
         except BaseException:
             tmp.unlink(missing_ok=True)
             raise
         src.unlink()
+    _sync(dest.parent, folder=True)
 
 
-def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> None:
+class WriteRefused(OutputError):
+    """The file system refused to store an output (:data:`WRITE_ERRORS`): ``where``
+    (the user's path), ``reason`` (its words) and what was ``kept`` instead."""
+
+    def __init__(self, where: str, reason: str, kept: str) -> None:
+        super().__init__(f"{where}: cannot be written ({reason}); {kept}")
+        self.where, self.reason, self.kept = where, reason, kept
+
+
+def _refused(exc: BaseException, shown: PathLike, kept: str, fix=str) -> BaseException:
+    """``exc``, or when it is the file system refusing a write a :class:`WriteRefused`
+    naming the file (``shown``, or the file the error names) and what was ``kept``.
+
+    ``fix`` turns a temporary path into the user's (:func:`_user_paths`).
+    """
+    if isinstance(exc, WriteRefused):
+        return WriteRefused(fix(exc.where), exc.reason, kept)
+    if isinstance(exc, OSError) and exc.errno in WRITE_ERRORS:
+        where = exc.filename if isinstance(exc.filename, str) else str(shown)
+        return WriteRefused(fix(where), exc.strerror or os.strerror(exc.errno), kept)
+    return exc
+
+
+def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> Callable[[str], str]:
     """Say ``shown`` (the user's path) wherever ``exc`` names ``staged`` (our temporary one).
 
     A check run on a staged file (a sequence read back, a 3MF validated) raises with the
     temporary file's name, which is gone once the error is printed; the user must read
     the path they gave. The message, its notes and an ``OSError``'s file names are
-    rewritten in place.
+    rewritten in place; the rewriting is returned.
     """
     shown = str(shown).rstrip(os.sep) or str(shown)
     names = {str(staged): shown}
@@ -319,6 +368,7 @@ def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> None:
     notes = getattr(exc, "__notes__", None)
     if isinstance(notes, list):
         notes[:] = [fix(n) for n in notes]
+    return fix
 
 
 def _make_temp(make: Callable[[], Path], created: list[Path], where: str) -> Path:
@@ -364,7 +414,11 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
         _remove_created(created)
-        _user_paths(exc, tmp, path)
+        fix = _user_paths(exc, tmp, path)
+        kept = "the old file is kept" if st is not None else "nothing was written"
+        refused = _refused(exc, path, kept, fix)
+        if refused is not exc:
+            raise refused from None
         raise
 
 
@@ -431,7 +485,10 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
     except BaseException as exc:
         shutil.rmtree(root, ignore_errors=True)
         _remove_created(created)
-        _user_paths(exc, stage, shown)
+        fix = _user_paths(exc, stage, shown)
+        refused = _refused(exc, shown, "the folder's old files are kept", fix)
+        if refused is not exc:
+            raise refused from None
         raise
     shutil.rmtree(root, ignore_errors=True)
 
@@ -513,6 +570,7 @@ def _prepare_commit(root: Path, stage: Path, plan, entries: list[dict]) -> list:
                 os.link(dest, backup)
             except OSError:  # a file system without hard links
                 shutil.copy2(dest, backup)
+        _sync(entry["new"])  # on the disk before any old file is replaced
         new = os.stat(entry["new"])
         entry["id"] = [new.st_dev, new.st_ino]
     _write_journal(root, {"pid": os.getpid(), "state": "commit", "entries": entries})
@@ -551,6 +609,8 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
                 _roll_back(entries)
         if held:
             raise Interrupted(held[0])
+        for folder in {str(Path(e["dest"]).parent) for e in entries}:
+            _sync(folder, folder=True)
         _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
     except OSError as exc:
         raise OutputError(f"{shown}: the outputs cannot be put in place ({exc.strerror})") from None
