@@ -42,6 +42,7 @@ from origami_cad.errors import OutputError
 
 __all__ = [
     "WRITE_ERRORS",
+    "GrowingFile",
     "Interrupted",
     "WriteRefused",
     "atomic_directory",
@@ -428,6 +429,108 @@ def atomic_write(path: PathLike, mode: str = "w", **kwargs) -> Iterator[IO]:
     """Open a temporary file for writing; it replaces ``path`` only on success."""
     with atomic_path(path) as tmp, open(tmp, mode, **kwargs) as fh:
         yield fh
+
+
+class GrowingFile:
+    """An output written line by line as a run goes (``drive``'s log), in place of
+    ``path`` only once :meth:`publish` says the run began.
+
+    Until then the lines go to a temporary file beside ``path`` (into memory for a
+    device or pipe), and an old file at ``path`` stays as it was; a file never
+    published is removed on :meth:`close`: a run that never began leaves no trace.
+    Each :meth:`write` adds whole lines or nothing: a write the file system refuses
+    (:data:`WRITE_ERRORS`), or an interrupt in the middle, cuts the file back to its
+    last whole line; the refusal is raised as :class:`WriteRefused` naming ``path``.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is a folder, or no file can be made beside it.
+    """
+
+    def __init__(self, path: PathLike) -> None:
+        self.path, self.published, self.size = path, False, 0
+        self._dest, st = _target(path)
+        self._stream = st is not None and not stat.S_ISREG(st.st_mode)
+        self._pending: list[str] = []
+        self._fd: int | None = None
+        self._tmp: Path | None = None
+        self._created: list[Path] = []
+        if self._stream:
+            return  # a device or pipe: opened when published
+        self._created = _ensure_folder(self._dest.parent, path)
+        clean_stale(self._dest.parent)
+        self._tmp = _make_temp(
+            lambda: _temp_file(self._dest.parent, self._dest.suffix or ".tmp"),
+            self._created,
+            f"{path}: cannot write in {self._dest.parent}",
+        )
+        self._fd = os.open(self._tmp, os.O_WRONLY)
+
+    def write(self, text: str) -> None:
+        """Add ``text`` (whole lines) at the end: all of it, or nothing."""
+        if self._fd is None:
+            self._pending.append(text)
+            return
+        encoded = text.encode("utf-8")
+        data = memoryview(encoded)
+        try:
+            while data:
+                data = data[os.write(self._fd, data) :]
+        except BaseException as exc:
+            if not self._stream:
+                with contextlib.suppress(OSError):
+                    os.ftruncate(self._fd, self.size)
+            if isinstance(exc, OSError) and exc.errno in WRITE_ERRORS:
+                reason = exc.strerror or os.strerror(exc.errno)
+                raise WriteRefused(
+                    str(self.path), reason, "it ends at its last whole line"
+                ) from None
+            raise
+        self.size += len(text.encode("utf-8"))
+
+    def flush(self) -> None:
+        """Nothing to do: every :meth:`write` reaches the file system at once."""
+
+    def publish(self) -> None:
+        """The run began: the file replaces the old one at ``path``, flushed to the disk
+        first; further lines go into it."""
+        if self.published:
+            return
+        self.published = True
+        try:
+            if self._stream:
+                self._fd = os.open(self._dest, os.O_WRONLY)
+                pending, self._pending = "".join(self._pending), []
+                self.write(pending)
+                return
+            os.fchmod(self._fd, 0o666 & ~_umask())  # mkstemp makes 0600; the usual mode
+            os.fsync(self._fd)
+            os.replace(self._tmp, self._dest)
+        except OSError as exc:
+            self.published = False
+            raise _refused(
+                exc, self.path, "the old file is kept", lambda _: str(self.path)
+            ) from None
+        _sync(self._dest.parent, folder=True)
+
+    def close(self) -> None:
+        """Close the file; one never published is removed, the old file left as it was."""
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            with contextlib.suppress(OSError):
+                if self.published and not self._stream:
+                    os.fsync(fd)
+            os.close(fd)
+        if not self.published and self._tmp is not None:
+            self._tmp.unlink(missing_ok=True)
+            _remove_created(self._created)
+
+    def __enter__(self) -> GrowingFile:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
 
 def _staged_files(stage: Path) -> list[Path]:

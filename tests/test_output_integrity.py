@@ -57,7 +57,7 @@ else:  # joblib's warning that it cannot make its own files is no output of ours
     import warnings
     warnings.simplefilter("ignore")
     signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-    resource.setrlimit(resource.RLIMIT_FSIZE, (0, resource.RLIM_INFINITY))
+    resource.setrlimit(resource.RLIMIT_FSIZE, (spec["fsize"], resource.RLIM_INFINITY))
 import contextlib, io
 err = io.StringIO()
 with contextlib.redirect_stderr(err):
@@ -92,8 +92,13 @@ def _mode() -> tuple[str | None, str]:
 MODE, WHY = ("fsize", "") if os.environ.get("ORIGAMI_TINY_DISK") == "fsize" else _mode()
 
 
-def _full_disk_run(tmp_path: Path, argv: list[str], old: dict[str, bytes], **kw) -> dict:
-    """Run ``origami-cad argv`` (``OUT`` is the tiny folder) over the ``old`` files."""
+def full_disk_run(tmp_path: Path, argv: list[str], old: dict[str, bytes], **kw) -> dict:
+    """Run ``origami-cad argv`` (``OUT`` is the tiny folder) over the ``old`` files.
+
+    ``size_kb``, ``free_kb``: the tmpfs and what is left free on it; ``fsize``: the
+    file size limit, bytes, where there is no tmpfs. Returns the exit ``code``, the
+    ``stderr`` and the files ``after`` (bytes by name, the filler ``.fill`` among them).
+    """
     if MODE is None:
         pytest.skip(WHY)
     folder = tmp_path / "out"
@@ -103,6 +108,7 @@ def _full_disk_run(tmp_path: Path, argv: list[str], old: dict[str, bytes], **kw)
         "mode": MODE,
         "size_kb": kw.get("size_kb", 256),
         "free_kb": kw.get("free_kb", 0),
+        "fsize": kw.get("fsize", 0),
         "old": {k: v.hex() for k, v in old.items()},
         "argv": [a.replace("OUT", str(folder)) for a in argv],
     }
@@ -159,7 +165,7 @@ CASES = {
 def test_a_full_disk_exits_2_naming_the_file_and_keeps_the_old_one(tmp_path, case):
     argv, name = CASES[case]
     old = {name: b"the user's own " + name.encode() + b", kept byte for byte\n"}
-    _assert_refused(_full_disk_run(tmp_path, argv, old), name, old)
+    _assert_refused(full_disk_run(tmp_path, argv, old), name, old)
 
 
 def test_a_gif_cut_short_by_the_disk_keeps_the_old_one(tmp_path):
@@ -168,7 +174,7 @@ def test_a_gif_cut_short_by_the_disk_keeps_the_old_one(tmp_path):
         pytest.skip("a disk with a few KB free needs the private tmpfs")
     argv, name = CASES["fold-gif"]
     old = {name: bytes(range(256)) * 8}
-    _assert_refused(_full_disk_run(tmp_path, argv, old, free_kb=12), name, old)
+    _assert_refused(full_disk_run(tmp_path, argv, old, free_kb=12), name, old)
 
 
 def test_fabricate_on_a_full_disk_keeps_the_old_set(tmp_path):
@@ -180,7 +186,7 @@ def test_fabricate_on_a_full_disk_keeps_the_old_set(tmp_path):
         "fab/notes.md": b"mine",
     }
     argv = ["fabricate", str(design), "-o", "OUT/fab"]
-    result = _full_disk_run(tmp_path, argv, old, size_kb=1024, free_kb=64)
+    result = full_disk_run(tmp_path, argv, old, size_kb=1024, free_kb=64)
     err = result["stderr"]
     assert result["code"] == 2 and err.count("\n") == 1, err
     assert f"{result['folder']}/fab/" in err and "the folder's old files are kept" in err, err
