@@ -177,6 +177,8 @@ def _run(args: argparse.Namespace) -> int:
             raise Interrupted(interrupted())
         for line in outputs.messages:
             print(line)
+        for line in outputs.warnings:
+            print(f"origami-cad: warning: {one_line(line)}", file=sys.stderr)
         return outputs.status
     except OrigamiCadError as exc:  # with its notes (a pattern's implausible size)
         _error("; ".join([str(exc), *getattr(exc, "__notes__", ())]))
