@@ -116,6 +116,8 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
     ``exiting`` (the process ends after the block), further signals are ignored
     instead: the command has finished (or been interrupted), and a Ctrl-C while the
     interpreter shuts down must not replace its exit code by a death by SIGINT.
+    The handlers are installed whatever the process inherited (a background job starts
+    with SIGINT ignored), so a command stops cleanly on either signal.
     """
     _received.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -123,7 +125,9 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
         yield
     finally:
         for sig, handler in previous.items():
-            signal.signal(sig, signal.SIG_IGN if exiting else handler)
+            # None: a handler installed from C, which Python cannot put back
+            restored = signal.SIG_DFL if handler is None else handler
+            signal.signal(sig, signal.SIG_IGN if exiting else restored)
         _received.clear()
 
 
@@ -620,15 +624,22 @@ def _signals_held() -> Iterator[list[int]]:
     """Within the block, SIGINT and SIGTERM are noted, not raised (main thread only).
 
     The list yielded holds the signals that came; the caller decides what they undo.
+    A signal the process ignores stays ignored, and every handler found is restored.
     """
     held: list[int] = []
     if threading.current_thread() is not threading.main_thread():
         yield held
         return
+    # a signal the process ignores (SIGINT of a background job, or under `nohup ... &`)
+    # stays ignored; one whose handler Python cannot restore (None: installed from C) is
+    # left alone
     previous = {
-        sig: signal.signal(sig, lambda signum, frame: held.append(signum))
+        sig: handler
         for sig in (signal.SIGINT, signal.SIGTERM)
+        if (handler := signal.getsignal(sig)) not in (signal.SIG_IGN, None)
     }
+    for sig in previous:
+        signal.signal(sig, lambda signum, frame: held.append(signum))
     try:
         yield held
     finally:

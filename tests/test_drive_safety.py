@@ -217,7 +217,7 @@ def test_ctrl_c_anywhere_leaves_every_servo_off(tmp_path, monkeypatch, packet, p
 
 
 @pytest.mark.parametrize("packet", [3, OPEN_PACKETS + 5, OPEN_PACKETS + 24])
-def test_a_real_sigint_while_the_sdk_waits_for_a_status(tmp_path, packet):
+def test_a_real_sigint_while_the_sdk_waits_for_a_status(tmp_path, packet, python_sigint):
     """SIGINT sent by the emulator as it receives the packet: the host is inside txRxPacket."""
     seq = load_sequence(write_sequence(tmp_path, IDS))
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
@@ -230,7 +230,9 @@ def test_a_real_sigint_while_the_sdk_waits_for_a_status(tmp_path, packet):
         assert_all_off(emu)
 
 
-def test_a_real_sigint_during_the_shutdown_is_held_until_every_servo_is_off(tmp_path):
+def test_a_real_sigint_during_the_shutdown_is_held_until_every_servo_is_off(
+    tmp_path, python_sigint
+):
     seq = load_sequence(write_sequence(tmp_path, IDS))
     with DynamixelEmulator(IDS, time_scale=SCALE) as emu:
         # the shutdown's SyncWrite is packet RUN_PACKETS + 1; then each servo is read back
