@@ -87,6 +87,9 @@ class SimulationParams:
     slip : float
         Friction's stick-slip regularisation: a node pushed sideways below
         ``friction x normal force`` creeps by about this much per step, mm.
+    hole_friction : float
+        Friction coefficient of a string sliding through a panel's hole (the capstan
+        law, :mod:`origami_cad.strings.friction`; 0: none).
     """
 
     panel_modulus: float = 3500.0
@@ -103,6 +106,7 @@ class SimulationParams:
     friction: float = 0.5
     ground_stiffness: float = 100.0
     slip: float = 1e-3
+    hole_friction: float = 0.0
 
     def __post_init__(self) -> None:
         check_fields(self, SimulationError, _FIELDS)
@@ -157,6 +161,7 @@ class SimulationParams:
         return {
             "crease_stiffness": self.crease_stiffness,
             "string_stiffness": self.string_axial_stiffness,
+            "hole_friction": self.hole_friction,
         }
 
     @property

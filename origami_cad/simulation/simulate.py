@@ -38,7 +38,13 @@ from origami_cad._args import Arg, check_number, checked
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.cables import SimString, StringSet, string_length, string_lengths
+from origami_cad.simulation.cables import (
+    SimString,
+    StringSet,
+    string_length,
+    string_lengths,
+    update_capstan,
+)
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
@@ -152,7 +158,8 @@ def _strings(cp: CreasePattern, route: RouteSpec, flat: np.ndarray, params) -> S
             sim.anchor_orient = float(frame_orientation(cp, sim.anchor_tri))
             sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
         out.append(sim)
-    strings = StringSet(out, route.thickness / 2.0, route.tsa)
+    strings = StringSet(out, route.thickness / 2.0, route.tsa, friction=params.hole_friction)
+    update_capstan(flat, strings)  # the tensions along the strings on the flat sheet
     for s in strings.strings:  # the strings are tight on the flat sheet (eq. 7)
         s.free_length, _ = string_length(flat, s, strings)
         s.stiffness = params.string_axial_stiffness / s.free_length
@@ -560,6 +567,7 @@ def _step_equilibrium(run: _Run, theta: float, previous: np.ndarray | None):
     """The equilibrium at TSA angle ``theta`` (rad), from ``run.x`` or a secant predictor."""
     st, strings, ground = run.st, run.strings, run.ground
     strings.theta = theta
+    update_capstan(run.x, strings)  # friction at the holes, from the last state
     start = run.x
     if previous is not None:  # secant predictor, kept when it starts lower
         guess = 2.0 * run.x - previous

@@ -45,6 +45,7 @@ from origami_cad._args import Arg, checked
 from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
+from origami_cad.strings.friction import capstan_rate
 from origami_cad.strings.route import (
     RouteSpec,
     StringRoute,
@@ -374,6 +375,7 @@ def simulate_dcqc(
     crease_stiffness: float | None = None,
     max_dp: float = 0.01,
     string_stiffness: float | None = None,
+    hole_friction: float = 0.0,
 ) -> DCQCResult:
     """Simulate the folding that the route's strings and TSA produce, state by state.
 
@@ -400,13 +402,19 @@ def simulate_dcqc(
         equilibrium of the creases' and the strings' energy along the rigid folding,
         the same energy as the bar-and-hinge simulation's with rigid panels.
         Without it the strings are inextensible.
+    hole_friction : float
+        Friction coefficient in the holes (capstan law; 0: none); needs elastic strings.
     """
+    if not (math.isfinite(hole_friction) and hole_friction >= 0) or (
+        hole_friction > 0 and string_stiffness is None
+    ):
+        raise SimulationError(f"simulate_dcqc: hole_friction {hole_friction} needs >= 0 and EA")
     if string_stiffness is not None and (crease_stiffness is None or not string_stiffness > 0):
         raise SimulationError(
             "simulate_dcqc: elastic strings need a positive string_stiffness (EA, N) and the "
             f"creases' crease_stiffness too (got {string_stiffness!r}, {crease_stiffness!r})"
         )
-    t = _tables(design, route, grid, crease_stiffness, string_stiffness)
+    t = _tables(design, route, grid, crease_stiffness, string_stiffness, hole_friction)
     rows: dict[str, list] = {k: [] for k in _ROWS}
     _record(t, route, rows, 0.0, route.p0, False)
     theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
@@ -459,9 +467,7 @@ class _Tables:
         return np.array([np.interp(p, self.ratios, row) for row in table])
 
 
-def _tables(
-    design: Design, route: RouteSpec, grid: int | None, crease_stiffness, string_stiffness=None
-) -> _Tables:
+def _tables(design: Design, route: RouteSpec, grid, crease_stiffness, ks=None, mu=0.0) -> _Tables:
     """The geometry of the route on ``grid`` fold ratios from ``p0`` to the fold limit."""
     cp = design.pattern
     limit = fold_limit(design, route)
@@ -498,10 +504,12 @@ def _tables(
         energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
     tol = 1e-7 * max(cp.size, 1.0)
     t = _Tables(limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol)
-    if energy_rate is not None and string_stiffness is not None and len(ratios) > 1:
-        t.k = float(string_stiffness) / l0
+    if energy_rate is not None and ks is not None and len(ratios) > 1:
+        t.k = float(ks) / l0
         t.dx_dis = np.gradient(x_dis, ratios, axis=1)
         t.drest = np.gradient(rest, ratios, axis=1)
+        if mu > 0:  # friction at the holes: the segments pull by their capstan weights
+            t.drest = capstan_rate(cp, coords, route, frames, segs, ratios, mu)
     return t
 
 
