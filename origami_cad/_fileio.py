@@ -54,6 +54,7 @@ __all__ = [
     "handle_signals",
     "interrupted",
     "referenced_files",
+    "written",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -68,11 +69,18 @@ class Interrupted(KeyboardInterrupt):
 
 
 _received: list[int] = []
+_written: list[str] = []
 
 
 def interrupted() -> int | None:
     """The number of the first interrupting signal received since the handlers were installed."""
     return _received[0] if _received else None
+
+
+def written() -> list[str]:
+    """The outputs put in place, whole, since the handlers were installed (the paths as
+    given): what an interrupted command still wrote."""
+    return list(_written)
 
 
 def _in_import(frame) -> bool:
@@ -118,6 +126,7 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
     interpreter shuts down must not replace its exit code by a death by SIGINT.
     """
     _received.clear()
+    _written.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
@@ -125,6 +134,7 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
         for sig, handler in previous.items():
             signal.signal(sig, signal.SIG_IGN if exiting else handler)
         _received.clear()
+        _written.clear()
 
 
 @contextlib.contextmanager
@@ -412,7 +422,12 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     try:
         yield tmp
         _raise_if_interrupted()
-        _install(tmp, dest, st)
+        with _signals_held() as held:  # a signal now: the file is the old one or the new
+            _install(tmp, dest, st)
+            if not any(_STALE.match(p.name) for p in dest.parents):  # not in a staging folder
+                _written.append(str(path))
+        if held:
+            raise Interrupted(held[0])
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
         _remove_created(created)
@@ -436,16 +451,11 @@ class GrowingFile:
     ``path`` only once :meth:`publish` says the run began.
 
     Until then the lines go to a temporary file beside ``path`` (into memory for a
-    device or pipe), and an old file at ``path`` stays as it was; a file never
-    published is removed on :meth:`close`: a run that never began leaves no trace.
-    Each :meth:`write` adds whole lines or nothing: a write the file system refuses
-    (:data:`WRITE_ERRORS`), or an interrupt in the middle, cuts the file back to its
-    last whole line; the refusal is raised as :class:`WriteRefused` naming ``path``.
-
-    Raises
-    ------
-    OutputError
-        ``path`` is a folder, or no file can be made beside it.
+    device or pipe) and an old file there stays as it was; one never published is
+    removed on :meth:`close`. Each :meth:`write` adds whole lines or nothing: a write the
+    file system refuses (:data:`WRITE_ERRORS`; raised as :class:`WriteRefused`), or an
+    interrupt, cuts the file back to its last whole line. ``OutputError``: ``path`` is a
+    folder, or no file can be made beside it.
     """
 
     def __init__(self, path: PathLike) -> None:
@@ -587,14 +597,18 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
         plan = _plan_install(stage, folder, shown, inputs)
         _commit(root, stage, plan, shown)
     except BaseException as exc:
-        shutil.rmtree(root, ignore_errors=True)
-        _remove_created(created)
+        with _signals_held():
+            shutil.rmtree(root, ignore_errors=True)
+            _remove_created(created)
         fix = _user_paths(exc, stage, shown)
         refused = _refused(exc, shown, "the folder's old files are kept", fix)
         if refused is not exc:
             raise refused from None
         raise
-    shutil.rmtree(root, ignore_errors=True)
+    with _signals_held() as held:
+        shutil.rmtree(root, ignore_errors=True)
+    if held:
+        raise Interrupted(held[0])
 
 
 def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[PathLike]):
@@ -620,22 +634,31 @@ def _signals_held() -> Iterator[list[int]]:
     """Within the block, SIGINT and SIGTERM are noted, not raised (main thread only).
 
     The list yielded holds the signals that came; the caller decides what they undo.
+    Inside another such block, the signals are passed on to it on leaving, and the
+    list emptied: the outer block decides.
     """
     held: list[int] = []
     if threading.current_thread() is not threading.main_thread():
         yield held
         return
-    previous = {
-        sig: signal.signal(sig, lambda signum, frame: held.append(signum))
-        for sig in (signal.SIGINT, signal.SIGTERM)
-    }
+
+    def hold(signum, frame):
+        held.append(signum)
+
+    hold.holds = True
+    previous = {sig: signal.signal(sig, hold) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield held
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-        if held and previous[held[0]] is _on_signal:  # the command reports it
+        outer = previous[held[0]] if held else None
+        if outer is _on_signal:  # the command reports it
             _received.extend(held)
+        elif getattr(outer, "holds", False):
+            for signum in held:
+                outer(signum, None)
+            held.clear()
 
 
 def _same_device(a: Path, b: Path) -> bool:
@@ -694,32 +717,41 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
     """Put the staged files in place as one set, or not at all.
 
     Each target's old file is first kept under a second name and the list written to
-    ``journal.json``; then every new file is renamed over its target, with Ctrl-C and
-    SIGTERM held. If a rename fails, or a signal came meanwhile, every target is given
-    back its old file (or removed if it had none) and the error or interrupt raised.
-    A process killed meanwhile leaves the journal, which the next run rolls back.
+    ``journal.json``; then every new file is renamed over its target. Ctrl-C and
+    SIGTERM are held from the first step to the last. If a rename fails, or a signal
+    came before the last rename, every target is given back its old file (or removed if
+    it had none) and the error or :class:`Interrupted` raised. A signal after it leaves
+    the whole new set (noted in :func:`written`) and raises :class:`Interrupted`. A
+    process killed meanwhile leaves the journal, which the next run rolls back.
     """
     entries: list[dict] = []
-    try:
-        streams = _prepare_commit(root, stage, plan, entries)
-        with _signals_held() as held:
+    complete = False
+    with _signals_held() as held:
+        try:
+            streams = _prepare_commit(root, stage, plan, entries)
             try:
                 for e in entries:
+                    if held:  # before or between the renames: the old set comes back
+                        break
                     os.replace(e["new"], e["dest"])
             except BaseException:
                 _roll_back(entries)
                 raise
             if held:
                 _roll_back(entries)
-        if held:
-            raise Interrupted(held[0])
-        for folder in {str(Path(e["dest"]).parent) for e in entries}:
-            _sync(folder, folder=True)
-        _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
-    except OSError as exc:
-        raise OutputError(f"{shown}: the outputs cannot be put in place ({exc.strerror})") from None
-    finally:
-        _remove_kept(entries, root)
+            else:
+                complete = True
+                _written.append(str(shown))
+                for folder in {str(Path(e["dest"]).parent) for e in entries}:
+                    _sync(folder, folder=True)
+                _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
+        except OSError as exc:  # complete: only the journal's last word is missing
+            what = "were put in place, unrecorded" if complete else "cannot be put in place"
+            raise OutputError(f"{shown}: the outputs {what} ({exc.strerror})") from None
+        finally:
+            _remove_kept(entries, root)
+    if held:
+        raise Interrupted(held[0])
     for src, dest, st in streams:
         _install(src, dest, st)
 

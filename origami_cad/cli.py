@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from origami_cad import __version__, demo  # noqa: F401  (demo registers its command)
-from origami_cad._fileio import Interrupted, handle_signals, interrupted
+from origami_cad._fileio import Interrupted, handle_signals, interrupted, written
 from origami_cad._names import one_line
 from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
 from origami_cad.errors import OrigamiCadError
@@ -216,8 +216,12 @@ def _caused_by_interrupt(exc: BaseException) -> bool:
 
 
 def _interrupted() -> int:
+    """Say the command was interrupted, naming the outputs it had put in place whole."""
     signum = interrupted() or signal.SIGINT
     word = "terminated" if signum == signal.SIGTERM else "interrupted"
+    done = written()
+    if done:
+        word += f" after writing {', '.join(map(one_line, done))} in full"
     print(f"origami-cad: {word}; nothing more was written", file=sys.stderr)
     return 128 + signum
 

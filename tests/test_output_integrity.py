@@ -191,3 +191,64 @@ def test_fabricate_on_a_full_disk_keeps_the_old_set(tmp_path):
     assert result["code"] == 2 and err.count("\n") == 1, err
     assert f"{result['folder']}/fab/" in err and "the folder's old files are kept" in err, err
     assert {k: v for k, v in result["after"].items() if k != ".fill"} == old
+
+
+#: The child: ``fabricate`` twice into a folder holding an older set, a SIGINT delivered
+#: by a hook on the rename of the set's ``when``-th file (``last``: after the whole set).
+INTERRUPTED = r"""
+import contextlib, io, json, os, signal, sys
+from pathlib import Path
+from origami_cad.cli import main
+design, folder = sys.argv[1], Path(sys.argv[2]).resolve()
+real, results = os.replace, {}
+def hooked(src, dst, *a, **k):
+    real(src, dst, *a, **k)
+    into = Path(dst).parent == folder and not str(src).endswith(".old")
+    done = Path(dst).name == "journal.json" and json.loads(Path(dst).read_text())["state"] == "done"
+    hooked.n += into
+    if (when == "last" and done) or hooked.n == when:
+        os.kill(os.getpid(), signal.SIGINT)
+os.replace = hooked
+for when in (3, "last"):
+    hooked.n = 0
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["fabricate", design, "-o", str(folder), "--bias", str(len(results) + 2)])
+    files = {p.name: [p.stat().st_ino, p.read_bytes().hex()] for p in folder.iterdir()}
+    results[str(when)] = {"code": code, "stderr": err.getvalue(), "files": files}
+    os.replace = hooked
+print(json.dumps(results))
+"""
+
+
+def test_ctrl_c_while_fabricate_installs_its_set_rolls_back_or_completes(tmp_path):
+    """A SIGINT between two renames of the set: the old set comes back, exit 130 and
+    'nothing more was written'; one after the last rename: the whole new set, exit 130
+    naming the folder written in full. Never a mix, never a silent exit 0."""
+    design = tmp_path / "d.toml"
+    design.write_text(SMALL_MIURA)
+    folder = tmp_path / "fab"
+    assert subprocess.run(
+        [sys.executable, "-m", "origami_cad.cli", "fabricate", str(design), "-o", str(folder)],
+        capture_output=True, timeout=300, cwd=ROOT,
+    ).returncode == 0  # fmt: skip
+    (folder / "notes.md").write_text("mine")
+    before = {p.name: (p.stat().st_ino, p.read_bytes()) for p in folder.iterdir()}
+    run = subprocess.run(
+        [sys.executable, "-c", INTERRUPTED, str(design), str(folder)],
+        capture_output=True, text=True, timeout=300, cwd=ROOT,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    results = json.loads(run.stdout.splitlines()[-1])
+    middle, last = results["3"], results["last"]
+    assert middle["code"] == 130 and last["code"] == 130
+    assert middle["stderr"] == "origami-cad: interrupted; nothing more was written\n"
+    assert {k: (i, bytes.fromhex(v)) for k, (i, v) in middle["files"].items()} == before
+    assert last["stderr"] == (
+        f"origami-cad: interrupted after writing {folder} in full; nothing more was written\n"
+    )
+    after = {k: (i, bytes.fromhex(v)) for k, (i, v) in last["files"].items()}
+    assert after.keys() == before.keys() and after["notes.md"] == before["notes.md"]
+    replaced = {k for k in before if after[k][0] != before[k][0]}  # a new file, by its inode
+    assert replaced == set(before) - {"notes.md"}, replaced
+    assert after["fabrication.json"][1] != before["fabrication.json"][1]  # --bias 3
