@@ -37,7 +37,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
-from origami_cad._inputs import check_outputs, protected_files, referenced_files
+from origami_cad._inputs import check_outputs, protected_files, protection, referenced_files
 from origami_cad.errors import OutputError
 
 __all__ = [
@@ -623,8 +623,9 @@ def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[P
             raise OutputError(
                 f"{shown}: {rel.as_posix()} is a folder there; the output file cannot replace it"
             ) from None
-        if dest in protected:
-            raise OutputError(f"{shown}: the output {rel.as_posix()} {protected[dest]}")
+        why = protection(dest, protected)
+        if why is not None:
+            raise OutputError(f"{shown}: the output {rel.as_posix()} {why}")
         plan.append((rel, dest, st))
     return plan
 

@@ -15,6 +15,7 @@ import contextlib
 import functools
 import importlib
 import inspect
+import os
 import re
 import signal
 import sys
@@ -175,8 +176,9 @@ def _run(args: argparse.Namespace) -> int:
         outputs = _call(args)
         if interrupted():  # an interrupt a library swallowed: the outputs were not written
             raise Interrupted(interrupted())
+        shown = sys.stderr if _into_stdout(outputs.files) else sys.stdout
         for line in outputs.messages:
-            print(line)
+            print(line, file=shown)
         return outputs.status
     except OrigamiCadError as exc:  # with its notes (a pattern's implausible size)
         _error("; ".join([str(exc), *getattr(exc, "__notes__", ())]))
@@ -201,6 +203,20 @@ def _run(args: argparse.Namespace) -> int:
             f"{__version__}, please report it with the command and its input files"
         )
         return 3
+
+
+def _into_stdout(files) -> bool:
+    """Whether one of ``files`` is the standard output (``-o /dev/stdout``): the
+    messages then go to stderr, and the output holds its data alone."""
+    try:
+        out = os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        return False
+    for f in files:
+        with contextlib.suppress(OSError):
+            if os.path.samestat(os.stat(f), out):
+                return True
+    return False
 
 
 def _caused_by_interrupt(exc: BaseException) -> bool:

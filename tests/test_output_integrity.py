@@ -252,3 +252,58 @@ def test_ctrl_c_while_fabricate_installs_its_set_rolls_back_or_completes(tmp_pat
     replaced = {k for k in before if after[k][0] != before[k][0]}  # a new file, by its inode
     assert replaced == set(before) - {"notes.md"}, replaced
     assert after["fabrication.json"][1] != before["fabrication.json"][1]  # --bias 3
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["pattern", f"{EX}/miura_6x4.toml", "-o", "/dev/stdout"],
+        ["convert", f"{EX}/data/boat.dxf", "/dev/stdout"],
+        ["fold", f"{EX}/fig2_tg.toml", "--frames", "2", "-o", "/dev/stdout"],
+    ],
+)
+def test_dev_stdout_takes_the_first_format_and_the_messages_go_to_stderr(argv):
+    run = subprocess.run(
+        [sys.executable, "-m", "origami_cad.cli", *argv],
+        capture_output=True, text=True, timeout=120, cwd=ROOT,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    data = json.loads(run.stdout)  # a FOLD file, and nothing else
+    assert data["file_spec"] and len(data["vertices_coords"]) > 3
+    assert "wrote /dev/stdout" in run.stderr
+    assert os.path.islink("/dev/stdout")
+
+
+def test_an_output_that_is_a_hard_link_to_the_input_is_refused(tmp_path, capsys):
+    from origami_cad.cli import main
+
+    source = tmp_path / "p.fold"
+    assert main(["convert", f"{EX}/data/boat.dxf", str(source)]) == 0
+    before = source.read_bytes()
+    os.link(source, tmp_path / "h.fold")
+    capsys.readouterr()
+    assert main(["convert", str(source), str(tmp_path / "h.fold"), "--width", "50"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "h.fold" in err and "hard link" in err, err
+    assert source.read_bytes() == before
+    # a design naming the pattern: a hard link to that pattern is refused too
+    design = tmp_path / "d.toml"
+    design.write_text('[pattern]\nkind = "file"\npath = "p.fold"\n')
+    assert main(["fold", str(design), "-o", str(tmp_path / "h.fold")]) == 2
+    assert "hard link" in capsys.readouterr().err and source.read_bytes() == before
+
+
+@pytest.mark.parametrize("where", [".", "sub"])
+def test_demo_refuses_to_write_among_its_inputs(tmp_path, monkeypatch, capsys, where):
+    import origami_cad.demo
+    from origami_cad.cli import main
+
+    examples = tmp_path / "examples"
+    examples.mkdir()
+    (examples / "fig2_tg.toml").write_text((EX / "fig2_tg.toml").read_text())
+    monkeypatch.setattr(origami_cad.demo, "examples_dir", lambda: examples)
+    out = examples / where
+    assert main(["demo", "-o", str(out), "--quick"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "examples" in err and "inputs" in err, err
+    assert sorted(p.name for p in examples.iterdir()) == ["fig2_tg.toml"]
