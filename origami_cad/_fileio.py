@@ -37,7 +37,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
-from origami_cad._inputs import check_outputs, protected_files, referenced_files
+from origami_cad._inputs import check_outputs, protected_files, protection, referenced_files
 from origami_cad.errors import OutputError
 
 __all__ = [
@@ -54,6 +54,7 @@ __all__ = [
     "handle_signals",
     "interrupted",
     "referenced_files",
+    "written",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -68,11 +69,18 @@ class Interrupted(KeyboardInterrupt):
 
 
 _received: list[int] = []
+_written: list[str] = []
 
 
 def interrupted() -> int | None:
     """The number of the first interrupting signal received since the handlers were installed."""
     return _received[0] if _received else None
+
+
+def written() -> list[str]:
+    """The outputs put in place, whole, since the handlers were installed (the paths as
+    given): what an interrupted command still wrote."""
+    return list(_written)
 
 
 def _in_import(frame) -> bool:
@@ -120,6 +128,7 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
     with SIGINT ignored), so a command stops cleanly on either signal.
     """
     _received.clear()
+    _written.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
@@ -129,6 +138,7 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
             restored = signal.SIG_DFL if handler is None else handler
             signal.signal(sig, signal.SIG_IGN if exiting else restored)
         _received.clear()
+        _written.clear()
 
 
 @contextlib.contextmanager
@@ -416,7 +426,12 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     try:
         yield tmp
         _raise_if_interrupted()
-        _install(tmp, dest, st)
+        with _signals_held() as held:  # a signal now: the file is the old one or the new
+            _install(tmp, dest, st)
+            if not any(_STALE.match(p.name) for p in dest.parents):  # not in a staging folder
+                _written.append(str(path))
+        if held:
+            raise Interrupted(held[0])
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
         _remove_created(created)
@@ -440,16 +455,11 @@ class GrowingFile:
     ``path`` only once :meth:`publish` says the run began.
 
     Until then the lines go to a temporary file beside ``path`` (into memory for a
-    device or pipe), and an old file at ``path`` stays as it was; a file never
-    published is removed on :meth:`close`: a run that never began leaves no trace.
-    Each :meth:`write` adds whole lines or nothing: a write the file system refuses
-    (:data:`WRITE_ERRORS`), or an interrupt in the middle, cuts the file back to its
-    last whole line; the refusal is raised as :class:`WriteRefused` naming ``path``.
-
-    Raises
-    ------
-    OutputError
-        ``path`` is a folder, or no file can be made beside it.
+    device or pipe) and an old file there stays as it was; one never published is
+    removed on :meth:`close`. Each :meth:`write` adds whole lines or nothing: a write the
+    file system refuses (:data:`WRITE_ERRORS`; raised as :class:`WriteRefused`), or an
+    interrupt, cuts the file back to its last whole line. ``OutputError``: ``path`` is a
+    folder, or no file can be made beside it.
     """
 
     def __init__(self, path: PathLike) -> None:
@@ -591,14 +601,18 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
         plan = _plan_install(stage, folder, shown, inputs)
         _commit(root, stage, plan, shown)
     except BaseException as exc:
-        shutil.rmtree(root, ignore_errors=True)
-        _remove_created(created)
+        with _signals_held():
+            shutil.rmtree(root, ignore_errors=True)
+            _remove_created(created)
         fix = _user_paths(exc, stage, shown)
         refused = _refused(exc, shown, "the folder's old files are kept", fix)
         if refused is not exc:
             raise refused from None
         raise
-    shutil.rmtree(root, ignore_errors=True)
+    with _signals_held() as held:
+        shutil.rmtree(root, ignore_errors=True)
+    if held:
+        raise Interrupted(held[0])
 
 
 def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[PathLike]):
@@ -613,8 +627,9 @@ def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[P
             raise OutputError(
                 f"{shown}: {rel.as_posix()} is a folder there; the output file cannot replace it"
             ) from None
-        if dest in protected:
-            raise OutputError(f"{shown}: the output {rel.as_posix()} {protected[dest]}")
+        why = protection(dest, protected)
+        if why is not None:
+            raise OutputError(f"{shown}: the output {rel.as_posix()} {why}")
         plan.append((rel, dest, st))
     return plan
 
@@ -625,11 +640,18 @@ def _signals_held() -> Iterator[list[int]]:
 
     The list yielded holds the signals that came; the caller decides what they undo.
     A signal the process ignores stays ignored, and every handler found is restored.
+    Inside another such block, the signals are passed on to it on leaving, and the
+    list emptied: the outer block decides.
     """
     held: list[int] = []
     if threading.current_thread() is not threading.main_thread():
         yield held
         return
+
+    def hold(signum, frame):
+        held.append(signum)
+
+    hold.holds = True
     # a signal the process ignores (SIGINT of a background job, or under `nohup ... &`)
     # stays ignored; one whose handler Python cannot restore (None: installed from C) is
     # left alone
@@ -639,14 +661,19 @@ def _signals_held() -> Iterator[list[int]]:
         if (handler := signal.getsignal(sig)) not in (signal.SIG_IGN, None)
     }
     for sig in previous:
-        signal.signal(sig, lambda signum, frame: held.append(signum))
+        signal.signal(sig, hold)
     try:
         yield held
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-        if held and previous[held[0]] is _on_signal:  # the command reports it
+        outer = previous[held[0]] if held else None
+        if outer is _on_signal:  # the command reports it
             _received.extend(held)
+        elif getattr(outer, "holds", False):
+            for signum in held:
+                outer(signum, None)
+            held.clear()
 
 
 def _same_device(a: Path, b: Path) -> bool:
@@ -705,32 +732,41 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
     """Put the staged files in place as one set, or not at all.
 
     Each target's old file is first kept under a second name and the list written to
-    ``journal.json``; then every new file is renamed over its target, with Ctrl-C and
-    SIGTERM held. If a rename fails, or a signal came meanwhile, every target is given
-    back its old file (or removed if it had none) and the error or interrupt raised.
-    A process killed meanwhile leaves the journal, which the next run rolls back.
+    ``journal.json``; then every new file is renamed over its target. Ctrl-C and
+    SIGTERM are held from the first step to the last. If a rename fails, or a signal
+    came before the last rename, every target is given back its old file (or removed if
+    it had none) and the error or :class:`Interrupted` raised. A signal after it leaves
+    the whole new set (noted in :func:`written`) and raises :class:`Interrupted`. A
+    process killed meanwhile leaves the journal, which the next run rolls back.
     """
     entries: list[dict] = []
-    try:
-        streams = _prepare_commit(root, stage, plan, entries)
-        with _signals_held() as held:
+    complete = False
+    with _signals_held() as held:
+        try:
+            streams = _prepare_commit(root, stage, plan, entries)
             try:
                 for e in entries:
+                    if held:  # before or between the renames: the old set comes back
+                        break
                     os.replace(e["new"], e["dest"])
             except BaseException:
                 _roll_back(entries)
                 raise
             if held:
                 _roll_back(entries)
-        if held:
-            raise Interrupted(held[0])
-        for folder in {str(Path(e["dest"]).parent) for e in entries}:
-            _sync(folder, folder=True)
-        _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
-    except OSError as exc:
-        raise OutputError(f"{shown}: the outputs cannot be put in place ({exc.strerror})") from None
-    finally:
-        _remove_kept(entries, root)
+            else:
+                complete = True
+                _written.append(str(shown))
+                for folder in {str(Path(e["dest"]).parent) for e in entries}:
+                    _sync(folder, folder=True)
+                _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
+        except OSError as exc:  # complete: only the journal's last word is missing
+            what = "were put in place, unrecorded" if complete else "cannot be put in place"
+            raise OutputError(f"{shown}: the outputs {what} ({exc.strerror})") from None
+        finally:
+            _remove_kept(entries, root)
+    if held:
+        raise Interrupted(held[0])
     for src, dest, st in streams:
         _install(src, dest, st)
 

@@ -14,7 +14,14 @@ from pathlib import Path
 
 from origami_cad.errors import OutputError
 
-__all__ = ["MAX_REFERENCED", "MAX_SEARCHED", "check_outputs", "protected_files", "referenced_files"]
+__all__ = [
+    "MAX_REFERENCED",
+    "MAX_SEARCHED",
+    "check_outputs",
+    "protected_files",
+    "protection",
+    "referenced_files",
+]
 
 PathLike = str | os.PathLike[str]
 
@@ -91,6 +98,29 @@ def protected_files(inputs: Sequence[PathLike]) -> dict[Path, str]:
     return protected
 
 
+def protection(path: PathLike, protected: dict[Path, str]) -> str | None:
+    """Why ``path`` may not be an output (the end of the sentence refusing it), or None.
+
+    ``protected`` is :func:`protected_files`'s. The file is found by its resolved path,
+    or, for a hard link (another name of the same file), by its device and inode.
+    """
+    real = _real(path)
+    if real in protected:
+        return protected[real]
+    try:
+        st = os.stat(real)
+    except OSError:
+        return None
+    if st.st_nlink < 2:
+        return None
+    for other, why in protected.items():
+        with contextlib.suppress(OSError):
+            if os.path.samestat(st, os.stat(other)):
+                link = f"is a hard link to {other}: it would overwrite"
+                return why.replace("would overwrite", link, 1)
+    return None
+
+
 def check_outputs(
     inputs: Sequence[PathLike] = (),
     files: Sequence[PathLike] = (),
@@ -130,9 +160,9 @@ def check_outputs(
     protected = protected_files(inputs)
     seen: dict[Path, PathLike] = {}
     for out in list(files) + list(folders):
-        real = _real(out)
-        if real in protected:
-            raise OutputError(f"{out}: the output {protected[real]}")
+        real, why = _real(out), protection(out, protected)
+        if why is not None:
+            raise OutputError(f"{out}: the output {why}")
         if real in seen:
             raise OutputError(f"{out}: given twice as an output")
         seen[real] = out

@@ -15,6 +15,7 @@ import contextlib
 import functools
 import importlib
 import inspect
+import os
 import re
 import signal
 import sys
@@ -23,7 +24,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from origami_cad import __version__, demo  # noqa: F401  (demo registers its command)
-from origami_cad._fileio import Interrupted, handle_signals, interrupted
+from origami_cad._fileio import Interrupted, handle_signals, interrupted, written
 from origami_cad._names import one_line
 from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
 from origami_cad.errors import OrigamiCadError
@@ -177,8 +178,9 @@ def _run(args: argparse.Namespace) -> int:
         outputs = _call(args)
         if interrupted():  # an interrupt a library swallowed: the outputs were not written
             raise Interrupted(interrupted())
+        shown = sys.stderr if _into_stdout(outputs.files) else sys.stdout
         for line in outputs.messages:
-            print(line)
+            print(line, file=shown)
         for line in outputs.warnings:
             print(f"origami-cad: warning: {one_line(line)}", file=sys.stderr)
         return outputs.status
@@ -207,6 +209,20 @@ def _run(args: argparse.Namespace) -> int:
         return 3
 
 
+def _into_stdout(files) -> bool:
+    """Whether one of ``files`` is the standard output (``-o /dev/stdout``): the
+    messages then go to stderr, and the output holds its data alone."""
+    try:
+        out = os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        return False
+    for f in files:
+        with contextlib.suppress(OSError):
+            if os.path.samestat(os.stat(f), out):
+                return True
+    return False
+
+
 def _caused_by_interrupt(exc: BaseException) -> bool:
     """Whether ``exc`` was raised by a Ctrl-C (a ``KeyboardInterrupt`` among its causes)."""
     seen: set[int] = set()
@@ -220,8 +236,12 @@ def _caused_by_interrupt(exc: BaseException) -> bool:
 
 
 def _interrupted() -> int:
+    """Say the command was interrupted, naming the outputs it had put in place whole."""
     signum = interrupted() or signal.SIGINT
     word = "terminated" if signum == signal.SIGTERM else "interrupted"
+    done = written()
+    if done:
+        word += f" after writing {', '.join(map(one_line, done))} in full"
     print(f"origami-cad: {word}; nothing more was written", file=sys.stderr)
     return 128 + signum
 

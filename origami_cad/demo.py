@@ -9,6 +9,7 @@ Each step uses the same public functions and example files a user would: the
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from importlib import resources
@@ -17,7 +18,7 @@ from typing import NamedTuple
 
 from origami_cad import __version__
 from origami_cad.commands import Command, Option, Outputs, execute, register
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import OrigamiCadError, OutputError
 from origami_cad.viz.report import StepReport, write_report
 
 __all__ = ["STEPS", "Demo", "Step", "examples_dir", "mujoco_frame", "run_demo", "run_step"]
@@ -322,6 +323,17 @@ class Demo(Command):
                "all else is kept", default="out", flag="--output", short="-o"),
         Option("quick", "flag", "reduced budget (for tests)"),
     )  # fmt: skip
+
+    def prepare(self, a) -> None:
+        """Refuse an output folder among the demo's inputs (``examples/`` or inside it)."""
+        super().prepare(a)
+        examples = examples_dir().resolve()
+        out = Path(os.path.realpath(a.folder))
+        if out == examples or examples in out.parents:
+            raise OutputError(
+                f"{a.folder}: the demo reads its inputs from {examples}; "
+                "choose an output folder outside it"
+            )
 
     def run(self, a) -> Outputs:
         return Outputs(files=[run_demo(a.folder, quick=a.quick)])

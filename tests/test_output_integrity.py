@@ -191,3 +191,119 @@ def test_fabricate_on_a_full_disk_keeps_the_old_set(tmp_path):
     assert result["code"] == 2 and err.count("\n") == 1, err
     assert f"{result['folder']}/fab/" in err and "the folder's old files are kept" in err, err
     assert {k: v for k, v in result["after"].items() if k != ".fill"} == old
+
+
+#: The child: ``fabricate`` twice into a folder holding an older set, a SIGINT delivered
+#: by a hook on the rename of the set's ``when``-th file (``last``: after the whole set).
+INTERRUPTED = r"""
+import contextlib, io, json, os, signal, sys
+from pathlib import Path
+from origami_cad.cli import main
+design, folder = sys.argv[1], Path(sys.argv[2]).resolve()
+real, results = os.replace, {}
+def hooked(src, dst, *a, **k):
+    real(src, dst, *a, **k)
+    into = Path(dst).parent == folder and not str(src).endswith(".old")
+    done = Path(dst).name == "journal.json" and json.loads(Path(dst).read_text())["state"] == "done"
+    hooked.n += into
+    if (when == "last" and done) or hooked.n == when:
+        os.kill(os.getpid(), signal.SIGINT)
+os.replace = hooked
+for when in (3, "last"):
+    hooked.n = 0
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["fabricate", design, "-o", str(folder), "--bias", str(len(results) + 2)])
+    files = {p.name: [p.stat().st_ino, p.read_bytes().hex()] for p in folder.iterdir()}
+    results[str(when)] = {"code": code, "stderr": err.getvalue(), "files": files}
+    os.replace = hooked
+print(json.dumps(results))
+"""
+
+
+def test_ctrl_c_while_fabricate_installs_its_set_rolls_back_or_completes(tmp_path):
+    """A SIGINT between two renames of the set: the old set comes back, exit 130 and
+    'nothing more was written'; one after the last rename: the whole new set, exit 130
+    naming the folder written in full. Never a mix, never a silent exit 0."""
+    design = tmp_path / "d.toml"
+    design.write_text(SMALL_MIURA)
+    folder = tmp_path / "fab"
+    assert subprocess.run(
+        [sys.executable, "-m", "origami_cad.cli", "fabricate", str(design), "-o", str(folder)],
+        capture_output=True, timeout=300, cwd=ROOT,
+    ).returncode == 0  # fmt: skip
+    (folder / "notes.md").write_text("mine")
+    before = {p.name: (p.stat().st_ino, p.read_bytes()) for p in folder.iterdir()}
+    run = subprocess.run(
+        [sys.executable, "-c", INTERRUPTED, str(design), str(folder)],
+        capture_output=True, text=True, timeout=300, cwd=ROOT,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    results = json.loads(run.stdout.splitlines()[-1])
+    middle, last = results["3"], results["last"]
+    assert middle["code"] == 130 and last["code"] == 130
+    assert middle["stderr"] == "origami-cad: interrupted; nothing more was written\n"
+    assert {k: (i, bytes.fromhex(v)) for k, (i, v) in middle["files"].items()} == before
+    assert last["stderr"] == (
+        f"origami-cad: interrupted after writing {folder} in full; nothing more was written\n"
+    )
+    after = {k: (i, bytes.fromhex(v)) for k, (i, v) in last["files"].items()}
+    assert after.keys() == before.keys() and after["notes.md"] == before["notes.md"]
+    replaced = {k for k in before if after[k][0] != before[k][0]}  # a new file, by its inode
+    assert replaced == set(before) - {"notes.md"}, replaced
+    assert after["fabrication.json"][1] != before["fabrication.json"][1]  # --bias 3
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["pattern", f"{EX}/miura_6x4.toml", "-o", "/dev/stdout"],
+        ["convert", f"{EX}/data/boat.dxf", "/dev/stdout"],
+        ["fold", f"{EX}/fig2_tg.toml", "--frames", "2", "-o", "/dev/stdout"],
+    ],
+)
+def test_dev_stdout_takes_the_first_format_and_the_messages_go_to_stderr(argv):
+    run = subprocess.run(
+        [sys.executable, "-m", "origami_cad.cli", *argv],
+        capture_output=True, text=True, timeout=120, cwd=ROOT,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    data = json.loads(run.stdout)  # a FOLD file, and nothing else
+    assert data["file_spec"] and len(data["vertices_coords"]) > 3
+    assert "wrote /dev/stdout" in run.stderr
+    assert os.path.islink("/dev/stdout")
+
+
+def test_an_output_that_is_a_hard_link_to_the_input_is_refused(tmp_path, capsys):
+    from origami_cad.cli import main
+
+    source = tmp_path / "p.fold"
+    assert main(["convert", f"{EX}/data/boat.dxf", str(source)]) == 0
+    before = source.read_bytes()
+    os.link(source, tmp_path / "h.fold")
+    capsys.readouterr()
+    assert main(["convert", str(source), str(tmp_path / "h.fold"), "--width", "50"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "h.fold" in err and "hard link" in err, err
+    assert source.read_bytes() == before
+    # a design naming the pattern: a hard link to that pattern is refused too
+    design = tmp_path / "d.toml"
+    design.write_text('[pattern]\nkind = "file"\npath = "p.fold"\n')
+    assert main(["fold", str(design), "-o", str(tmp_path / "h.fold")]) == 2
+    assert "hard link" in capsys.readouterr().err and source.read_bytes() == before
+
+
+@pytest.mark.parametrize("where", [".", "sub"])
+def test_demo_refuses_to_write_among_its_inputs(tmp_path, monkeypatch, capsys, where):
+    import origami_cad.demo
+    from origami_cad.cli import main
+
+    examples = tmp_path / "examples"
+    examples.mkdir()
+    (examples / "fig2_tg.toml").write_text((EX / "fig2_tg.toml").read_text())
+    monkeypatch.setattr(origami_cad.demo, "examples_dir", lambda: examples)
+    out = examples / where
+    assert main(["demo", "-o", str(out), "--quick"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "examples" in err and "inputs" in err, err
+    assert sorted(p.name for p in examples.iterdir()) == ["fig2_tg.toml"]

@@ -10,7 +10,16 @@ from typing import Any
 
 from origami_cad.errors import OptionsError
 
-__all__ = ["FOLDER_HELP", "Outputs", "check_suffix", "moved", "sources", "staged", "wrote"]
+__all__ = [
+    "FOLDER_HELP",
+    "Outputs",
+    "check_suffix",
+    "file_format",
+    "moved",
+    "sources",
+    "staged",
+    "wrote",
+]
 
 PathLike = str | os.PathLike[str]
 
@@ -75,10 +84,22 @@ def _is_stream(path: PathLike) -> bool:
 
 def check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
     """Refuse an output file whose extension is not one of ``allowed`` (``OptionsError``)."""
-    if len(allowed) == 1 and _is_stream(path):
-        return  # one possible format: a device or pipe needs no extension
+    if _is_stream(path):
+        return  # a device or pipe needs no extension: it takes the first format
     if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
         raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
+
+
+def file_format(path: PathLike, allowed: Sequence[str]) -> str:
+    """The format an output is written in: its extension (lower case), or for a device or
+    pipe (``/dev/stdout``, a FIFO), whose name has none, the first of ``allowed``.
+
+    >>> file_format("a/b.SVG", (".fold", ".svg")), file_format("/dev/null", (".fold", ".svg"))
+    ('.svg', '.fold')
+    """
+    if _is_stream(path):
+        return allowed[0]
+    return Path(os.path.realpath(path)).suffix.lower()
 
 
 def sources(*items: Any) -> list:

@@ -4,7 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.commands._base import (
+    SIZING,
+    Command,
+    Option,
+    Outputs,
+    file_format,
+    register,
+    wrote,
+)
 from origami_cad.errors import DesignError
 
 __all__ = ["FOLD_SUFFIXES", "MAX_FRAMES", "pattern_numbers"]
@@ -36,10 +44,11 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
     from origami_cad.pattern import write_pattern
     from origami_cad.viz import save_pattern_png
 
-    if out.suffix.lower() == ".png":
+    fmt = file_format(out, _pattern_suffixes())
+    if fmt == ".png":
         save_pattern_png(cp, out, labels=labels)
     else:
-        write_pattern(cp, out)
+        write_pattern(cp, out, fmt=fmt)
 
 
 @register
@@ -178,7 +187,7 @@ def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
-    cp, suffix = loaded.pattern, out.suffix.lower()
+    cp, suffix = loaded.pattern, file_format(out, FOLD_SUFFIXES)
     if suffix == ".fold":
         labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
         write_fold(cp, out, frames=labelled)
@@ -232,11 +241,11 @@ class Fold(Command):
     def run(self, a) -> Outputs:
         out, ratio = Path(a.output), a.ratio
         loaded, warned = self.load(a, a.design)
-        animated = out.suffix.lower() in (".gif", ".glb")
+        animated = file_format(out, FOLD_SUFFIXES) in (".gif", ".glb")
         frames = a.frames if a.frames > 1 or not animated else 30
         states, strained = _placed_states(loaded, ratio, frames, a.method.replace("-", " "))
         _write_folded(loaded, states, out, ratio, a.view)
-        still = out.suffix.lower() == ".png"
+        still = file_format(out, FOLD_SUFFIXES) == ".png"
         caption = f"Folded at p = {ratio:g}" if still else f"Folding from p = 0 to {ratio:g}"
         plural = "s" if len(states) > 1 else ""
         flat = _flat_creases_note(loaded.pattern, states[-1].fold_angles if ratio > 0 else None)
@@ -244,7 +253,9 @@ class Fold(Command):
         how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
         return Outputs(
             files=[out],
-            images=[(out, caption)] if out.suffix.lower() not in (".fold", ".step") else [],
+            images=[]
+            if file_format(out, FOLD_SUFFIXES) in (".fold", ".step")
+            else [(out, caption)],
             messages=[
                 *warned,
                 *strained,

@@ -183,10 +183,13 @@ def size_warnings(cp: CreasePattern) -> list[str]:
     return [n.message for n in cp.notes if n.code == "size" and n.severity == Severity.WARNING]
 
 
-def write_pattern(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
-    """Write ``cp`` to ``path``; the format follows the extension (:data:`.formats.WRITERS`).
+def write_pattern(
+    cp: CreasePattern, path: str | os.PathLike[str], *, fmt: str | None = None
+) -> Path:
+    """Write ``cp`` to ``path``; the format follows the extension (:data:`.formats.WRITERS`),
+    or ``fmt`` (``".fold"``, ``".svg"``, ``".dxf"``) for a name without one (``/dev/stdout``).
 
     Atomic. :class:`PatternError` for an extension no format writes, naming those that do.
     """
     p = Path(path)
-    return writer(p)(cp, p)
+    return writer(p if fmt is None else p.with_name(f"pattern{fmt}"))(cp, p)
