@@ -23,7 +23,7 @@ from build123d import Color, Compound, Location, export_stl
 
 from origami_cad._fileio import atomic_path
 from origami_cad._names import one_line, path_component
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS, moved_tree, solids_by_part
 from origami_cad.fabrication.build import Fabrication
 from origami_cad.fabrication.exports.step import export_step_tree
@@ -143,7 +143,7 @@ def robot_assembly(
 
     def add(name: str, shape: Any, material: str, kind: str) -> None:
         if name in solids:
-            raise DesignError(f"two parts of the robot are named {name!r}")
+            raise FabricationError(f"two parts of the robot are named {name!r}")
         solids[name] = shape
         materials[name] = material
         kinds[name] = kind
@@ -156,7 +156,7 @@ def robot_assembly(
         add(m.name, moved_tree(shape, motion[face]), "PLA", "tsa-module")
     for b in blockers:
         if cp.assignments[b.crease] not in ("M", "V"):
-            raise DesignError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
+            raise FabricationError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
         mountain = cp.assignments[b.crease] == "M"
         values = {**b.values, "angle": b.angle}
         shape = build_part("blocker", values, pattern=plan, crease=b.crease, mountain=mountain)
@@ -303,7 +303,7 @@ def write_robot_stls(
 
     Each file name is checked by :func:`origami_cad._names.path_component` before any
     file is written: a solid whose name cannot be one file in ``folder`` (``/``, ``..``,
-    control characters, a Windows device name, ...) is a :class:`DesignError` naming it.
+    control characters, a Windows device name, ...) is a :class:`FabricationError` naming it.
     """
     chosen = {}
     for name, shape in robot.solids.items():
@@ -313,7 +313,7 @@ def write_robot_stls(
         try:
             chosen[name] = (Path(folder) / path_component(f"{name}.stl"), shape)
         except ValueError as exc:
-            raise DesignError(f"the solid {one_line(str(name)[:60])}: {exc}") from None
+            raise FabricationError(f"the solid {one_line(str(name)[:60])}: {exc}") from None
     out = {}
     for name, (path, shape) in chosen.items():
         with atomic_path(path) as tmp:
