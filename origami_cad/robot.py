@@ -39,6 +39,7 @@ __all__ = [
     "PointMass",
     "Robot",
     "dump_robot",
+    "is_robot_file",
     "leg_heading",
     "leg_key",
     "load_gait",
@@ -321,6 +322,19 @@ def _check_blocker(
             f"{where}: keyframe #{k + 1} (t = {float(times[k]):g} s): p = {float(ratios[k, j]):g} "
             f"folds leg {names[j]!r} past its blocker ({blocker:g} deg = p {limit:.3f})"
         )
+
+
+def is_robot_file(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a robot file: a readable TOML file with a ``[robot]`` table."""
+    import tomllib
+
+    if Path(path).suffix.lower() != ".toml":
+        return False
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False
+    return isinstance(data.get("robot"), dict)
 
 
 def load_gait(path: str | os.PathLike[str], robot: Robot) -> Robot:

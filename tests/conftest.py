@@ -168,3 +168,12 @@ def closed_mesh(t: np.ndarray) -> bool:
     directed = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
     forward = {tuple(e) for e in directed.tolist()}
     return len(forward) == len(directed) and all((b, a) in forward for a, b in forward)
+
+
+def gait_file_text(robot, *, command=None, **options) -> str:
+    """A robot's gait as the sequence file crawl writes (the one writer, its gait layout)."""
+    from origami_cad.drive.sequence import dump_sequence
+    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
+
+    header = gait_sequence_header(robot, command)
+    return dump_sequence(gait_sequence(robot, **options), header=header, layout="gait")

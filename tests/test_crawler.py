@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import gif_motion, ink, panel_frames
+from conftest import gait_file_text, gif_motion, ink, panel_frames
 
 from origami_cad.cli import main
 from origami_cad.drive.errors import StallError
@@ -23,7 +23,6 @@ from origami_cad.robot import load_robot
 from origami_cad.simulation.crawler import (
     STUCK_DEG,
     gait_loads,
-    gait_sequence_text,
     gait_turns,
     leg_contraction,
     simulate_gait,
@@ -318,10 +317,9 @@ def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
     from origami_cad.drive.emulator import DynamixelEmulator
     from origami_cad.drive.errors import StallError
     from origami_cad.drive.sequence import run_sequence
-    from origami_cad.simulation.crawler import gait_sequence_text
 
     path = tmp_path / "gait.toml"
-    path.write_text(gait_sequence_text(robot), encoding="utf-8")
+    path.write_text(gait_file_text(robot), encoding="utf-8")
     seq = load_sequence(path)
     ids = [leg.servo for leg in robot.legs]
     log = tmp_path / "stall.csv"
@@ -374,7 +372,7 @@ def test_the_example_gait_is_the_crawl_jobs_sequence(tmp_path, robot, forward):
         "origami-cad crawl examples/crawler/crawler.toml -o out/crawl --cycles 1 --steps 6" in text
     )
     seq = load_sequence(example)
-    (tmp_path / "now.toml").write_text(gait_sequence_text(robot, result=forward))
+    (tmp_path / "now.toml").write_text(gait_file_text(robot, result=forward))
     now = load_sequence(tmp_path / "now.toml")
     assert [k.values for k in seq.keyframes] == [k.values for k in now.keyframes]
     assert [k.t for k in seq.keyframes] == [k.t for k in now.keyframes]
@@ -417,7 +415,7 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
     runs = {}
     for key, spec, result in (("light", robot, forward), ("heavy", heavy, walked)):
         path = tmp_path / f"{key}.toml"
-        path.write_text(gait_sequence_text(spec, result=result), encoding="utf-8")
+        path.write_text(gait_file_text(spec, result=result), encoding="utf-8")
         try:
             csv = tmp_path / f"{key}.csv"
             execute("drive", path, csv, dry_run=True, speed=16.0, load_scale=40.0)

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import gait_file_text
 
 from origami_cad.cli import main
 from origami_cad.commands import execute
@@ -36,7 +37,6 @@ from origami_cad.robot import load_gait, load_robot, with_gait
 from origami_cad.simulation.crawler import (
     SERVO_SPEED_RPM,
     check_servo_speed,
-    gait_sequence_text,
     turn_rates,
 )
 
@@ -73,7 +73,7 @@ def test_every_genome_decodes_to_a_gait_within_the_limits_that_drive_and_crawl_a
         walker = with_gait(robot, t, p)
         check_servo_speed(walker)
         path = tmp_path / f"gait_{k}.toml"
-        path.write_text(gait_sequence_text(walker), encoding="utf-8")
+        path.write_text(gait_file_text(walker), encoding="utf-8")
         back = load_gait(path, robot)
         np.testing.assert_allclose(back.gait_p, p, atol=1e-12)
         np.testing.assert_allclose(back.gait_t, t, atol=1e-12)
@@ -261,7 +261,7 @@ def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path,
     refused in one line."""
     gait = tmp_path / "hand.toml"
     robot = load_robot(ROBOT)
-    gait.write_text(gait_sequence_text(robot), encoding="utf-8")
+    gait.write_text(gait_file_text(robot), encoding="utf-8")
     seq = tmp_path / "seq.toml"
     assert main(["sequence", str(ROBOT), str(gait), "-o", str(seq), "--repeat", "2"]) == 0
     back = load_gait(seq, robot)

@@ -135,8 +135,8 @@ def test_arm_scene_metrics_measure_the_tip_against_the_design(arm):
 
 
 def test_route_tsa_gives_a_sequence_drive_reads(arm, tmp_path):
-    from origami_cad.drive.from_model import fold_curve, route_tsa, sequence_toml, turns_at
-    from origami_cad.drive.sequence import load_sequence
+    from origami_cad.drive.from_model import fold_curve, model_sequence, route_tsa, turns_at
+    from origami_cad.drive.sequence import dump_sequence, load_sequence
     from origami_cad.errors import DriveError
 
     _, design, _, spec, folded = arm
@@ -148,7 +148,9 @@ def test_route_tsa_gives_a_sequence_drive_reads(arm, tmp_path):
     p, turns = fold_curve(folded.p, folded.turns)
     assert np.allclose(figures["turns_at"], turns_at(p, turns, [0.0, 0.3]))
     assert figures["p_range"][1] == pytest.approx(top)
-    text = sequence_toml([entry], [(0.0, (0.0,)), (10.0, (0.3,))], rate=20.0)
+    made = model_sequence([entry], [(0.0, (0.0,)), (10.0, (0.3,))], rate=20.0)
+    assert made.ids == [3] and made.keyframes[-1].values == (0.3,)
+    text = dump_sequence(made, layout="model")
     path = tmp_path / "seq.toml"
     path.write_text(text)
     seq = load_sequence(path)  # what drive reads

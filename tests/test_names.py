@@ -20,6 +20,7 @@ from pathlib import Path
 
 import lib3mf
 import pytest
+from conftest import gait_file_text
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -215,13 +216,12 @@ def test_two_legs_whose_files_would_clash_are_refused(tmp_path, capsys):
 def test_gait_sequence_holds_any_leg_name_as_text(tmp_path):
     """The TOML writer escapes what the loader would refuse (a library caller's names)."""
     from origami_cad.robot import load_robot
-    from origami_cad.simulation.crawler import gait_sequence_text
 
     robot = load_robot(EXAMPLES / "crawler" / "crawler.toml")
     names = ['"\n[evil]', "a\\b\u202e", "x\x00y\r\n[[tsa]]", "# not a comment"]
     legs = tuple(dataclasses.replace(leg, name=n) for leg, n in zip(robot.legs, names, strict=True))
     hostile = dataclasses.replace(robot, legs=legs)
-    text = gait_sequence_text(hostile, command="origami-cad crawl 'a\nb' -o \"\n[evil]\"")
+    text = gait_file_text(hostile, command="origami-cad crawl 'a\nb' -o \"\n[evil]\"")
     doc = tomllib.loads(text)
     assert set(doc) == {"sequence", "tsa", "keyframe"}
     assert [t["name"] for t in doc["tsa"]] == names

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from origami_cad.cli import main
@@ -50,3 +51,64 @@ def test_the_commands_write_the_sequence_files_they_wrote(name, tmp_path, monkey
     assert main([a.format(out=tmp_path) for a in argv]) == 0
     text = (tmp_path / written).read_text(encoding="utf-8").replace(str(tmp_path), "OUT")
     assert hashlib.sha256(text.encode()).hexdigest() == digest, text[:2000]
+
+
+def test_the_library_returns_sequences_and_the_writer_reads_back_exactly(tmp_path):
+    from origami_cad.drive.sequence import Sequence, dump_sequence, load_sequence
+    from origami_cad.robot import load_robot
+    from origami_cad.simulation.crawler import gait_sequence
+
+    robot = load_robot(ROOT / "examples" / "crawler" / "crawler.toml")
+    seq = gait_sequence(robot, repeat=2, rate=12.5)
+    assert isinstance(seq, Sequence) and seq.ids == [leg.servo for leg in robot.legs]
+    path = tmp_path / "exact.toml"
+    path.write_text(dump_sequence(seq), encoding="utf-8")  # the exact layout: every float
+    back = load_sequence(path)
+    assert (back.repeat, back.rate, back.current_limit) == (2, 12.5, 1200.0)
+    for a, b in zip(back.tsas, seq.tsas, strict=True):
+        assert np.array_equal(a.mapping, b.mapping) and a.tsa.length == b.tsa.length
+    assert back.keyframes == seq.keyframes
+
+
+def _gait_with(tmp_path: Path, table: str) -> Path:
+    """The example gait file with its [sequence] table replaced."""
+    text = (ROOT / ROBOT[1]).read_text(encoding="utf-8")
+    start = text.index("[sequence]")
+    end = text.index("\n\n", start)
+    path = tmp_path / "gait.toml"
+    path.write_text(text[:start] + table + text[end:], encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ("[sequence]\nrate = 0", r"\[sequence\]: key 'rate'"),
+        ("[sequence]\nrepeat = 1000000000", r"\[sequence\]: key 'repeat'"),
+        ("[sequence]\nrate = 10\nspeed = 3", r"unknown key 'speed'"),
+    ],
+)
+def test_sequence_and_drive_refuse_the_same_gait_file(tmp_path, capsys, table, message):
+    import re
+
+    gait = _gait_with(tmp_path, table)
+    out = tmp_path / "seq.toml"
+    assert main(["sequence", ROBOT[0], str(gait), "-o", str(out)]) == 2
+    said = capsys.readouterr().err
+    assert re.search(message, said) and not out.exists()
+    assert main(["drive", str(gait), "--dry-run"]) == 2
+    assert re.search(message, capsys.readouterr().err)
+
+
+def test_sequence_uses_the_gait_files_table_unless_told_otherwise(tmp_path):
+    from origami_cad.drive.sequence import load_sequence
+
+    gait = _gait_with(tmp_path, "[sequence]\nrepeat = 4\nrate = 3\ncurrent_limit = 900")
+    out = tmp_path / "seq.toml"
+    assert main(["sequence", ROBOT[0], str(gait), "-o", str(out)]) == 0
+    seq = load_sequence(out)
+    assert (seq.repeat, seq.rate, seq.current_limit) == (4, 3.0, 900.0)
+    assert main(["sequence", ROBOT[0], str(gait), "-o", str(out), "--rate", "20"]) == 0
+    seq = load_sequence(out)
+    assert (seq.repeat, seq.rate) == (4, 20.0)
+    assert "--rate 20 --repeat 4" in out.read_text(encoding="utf-8")

@@ -1,6 +1,7 @@
 """A sequence the project writes always reads back (issue 27).
 
-`model_mapping` samples a model's fold curve and `sequence_toml` writes it; `load_sequence`
+`model_mapping` samples a model's fold curve, `model_sequence` makes the sequence and
+`dump_sequence` writes it; `load_sequence`
 is `drive`'s reader. Over random fold curves and keyframes at, just inside and just
 outside the ends of the reachable range, what is written reads back, and a keyframe
 beyond the range gets the clear error it always got.
@@ -19,10 +20,10 @@ from origami_cad.drive.from_model import (
     AT_TOLERANCE,
     DECIMALS,
     model_mapping,
+    model_sequence,
     parse_keyframes,
-    sequence_toml,
 )
-from origami_cad.drive.sequence import load_sequence
+from origami_cad.drive.sequence import dump_sequence, load_sequence
 from origami_cad.errors import OrigamiCadError
 from origami_cad.strings import TSAParams
 
@@ -73,7 +74,7 @@ def test_a_written_sequence_reads_back(tmp_path_factory, curve, places, u):
         return
     mapping = model_mapping(p, turns, TSA, at=at, points=21)
     frames = [(0.0, (at[0],)), *((10.0 * (k + 1), (v,)) for k, v in enumerate(at))]
-    text = sequence_toml(
+    text = _model_text(
         [{"id": 1, "name": "tsa", "tsa": TSA, "mapping": mapping}], frames, rate=10.0
     )
     path = tmp_path_factory.mktemp("seq") / "s.toml"
@@ -108,9 +109,7 @@ def test_the_fig8_case_that_failed_reads_back(tmp_path):
     at = [v[0] for _, v in frames]
     mapping = model_mapping(p, turns, TSA, at=at)
     path = tmp_path / "arm_fold.toml"
-    path.write_text(
-        sequence_toml([{"id": 1, "name": "arm", "tsa": TSA, "mapping": mapping}], frames)
-    )
+    path.write_text(_model_text([{"id": 1, "name": "arm", "tsa": TSA, "mapping": mapping}], frames))
     seq = load_sequence(path)
     assert seq.tsas[0].mapping[-1, 0] == pytest.approx(p_e, abs=1e-6)
     assert math.isclose(seq.keyframes[1].values[0], 0.4289, abs_tol=1e-9)
@@ -122,8 +121,13 @@ def test_keyframe_times_are_written_exactly(tmp_path):
     frames = [(0.0, (0.0,)), (1_000_000.1, (0.2,)), (1_000_000.3, (0.3,))]
     mapping = model_mapping(p, turns, TSA, at=[0.0, 0.2, 0.3])
     path = tmp_path / "s.toml"
-    path.write_text(sequence_toml([{"id": 1, "name": "a", "tsa": TSA, "mapping": mapping}], frames))
+    path.write_text(_model_text([{"id": 1, "name": "a", "tsa": TSA, "mapping": mapping}], frames))
     with pytest.raises(OrigamiCadError, match="command cycles"):  # bounded, and read to there
         load_sequence(path)
     text = path.read_text()
     assert "t = 1000000.1" in text and "t = 1000000.3" in text
+
+
+def _model_text(tsas, frames, **options) -> str:
+    """The sequence file ``sequence`` writes from string models (its layout)."""
+    return dump_sequence(model_sequence(tsas, frames, **options), layout="model")

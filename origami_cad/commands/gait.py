@@ -44,15 +44,18 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
     import numpy as np
 
     from origami_cad.design.gait_files import gait_header
+    from origami_cad.drive.sequence import dump_sequence
     from origami_cad.robot import PAPER_CRAWL_MM
-    from origami_cad.simulation.crawler import gait_sequence_text
+    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
     from origami_cad.viz import crawl_plots as plots
     from origami_cad.viz.render3d import render_folding_gif
 
     best_robot, result = walked
-    text = gait_sequence_text(best_robot, result=result, command=report["command"])
+    header = gait_header(design, report["command"])
+    header += gait_sequence_header(best_robot, report["command"])
     with atomic_write(stage / FILES[0], "w", encoding="utf-8") as fh:
-        fh.write(gait_header(design, report["command"]) + text)
+        fh.write(dump_sequence(gait_sequence(best_robot, result=result), header=header,
+                               layout="gait"))  # fmt: skip
     with atomic_write(stage / FILES[1], "w", encoding="utf-8") as fh:
         json.dump(report, fh, indent=1)
     cands = design.candidates

@@ -27,8 +27,9 @@ def _crawl_command(a) -> str:
 
 def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
     """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
+    from origami_cad.drive.sequence import dump_sequence
     from origami_cad.robot import PAPER_CRAWL_MM
-    from origami_cad.simulation.crawler import gait_sequence_text
+    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
     from origami_cad.viz.crawl_plots import (
         save_crawl_gait_png,
         save_crawl_loads_png,
@@ -58,12 +59,10 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
         for k in picked
     ]
     render_folding_gif(spec.pattern, shown, stage / names[3], view="xz", captions=captions)
-    text = gait_sequence_text(
-        spec, repeat=info["cycles"], result=result, reverse=info["reverse"],
-        command=info["command"],
-    )  # fmt: skip
+    seq = gait_sequence(spec, repeat=info["cycles"], result=result, reverse=info["reverse"])
+    header = gait_sequence_header(spec, info["command"])
     with atomic_write(stage / names[4], "w", encoding="utf-8") as fh:
-        fh.write(text)
+        fh.write(dump_sequence(seq, header=header, layout="gait"))
 
 
 @register

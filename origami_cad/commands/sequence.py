@@ -13,6 +13,7 @@ from origami_cad.errors import DriveError, OptionsError
 __all__: list[str] = []
 
 _IDS = Option("ids", "object", "servo IDs, e.g. 1,2 (one per route)", parse=parse_ids)
+RATE = 10.0  # Hz: the command rate of a generated sequence, unless given
 
 
 def _sequence_header(a, routes) -> str:
@@ -59,25 +60,15 @@ def _route_tsa(a, loaded, path, servo: int, at):
     return tsa, numbers, result
 
 
-def _is_robot(path) -> bool:
-    """Whether ``path`` is a robot file: a TOML file with a ``[robot]`` table."""
-    import tomllib
-
-    if Path(path).suffix.lower() != ".toml":
-        return False
-    try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return False
-    return isinstance(data.get("robot"), dict)
-
-
 def _robot_sequence(a) -> Outputs:
     """A robot file and its gait file as the sequence ``drive`` runs (what ``crawl`` writes,
-    without the simulated loads): each leg's mapping from the robot's leg model."""
-    from origami_cad.drive.sequence import load_sequence
+    without the simulated loads): each leg's mapping from the robot's leg model; the gait
+    file's ``[sequence]`` table (checked as ``drive`` checks it) unless ``--rate`` or
+    ``--repeat`` is given."""
+    from origami_cad.drive.sequence import dump_sequence, load_sequence, load_sequence_table
     from origami_cad.robot import load_gait, load_robot
-    from origami_cad.simulation.crawler import check_servo_speed, gait_sequence_text
+    from origami_cad.simulation.crawler import check_servo_speed, gait_sequence
+    from origami_cad.simulation.crawler import gait_sequence_header as header
 
     shown = {o.name: o.shown for o in SequenceCommand.OPTIONS}
     given = [n for n in ("keyframes", "more_routes", "ids", "fixed_panel") if getattr(a, n)]
@@ -87,12 +78,14 @@ def _robot_sequence(a) -> Outputs:
             f"{shown[given[0]]}: not with a robot file ({one_line(a.design)}): its gait "
             f"{one_line(a.route)} gives the keyframes and the robot its legs"
         )
+    table = {"rate": RATE, "repeat": 1, "current_limit": 1200.0} | load_sequence_table(a.route)
+    rate = a.rate if a.rate is not None else table["rate"]
+    repeat = a.repeat if a.repeat is not None else table["repeat"]
     robot = load_gait(a.route, load_robot(a.design))
     check_servo_speed(robot, where=str(a.route))
-    argv = f"origami-cad sequence {a.design} {a.route} -o {a.output} --rate {a.rate:g}"
-    text = gait_sequence_text(
-        robot, repeat=a.repeat, rate=a.rate, command=f"{argv} --repeat {a.repeat}"
-    )
+    argv = f"origami-cad sequence {a.design} {a.route} -o {a.output} --rate {rate:g}"
+    seq = gait_sequence(robot, repeat=repeat, rate=rate, current_limit=table["current_limit"])
+    text = dump_sequence(seq, header=header(robot, f"{argv} --repeat {repeat}"), layout="gait")
     with atomic_path(a.output) as tmp:
         Path(tmp).write_text(text, encoding="utf-8")
         load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist
@@ -100,7 +93,7 @@ def _robot_sequence(a) -> Outputs:
         files=[Path(a.output)],
         numbers=[("keyframes of the gait", f"{len(robot.gait_t)} over {robot.cycle:g} s")],
         messages=[f"{len(robot.legs)} TSA(s) of {one_line(a.design)}; {wrote(a.output)}"],
-        result=robot,
+        result=seq,
     )
 
 
@@ -134,8 +127,10 @@ class SequenceCommand(Command):
         Option("more_routes", help="more TSAs", nargs="+", metavar="ROUTE"),
         Option("model", help="string model", default="dcqc", choices=("dcqc", "simulation")),
         _IDS,
-        Option("rate", "float", "command rate", "Hz", 10.0, min=0, open_min=True, max=1000),
-        Option("repeat", "int", "cycles", default=1, min=1, max=1_000_000),
+        Option("rate", "float", "command rate (default 10; with a robot file, its gait "
+               "file's [sequence] rate)", "Hz", min=0, open_min=True, max=1000),
+        Option("repeat", "int", "cycles (default 1; with a robot file, its gait file's)",
+               min=1, max=1_000_000),
         Option("points", "int", "mapping points besides the keyframes", default=21, min=2,
                max=1000),
         Option("fixed_panel", help="hold this panel in every route"),
@@ -145,11 +140,12 @@ class SequenceCommand(Command):
         return [a.design, a.route, *(a.more_routes or ())]
 
     def run(self, a) -> Outputs:
-        from origami_cad.drive.from_model import parse_keyframes, sequence_toml
-        from origami_cad.drive.sequence import load_sequence
+        from origami_cad.drive.from_model import model_sequence, parse_keyframes
+        from origami_cad.drive.sequence import dump_sequence, load_sequence
         from origami_cad.pattern.design import load_pattern_source
+        from origami_cad.robot import is_robot_file
 
-        if _is_robot(a.design):
+        if is_robot_file(a.design):
             return _robot_sequence(a)
         if not a.keyframes:
             raise OptionsError("--keyframes: required (unless DESIGN is a robot file)")
@@ -166,8 +162,9 @@ class SequenceCommand(Command):
             tsas.append(tsa)
             numbers += more
             results.append(result)
-        header = _sequence_header(a, routes)
-        text = sequence_toml(tsas, frames, rate=a.rate, repeat=a.repeat, header=header)
+        rate, repeat = RATE if a.rate is None else a.rate, 1 if a.repeat is None else a.repeat
+        seq = model_sequence(tsas, frames, rate=rate, repeat=repeat)
+        text = dump_sequence(seq, header=_sequence_header(a, routes), layout="model")
         with atomic_path(a.output) as tmp:
             Path(tmp).write_text(text, encoding="utf-8")
             load_sequence(tmp)  # drive reads it: every keyframe reachable within the twist

@@ -8,7 +8,8 @@ fold ratio ``p`` reached at each TSA rotation; :func:`model_mapping` samples tha
 curve (and every keyframe's fold ratio exactly) as contractions of the onboard
 TSA model (``onboard_contraction``), so that ``drive``, which turns a
 contraction back into motor turns with the same model's inverse, commands the
-turns the model needed. :func:`sequence_toml` writes the file.
+turns the model needed. :func:`model_sequence` makes the :class:`Sequence`, and
+``drive.sequence.dump_sequence`` writes it.
 
 >>> import numpy as np
 >>> from origami_cad.strings import TSAParams
@@ -27,7 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._names import one_line, toml_string
+from origami_cad.drive.sequence import Keyframe, SequenceTSA
+from origami_cad.drive.sequence import Sequence as DriveSequence
 from origami_cad.errors import DriveError
 from origami_cad.strings.tsa import TSAParams, onboard_contraction
 
@@ -42,9 +44,9 @@ DECIMALS = 6
 __all__ = [
     "fold_curve",
     "model_mapping",
+    "model_sequence",
     "parse_keyframes",
     "route_tsa",
-    "sequence_toml",
     "state_fold_ratios",
     "turns_at",
 ]
@@ -202,50 +204,40 @@ def _fixed(value: float) -> str:
     return f"{value:.{DECIMALS}f}"
 
 
-def sequence_toml(
+def model_sequence(
     tsas: Sequence[dict[str, Any]],
     keyframes: Sequence[tuple[float, Sequence[float]]],
     *,
     rate: float = 10.0,
     repeat: int = 1,
-    header: str = "",
-) -> str:
-    """A sequence file (``drive``'s input) as TOML text.
+) -> DriveSequence:
+    """The sequence ``drive`` runs, from string models' TSAs (write it with
+    ``dump_sequence(seq, layout="model")``).
 
     ``tsas``: one dict per TSA with ``id`` (servo), ``name``, ``tsa``
     (:class:`TSAParams`, onboard), ``mapping`` (from :func:`model_mapping`) and
-    optional ``comment``; ``keyframes``: ``(t s, fold ratio per TSA)``, each fold
-    ratio kept within its TSA's mapping.
+    optional ``comment`` (as :func:`route_tsa` gives them); ``keyframes``: ``(t s, fold
+    ratio per TSA)``, each fold ratio rounded to :data:`DECIMALS` and kept within its
+    TSA's mapping (``rate`` in Hz).
     """
-    lines = [header.rstrip("\n")] if header else []
-    lines += [
-        "[sequence]",
-        f"repeat = {int(repeat)}",
-        f"rate = {float(rate)!r}              # Hz",
-        "",
-    ]
-    for item in tsas:
-        tsa: TSAParams = item["tsa"]
-        pairs = ", ".join(f"[{_fixed(a)}, {_fixed(b)}]" for a, b in item["mapping"])
-        if item.get("comment"):
-            lines.append(f"# {one_line(item['comment'])}")
-        lines += [
-            "[[tsa]]",
-            f"id = {int(item['id'])}",
-            f"name = {toml_string(item['name'])}",
-            f"length = {tsa.length:g}           # mm, twisted strands",
-            f"radius = {tsa.radius:g}            # mm",
-            f"max_helix_angle = {tsa.max_helix_angle:g}    # deg",
-            f"mapping = [{pairs}]   # [p, contraction mm], from the model",
-            "",
-        ]
-    for t, values in keyframes:  # within each mapping (AT_TOLERANCE at its ends)
-        vals = ", ".join(
-            _fixed(min(max(round(v, DECIMALS), item["mapping"][0, 0]), item["mapping"][-1, 0]))
-            for v, item in zip(values, tsas, strict=True)
+    items = [
+        SequenceTSA(
+            dxl_id=int(item["id"]),
+            name=item["name"],
+            tsa=item["tsa"],
+            mapping=item["mapping"],
+            comment=item.get("comment") or "",
         )
-        lines += ["[[keyframe]]", f"t = {float(t)!r}", f"p = [{vals}]"]  # exact: times increase
-    return "\n".join(lines) + "\n"
+        for item in tsas
+    ]
+    frames = []
+    for t, values in keyframes:  # within each mapping (AT_TOLERANCE at its ends)
+        kept = [
+            min(max(round(v, DECIMALS), item.mapping[0, 0]), item.mapping[-1, 0])
+            for v, item in zip(values, items, strict=True)
+        ]
+        frames.append(Keyframe(float(t), "p", tuple(float(v) for v in kept)))
+    return DriveSequence(tuple(items), tuple(frames), repeat=int(repeat), rate=float(rate))
 
 
 def route_tsa(
@@ -285,7 +277,7 @@ def route_tsa(
     Returns
     -------
     entry : dict
-        For :func:`sequence_toml`: ``id``, ``name``, ``tsa``, ``mapping``, ``comment``.
+        For :func:`model_sequence`: ``id``, ``name``, ``tsa``, ``mapping``, ``comment``.
     figures : dict
         ``p_range`` (first, last fold ratio), ``turns`` (the last), ``turns_at`` (the
         turns at ``at``) and ``peak_torque`` (N mm, NaN when unknown).
@@ -298,7 +290,7 @@ def route_tsa(
     >>> spec = load_route("examples/arm_route.toml", arm.pattern)
     >>> entry, figures = route_tsa(arm.pattern, spec.tsa, simulate_dcqc(arm, spec),
     ...                            [0.0, 0.3], servo=1, name="arm")
-    >>> text = sequence_toml([entry], [(0.0, (0.0,)), (20.0, (0.3,))])  # drive's input
+    >>> seq = model_sequence([entry], [(0.0, (0.0,)), (20.0, (0.3,))])  # drive's input
     >>> bool(0.3 in entry["mapping"][:, 0]), round(figures["p_range"][1], 3)
     (True, 0.335)
     """

@@ -46,8 +46,8 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import GrowingFile
-from origami_cad._names import one_line, visible
-from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad._names import one_line, toml_string, visible
+from origami_cad._toml import Table, load_toml
 from origami_cad.drive.errors import DriveError, describe_exit, hold_ctrl_c
 from origami_cad.drive.load import LoadCurve
 from origami_cad.errors import OutputError, StringsError
@@ -57,13 +57,16 @@ __all__ = [
     "LOG_FIELDS",
     "MAX_DURATION",
     "MAX_STEPS",
+    "SEQUENCE_LAYOUTS",
     "DriveLog",
     "Keyframe",
     "Sequence",
+    "SequenceLayout",
     "SequenceTSA",
     "check_time_scale",
     "dump_sequence",
     "load_sequence",
+    "load_sequence_table",
     "note_stop",
     "run_sequence",
     "stop_reason",
@@ -79,6 +82,7 @@ class SequenceTSA:
     tsa: TSAParams
     mapping: np.ndarray  # (k, 2): fold ratio, contraction mm (increasing)
     load: np.ndarray | None = None  # (k, 2): time s over one cycle, torque N mm
+    comment: str = ""  # where the mapping comes from: a comment line above its table
 
     def contraction(self, p: float) -> float:
         """String contraction (mm) that brings the structure to fold ratio ``p``."""
@@ -293,18 +297,15 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
         raise DriveError(f"{p}: {len(raw_frames)} [[keyframe]] tables; at most 100000")
     tsas = _read_tsas(raw_tsas, p)
     frames = _read_keyframes(raw_frames, p, len(tsas))
+    given = _sequence_table(seq)
     sequence = Sequence(
         tuple(tsas),
         tuple(frames),
-        repeat=seq.integer("repeat", 1, low=1, high=1_000_000),
-        rate=seq.number("rate", 20.0, low=0, high=MAX_RATE, low_open=True),
-        current_limit=seq.number("current_limit", None, low=0, high=100_000, low_open=True)
-        if seq.has("current_limit")
-        else None,
+        repeat=given.get("repeat", 1),
+        rate=given.get("rate", 20.0),
+        current_limit=given.get("current_limit"),
         source=p,
     )
-    seq.used.add("current_limit")
-    seq.finish()
     steps = sequence.cycle * sequence.repeat * sequence.rate
     if steps > MAX_STEPS:
         raise DriveError(
@@ -332,6 +333,35 @@ def load_sequence(path: str | os.PathLike[str]) -> Sequence:
                 f"past the cycle's {sequence.cycle:g} s"
             )
     return sequence
+
+
+def _sequence_table(seq: Table) -> dict[str, Any]:
+    """The keys a ``[sequence]`` table gives (``repeat``, ``rate`` Hz, ``current_limit``
+    mA), each checked; a key it does not give is left out."""
+    out: dict[str, Any] = {}
+    if seq.has("repeat"):
+        out["repeat"] = seq.integer("repeat", 1, low=1, high=1_000_000)
+    if seq.has("rate"):
+        out["rate"] = seq.number("rate", 20.0, low=0, high=MAX_RATE, low_open=True)
+    if seq.has("current_limit"):
+        out["current_limit"] = seq.number("current_limit", None, low=0, high=100_000, low_open=True)
+    seq.finish()
+    return out
+
+
+def load_sequence_table(path: str | os.PathLike[str]) -> dict[str, Any]:
+    """The ``[sequence]`` table of a sequence or gait file, checked as :func:`load_sequence`
+    checks it: the keys it gives among ``repeat``, ``rate`` (Hz) and ``current_limit``
+    (mA); :class:`DriveError` naming the file, table and key otherwise. The rest of the
+    file is not read (a gait file for ``crawl`` need not hold ``[[tsa]]`` tables).
+
+    >>> load_sequence_table("examples/crawler_gait.toml")
+    {'repeat': 1, 'rate': 10.0, 'current_limit': 1200.0}
+    """
+    p = Path(path)
+    top = Table(load_toml(p, DriveError), str(p), DriveError)
+    seq = top.table("sequence", {})
+    return _sequence_table(seq)
 
 
 def _read_tsas(raw_tsas: list, p: Path) -> list[SequenceTSA]:
@@ -615,11 +645,88 @@ def note_stop(fh, exc: BaseException, t: float | None = None) -> None:
     fh.flush()
 
 
-def dump_sequence(seq: Sequence, *, header: str = "") -> str:
-    """A sequence file (TOML text) of ``seq`` that :func:`load_sequence` reads back.
+@dataclass(frozen=True)
+class SequenceLayout:
+    """How :func:`dump_sequence` spells a sequence's numbers and comments: the file's look,
+    never its meaning.
 
-    Each TSA's ``mapping`` (fold ratio, contraction mm) and ``load`` (t s, N mm) are
-    written inline (also those read from a ``dcqc.json``), every number exactly.
+    Each ``*_format`` is a format spec for the numbers of that kind (``"r"``: ``repr``, the
+    exact float); ``comments`` are the texts after a key's value (``"Hz"`` -> ``  # Hz``,
+    aligned with ``width``'s spaces per key); ``keyframe_gap``: a blank line between
+    keyframes.
+    """
+
+    rate_format: str = "r"
+    time_format: str = "r"
+    size_format: str = "r"  # length, radius, max_helix_angle, current_limit
+    mapping_format: str = "r"
+    value_format: str = "r"  # the keyframes' values
+    load_formats: tuple[str, str] = ("r", "r")  # time s, torque N mm
+    comments: tuple[tuple[str, str, int], ...] = (
+        ("rate", "Hz", 3),
+        ("current_limit", "mA", 3),
+        ("length", "mm, twisted strands", 3),
+        ("radius", "mm", 3),
+        ("max_helix_angle", "deg", 3),
+        ("mapping", "[p, contraction mm]", 3),
+        ("load", "[t s, N mm]", 3),
+    )
+    keyframe_gap: bool = True
+
+
+#: The layouts the project writes: ``exact`` (every float as ``repr``: a script's
+#: sequence read back bit for bit), ``model`` (``sequence`` from a string model: fold
+#: ratios and contractions to 1e-6, DECIMALS of ``drive.from_model``), ``gait`` (a legged
+#: robot's gait: ``crawl``, ``design-gait``, ``sequence ROBOT GAIT``; mappings to 1e-4 mm,
+#: loads to 1e-3 N mm).
+SEQUENCE_LAYOUTS: dict[str, SequenceLayout] = {
+    "exact": SequenceLayout(),
+    "model": SequenceLayout(
+        size_format="g",
+        mapping_format=".6f",
+        value_format=".6f",
+        comments=(
+            ("rate", "Hz", 14),
+            ("length", "mm, twisted strands", 11),
+            ("radius", "mm", 12),
+            ("max_helix_angle", "deg", 4),
+            ("mapping", "[p, contraction mm], from the model", 3),
+        ),
+        keyframe_gap=False,
+    ),
+    "gait": SequenceLayout(
+        rate_format="g",
+        time_format="g",
+        size_format="g",
+        mapping_format=".4f",
+        value_format="g",
+        load_formats=("g", ".3f"),
+        comments=(
+            ("rate", "Hz", 14),
+            ("current_limit", "mA: a stalling TSA is stopped", 3),
+            ("length", "mm, twisted strands", 11),
+            ("radius", "mm", 12),
+            ("max_helix_angle", "deg", 3),
+            ("mapping", "[p, mm]", 2),
+            ("load", "[t s, N mm]", 2),
+        ),
+    ),
+}
+
+
+def _number(value: float, spec: str) -> str:
+    """``value`` as TOML by the format ``spec`` (``"r"``: the exact float's ``repr``)."""
+    return repr(float(value)) if spec == "r" else format(value, spec)
+
+
+def dump_sequence(seq: Sequence, *, header: str = "", layout: str = "exact") -> str:
+    """The sequence file (TOML text) of ``seq``: the one writer of the format that
+    :func:`load_sequence` reads.
+
+    ``header``: comment lines put first; ``layout``: a name of :data:`SEQUENCE_LAYOUTS`
+    (how the numbers are spelled: ``exact`` reads back bit for bit). Each TSA's
+    ``mapping`` (fold ratio, contraction mm) and ``load`` (t s, N mm) are written inline
+    (also those read from a ``dcqc.json``), its ``comment`` above its table.
 
     >>> import tempfile, pathlib
     >>> seq = load_sequence("examples/crawler_gait.toml")
@@ -629,22 +736,32 @@ def dump_sequence(seq: Sequence, *, header: str = "") -> str:
     >>> back.keyframes == seq.keyframes, back.ids == seq.ids
     (True, True)
     """
+    look = SEQUENCE_LAYOUTS[layout]
+    notes = {key: " " * width + f"# {text}" for key, text, width in look.comments}
+
+    def line(key: str, value: str) -> str:
+        return f"{key} = {value}{notes.get(key, '')}"
+
+    def pairs(arr: np.ndarray, first: str, second: str) -> str:
+        return ", ".join(f"[{_number(a, first)}, {_number(b, second)}]" for a, b in arr)
+
     lines = [header.rstrip("\n")] if header else []
-    head = {"repeat": seq.repeat, "rate": float(seq.rate), "current_limit": seq.current_limit}
-    lines += toml_table("sequence", head, comments={"rate": "Hz", "current_limit": "mA"})
+    lines += ["[sequence]", f"repeat = {int(seq.repeat)}"]
+    lines.append(line("rate", _number(seq.rate, look.rate_format)))
+    if seq.current_limit is not None:
+        lines.append(line("current_limit", _number(seq.current_limit, look.size_format)))
     for item in seq.tsas:
-        table = {
-            "id": item.dxl_id,
-            "name": item.name,
-            "length": item.tsa.length,
-            "radius": item.tsa.radius,
-            "max_helix_angle": item.tsa.max_helix_angle,
-            "mapping": item.mapping,
-            "load": item.load,
-        }
-        notes = {"length": "mm", "mapping": "[p, contraction mm]", "load": "[t s, N mm]"}
-        lines += ["", *toml_table("tsa", table, array=True, comments=notes)]
-    for frame in seq.keyframes:
-        table = {"t": float(frame.t), frame.kind: list(frame.values)}
-        lines += ["", *toml_table("keyframe", table, array=True)]
+        lines += ["", *([f"# {one_line(item.comment)}"] if item.comment else []), "[[tsa]]"]
+        lines += [f"id = {int(item.dxl_id)}", f"name = {toml_string(item.name)}"]
+        for key in ("length", "radius", "max_helix_angle"):
+            lines.append(line(key, _number(getattr(item.tsa, key), look.size_format)))
+        fmt = look.mapping_format
+        lines.append(line("mapping", f"[{pairs(item.mapping, fmt, fmt)}]"))
+        if item.load is not None:
+            lines.append(line("load", f"[{pairs(item.load, *look.load_formats)}]"))
+    for k, frame in enumerate(seq.keyframes):
+        values = ", ".join(_number(v, look.value_format) for v in frame.values)
+        lines += [""] if look.keyframe_gap or k == 0 else []
+        lines += ["[[keyframe]]", f"t = {_number(frame.t, look.time_format)}"]
+        lines.append(f"{frame.kind} = [{values}]")
     return "\n".join(lines) + "\n"

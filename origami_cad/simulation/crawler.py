@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from origami_cad._names import one_line, toml_string
+from origami_cad._names import one_line
 from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.cables import SimString, StringSet, string_length
@@ -50,6 +50,7 @@ from origami_cad.strings.tsa import (
 )
 
 if TYPE_CHECKING:
+    from origami_cad.drive.sequence import Sequence as DriveSequence
     from origami_cad.robot import Leg, PointMass, Robot
 
 __all__ = [
@@ -58,7 +59,8 @@ __all__ = [
     "GaitResult",
     "check_servo_speed",
     "gait_loads",
-    "gait_sequence_text",
+    "gait_sequence",
+    "gait_sequence_header",
     "gait_turns",
     "leg_contraction",
     "robot_params",
@@ -245,37 +247,11 @@ def gait_loads(robot: Robot, result: GaitResult) -> tuple[np.ndarray, np.ndarray
     return np.r_[times, cycle], np.vstack([torque, torque[:1]])
 
 
-def gait_sequence_text(
-    robot: Robot,
-    *,
-    repeat: int = 1,
-    rate: float = 10.0,
-    current_limit: float | None = 1200.0,
-    result: GaitResult | None = None,
-    reverse: bool = False,
-    command: str | None = None,
-) -> str:
-    """The gait as a sequence file for ``origami-cad drive`` (TOML text).
-
-    Each TSA's ``mapping`` (fold ratio to contraction, mm) is :func:`leg_contraction`
-    sampled every 0.02 up to the blockers' fold ratio, so ``drive`` turns the gait's
-    fold-ratio keyframes into the same turns as :func:`gait_turns` (between samples,
-    linearly). With a simulated ``result``, each TSA also gets its ``load``: the torque
-    the simulation needs of its servo over one cycle, N mm (:func:`gait_loads`), which a
-    dry run's emulated servo carries. ``reverse`` writes the keyframes backwards (as
-    ``simulate_gait(reverse=True)`` plays them); ``command`` is the command line that
-    wrote the file, quoted in its header and named by its first two words (without it, by
-    ``origami_cad``: a script wrote it). ``current_limit`` (mA) stops a stalling servo.
-    """
-    p_max = robot.blocker_angle / 180.0
-    # the samples as written (4 decimals), each once (drive needs them increasing), the
-    # last rounded up so that the mapping covers every keyframe's fold ratio
-    ceiling = math.ceil(float(robot.gait_p.max()) * 1e4 - 1e-6) / 1e4
-    top = p_max if round(p_max, 4) >= ceiling else ceiling
-    given = np.round(np.r_[np.arange(0.0, p_max, 0.02), robot.gait_p.ravel()], 4)
-    samples = np.unique(np.r_[given[given < top], top])
+def gait_sequence_header(robot: Robot, command: str | None = None) -> str:
+    """The comment lines of a gait's sequence file: what its mappings and loads are, and
+    ``command``, the command line that wrote it, quoted and named by its first two words
+    (without it, by ``origami_cad``: a script wrote it)."""
     source = robot.source.name if robot.source else "the robot file"
-    # the program and command that wrote it, from ``command`` (crawl, design-gait, sequence)
     writer = " ".join(command.split()[:2]) if command else "origami_cad"
     lines = [
         f"# The gait of {one_line(source)} as TSA commands, written by {one_line(writer)}: each",
@@ -284,39 +260,60 @@ def gait_sequence_text(
         "# each load is the TSA's torque in the simulated crawl (N mm, one cycle, the most",
         "# any simulated cycle needed), carried by the emulated servos of a dry run.",
         *([f"#   {one_line(command)}"] if command else []),
-        "[sequence]",
-        f"repeat = {repeat}",
-        f"rate = {rate:g}              # Hz",
     ]
-    if current_limit is not None:
-        lines.append(f"current_limit = {current_limit:g}   # mA: a stalling TSA is stopped")
+    return "\n".join(lines) + "\n"
+
+
+def gait_sequence(
+    robot: Robot,
+    *,
+    repeat: int = 1,
+    rate: float = 10.0,
+    current_limit: float | None = 1200.0,
+    result: GaitResult | None = None,
+    reverse: bool = False,
+) -> DriveSequence:
+    """The gait as the sequence ``origami-cad drive`` runs (write it with
+    ``dump_sequence(seq, header=gait_sequence_header(robot), layout="gait")``).
+
+    Each TSA's ``mapping`` (fold ratio to contraction, mm) is :func:`leg_contraction`
+    sampled every 0.02 up to the blockers' fold ratio, so ``drive`` turns the gait's
+    fold-ratio keyframes into the same turns as :func:`gait_turns` (between samples,
+    linearly). With a simulated ``result``, each TSA also gets its ``load``: the torque
+    the simulation needs of its servo over one cycle, N mm (:func:`gait_loads`), which a
+    dry run's emulated servo carries. ``reverse`` gives the keyframes backwards (as
+    ``simulate_gait(reverse=True)`` plays them). ``rate`` in Hz; ``current_limit`` (mA)
+    stops a stalling servo.
+    """
+    from origami_cad.drive.sequence import Keyframe, SequenceTSA
+    from origami_cad.drive.sequence import Sequence as DriveSequence
+
+    p_max = robot.blocker_angle / 180.0
+    # the samples as written (4 decimals), each once (drive needs them increasing), the
+    # last rounded up so that the mapping covers every keyframe's fold ratio
+    ceiling = math.ceil(float(robot.gait_p.max()) * 1e4 - 1e-6) / 1e4
+    top = p_max if round(p_max, 4) >= ceiling else ceiling
+    given = np.round(np.r_[np.arange(0.0, p_max, 0.02), robot.gait_p.ravel()], 4)
+    samples = np.unique(np.r_[given[given < top], top])
     loads = gait_loads(robot, result) if result is not None else None
-    for k, leg in enumerate(robot.legs):
-        tsa = leg.route.tsa
-        c = leg_contraction(robot.pattern, leg, samples)
-        pairs = ", ".join(f"[{p:.4f}, {v:.4f}]" for p, v in zip(samples, c, strict=True))
-        lines += [
-            "",
-            "[[tsa]]",
-            f"id = {leg.servo}",
-            f"name = {toml_string(leg.name)}",
-            f"length = {tsa.length:g}           # mm, twisted strands",
-            f"radius = {tsa.radius:g}            # mm",
-            f"max_helix_angle = {tsa.max_helix_angle:g}   # deg",
-            f"mapping = [{pairs}]  # [p, mm]",
-        ]
-        if loads is not None:
-            curve = ", ".join(
-                f"[{t:g}, {v:.3f}]" for t, v in zip(loads[0], loads[1][:, k], strict=True)
-            )
-            lines.append(f"load = [{curve}]  # [t s, N mm]")
+    tsas = tuple(
+        SequenceTSA(
+            dxl_id=leg.servo,
+            name=leg.name,
+            tsa=leg.route.tsa,
+            mapping=np.column_stack([samples, leg_contraction(robot.pattern, leg, samples)]),
+            load=None if loads is None else np.column_stack([loads[0], loads[1][:, k]]),
+        )
+        for k, leg in enumerate(robot.legs)
+    )
     t, ratios = robot.gait_t - robot.gait_t[0], robot.gait_p
     if reverse:
         t, ratios = t[-1] - t[::-1], ratios[::-1]
-    for when, p in zip(t, ratios, strict=True):
-        values = ", ".join(f"{v:g}" for v in p)
-        lines += ["", "[[keyframe]]", f"t = {when:g}", f"p = [{values}]"]
-    return "\n".join(lines) + "\n"
+    frames = tuple(
+        Keyframe(float(when), "p", tuple(float(v) for v in p))
+        for when, p in zip(t, ratios, strict=True)
+    )
+    return DriveSequence(tsas, frames, repeat=repeat, rate=rate, current_limit=current_limit)
 
 
 # ----------------------------------------------------------------------------- walking
