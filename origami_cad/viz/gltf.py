@@ -28,6 +28,7 @@ import numpy as np
 
 from origami_cad._fileio import atomic_write
 from origami_cad.pattern.model import CreasePattern
+from origami_cad.viz.render3d import import_pyvista
 
 __all__ = [
     "CREASE_COLORS",
@@ -244,7 +245,7 @@ def panel_triangles(cp: CreasePattern) -> np.ndarray:
     (an L-shaped border panel) is covered exactly; the triangles then follow the
     vertices into any folded state.
     """
-    import pyvista as pv
+    pv = import_pyvista()
 
     if not cp.faces:
         return np.zeros((0, 3), dtype=np.int64)
