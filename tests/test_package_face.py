@@ -1,10 +1,73 @@
-"""What a new user meets first: an install without the ``viz`` extra (no pyvista, no VTK)."""
+"""What a new user meets first: ``python -m origami_cad``, the README's quick start, and an
+install without the ``viz`` extra (no pyvista, no VTK)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
+import re
 import subprocess
 import sys
+from pathlib import Path
+
+import origami_cad
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_python_dash_m_runs_the_command_line(tmp_path):
+    version = subprocess.run(
+        [sys.executable, "-m", "origami_cad", "--version"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert version.returncode == 0, version.stderr
+    assert version.stdout.strip() == f"origami-cad {origami_cad.__version__}"
+    missing = tmp_path / "missing.toml"
+    bad = subprocess.run(
+        [sys.executable, "-m", "origami_cad", "pattern", str(missing), "-o", "cp.png"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert bad.returncode == 2
+    assert bad.stderr.count("\n") == 1 and str(missing) in bad.stderr, bad.stderr
+    assert not (tmp_path / "cp.png").exists()
+
+
+def _quick_start() -> str:
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = text.split("## Ten lines of Python", 1)[1]
+    return re.search(r"```python\n(.*?)```", section, flags=re.S).group(1)
+
+
+def test_the_readme_quick_start_prints_the_creases_fold_angles(tmp_path, monkeypatch):
+    """The quick start uses the curated names and prints each kind of crease's fold angles
+    (mountains negative, valleys positive, the main creases at p * 180 deg)."""
+    code = _quick_start()
+    assert "import origami_cad as oc" in code and "from origami_cad" not in code
+    monkeypatch.chdir(tmp_path)
+    shown = io.StringIO()
+    namespace: dict = {}
+    with contextlib.redirect_stdout(shown):
+        exec(compile(code, "README.md", "exec"), namespace)
+    lines = shown.getvalue().splitlines()
+    found = {}
+    for line in lines:
+        kind, n, lo, hi = re.fullmatch(r"(\w): (\d+) creases, (\S+) to (\S+) deg", line).groups()
+        found[kind] = (int(n), float(lo), float(hi))
+    assert set(found) == {"M", "V"}, lines
+    cp, state = namespace["cp"], namespace["state"]
+    assert found["M"][0] + found["V"][0] == int((cp.assignments != "B").sum())
+    assert found["M"][2] < 0 < found["V"][1]  # signs: valley positive
+    main = 180.0 * state.p  # the main creases fold to p * pi
+    assert found["M"][1] <= -main + 0.05 and found["V"][2] >= main - 0.05
+    assert found["M"][2] == -round(main, 1) and found["V"][1] == round(main, 1)
+    assert origami_cad.read_pattern(tmp_path / "out" / "fig2.fold").n_vertices == cp.n_vertices
+
 
 # runs in a fresh interpreter where pyvista and VTK cannot be imported, as without the extra
 NO_VIZ = """
