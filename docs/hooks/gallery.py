@@ -70,6 +70,14 @@ FIGURES = (
         {"ratio": 0.5},
     ),
     Figure(
+        "arm",
+        "An origami arm designed by CMA-ES (a small budget)",
+        "arm-design.md",
+        "design-arm",
+        ("arm_task.toml",),
+        options={"runs": 2, "max_generations": 15},
+    ),
+    Figure(
         "parts",
         "Printed parts: the 6 x 4 Miura",
         "fabrication.md",
