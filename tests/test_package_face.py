@@ -91,13 +91,15 @@ print(json.dumps(runs))
 
 
 def test_without_the_viz_extra_only_3d_renders_refuse(tmp_path, small_miura_toml):
-    """Fabrication (STL, STEP, 3MF, glb) and the 2D plots work; a 3D render refuses in one
+    """Fabrication (STL, STEP, 3MF), the glb files and the 2D plots work; a 3D render refuses in one
     line naming the extra (about 5 s of CPU)."""
     fab, cp, folded = tmp_path / "fab", tmp_path / "cp.png", tmp_path / "folded.png"
+    glb = tmp_path / "folding.glb"
     d = str(small_miura_toml)
     argv = {
         "fabricate": ["fabricate", d, "-o", str(fab)],
         "pattern": ["pattern", d, "-o", str(cp)],
+        "glb": ["fold", d, "--ratio", "0.5", "--frames", "3", "-o", str(glb)],
         "fold": ["fold", d, "--ratio", "0.5", "-o", str(folded)],
     }
     run = subprocess.run(
@@ -108,10 +110,10 @@ def test_without_the_viz_extra_only_3d_renders_refuse(tmp_path, small_miura_toml
     )
     assert run.returncode == 0, run.stderr[-3000:]
     codes = json.loads(run.stdout.strip().splitlines()[-1])
-    assert codes["fabricate"] == 0 and codes["pattern"] == 0, run.stderr
+    assert codes["fabricate"] == 0 and codes["pattern"] == 0 and codes["glb"] == 0, run.stderr
     for name in ("assembly.step", "print.3mf", "shells.stl", "panels.png", "parts.glb"):
         assert (fab / name).stat().st_size > 0, name
-    assert cp.read_bytes()[:4] == b"\x89PNG"
+    assert cp.read_bytes()[:4] == b"\x89PNG" and glb.read_bytes()[:4] == b"glTF"
     # the 3D render: one line naming the extra, exit 2, nothing written
     assert codes["fold"] == 2 and not folded.exists()
     errors = [line for line in run.stderr.splitlines() if line.startswith("origami-cad:")]
