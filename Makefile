@@ -9,7 +9,7 @@ STAMP  := $(VENV)/.installed
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[test]"
+	$(PY) -m pip install --quiet -e ".[test,viz]"
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -40,10 +40,12 @@ format: $(STAMP)
 bench: $(STAMP)
 	$(PY) benchmarks/run.py
 
-# the user guide plus an API reference generated from the docstrings, into out/site
+# the user guide, its gallery (pictures drawn from examples/ by the build, docs/hooks) and an
+# API reference generated from the docstrings, into out/site; .ci/run builds it after the tests
+MKDOCS_FLAGS ?=
 docs: $(STAMP)
 	$(PY) -m pip install --quiet -e ".[docs]"
-	$(VENV)/bin/mkdocs build --strict -f docs/mkdocs.yml -d ../out/site
+	$(VENV)/bin/mkdocs build --strict $(MKDOCS_FLAGS) -f docs/mkdocs.yml -d ../out/site
 
 clean:
 	rm -rf out .pytest_cache .ruff_cache

@@ -14,7 +14,8 @@ One class per stage, so that a handler catches the faults of one stage only::
     ├── SimulationError    the bar-and-hinge simulation, robot files, crawling
     ├── DriveError         sequence files, servo buses, the emulator (drive/)
     ├── OptionsError       a command-line option or a keyword out of range
-    └── OutputError        an output path that cannot be written safely
+    ├── OutputError        an output path that cannot be written safely
+    └── ExtraError         a feature whose optional dependencies (an extra) are missing
 
 The finer driving faults (``StallError``, ``PortLostError``, ...) derive from
 :class:`DriveError` and live in :mod:`origami_cad.drive.errors`.
@@ -29,6 +30,7 @@ __all__ = [
     "DesignError",
     "DesignWarning",
     "DriveError",
+    "ExtraError",
     "FabricationError",
     "OptionsError",
     "OrigamiCadError",
@@ -79,3 +81,8 @@ class OptionsError(OrigamiCadError, ValueError):
 
 class OutputError(OrigamiCadError, ValueError):
     """An output path cannot be written safely (it is an input, a folder, a device...)."""
+
+
+class ExtraError(OrigamiCadError, ImportError):
+    """A feature needs an optional dependency that is not installed; the message names the
+    extra that installs it (``pip install 'origami-cad[viz]'`` for the 3D renders)."""

@@ -162,3 +162,43 @@ def test_every_python_name_the_docs_cite_imports():
     with pytest.raises(AttributeError):
         _imported("origami_cad.fabrication.no_such_name")
     assert _python_names("`oc.fabricate`, `origami_cad.jobs.run_*`") == {"origami_cad.fabricate"}
+
+
+# ------------------------------------------------------------------ the pictures of the docs
+
+
+def _gallery_hook():
+    """docs/hooks/gallery.py, the mkdocs hook that draws the pictures at build time."""
+    import importlib.util
+
+    pytest.importorskip("mkdocs", reason="the docs extra is not installed (pip install .[docs])")
+    import sys
+
+    name = "origami_cad_docs_gallery_hook"
+    if name not in sys.modules:  # its dataclasses look their module up
+        spec = importlib.util.spec_from_file_location(name, ROOT / "docs/hooks/gallery.py")
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
+def test_every_picture_a_page_shows_is_drawn_by_the_docs_build_or_committed():
+    """``make docs`` (run by .ci/run) draws the gallery/ pictures; here, without building:
+    every image a page links is a committed file or under the folder of a gallery figure,
+    and each figure's guide page shows at least one of its pictures."""
+    figures = {fig.key: fig for fig in _gallery_hook().FIGURES}
+    assert len(figures) >= 6
+    shown: dict[str, set[str]] = {}
+    for page in sorted((ROOT / "docs").glob("*.md")):
+        for link in re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", page.read_text(encoding="utf-8")):
+            if link.startswith("gallery/"):
+                key = link.split("/")[1]
+                assert key in figures, f"{page.name}: {link} is drawn by no gallery figure"
+                shown.setdefault(key, set()).add(page.name)
+            else:
+                assert (page.parent / link).is_file(), f"{page.name}: {link} does not exist"
+    for key, fig in figures.items():
+        assert (ROOT / "docs" / fig.page).is_file(), fig.page
+        assert fig.page in shown.get(key, set()), f"{fig.page} shows no picture of {key}"
+    gallery = (ROOT / "docs" / "gallery.md").read_text(encoding="utf-8")
+    assert _gallery_hook().MARKER in gallery

@@ -319,7 +319,14 @@ def test_parts_are_installed_inside_the_package():
         ".".join(p.parent.relative_to(root).parts)
         for p in (root / "origami_cad").rglob("__init__.py")
     }
-    assert set(setup["packages"]) == found | {"origami_cad.parts", "origami_cad.examples"}
+    # the examples' data folders are listed as packages too (no setuptools warning)
+    data = {
+        ".".join(("origami_cad", *p.relative_to(root).parts))
+        for p in (root / "examples").rglob("*")
+        if p.is_dir() and p.name != "__pycache__"
+    }
+    assert len(data) >= 4
+    assert set(setup["packages"]) == found | {"origami_cad.parts", "origami_cad.examples"} | data
 
 
 @pytest.mark.parametrize(

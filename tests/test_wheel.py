@@ -9,6 +9,7 @@ and a demo step is run as a user would, from an empty folder.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import site
 import subprocess
@@ -58,18 +59,21 @@ def installed(tmp_path_factory):
     skip = shutil.ignore_patterns("__pycache__", "*.egg-info", "build")
     for name in ("origami_cad", "parts", "examples"):
         shutil.copytree(ROOT / name, src / name, ignore=skip)
-    for name in ("pyproject.toml", "README.md"):
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy2(ROOT / name, src / name)
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "--no-input"]
     # the build backend comes from the current environment (setuptools >= 77, the [test]
     # extra): no download
-    subprocess.run(
-        [*pip, "wheel", "--no-deps", "--no-build-isolation", "-w", str(tmp / "dist"), str(src)],
+    # verbose: the build backend's own output (its warnings) is shown
+    build = subprocess.run(
+        [*pip, "wheel", "-v", "--no-deps", "--no-build-isolation", "-w", str(tmp / "dist"), src],
         check=True,
         capture_output=True,
+        text=True,
         env=_clean_env(),
         cwd=tmp,
     )
+    (tmp / "build.log").write_text(build.stdout + build.stderr)
     (wheel,) = (tmp / "dist").glob("origami_cad-*.whl")
     venv = tmp / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True)
@@ -100,6 +104,29 @@ def installed(tmp_path_factory):
     # package wins
     Path(purelib, "zz_dependencies.pth").write_text("\n".join(_dependency_paths()) + "\n")
     return wheel, venv, Path(purelib)
+
+
+def test_the_wheel_builds_without_a_warning(installed):
+    wheel, _, _ = installed
+    log = (wheel.parent.parent / "build.log").read_text()
+    assert "running bdist_wheel" in log  # the backend's own output was read
+    warnings = [line for line in log.splitlines() if re.search(r"warning", line, re.I)]
+    assert not warnings, "\n".join(warnings)
+
+
+def test_the_wheel_ships_py_typed_and_the_licence(installed):
+    wheel, _, purelib = installed
+    names = set(zipfile.ZipFile(wheel).namelist())
+    assert "origami_cad/py.typed" in names
+    (licence,) = [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
+    text = zipfile.ZipFile(wheel).read(licence).decode()
+    assert text.startswith("MIT License") and text == (ROOT / "LICENSE").read_text()
+    meta = zipfile.ZipFile(wheel).read(licence.replace("licenses/LICENSE", "METADATA")).decode()
+    assert "License-Expression: MIT" in meta and "License-File: LICENSE" in meta
+    assert "Provides-Extra: viz" in meta and "Requires-Dist: pyvista" in meta
+    base = [line for line in meta.splitlines() if line.startswith("Requires-Dist: pyvista")]
+    assert all("extra ==" in line for line in base), base  # only through an extra
+    assert (purelib / "origami_cad" / "py.typed").is_file()
 
 
 def test_the_wheel_ships_the_examples_the_demo_reads(installed):

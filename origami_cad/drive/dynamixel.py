@@ -142,11 +142,6 @@ class DynamixelBus(ServoBus):
         Baud rate of the servos (57600 by default, as shipped).
     ids : iterable of int
         Servo IDs.
-    max_turns : dict or float, optional
-        Safety limit per servo (or for all), turns; defaults to the +-256 turns
-        of extended position mode.
-    current_limit_ma : float, optional
-        A servo whose present current exceeds it is stopped (stall), mA.
     profile_velocity, profile_acceleration : int
         Written to every servo on open (X-series units: 0.229 rpm, 214.577 rev/min^2).
     retries : int
@@ -156,11 +151,14 @@ class DynamixelBus(ServoBus):
         timeout (about 34 ms), s. 0 on real hardware; a dry run against the
         emulator, which shares this process and its cores, gives it more so that a
         loaded machine is not taken for a missing servo.
-    stop_attempts : int
-        Attempts per servo to switch its torque off (and read it back as off)
-        before :meth:`stop` reports it.
-    reopen_timeout : float
-        How long :meth:`stop` keeps trying to reopen a lost port, s.
+    **limits
+        The safety limits of :class:`~origami_cad.drive.bus.ServoBus`, by keyword:
+        ``max_turns`` (dict or float: per servo or for all, turns; defaults to the
+        +-256 turns of extended position mode), ``current_limit_ma`` (a servo whose
+        present current exceeds it is stopped as stalled, mA), ``stop_attempts``
+        (attempts per servo to switch its torque off, and read it back as off,
+        before :meth:`stop` reports it) and ``reopen_timeout`` (how long
+        :meth:`stop` keeps trying to reopen a lost port, s).
 
     Notes
     -----

@@ -166,16 +166,14 @@ class SerialBus(ServoBus):
         Motor IDs on the board.
     timeout : float
         Seconds to wait for each reply.
-    max_turns : dict or float, optional
-        Safety limit per motor (or for all), turns.
-    current_limit_ma : float, optional
-        A motor whose current exceeds it stops every motor (``S``) and raises
-        :class:`StallError` naming it, mA.
-    stop_attempts : int
-        Attempts to have ``S`` confirmed by the board before :meth:`stop`
-        reports the motors as possibly still on.
-    reopen_timeout : float
-        How long :meth:`stop` keeps trying to reopen a lost port, s.
+    **limits
+        The safety limits of :class:`~origami_cad.drive.bus.ServoBus`, by keyword:
+        ``max_turns`` (dict or float: per motor or for all, turns),
+        ``current_limit_ma`` (a motor whose current exceeds it stops every motor,
+        ``S``, and raises :class:`StallError` naming it, mA), ``stop_attempts``
+        (attempts to have ``S`` confirmed by the board before :meth:`stop` reports
+        the motors as possibly still on) and ``reopen_timeout`` (how long
+        :meth:`stop` keeps trying to reopen a lost port, s).
 
     Notes
     -----

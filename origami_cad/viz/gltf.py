@@ -28,6 +28,7 @@ import numpy as np
 
 from origami_cad._fileio import atomic_write
 from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.triangles import panel_triangles
 
 __all__ = [
     "CREASE_COLORS",
@@ -235,25 +236,6 @@ def write_glb(
     with atomic_write(path, "wb") as fh:
         fh.write(data)
     return Path(path)
-
-
-def panel_triangles(cp: CreasePattern) -> np.ndarray:
-    """Every panel of ``cp`` cut into triangles of its own vertices (t, 3).
-
-    VTK's polygon triangulation of the flat sheet, so that a non-convex panel
-    (an L-shaped border panel) is covered exactly; the triangles then follow the
-    vertices into any folded state.
-    """
-    import pyvista as pv
-
-    if not cp.faces:
-        return np.zeros((0, 3), dtype=np.int64)
-    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-    faces = np.concatenate([np.r_[len(f), f] for f in cp.faces])
-    tri = pv.PolyData(flat, faces).triangulate()
-    if tri.n_points != cp.n_vertices:  # VTK added points: keep only the original panels
-        raise ValueError("a panel could not be triangulated on its own vertices")
-    return tri.faces.reshape(-1, 4)[:, 1:].astype(np.int64)
 
 
 def folding_meshes(cp: CreasePattern, states: Sequence[np.ndarray]) -> list[GlbMesh]:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._fileio import atomic_path
-from origami_cad.viz.render3d import offscreen_plotter
+from origami_cad.viz.render3d import import_pyvista, offscreen_plotter
 
 __all__ = ["PART_COLORS", "render_parts"]
 
@@ -54,7 +54,7 @@ def render_parts(
     colors : mapping, optional
         Colour (sRGB hex) of parts not in :data:`PART_COLORS` (default grey).
     """
-    import pyvista as pv
+    pv = import_pyvista()
 
     meshes = {name: pv.read(str(p)) for name, p in stls.items()}
     size = max(np.ptp(np.asarray(m.bounds).reshape(3, 2), axis=1).max() for m in meshes.values())

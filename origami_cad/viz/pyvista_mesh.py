@@ -35,6 +35,7 @@ import numpy as np
 from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.viz.gltf import CREASE_COLORS, PANEL_COLOR
+from origami_cad.viz.render3d import import_pyvista
 
 __all__ = ["SHAPE_COLOR", "STRING_COLOR", "display_mode", "show", "to_pyvista"]
 
@@ -66,7 +67,7 @@ def _pattern_of(pattern) -> CreasePattern:
 
 
 def _state_blocks(cp: CreasePattern, coords: np.ndarray | None):
-    import pyvista as pv
+    pv = import_pyvista()
 
     if coords is None:
         coords = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
@@ -88,7 +89,7 @@ def _state_blocks(cp: CreasePattern, coords: np.ndarray | None):
 
 
 def _add_strings(blocks, paths: Sequence[np.ndarray]) -> None:
-    import pyvista as pv
+    pv = import_pyvista()
 
     for k, path in enumerate(paths):
         mesh = pv.lines_from_points(np.asarray(path, dtype=float))
@@ -96,7 +97,7 @@ def _add_strings(blocks, paths: Sequence[np.ndarray]) -> None:
 
 
 def _parts_blocks(fab):
-    import pyvista as pv
+    pv = import_pyvista()
 
     from origami_cad.fabrication.export import MATERIAL_COLORS, parts_tessellation
     from origami_cad.fabrication.solids import PART_MATERIALS
@@ -122,7 +123,7 @@ def _hex(color) -> str:
 def _shape_blocks(shape):
     """One block per leaf of a build123d shape or tree, in its (or its nearest ancestor's)
     colour; a leaf of a sheet assembly also names its material."""
-    import pyvista as pv
+    pv = import_pyvista()
 
     from origami_cad.fabrication.assembly import leaf_part
     from origami_cad.fabrication.exports.stl import solid_mesh
@@ -306,7 +307,7 @@ def show(
                 with atomic_path(screenshot) as tmp:
                     plotter.screenshot(str(tmp))
         return image
-    import pyvista as pv
+    pv = import_pyvista()
 
     # a notebook's picture or widget is drawn off-screen, by the kernel
     notebook = mode == "notebook"

@@ -15,9 +15,38 @@ from typing import Any
 import numpy as np
 
 from origami_cad._fileio import atomic_path
+from origami_cad.errors import ExtraError
 from origami_cad.pattern.model import CreasePattern
 
-__all__ = ["folded_mesh", "offscreen_plotter", "render_folded", "render_folding_gif"]
+__all__ = [
+    "VIZ_EXTRA",
+    "folded_mesh",
+    "import_pyvista",
+    "offscreen_plotter",
+    "render_folded",
+    "render_folding_gif",
+]
+
+#: What installs the 3D renders' dependencies (pyvista and VTK, an extra).
+VIZ_EXTRA = "pip install 'origami-cad[viz]'"
+
+
+def import_pyvista() -> Any:
+    """The ``pyvista`` module, for a 3D render.
+
+    Raises
+    ------
+    ExtraError
+        pyvista (or VTK under it) is not installed: the message names the ``viz`` extra.
+    """
+    try:
+        import pyvista
+    except ModuleNotFoundError as exc:
+        raise ExtraError(
+            f"3D renders need pyvista and VTK (the viz extra, {exc.name} is missing): {VIZ_EXTRA}"
+        ) from exc
+    return pyvista
+
 
 _PANEL_COLOR = "#f2e6c9"
 _CREASE_COLORS = {"M": "#d62728", "V": "#1f4fd6", "B": "#222222", "C": "#2ca02c"}
@@ -26,14 +55,14 @@ _STRING_COLOR = "#8e44ad"
 
 def folded_mesh(cp: CreasePattern, coords: np.ndarray):
     """The panels of a folded state as a pyvista ``PolyData`` (polygon faces, mm)."""
-    import pyvista as pv
+    pv = import_pyvista()
 
     faces = np.concatenate([np.r_[len(f), f] for f in cp.faces])
     return pv.PolyData(np.asarray(coords, float), faces)
 
 
 def _add_state(plotter, cp: CreasePattern, coords: np.ndarray, strings=None) -> None:
-    import pyvista as pv
+    pv = import_pyvista()
 
     coords = np.asarray(coords, float)
     plotter.add_mesh(folded_mesh(cp, coords), color=_PANEL_COLOR, ambient=0.3, specular=0.2)
@@ -88,7 +117,7 @@ def offscreen_plotter(window_size: tuple[int, int]) -> Iterator[Any]:
     >>> image.shape
     (48, 64, 3)
     """
-    import pyvista as pv
+    pv = import_pyvista()
 
     with _quiet_polygon_offset():
         plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
@@ -170,7 +199,7 @@ def render_folding_gif(
         raise ValueError("no frames to render")
     if captions is not None and len(captions) != len(frames):
         raise ValueError(f"{len(captions)} captions for {len(frames)} frames")
-    import pyvista as pv
+    pv = import_pyvista()
 
     bounds = pv.PolyData(np.concatenate([np.asarray(f, float) for f in frames])).bounds
     with atomic_path(path) as tmp:
