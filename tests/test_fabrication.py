@@ -37,6 +37,8 @@ from origami_cad.fabrication import (
     theta_max,
     write_fabrication,
 )
+from origami_cad.fabrication.panels import panel_fits
+from origami_cad.fabrication.plan import MIN_BIAS
 from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.kinematics.folding import fold_sequence
 from origami_cad.pattern import CreasePattern
@@ -334,8 +336,7 @@ def test_panels_png_shows_the_sheet(tmp_path, small_fab):
     [
         ({"height": 0.4}, "must exceed the crease thickness"),
         ({"bias": 0.0}, "bias must be a number > 0"),
-        ({"hole_diameter": 25.0}, "does not fit its operation region"),
-        ({"bias": 16.0}, "too small for the inner bias"),
+        ({"border_margin": 40.0}, "too small for the crease layer even at the smallest"),
         ({"holes": [(500.0, 500.0)]}, "not on any panel"),
         ({"holes": [(15.0, 1.0)]}, "does not fit the operation region of panel c0r0s0"),
         ({"height": 0.4}, r"eq\. 6"),
@@ -347,17 +348,52 @@ def test_bad_parameters_are_named(kwargs, message):
         fabricate(miura_design(2, 3, 30.0, 30.0, 65.0).pattern, FabricationParams(**kwargs))
 
 
-def test_a_hole_too_large_for_its_panel_names_the_room_and_only_a_bias_that_fits():
+def test_panels_too_small_for_the_bias_get_the_largest_that_fits_and_are_named():
+    design = miura_design(2, 3, 30.0, 30.0, 65.0)
+    params = FabricationParams(bias=16.0)
+    plan = plan_panels(design, params)
+    assert plan.biases is not None and len(plan.holes) == len(plan.outlines)
+    cp = plan.pattern
+    assert np.count_nonzero(plan.biases < 16.0) == 2  # the middle column
+    for fi, b in enumerate(plan.biases):
+        assert MIN_BIAS <= b <= 16.0
+        assert panel_fits(cp, fi, params, b)
+        if b < 16.0:
+            assert not panel_fits(cp, fi, params, b + 0.02)  # the largest, to 0.01 mm
+    (warning,) = [w for w in plan.warnings if "too small for the inner bias 16 mm" in w]
+    first = int(np.flatnonzero(plan.biases < 16.0)[0])
+    assert f"{cp.face_labels[first]} {plan.biases[first]:.2f} mm" in warning
+    fab = fabricate(design, params)
+    report = fab.report()
+    assert report["panel_bias_mm"] == dict(zip(cp.face_labels, plan.biases.tolist(), strict=True))
+    for o, b in zip(fab.outlines, plan.biases, strict=True):  # outer face inset by its bias
+        want = offset_ring(o.polygon, np.where(o.crease_edge, b, params.border_margin))
+        np.testing.assert_allclose(o.outer, want, atol=1e-9)
+    default = plan_panels(design)  # the default fits: no per-panel biases, nothing in the file
+    assert default.biases is None and "panel_bias_mm" not in fabricate(design).report()
+
+
+def test_a_hole_too_large_for_every_bias_leaves_its_panel_without_one():
     params = FabricationParams(hole_diameter=25.0)
-    with pytest.raises(PatternError) as err:  # 6 x 4 Miura: no bias makes room
-        plan_panels(load_design(EXAMPLES / "miura_6x4.toml"), params)
-    message = str(err.value)
-    assert "a 25 mm hole does not fit its operation region (room for" in message
-    assert "bias" not in message  # the hole is the limit, not the bias
-    with pytest.raises(PatternError) as err:  # larger panels: a smaller bias makes room
-        plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), params)
-    (best,) = re.findall(r"use bias = ([\d.]+)", str(err.value))
-    plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), replace(params, bias=float(best)))
+    plan = plan_panels(load_design(EXAMPLES / "miura_6x4.toml"), params)
+    assert len(plan.holes) == 0
+    assert any("no room for a 25 mm hole and are printed without one" in w for w in plan.warnings)
+    with pytest.raises(PatternError, match="does not fit the operation region"):
+        plan_panels(miura_design(2, 3, 30.0, 30.0, 65.0), replace(params, holes=[(15.0, 1.0)]))
+
+
+def test_facet_creases_are_not_printed_the_panels_are_merged_across_them():
+    # two square panels joined by a valley, each split by a facet diagonal
+    v = [(0, 0), (40, 0), (80, 0), (0, 40), (40, 40), (80, 40)]
+    e = [(0, 1), (1, 2), (3, 4), (4, 5), (0, 3), (2, 5), (1, 4), (0, 4), (1, 5)]
+    cp = CreasePattern(v, e, "BBBBBBVFF")
+    assert len(cp.faces) == 4
+    plan = plan_panels(cp)
+    assert len(plan.outlines) == 2 and len(plan.holes) == 2
+    assert "F" not in plan.pattern.assignments.tolist()
+    for o in plan.outlines:  # whole squares, only the valley chamfered
+        assert shapely.Polygon(o.polygon).area == pytest.approx(1600.0)
+        assert o.crease_edge.sum() == 1
 
 
 @pytest.mark.parametrize(
@@ -442,7 +478,7 @@ def test_cli_writes_everything_or_nothing(tmp_path, capsys):
     report = json.loads((out / "fabrication.json").read_text())
     assert report["p_max"] == pytest.approx(0.7)
     bad = tmp_path / "bad"
-    assert main(["fabricate", design, "-o", str(bad), "--bias", "40"]) == 2
+    assert main(["fabricate", design, "-o", str(bad), "--border-margin", "40"]) == 2
     assert "too small" in capsys.readouterr().err
     assert not bad.exists()
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == []
@@ -535,14 +571,11 @@ def test_fig2_design_fabricates_or_names_the_panel_and_the_largest_bias(tmp_path
     design = load_design(EXAMPLES / "fig2_tg.toml")
     best = largest_bias(design)
     assert 1.5 < best < 2.0
-    with pytest.raises(PatternError) as err:
-        plan_panels(design)  # b = 3 mm
-    message = str(err.value)
-    assert "panel c0r0s" in message
-    assert f"largest inner bias that fits every panel is {best:.2f} mm" in message
-    assert f"--bias {best:.2f}" in message
-    with pytest.raises(PatternError):
-        plan_panels(design, FabricationParams(bias=best + 0.02))
+    plan = plan_panels(design)  # b = 3 mm: the panels too small for it get less
+    reduced = [plan.pattern.face_labels[i] for i in np.flatnonzero(plan.biases < 3.0)]
+    assert "c0r0s3" in reduced and len(reduced) < len(plan.outlines)
+    assert plan.biases.min() == pytest.approx(best, abs=0.011)
+    assert any(f"{reduced[0]} " in w for w in plan.warnings)
     fab = fabricate(design, FabricationParams(bias=best))
     assert len(fab.outlines) == len(design.pattern.faces) == len(fab.holes)
     for name in PART_NAMES:

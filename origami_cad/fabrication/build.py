@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -14,7 +15,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
-from origami_cad.errors import FabricationError
+from origami_cad.errors import FabricationError, OutputError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import (
@@ -124,6 +125,21 @@ class Fabrication:
             for n in PART_NAMES
         }
 
+    def _bias_report(self, labels) -> dict[str, Any]:
+        """Each panel's inner bias (mm) and the panels without a hole, when some panel was
+        too small for the default (nothing otherwise: the file stays as it was)."""
+        if self.plan.biases is None:
+            return {}
+        holed = set(self.plan.hole_panels.tolist())
+        return {
+            "panel_bias_mm": {
+                lab: float(b) for lab, b in zip(labels, self.plan.biases, strict=True)
+            },
+            "panels_without_hole": [lab for i, lab in enumerate(labels) if i not in holed]
+            if self.params.holes == "auto"
+            else [],
+        }
+
     def report(self) -> dict[str, Any]:
         """The content of ``fabrication.json``: masses in g, ``total_mass_g`` the parts as
         solids, ``printed_mass_g`` as printed with the 3MF's settings (``robot.json``'s)."""
@@ -151,6 +167,7 @@ class Fabrication:
                 {"panel": labels[i], "x_mm": h.x, "y_mm": h.y, "diameter_mm": h.diameter}
                 for h, i in zip(self.holes, self.plan.hole_panels.tolist(), strict=True)
             ],
+            **self._bias_report(labels),
             "crease_limits": self.limits.to_dict(),
             "warnings": list(self.warnings),
             "timings_s": self.timings,
@@ -192,7 +209,9 @@ def fabricate(
         check_bed(cp, bed)
     check_panel_count(cp)
     fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED))
-    fab.design = source if isinstance(source, Design) else None
+    if isinstance(source, Design):  # the printed panels: merged across facet creases
+        merged = source.pattern is not fab.pattern
+        fab.design = dataclasses.replace(source, pattern=fab.pattern) if merged else source
     return fab
 
 
@@ -224,7 +243,12 @@ def write_fabrication(
         fab.slicer = slicer
 
     out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{folder}: is a file, not a folder to write the fabrication into")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"{folder}: cannot make this folder ({exc.strerror})") from None
     written: dict[str, dict[str, Path]] = {}
     for fmt, write in WRITERS.items():
         written[fmt], fab.timings[fmt] = _timed_write(write, fab, out)

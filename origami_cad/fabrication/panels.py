@@ -25,9 +25,13 @@ from origami_cad.pattern.model import CreasePattern, Hole
 __all__ = [
     "FREE_EDGES",
     "PanelOutline",
+    "check_panels",
     "offset_ring",
+    "panel_fits",
+    "panel_outline",
     "panel_outlines",
     "plan_holes",
+    "printed_pattern",
 ]
 
 #: Edges whose sides are free (vertical walls, border margin): border and cut.
@@ -199,52 +203,81 @@ def _rings(region: shapely.Polygon | shapely.MultiPolygon) -> tuple[tuple[np.nda
     )
 
 
-def panel_outlines(cp: CreasePattern, params: FabricationParams) -> list[PanelOutline]:
-    """The footprints of every panel of ``cp`` (see :class:`PanelOutline`)."""
+def panel_outlines(
+    cp: CreasePattern, params: FabricationParams, biases: np.ndarray | None = None
+) -> list[PanelOutline]:
+    """The footprints of every panel of ``cp`` (see :class:`PanelOutline`).
+
+    ``biases`` (one per panel, mm) replaces ``params.bias`` panel by panel (default: every
+    panel at ``params.bias``).
+    """
+    check_panels(cp)
+    if biases is None:
+        return [panel_outline(cp, fi, params) for fi in range(len(cp.faces))]
+    return [panel_outline(cp, fi, params, float(b)) for fi, b in enumerate(biases)]
+
+
+def printed_pattern(cp: CreasePattern) -> CreasePattern:
+    """The pattern whose faces are the printed panels: the faces of ``cp`` merged across its
+    facet creases (assignment ``F``: kept flat, never printed as hinges). ``cp`` itself when
+    it has none. The vertices stay as they are (same indices, mm), so a folded state of
+    ``cp`` places the merged panels too; the merged faces get the default labels."""
+    flat = cp.assignments == "F"
+    if not flat.any():
+        return cp
+    keep = ~flat
+    return CreasePattern(
+        cp.vertices,
+        cp.edges[keep],
+        cp.assignments[keep],
+        cp.fold_angles[keep],
+        holes=cp.holes,
+        metadata=cp.metadata,
+        tolerance=cp.tolerance,
+    )
+
+
+def check_panels(cp: CreasePattern) -> None:
+    """Refuse a pattern without panels, or with a panel that is not a simple polygon
+    (:class:`PatternError` naming it)."""
     problems = [p for p in cp.check() if p.code in ("face-not-simple", "face-with-hole")]
     if problems:
         raise PatternError(f"cannot fabricate: {problems[0].message}")
     if not cp.faces:
         raise PatternError("cannot fabricate: the pattern has no panels")
-    b, s, m = params.bias, params.shell, params.midlayer_bias
+
+
+def panel_outline(
+    cp: CreasePattern, fi: int, params: FabricationParams, bias: float | None = None
+) -> PanelOutline:
+    """The footprints of panel (face) ``fi`` of ``cp`` at inner bias ``bias`` (mm, default
+    ``params.bias``); :class:`PatternError` naming the panel when it is too small for them.
+    The pattern itself is not checked (:func:`panel_outlines` does)."""
+    b = params.bias if bias is None else bias
+    s, m = params.shell, params.midlayer_bias
     half = params.half_height
     margin = params.border_margin
     slope = b / half  # horizontal run of a chamfer per mm of height
     wall = s * math.hypot(half, b) / half  # horizontal width of a wall s thick along a chamfer
-    out = []
-    for fi, (ring, sides) in enumerate(zip(cp.faces, cp.face_edges, strict=True)):
-        label = cp.face_labels[fi]
-        poly = cp.vertices[ring]
-        crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
+    ring, sides = cp.faces[fi], cp.face_edges[fi]
+    label = cp.face_labels[fi]
+    poly = cp.vertices[ring]
+    crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
 
-        def inset(
-            crease_off: float, free_off: float, what: str, poly=poly, crease=crease, label=label
-        ) -> np.ndarray:
-            return offset_ring(poly, np.where(crease, crease_off, free_off), label, what)
+    def inset(crease_off: float, free_off: float, what: str) -> np.ndarray:
+        return offset_ring(poly, np.where(crease, crease_off, free_off), label, what)
 
-        inner = inset(CREASE_GAP / 2, margin, "crease layer")
-        outer = inset(b, margin, f"inner bias b = {b:g} mm")
-        infill_inner = inset(wall, margin + s, "shell wall")
-        infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
-        mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
-        region = (
-            shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
-        )
-        out.append(
-            PanelOutline(
-                fi,
-                label,
-                poly,
-                crease,
-                inner,
-                outer,
-                infill_inner,
-                infill_outer,
-                mid,
-                _rings(region),
-            )
-        )
-    return out
+    inner = inset(CREASE_GAP / 2, margin, "crease layer")
+    outer = inset(b, margin, f"inner bias b = {b:g} mm")
+    infill_inner = inset(wall, margin + s, "shell wall")
+    infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
+    mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
+    region = (
+        shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
+    )
+    return PanelOutline(
+        fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, _rings(region)
+    )
 
 
 def _centred_pole(region) -> shapely.Point:
@@ -265,9 +298,14 @@ def _centred_pole(region) -> shapely.Point:
 
 
 def plan_holes(
-    cp: CreasePattern, outlines: list[PanelOutline], params: FabricationParams
+    cp: CreasePattern,
+    outlines: list[PanelOutline],
+    params: FabricationParams,
+    without: frozenset[int] = frozenset(),
 ) -> tuple[tuple[Hole, ...], np.ndarray]:
     """The holes following ``params.holes`` and the panel each one goes through.
+
+    ``without``: panels (face indices) that get no automatic hole (too small for one).
 
     ``auto`` puts one hole per panel at the pole of inaccessibility of its
     operation region (the centre of its largest inscribed circle; among nearly
@@ -287,7 +325,7 @@ def plan_holes(
     if spec == "none":
         return (), np.zeros(0, dtype=np.int64)
     if spec == "auto":
-        placed = [(o.index, _auto_hole(o, diameter)) for o in outlines]
+        placed = [(o.index, _auto_hole(o, diameter)) for o in outlines if o.index not in without]
     else:
         points = (
             [(h.x, h.y, h.diameter) for h in cp.holes]
@@ -315,6 +353,29 @@ def _auto_hole(o: PanelOutline, diameter: float) -> Hole:
             f"(room for {2 * room:.3g} mm); use a smaller hole_diameter or holes = 'none'"
         )
     return Hole(float(centre.x), float(centre.y), diameter)
+
+
+def panel_fits(
+    cp: CreasePattern,
+    fi: int,
+    params: FabricationParams,
+    bias: float,
+    holes: tuple[tuple[float, float, float], ...] = (),
+    auto_hole: bool = True,
+) -> bool:
+    """Whether panel (face) ``fi`` keeps its footprints at inner bias ``bias`` (mm) and room
+    for its hole: the automatic one (``params.holes == "auto"`` and ``auto_hole``) or
+    ``holes`` ((x, y, diameter) mm, the given holes on this panel)."""
+    try:
+        o = panel_outline(cp, fi, params, bias)
+        if params.holes == "auto" and auto_hole:
+            _auto_hole(o, params.hole_diameter)
+    except PatternError:
+        return False
+    region = o.region_polygon()
+    return all(
+        region.contains(shapely.Point(x, y).buffer(d / 2.0, quad_segs=32)) for x, y, d in holes
+    )
 
 
 def _given_hole(

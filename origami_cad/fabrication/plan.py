@@ -21,26 +21,38 @@ import dataclasses
 import enum
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from origami_cad.errors import FabricationError, PatternError
-from origami_cad.fabrication.panels import PanelOutline, panel_outlines, plan_holes
+from origami_cad.fabrication.panels import (
+    PanelOutline,
+    check_panels,
+    panel_fits,
+    panel_outline,
+    panel_outlines,
+    plan_holes,
+    printed_pattern,
+)
 from origami_cad.fabrication.params import FabricationParams
+from origami_cad.kinematics.limits import crease_fold_limit
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
     "DEFAULT_BED",
+    "MIN_BIAS",
     "CreaseLimits",
     "LimitStatus",
+    "PanelBiases",
     "PanelPlan",
     "check_bed",
     "check_panel_count",
     "crease_limits",
     "largest_bias",
+    "panel_biases",
     "plan_panels",
 ]
 
@@ -204,6 +216,9 @@ class PanelPlan:
         What may print or fold badly.
     timings : dict of str to float
         Seconds spent on each step of the plan.
+    biases : ndarray (F,) or None
+        Each panel's inner bias, mm, when some panel got less than ``params.bias``
+        (:func:`panel_biases`); ``None`` when every panel has ``params.bias``.
     """
 
     pattern: CreasePattern
@@ -214,6 +229,12 @@ class PanelPlan:
     limits: CreaseLimits
     warnings: tuple[str, ...] = ()
     timings: dict[str, float] = field(default_factory=dict)
+    biases: np.ndarray | None = None
+
+    def bias_of(self, panel: int) -> float:
+        """The inner bias of panel (face) index ``panel``, mm (``params.bias`` unless the
+        panel was too small for it: :func:`panel_biases`)."""
+        return self.params.bias if self.biases is None else float(self.biases[panel])
 
     @property
     def pattern_with_holes(self) -> CreasePattern:
@@ -244,37 +265,75 @@ def plan_panels(
     Parameters
     ----------
     source : CreasePattern or Design
-        The pattern; a design with a transition graph also gets its crease limits.
+        The pattern; a design with a transition graph also gets its crease limits. Its
+        faces are merged across facet creases (``F``): the plan's ``pattern`` is
+        :func:`~origami_cad.fabrication.panels.printed_pattern`.
     params : FabricationParams, optional
         Default ``FabricationParams()``.
     bed : (float, float)
         The print bed, mm: a sheet larger than it is warned about (``warnings``).
 
+    A panel too small for ``params.bias`` gets the largest bias that fits it, down to
+    :data:`MIN_BIAS` (:func:`panel_biases`; ``biases`` and ``warnings`` say which).
+
     Raises
     ------
     PatternError
-        Naming the panel or hole that does not fit, or the pattern's defect.
+        Naming the panel or hole that does not fit even at :data:`MIN_BIAS`, or the
+        pattern's defect.
     """
     params = params or FabricationParams()
     design = source if isinstance(source, Design) else Design(source, None, "file")
-    cp = design.pattern
+    cp = printed_pattern(design.pattern)
+    if cp is not design.pattern:
+        design = replace(design, pattern=cp)
     t0 = time.perf_counter()
-    try:
-        outlines = tuple(panel_outlines(cp, params))
-    except PatternError as exc:  # a panel too small for an inset: which bias fits
-        raise PatternError(f"{exc}; {_bias_advice(cp, params)}") from None
-    try:
-        holes, hole_panels = plan_holes(cp, list(outlines), params)
-    except PatternError as exc:  # a hole: a smaller bias helps only if one fits
-        best = largest_bias(cp, params)
-        raise PatternError(f"{exc}; {_bias_advice(cp, params)}" if best else str(exc)) from None
+    check_panels(cp)
+    biases = panel_biases(cp, params)
+    reduced = biases.reduced(params.bias)
+    outlines = tuple(panel_outline(cp, fi, params, b) for fi, b in enumerate(biases.bias))
+    holes, hole_panels = plan_holes(cp, list(outlines), params, biases.holeless)
     timings = {"panels_and_holes": time.perf_counter() - t0}
     t0 = time.perf_counter()
     limits = crease_limits(design, params)
     if design.tg is not None:
         timings["crease_limits"] = time.perf_counter() - t0
-    warned = (*_warnings(params, limits), *_bed_warning(cp, bed))
-    return PanelPlan(cp, params, outlines, holes, hole_panels, limits, warned, timings)
+    warned = (
+        *_bias_warnings(cp, params, biases),
+        *_warnings(params, limits),
+        *_bed_warning(cp, bed),
+    )
+    plan = PanelPlan(cp, params, outlines, holes, hole_panels, limits, warned, timings)
+    return replace(plan, biases=biases.bias) if len(reduced) else plan
+
+
+def _named(cp: CreasePattern, faces, what) -> str:
+    """Up to eight panels named with ``what(face)``, and how many more."""
+    faces = list(faces)
+    named = ", ".join(f"{cp.face_labels[f]}{what(f)}" for f in faces[:8])
+    return named + (f" and {len(faces) - 8} more" if len(faces) > 8 else "")
+
+
+def _bias_warnings(cp: CreasePattern, params: FabricationParams, biases) -> tuple[str, ...]:
+    """Which panels got a smaller bias than ``params.bias`` or no hole, and what it costs."""
+    out = []
+    reduced = biases.reduced(params.bias)
+    if len(reduced):
+        least = float(biases.bias[reduced].min())
+        limit = math.degrees(float(crease_fold_limit(least, params.height, params.thickness)))
+        out.append(
+            f"{len(reduced)} of {len(cp.faces)} panels are too small for the inner bias "
+            f"{params.bias:g} mm and got the largest that fits (at least {MIN_BIAS:g} mm, "
+            f"MIN_BIAS): {_named(cp, reduced, lambda f: f' {biases.bias[f]:.2f} mm')}; a crease "
+            f"between two panels of {least:.2f} mm folds to {limit:.1f} deg before their "
+            f"chamfers meet (eq. 6; fabrication.json lists every panel's bias)"
+        )
+    if biases.holeless:
+        out.append(
+            f"{len(biases.holeless)} panels have no room for a {params.hole_diameter:g} mm hole "
+            f"and are printed without one: {_named(cp, sorted(biases.holeless), lambda f: '')}"
+        )
+    return tuple(out)
 
 
 def _bed_excess(cp: CreasePattern, bed: tuple[float, float]) -> str | None:
@@ -312,7 +371,7 @@ def check_panel_count(cp: CreasePattern) -> None:
     ...
     origami_cad.errors.FabricationError: the sheet has 3,600 panels, more than the 2,500 ...
     """
-    n = len(cp.faces)
+    n = len(printed_pattern(cp).faces)
     if n > MAX_FABRICATED_PANELS:
         raise FabricationError(
             f"the sheet has {n:,} panels, more than the {MAX_FABRICATED_PANELS:,} fabricate "
@@ -396,18 +455,118 @@ def largest_bias(
     return round(best, 10)
 
 
-def _bias_advice(cp: CreasePattern, params: FabricationParams) -> str:
-    """What to change: the largest bias that fits, or that no bias does."""
-    best = largest_bias(cp, params)
-    if best is None:
+#: The smallest inner bias a panel gets, mm, when the default does not fit it. Eq. 6 gives
+#: each half of a crease a fold limit of ``atan(2 b / (h - t))``: at 0.2 mm and the default
+#: h - t = 1.8 mm, 12.5 deg, so a crease between two such panels folds to 25.1 deg before
+#: their chamfers meet (146.6 deg at the default 3 mm); a smaller chamfer is under half a
+#: 0.4 mm nozzle's line, which a slicer no longer draws as a slope.
+MIN_BIAS = 0.2
+
+
+def _holes_by_face(cp: CreasePattern, params: FabricationParams) -> dict[int, list]:
+    """The given holes ((x, y, diameter) mm) of each panel: ``holes`` as points or
+    ``"pattern"`` (empty for ``"auto"`` and ``"none"``)."""
+    spec = params.holes
+    if isinstance(spec, str) and spec != "pattern":
+        return {}
+    points = (
+        [(h.x, h.y, h.diameter) for h in cp.holes]
+        if spec == "pattern"
+        else [(x, y, params.hole_diameter) for x, y in spec]
+    )
+    faces = cp.faces_of_points(np.array([(x, y) for x, y, _ in points]).reshape(-1, 2))
+    out: dict[int, list] = {}
+    for pt, fi in zip(points, faces.tolist(), strict=True):
+        out.setdefault(int(fi), []).append(pt)
+    return out
+
+
+@dataclass(frozen=True)
+class PanelBiases:
+    """The inner bias of every panel, and the panels too small for an automatic hole.
+
+    ``bias`` (F,) mm; ``holeless`` the panels (face indices) printed without their
+    automatic hole, because not even :data:`MIN_BIAS` leaves room for it.
+    """
+
+    bias: np.ndarray
+    holeless: frozenset[int] = frozenset()
+
+    def reduced(self, default: float) -> np.ndarray:
+        """The panels (face indices) whose bias is below ``default`` mm."""
+        return np.flatnonzero(self.bias < default - 1e-12)
+
+
+def panel_biases(
+    cp: CreasePattern, params: FabricationParams, minimum: float = MIN_BIAS, step: float = 0.01
+) -> PanelBiases:
+    """The inner bias of each panel, mm: ``params.bias`` where it fits, else the largest that
+    fits (a multiple of ``step``, found by bisection), down to ``minimum``.
+
+    A panel fits a bias when it keeps every footprint (:func:`panel_outline`) and room for
+    its hole (:func:`panel_fits`). With automatic holes, a panel that has no room for its
+    hole even at ``minimum`` gets none (``holeless``), and the largest bias that fits it
+    without.
+
+    Raises
+    ------
+    PatternError
+        Naming the first panel that not even ``minimum`` fits, and what would.
+    """
+    given = _holes_by_face(cp, params)
+    out = np.full(len(cp.faces), float(params.bias))
+    holeless = set()
+    for fi in range(len(cp.faces)):
+        holes = tuple(given.get(fi, ()))
+        if panel_fits(cp, fi, params, params.bias, holes):
+            continue
+        hole = panel_fits(cp, fi, params, minimum, holes)
+        if not hole:
+            if params.holes != "auto" or not panel_fits(cp, fi, params, minimum, auto_hole=False):
+                raise PatternError(_too_small(cp, fi, params, minimum, holes))
+            holeless.add(fi)
+
+        def fits(b: float, fi=fi, holes=holes, hole=hole) -> bool:
+            return panel_fits(cp, fi, params, b, holes, auto_hole=hole)
+
+        lo, hi = minimum, params.bias
+        while hi - lo > step / 4:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+        best = max(minimum, math.floor(lo / step + 1e-9) * step)
+        while best - step >= minimum and not fits(best):
+            best -= step
+        while best + step < params.bias and fits(best + step):
+            best += step
+        out[fi] = round(best, 10)
+    return PanelBiases(out, frozenset(holeless))
+
+
+def _too_small(
+    cp: CreasePattern, fi: int, params: FabricationParams, minimum: float, holes: tuple = ()
+) -> str:
+    """Why panel ``fi`` is refused, and what would print it."""
+    label = cp.face_labels[fi]
+    x0, _, x1, _ = cp.bounds
+    larger = f"print the pattern larger (it is {x1 - x0:.1f} mm wide: --width)"
+    try:
+        panel_outline(cp, fi, params, minimum)
+    except PatternError as exc:
         return (
-            "no inner bias fits (not even 0.01 mm): reduce hole_diameter or midlayer_bias, "
-            "use holes = 'none', or enlarge the panel"
+            f"{exc} even at the smallest inner bias, {minimum:g} mm (MIN_BIAS): {larger} or "
+            f"with a thinner shell (--shell, now {params.shell:g} mm)"
         )
-    theta = math.degrees(dataclasses.replace(params, bias=best).theta_max)
+    for x, y, d in holes:
+        if not panel_fits(cp, fi, params, minimum, ((x, y, d),)):
+            return (
+                f"the hole at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
+                f"region of panel {label} even at the smallest inner bias, {minimum:g} mm "
+                f"(MIN_BIAS): move it toward the panel's middle, make it smaller, or {larger}"
+            )
     return (
-        f"the largest inner bias that fits every panel is {best:.2f} mm "
-        f"(theta_max {theta:.1f} deg): use bias = {best:.2f} (fabricate --bias {best:.2f})"
+        f"panel {label}: no room for a {params.hole_diameter:g} mm hole even at the smallest "
+        f"inner bias, {minimum:g} mm (MIN_BIAS): use a smaller "
+        f"--hole-diameter, --holes none, or {larger}"
     )
 
 

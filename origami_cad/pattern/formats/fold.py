@@ -149,9 +149,16 @@ def write_fold(
         Extra frames for ``file_frames`` (e.g. from :func:`folded_frame`).
     """
     data = fold_dict(cp, frames)
+    try:  # FOLD is JSON: no NaN or infinity, which no reader (ours included) accepts
+        text = json.dumps(data, indent=1, allow_nan=False)
+    except ValueError:
+        raise PatternError(
+            f"{path}: a frame holds NaN or an infinite number; FOLD (JSON) cannot hold it"
+        ) from None
+    except TypeError as exc:
+        raise PatternError(f"{path}: a frame holds a value FOLD cannot hold ({exc})") from None
     with atomic_write(path, "w", encoding="utf-8") as fh:
-        json.dump(data, fh, indent=1)
-        fh.write("\n")
+        fh.write(text + "\n")
     return Path(path)
 
 

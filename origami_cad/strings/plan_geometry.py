@@ -1,0 +1,260 @@
+"""The route planner's geometry: the sheet folded and placed once, candidate holes and anchors.
+
+Lengths mm, fold ratios in [0, 1] (see :mod:`origami_cad.strings.plan`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+
+import numpy as np
+
+from origami_cad.errors import StringsError
+from origami_cad.fabrication.panels import panel_outlines
+from origami_cad.fabrication.params import FabricationParams
+from origami_cad.fabrication.plan import plan_panels
+from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
+from origami_cad.pattern.design import Design
+from origami_cad.strings.dcqc import fold_limit
+from origami_cad.strings.plan_model import PlanGeometry, PlanSettings, TSAPlacement
+from origami_cad.strings.route import RouteSpec, mean_pose, panel_frame, rigid_fit, side_rule
+
+__all__ = ["plan_geometry", "ring_points", "target_ratio"]
+
+
+def target_ratio(
+    design: Design, limit: float, target_p=None, target_angles=None, p0: float = 0.0
+) -> float:
+    """The fold ratio to plan for: ``target_p``, or where every crease of ``target_angles``
+    (``{edge: degrees}``) first reaches its angle, else the fold limit ``limit``.
+    """
+    if target_p is not None:
+        if not p0 < target_p <= limit + 1e-12:
+            raise StringsError(
+                f"--target-p {target_p:g} must lie in ({p0:g}, {limit:.4f}] (the fold limit)"
+            )
+        return float(target_p)
+    if not target_angles:
+        return float(limit)
+    cp = design.pattern
+    edges = np.array([int(e) for e in target_angles], dtype=int)
+    want = np.radians(np.abs([float(v) for v in target_angles.values()]))
+    if np.any((edges < 0) | (edges >= cp.n_edges)):
+        raise StringsError(f"target angles: no crease {edges.tolist()} in the pattern")
+
+    def short(p: float) -> bool:
+        got = np.abs(np.radians(fold_design(design, p).fold_angles[edges]))
+        return bool(np.any(got < want - 1e-9))
+
+    ratios = np.linspace(p0, limit, 101)
+    reached = [k for k, p in enumerate(ratios) if not short(float(p))]
+    if not reached:
+        worst = int(edges[0])
+        raise StringsError(
+            f"target angles: crease {worst} does not reach its angle before the fold "
+            f"limit p = {limit:.4f}"
+        )
+    k = reached[0]
+    if k == 0:
+        return float(ratios[1])
+    lo, hi = float(ratios[k - 1]), float(ratios[k])
+    while hi - lo > 1e-6:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if not short(mid) else (mid, hi)
+    return hi
+
+
+def _fold_table(design: Design, ratios: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rigid folding on ``ratios``: coordinates (G, n, 3) mm and fold angles (G, m) rad."""
+    from origami_cad.kinematics.fold3d import fold_angles_from_coords
+
+    cp = design.pattern
+    if design.tg is not None:
+        raw = fold_coords(design, ratios)
+        return raw, np.stack([fold_angles_from_coords(cp, c) for c in raw])
+    states = fold_sequence(design, ratios)
+    return np.stack([s.coords for s in states]), np.radians(
+        np.stack([s.fold_angles for s in states])
+    )
+
+
+def _placed_coords(design: Design, raw: np.ndarray, held: int) -> np.ndarray:
+    """The folded sheet ``raw`` (G, n, 3) placed as the string models place it (mean pose,
+    or panel ``held`` held)."""
+    cp = design.pattern
+    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
+    if held < 0:
+        return mean_pose(raw, flat)
+    ring = cp.faces[held]
+    out = np.empty_like(raw)
+    for k, c in enumerate(raw):
+        rot, shift = rigid_fit(c[ring], flat[ring])
+        out[k] = c @ rot.T + shift
+    return out
+
+
+def _energy(cp, angles: np.ndarray, stiffness: float) -> np.ndarray:
+    """The creases' elastic energy at each state, N mm (``0.5 k L angle^2`` summed)."""
+    k = stiffness * cp.edge_lengths() * cp.edge_mask("M", "V")
+    return 0.5 * (angles**2 * k).sum(axis=1)
+
+
+def _frames(cp, coords: np.ndarray):
+    """Each panel's frame in every state: v0, e1, e2, top normal (G, F, 3), flat v0, inverse."""
+    from origami_cad.strings.route import frame_orientation
+
+    tri = np.array(
+        [
+            panel_frame(cp, f, *cp.vertices[cp.faces[f]].mean(axis=0))[0]
+            for f in range(len(cp.faces))
+        ]
+    )
+    v0, v1, v2 = coords[:, tri[:, 0]], coords[:, tri[:, 1]], coords[:, tri[:, 2]]
+    e1, e2 = v1 - v0, v2 - v0
+    normal = np.cross(e1, e2) * frame_orientation(cp, tri)[None, :, None]
+    normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+    flat = cp.vertices[tri]
+    mats = np.stack([flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]], axis=-1)  # (F, 2, 2)
+    return v0, e1, e2, normal, flat[:, 0], np.linalg.inv(mats)
+
+
+def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, existing):
+    """Candidate holes (faces, xy) and each panel's shrunk operation region (rings)."""
+    import shapely
+
+    fab = replace(fab, hole_diameter=settings.hole_diameter, holes="auto")
+    outlines = panel_outlines(cp, fab)
+    try:
+        auto = {lab: (h[0].x, h[0].y) for lab, h in plan_panels(cp, fab).holes_by_label().items()}
+    except Exception:  # a panel too small for a hole: no automatic holes there
+        auto = {}
+    faces, points, regions = [], [], []
+    for o in outlines:
+        region = o.region_polygon().buffer(-settings.hole_diameter / 2.0)
+        if o.label in free or region.is_empty or o.label not in auto:
+            regions.append(())
+            continue
+        region = max(shapely.get_parts(region), key=lambda g: g.area)
+        regions.append((shapely.get_coordinates(region.exterior),))
+        pole = np.array(auto[o.label])
+        pts = [pole] + [
+            pole + t * (v - pole)
+            for v in shapely.get_coordinates(region.exterior)[:-1]
+            for t in settings.positions
+        ]
+        for pt in pts:
+            faces.append(o.index)
+            points.append(pt)
+    for x, y in existing:
+        fi = cp.face_of_point(float(x), float(y))
+        if fi < 0:
+            raise StringsError(f"existing hole ({x:g}, {y:g}) mm is not on any panel")
+        faces.append(fi)
+        points.append(np.array([x, y], dtype=float))
+    if not faces:
+        raise StringsError("no panel has room for a hole (all free, or regions too small)")
+    return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(regions)
+
+
+def _anchors(geom_parts: dict, placement: TSAPlacement, cp, auto_xy, thickness: float):
+    """The anchor candidates (A, G, 3) and their ring angles (A,) deg (NaN onboard)."""
+    g = len(geom_parts["ratios"])
+    if placement.kind == "ring":
+        x0, y0, x1, y1 = cp.bounds
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        angles = np.arange(placement.guides) * 360.0 / placement.guides
+        pts = ring_points((cx, cy), placement, angles)
+        return np.broadcast_to(pts[:, None, :], (len(angles), g, 3)).copy(), angles, (cx, cy)
+    face = cp.face_index(placement.panel)
+    a, b = geom_parts["flat_inv"][face] @ (np.asarray(auto_xy) - geom_parts["flat_v0"][face])
+    v0, e1, e2, n = (geom_parts[k][:, face] for k in ("v0", "e1", "e2", "normal"))
+    pos = v0 + a * e1 + b * e2 + (placement.height + thickness / 2.0) * n
+    return pos[None], np.array([math.nan]), (math.nan, math.nan)
+
+
+def ring_points(centre, placement: TSAPlacement, angles) -> np.ndarray:
+    """Guides on the ring at ``angles`` (deg): (k, 3) mm."""
+    t = np.radians(np.asarray(angles, dtype=float))
+    return np.stack(
+        [
+            centre[0] + placement.radius * np.cos(t),
+            centre[1] + placement.radius * np.sin(t),
+            np.full(t.shape, placement.height),
+        ],
+        axis=-1,
+    )
+
+
+def plan_geometry(
+    design: Design,
+    placement: TSAPlacement,
+    fabrication: FabricationParams | None = None,
+    settings: PlanSettings | None = None,
+    *,
+    target_p: float | None = None,
+    target_angles: dict[int, float] | None = None,
+    free_panels: Sequence[str] = (),
+    existing_holes: Sequence[tuple[float, float]] = (),
+) -> PlanGeometry:
+    """Fold and place the sheet once, and lay out the candidate holes and anchors.
+
+    ``fabrication`` is the printed sheet (default ``FabricationParams()``): its
+    eq. 6 limit bounds the target and its operation regions bound the holes;
+    ``free_panels`` (labels) get no holes; ``existing_holes`` ([x, y] mm) are
+    candidates too. See :func:`plan_routes` for the rest.
+    """
+    cp = design.pattern
+    fab = fabrication or FabricationParams()
+    settings = settings or PlanSettings()
+    for label in [*free_panels, *([placement.panel] if placement.panel else [])]:
+        if label not in cp.face_labels:
+            raise StringsError(f"no panel labelled {label!r} in the pattern")
+    limit = fold_limit(design, RouteSpec(placement.tsa, (), fabrication=fab)).p
+    p_end = target_ratio(design, limit, target_p, target_angles)
+    ratios = p_end * np.linspace(0.0, 1.0, settings.grid) ** 1.5  # denser near flat
+    held = cp.face_index(placement.panel) if placement.kind == "onboard" else -1
+    raw, fold_angles = _fold_table(design, ratios)
+    coords = _placed_coords(design, raw, held)
+    v0, e1, e2, normal, flat_v0, flat_inv = _frames(cp, coords)
+    faces, xy, regions = _hole_candidates(cp, fab, settings, set(free_panels), existing_holes)
+    parts = {"ratios": ratios, "v0": v0, "e1": e1, "e2": e2, "normal": normal}
+    parts.update(flat_v0=flat_v0, flat_inv=flat_inv)
+    auto_xy = None
+    if held >= 0:
+        auto_xy = plan_panels(cp, replace(fab, hole_diameter=settings.hole_diameter)).holes_of(held)
+        auto_xy = (auto_xy[0].x, auto_xy[0].y) if auto_xy else tuple(flat_v0[held])
+    anchors, angles, centre = _anchors(parts, placement, cp, auto_xy, fab.height)
+    n_faces = len(cp.faces)
+    rule = np.zeros((n_faces, n_faces), dtype=np.int8)
+    ef = cp.edge_faces()
+    for a, b in {tuple(sorted(map(int, pair))) for pair in ef if min(pair) >= 0}:
+        side = side_rule(cp, a, b)
+        if side is not None:
+            rule[a, b] = rule[b, a] = side
+    return PlanGeometry(
+        ratios=ratios,
+        v0=v0,
+        e1=e1,
+        e2=e2,
+        normal=normal,
+        flat_v0=flat_v0,
+        flat_inv=flat_inv,
+        hole_face=faces,
+        hole_xy=xy,
+        anchors=anchors,
+        anchor_angle=angles,
+        rule=rule,
+        energy=_energy(cp, fold_angles, settings.crease_stiffness),
+        regions=regions,
+        labels=tuple(cp.face_labels),
+        placement=placement,
+        thickness=fab.height,
+        centre=centre,
+        anchor_face=held,
+        target_p=p_end,
+        limit_p=limit,
+        anchor_xy=tuple(float(v) for v in auto_xy) if auto_xy is not None else (math.nan,) * 2,
+        fabrication=fab,
+    )
