@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.commands._options import TOLERANCE
 from origami_cad.errors import DesignError
 
 __all__ = ["FOLD_SUFFIXES", "MAX_FRAMES", "pattern_numbers"]
@@ -44,9 +45,11 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
 
 @register
 class Convert(Command):
-    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture.
+    """Read a pattern (.fold/.dxf/.svg/.opx) and write it as .fold, .dxf, .svg, .opx or a
+    .png picture.
 
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``unit``, ``scale`` and ``width`` size an imported pattern and ``tolerance`` joins it
+    up (``read_pattern``).
     """
 
     NAME, INPUTS, WHAT = "convert", ("source", "output"), "a pattern"
@@ -126,7 +129,7 @@ class Pattern(Command):
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
 
     NAME, INPUTS, OUTPUT, WHAT = "pattern", ("design",), "outputs", "a pattern"
-    OPTIONS = (_LABELS,)
+    OPTIONS = (_LABELS, TOLERANCE)
 
     def suffixes(self):
         return _pattern_suffixes()

@@ -143,7 +143,7 @@ def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
         for e in edges:
             if cp.assignments[e] not in _FOLD:
                 raise PatternError(
-                    f"crease {e} at vertex {v} {loc} mm is {cp.assignments[e]!r}: only mountain "
+                    f"crease {e} at vertex {v} {loc} mm is {cp.assignments[e]}: only mountain "
                     "and valley creases can be folded"
                 )
         sectors = np.mod(np.roll(angles, -1) - angles, 2 * math.pi)

@@ -472,6 +472,42 @@ class CreasePattern:
         out.notes = (*cleanup_notes(out.cleanup), *kept, *out.notes, note)
         return out
 
+    def with_outline_cuts_as_border(self) -> CreasePattern:
+        """A copy whose cut (``C``) edges on the outer boundary of the sheet are border
+        (``B``): ORIPA draws its paper's outline as cut lines. Itself when there are none;
+        an ``outline-cuts`` note counts them."""
+        cut = np.flatnonzero(self.assignments == "C")
+        if cut.size == 0 or not self._faces:
+            return self
+        parts = shapely.get_parts(shapely.union_all(self.face_polygons()))
+        polys = parts[shapely.get_type_id(parts) == 3]  # Polygon
+        if polys.size == 0:
+            return self
+        rings = shapely.get_exterior_ring(polys)
+        mids = shapely.points(self.vertices[self.edges[cut]].mean(axis=1))
+        on = shapely.dwithin(mids[:, None], rings[None, :], 4 * self.tolerance).any(axis=1)
+        if not on.any():
+            return self
+        assign = self.assignments.copy()
+        assign[cut[on]] = "B"
+        out = CreasePattern(
+            self.vertices,
+            self.edges,
+            assign,
+            self.fold_angles,
+            metadata=self.metadata,
+            holes=self.holes,
+            tolerance=self.tolerance,
+        )
+        note = Problem(
+            "outline-cuts",
+            f"{int(on.sum())} cut edges on the outer boundary of the sheet taken as border",
+            severity=Severity.INFO,
+        )
+        out.cleanup = self.cleanup
+        out.notes = (*self.notes, *out.notes, note)
+        return out
+
     def _copy(self) -> CreasePattern:
         out = object.__new__(CreasePattern)
         for name in CreasePattern.__slots__:
@@ -530,7 +566,7 @@ def _as_edges(edges: Any) -> np.ndarray:
         if not whole.all():
             bad = np.argwhere(~whole)[0]
             raise PatternError(
-                f"edge {bad[0]}: vertex index {raw[tuple(bad)]!r} is not a whole number"
+                f"edge {bad[0]}: vertex index {raw[tuple(bad)].item()!r} is not a whole number"
             )
     elif raw.dtype.kind not in "iu":
         raise PatternError(

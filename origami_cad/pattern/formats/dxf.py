@@ -86,7 +86,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import shapely
 
 from origami_cad._fileio import atomic_path
 from origami_cad._toml import input_file
@@ -512,7 +511,8 @@ def _flat_pieces(e: Any, flatten: float) -> Iterator[list[Any]]:
 
 
 def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
-    """Vertex chains of an entity in WCS drawing units (z dropped; curves flattened).
+    """Vertex chains of an entity in WCS drawing units (z dropped, once checked finite;
+    curves flattened).
 
     ``flatten`` is the largest distance (drawing units) between a curve and its chords.
     """
@@ -534,6 +534,8 @@ def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
         raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
     if m is not None:
         chains = [list(m.transform_vertices(chain)) for chain in chains]
+    if not all(math.isfinite(v.z) for chain in chains for v in chain):  # z is dropped: check
+        raise PatternError(f"{item.describe()}: a vertex's z is not finite (NaN or infinite)")
     return [[(float(v.x), float(v.y)) for v in chain] for chain in chains]
 
 
@@ -592,34 +594,6 @@ def _mm_per_unit(doc: Any) -> float:
         return float(units.conversion_factor(code, 4))
     except (TypeError, ValueError, IndexError):
         raise PatternError(f"$INSUNITS = {code} is not a known unit code") from None
-
-
-def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
-    """Cut edges on the outer boundary of the sheet become border (ORIPA's outline)."""
-    cut = np.flatnonzero(cp.assignments == "C")
-    if cut.size == 0 or not cp.faces:
-        return cp
-    parts = shapely.get_parts(shapely.union_all(cp.face_polygons()))
-    polys = parts[shapely.get_type_id(parts) == 3]  # Polygon
-    if polys.size == 0:
-        return cp
-    rings = shapely.get_exterior_ring(polys)
-    mids = shapely.points(cp.vertices[cp.edges[cut]].mean(axis=1))
-    on = shapely.dwithin(mids[:, None], rings[None, :], 4 * cp.tolerance).any(axis=1)
-    if not on.any():
-        return cp
-    assign = cp.assignments.copy()
-    assign[cut[on]] = "B"
-    out = CreasePattern(
-        cp.vertices, cp.edges, assign, metadata={"title": title}, tolerance=cp.tolerance
-    )
-    note = Problem(
-        "outline-cuts",
-        f"{int(on.sum())} cut edges on the outer boundary of the sheet taken as border",
-        severity=Severity.INFO,
-    )
-    out.notes = (*cp.notes, *out.notes, note)
-    return out
 
 
 # ------------------------------------------------------------------- reading
@@ -870,7 +844,7 @@ def _read(p: Path, mm_per_unit: float | None = None, tolerance: Tolerance = None
     cp = CreasePattern(
         coords, edges, letters, metadata={"title": title}, tolerance=import_tolerance(tolerance)
     )
-    cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
+    cp = cp.with_outline_cuts_as_border().with_metadata(source_unit=unit_text)
     cp.notes = (*cp.notes, *unit_notes, *_dropped_notes(dropped))
     return cp.with_holes(holes) if holes else cp
 
