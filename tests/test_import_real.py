@@ -234,3 +234,17 @@ def test_a_nested_svg_viewport_is_refused(tmp_path, capsys, inner):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "nested.svg" in err[0] and "<svg>" in err[0]
     assert not (tmp_path / "out.fold").exists()
+
+
+def test_every_command_that_reads_a_pattern_takes_the_tolerance(tmp_path):
+    from origami_cad.commands import COMMANDS, execute
+
+    for name in ("check", "fold", "fabricate", "convert", "pattern", "plan-route", "simulate"):
+        assert "tolerance" in [o.name for o in COMMANDS[name].OPTIONS], name
+    p = gapped_square_svg(tmp_path / "gap.svg", gap=0.001)
+    joined = execute("convert", p, tmp_path / "joined.fold").result
+    apart = execute("convert", p, tmp_path / "apart.fold", tolerance=0.0001).result
+    assert (joined.n_vertices, apart.n_vertices) == (4, 10)
+    assert read_pattern(tmp_path / "joined.fold").same_graph(joined)
+    with pytest.raises(Exception, match="--tolerance"):
+        execute("fold", p, tmp_path / "f.fold", tolerance=-1)
