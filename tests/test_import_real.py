@@ -248,3 +248,17 @@ def test_every_command_that_reads_a_pattern_takes_the_tolerance(tmp_path):
     assert read_pattern(tmp_path / "joined.fold").same_graph(joined)
     with pytest.raises(Exception, match="--tolerance"):
         execute("fold", p, tmp_path / "f.fold", tolerance=-1)
+
+
+def test_a_design_file_sets_the_tolerance_of_its_pattern(tmp_path):
+    from origami_cad.pattern.design import load_design
+
+    gapped_square_svg(tmp_path / "gap.svg", gap=0.001)
+    (tmp_path / "d.toml").write_text('[pattern]\nkind = "file"\npath = "gap.svg"\n')
+    assert load_design(tmp_path / "d.toml").pattern.n_vertices == 4
+    (tmp_path / "t.toml").write_text(
+        '[pattern]\nkind = "file"\npath = "gap.svg"\ntolerance = 0.0001\n'
+    )
+    assert load_design(tmp_path / "t.toml").pattern.n_vertices == 10
+    # the caller's tolerance wins over the file's
+    assert load_design(tmp_path / "t.toml", tolerance=0.01).pattern.n_vertices == 4
