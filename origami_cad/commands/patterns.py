@@ -105,12 +105,11 @@ class Check(Command):
 
         from origami_cad.pattern import Severity
 
-        loaded, warned = self.load(a, a.source)
-        cp = loaded.pattern
+        cp = self.load(a, a.source)[0].pattern  # its size warning is one of its notes
         problems = cp.check(angle_tolerance=math.radians(a.angle_tolerance))
         shown = [p for p in problems if p.severity != Severity.INFO or a.verbose]
         merged = [p for p in problems if p.code == "merged" and p not in shown]
-        lines = [f"{a.source}: {cp!r}", *warned, *(f"  {p}" for p in merged + shown)]
+        lines = [f"{a.source}: {cp!r}", *(f"  {p}" for p in merged + shown)]
         errors = sum(p.severity == Severity.ERROR for p in problems)
         warnings = sum(p.severity == Severity.WARNING for p in problems)
         lines.append(f"{errors} errors, {warnings} warnings")

@@ -88,6 +88,7 @@ def cleanup_notes(c: Cleanup) -> list[Problem]:
                 )
             )
     for count, text in (
+        (c.coincident, "coincident vertices joined (ends of lines at the same point)"),
         (c.zero_length, "zero-length edges dropped"),
         (c.split, "edges split at T-junctions or crossings"),
         (c.crossings, "vertices added where edges cross"),
