@@ -520,7 +520,7 @@ class CreasePattern:
     def check(self, angle_tolerance: float | None = None) -> list[Problem]:
         """Problems of the pattern, each with its location; empty when sound.
 
-        ``angle_tolerance``: the least tolerance of Kawasaki's theorem, radians
+        ``angle_tolerance``: the least tolerance of Kawasaki's defect, radians
         (default :data:`~origami_cad.pattern.check.KAWASAKI_TOLERANCE`).
 
         See :func:`origami_cad.pattern.check.check_pattern` for what is checked.
