@@ -110,14 +110,14 @@ def test_a_toy_format_is_a_design_path_and_a_cli_output(tmp_path, toy_format, ca
 
 
 def test_unknown_suffixes_name_the_known_formats(tmp_path, toy_format):
-    (tmp_path / "cp.opx").write_text("<opx/>")
-    known = r"readable: \.fold, \.dxf, \.svg, \.json, \.toy"
-    with pytest.raises(PatternError, match=r"cp\.opx.*" + known):
-        read_pattern(tmp_path / "cp.opx")
+    (tmp_path / "cp.ori").write_text("<opx/>")
+    known = r"readable: \.fold, \.dxf, \.svg, \.json, \.opx, \.toy"
+    with pytest.raises(PatternError, match=r"cp\.ori.*" + known):
+        read_pattern(tmp_path / "cp.ori")
     cp = miura_pattern(rows=2, columns=2, panel_length=20.0, panel_width=30.0, sector_angle=60.0)
-    with pytest.raises(PatternError, match=r"writable: \.fold, \.dxf, \.svg, \.toy"):
-        write_pattern(cp, tmp_path / "cp.opx")
-    assert not (tmp_path / "cp.opx.tmp").exists()
+    with pytest.raises(PatternError, match=r"writable: \.fold, \.dxf, \.svg, \.opx, \.toy"):
+        write_pattern(cp, tmp_path / "cp.ori")
+    assert not (tmp_path / "cp.ori.tmp").exists()
 
 
 def test_the_old_format_paths_still_work_with_a_deprecation_warning():

@@ -201,18 +201,20 @@ class Command:
 
     @staticmethod
     def size(a: SimpleNamespace) -> dict[str, Any]:
-        """The ``unit``/``scale``/``width`` options (:data:`SIZING`) as ``read_pattern``'s
-        keywords (``None``: not given)."""
+        """The ``unit``/``scale``/``width``/``tolerance`` options (:data:`SIZING`) as
+        ``read_pattern``'s keywords (``None``: not given)."""
         return {o.name: getattr(a, o.name, None) for o in SIZING}
 
     def load(self, a: SimpleNamespace, path: PathLike, sized: bool = True):
         """``(Design, warnings)``: a design or pattern file, an imported pattern sized by
-        the ``unit``/``scale``/``width`` options; the warnings name an implausible size,
-        and an error the command raises later carries them as notes."""
+        the ``unit``/``scale``/``width`` options (``sized``; else only joined up by
+        ``tolerance``); the warnings name an implausible size, and an error the command
+        raises later carries them as notes."""
         from origami_cad.pattern import size_warnings
         from origami_cad.pattern.design import load_pattern_source
 
-        loaded = load_pattern_source(path, **(self.size(a) if sized else {}))
+        joined = {"tolerance": getattr(a, "tolerance", None)}  # commands that only join up
+        loaded = load_pattern_source(path, **(self.size(a) if sized else joined))
         warned = size_warnings(loaded.pattern)
         notes = _SIZE_NOTES.get()
         if notes is not None:

@@ -11,7 +11,7 @@ from typing import Any
 from origami_cad._args import check_number
 from origami_cad.errors import OptionsError
 
-__all__ = ["SIZING", "Option"]
+__all__ = ["SIZING", "TOLERANCE", "Option"]
 
 _KINDS = ("float", "int", "str", "flag", "object")
 
@@ -132,11 +132,24 @@ class Option:
         )
 
 
-#: ``unit``, ``scale`` and ``width``: how an imported pattern (.dxf, .svg) is sized.
+#: ``tolerance``: vertices of an imported pattern closer than this merge (mm of the pattern
+#: once sized; default: ``IMPORT_RELATIVE_TOLERANCE`` of its size).
+TOLERANCE = Option(
+    "tolerance",
+    "float",
+    "imported patterns: vertices closer than this merge (default 1e-4 of the size)",
+    "mm",
+    min=0,
+    open_min=True,
+    max=1e6,
+)
+#: ``unit``, ``scale``, ``width`` and ``tolerance``: how an imported pattern (.fold, .dxf,
+#: .svg, .opx) is sized and joined up.
 SIZING = (
     Option("unit", help="unit of an imported file: mm, cm, m, in, ft, pt, px or MM"),
     Option("scale", "float", "multiply an imported pattern's size", min=0, open_min=True,
            max=1e6),
     Option("width", "float", "scale an imported pattern to this width", "mm", min=0,
            open_min=True, max=1e6),
+    TOLERANCE,
 )  # fmt: skip

@@ -13,6 +13,7 @@ from origami_cad.commands._base import (
     register,
     wrote,
 )
+from origami_cad.commands._options import TOLERANCE
 from origami_cad.errors import DesignError
 
 __all__ = ["FOLD_SUFFIXES", "MAX_FRAMES", "pattern_numbers"]
@@ -53,9 +54,11 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
 
 @register
 class Convert(Command):
-    """Read a pattern (.fold/.dxf/.svg) and write it as .fold, .dxf, .svg or a .png picture.
+    """Read a pattern (.fold/.dxf/.svg/.opx) and write it as .fold, .dxf, .svg, .opx or a
+    .png picture.
 
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``unit``, ``scale`` and ``width`` size an imported pattern and ``tolerance`` joins it
+    up (``read_pattern``).
     """
 
     NAME, INPUTS, WHAT = "convert", ("source", "output"), "a pattern"
@@ -87,28 +90,44 @@ class Convert(Command):
 
 @register
 class Check(Command):
-    """Validate a pattern; ``status`` is 1 when it has errors. Writes nothing.
+    """Validate a pattern or design (any input fold takes); ``status`` is 1 when it has
+    errors. Writes nothing.
 
-    ``angle_tolerance`` is the tolerance of Kawasaki's theorem, radians.
+    It says what the import merged (vertices, vertices put on an edge, crossing points:
+    how many, the largest gap closed and the tolerance). ``angle_tolerance`` is the
+    least tolerance of Kawasaki's theorem, degrees (more where the file's coordinates
+    were rounded; the defect is how far a vertex's even sectors miss 180 deg); a vertex
+    that cannot fold flat is a warning, as it still folds in 3D.
+    ``unit``, ``scale``, ``width`` and ``tolerance`` size and join up an imported pattern.
     """
 
     NAME, INPUTS = "check", ("source",)
     OPTIONS = (
-        Option("angle_tolerance", "float", "Kawasaki's theorem", "rad", 1e-6, min=0, max=0.1),
+        Option("angle_tolerance", "float", "Kawasaki's defect, at least", "deg", 0.01, min=0,
+               max=5),
         Option("verbose", "flag", "also list what was normalised", short="-v"),
-    )
+        *SIZING,
+    )  # fmt: skip
 
     def run(self, a) -> Outputs:
-        from origami_cad.pattern import Severity, read_pattern
+        import math
 
-        cp = read_pattern(a.source)
-        problems = cp.check(angle_tolerance=a.angle_tolerance)
-        lines = [f"{a.source}: {cp!r}"]
-        lines += [f"  {p}" for p in problems if p.severity != Severity.INFO or a.verbose]
+        from origami_cad.pattern import Severity
+
+        cp = self.load(a, a.source)[0].pattern  # its size warning is one of its notes
+        problems = cp.check(angle_tolerance=math.radians(a.angle_tolerance))
+        shown = [p for p in problems if p.severity != Severity.INFO or a.verbose]
+        merged = [p for p in problems if p.code == "merged" and p not in shown]
+        lines = [f"{a.source}: {cp!r}", *(f"  {p}" for p in merged + shown)]
         errors = sum(p.severity == Severity.ERROR for p in problems)
         warnings = sum(p.severity == Severity.WARNING for p in problems)
         lines.append(f"{errors} errors, {warnings} warnings")
         numbers = [("check", f"{errors} errors, {warnings} warnings"), *pattern_numbers(cp)]
+        c = cp.cleanup
+        if c.merged or c.snapped or c.crossings_merged:
+            gap = max(c.merged_gap, c.snapped_gap, c.crossing_gap)
+            numbers.append(("merged", f"{c.merged + c.snapped + c.crossings_merged} "
+                            f"(largest gap {gap:.2g} mm)"))  # fmt: skip
         status = 1 if errors else 0
         return Outputs(messages=lines, numbers=numbers, result=problems, status=status)
 
@@ -118,7 +137,7 @@ class Pattern(Command):
     """Compute a design file's crease pattern; write it to each of ``outputs`` (by extension)."""
 
     NAME, INPUTS, OUTPUT, WHAT = "pattern", ("design",), "outputs", "a pattern"
-    OPTIONS = (_LABELS,)
+    OPTIONS = (_LABELS, TOLERANCE)
 
     def suffixes(self):
         return _pattern_suffixes()

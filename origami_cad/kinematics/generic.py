@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from origami_cad.errors import PatternError
-from origami_cad.pattern.check import interior_vertices, kawasaki_residuals
+from origami_cad.pattern.check import interior_vertices, kawasaki_residuals, kawasaki_tolerances
 from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["FLAT_FOLD_TOLERANCE", "degree4_ratio", "fold_degree4", "vertex_closure"]
@@ -64,7 +64,9 @@ def vertex_closure(sectors: np.ndarray, rho: np.ndarray) -> float:
     return float(np.linalg.norm(m - np.eye(3)))
 
 
-def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
+def degree4_ratio(
+    sectors: np.ndarray, signs: np.ndarray, tol: float = FLAT_FOLD_TOLERANCE
+) -> float:
     """``c`` of ``tan(rho_1 / 2) = c tan(rho_0 / 2)`` at a flat-foldable degree-4 vertex.
 
     Where two opposite creases lie on one straight line (a map's vertex), that line
@@ -83,6 +85,9 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
         Sector angles, radians: sector ``k`` lies between crease ``k`` and ``k + 1``.
     signs : ndarray (4,)
         +1 valley, -1 mountain, for creases 0..3.
+    tol : float
+        How far from straight two creases may be and still be one line, and from closed
+        the folded vertex may be, radians (more than the default for rounded coordinates).
 
     Raises
     ------
@@ -103,15 +108,13 @@ def degree4_ratio(sectors: np.ndarray, signs: np.ndarray) -> float:
     else:
         num, den = math.sin((alpha + beta) / 2), math.sin((alpha - beta) / 2)
     probe = 0.3
-    if abs(den) < FLAT_FOLD_TOLERANCE:  # creases 1 and 3 are one straight line: it folds
+    if abs(den) < tol:  # creases 1 and 3 are one straight line: it folds
         c = math.inf  # first, alone; creases 0 and 2 only once it is folded flat (a map)
         rho = np.array([0.0, probe] * 2)
     else:  # c = 0: creases 0 and 2 are one straight line, folding alone
-        c = 0.0 if abs(num) < FLAT_FOLD_TOLERANCE else abs(num / den)
+        c = 0.0 if abs(num) < tol else abs(num / den)
         rho = np.array([probe, 2 * math.atan(c * math.tan(probe / 2))] * 2)
-    if vertex_closure(np.asarray(sectors, dtype=float), rho * np.asarray(signs)) > (
-        FLAT_FOLD_TOLERANCE
-    ):
+    if vertex_closure(np.asarray(sectors, dtype=float), rho * np.asarray(signs)) > tol:
         raise ValueError("the vertex does not close when folded with these signs")
     return c
 
@@ -140,7 +143,7 @@ def _vertex_tables(cp: CreasePattern, interior: np.ndarray):
         for e in edges:
             if cp.assignments[e] not in _FOLD:
                 raise PatternError(
-                    f"crease {e} at vertex {v} {loc} mm is {cp.assignments[e]!r}: only mountain "
+                    f"crease {e} at vertex {v} {loc} mm is {cp.assignments[e]}: only mountain "
                     "and valley creases can be folded"
                 )
         sectors = np.mod(np.roll(angles, -1) - angles, 2 * math.pi)
@@ -169,7 +172,9 @@ def fold_degree4(
         pattern's centroid).
     tol : float
         Loop-consistency tolerance, radians (and ``tol * size`` mm for positions);
-        default :data:`FLAT_FOLD_TOLERANCE`.
+        default :data:`FLAT_FOLD_TOLERANCE`, or more for a pattern whose coordinates
+        were rounded (the angle its creases may be off by, as its Kawasaki check allows:
+        :func:`~origami_cad.pattern.check.kawasaki_tolerances`).
 
     Returns
     -------
@@ -181,6 +186,7 @@ def fold_degree4(
     if not 0.0 <= p <= 1.0:
         raise PatternError(f"fold ratio p must lie in [0, 1] for the degree-4 folder, got {p}")
     prep = _prepare(cp)
+    tol = max(tol, prep.noise)
     if driving_edge is None:
         if tol not in prep.drivers:
             prep.drivers[tol] = _default_driver(cp, prep, tol)
@@ -201,12 +207,14 @@ def fold_degree4(
 class _Prepared:
     """What folding a pattern needs at every fold ratio, computed once per pattern: each
     interior vertex's creases and sectors, the creases' signs (+1 valley), the vertices on
-    each crease, the vertices' ratios by (vertex, first crease) and the default drivers."""
+    each crease, how far its crease directions may be off by rounding (rad), the vertices'
+    ratios by (vertex, first crease) and the default drivers."""
 
     tables: dict
     sign: np.ndarray
     creases: np.ndarray
     by_edge: dict[int, list[int]]
+    noise: float = 0.0
     ratios: dict[tuple[int, int], float] = field(default_factory=dict)
     drivers: dict[float, int] = field(default_factory=dict)
 
@@ -231,7 +239,11 @@ def _prepare(cp: CreasePattern) -> _Prepared:
         for e in edges:
             by_edge.setdefault(e, []).append(v)
     sign = np.where(cp.assignments == "V", 1.0, -1.0)
-    prep = _Prepared(tables, sign, creases, by_edge)
+    # how far rounding may turn a crease (rad); the error adds up vertex by vertex along a
+    # loop, about as many as the square root of the vertices (a grid's side)
+    noise = float(kawasaki_tolerances(cp, interior, 0.0).max(initial=0.0))
+    noise *= math.sqrt(max(len(interior), 1))
+    prep = _Prepared(tables, sign, creases, by_edge, noise)
     _PREPARED[cp] = prep
     return prep
 
@@ -258,11 +270,13 @@ def _default_driver(cp: CreasePattern, prep: _Prepared, tol: float) -> int:
 
 
 def _check_flat_foldable(cp: CreasePattern, interior: np.ndarray) -> None:
-    """Raise :class:`PatternError` naming the first interior vertex that breaks Kawasaki."""
+    """Raise :class:`PatternError` naming the first interior vertex that breaks Kawasaki
+    by more than its tolerance (:func:`~origami_cad.pattern.check.kawasaki_tolerances`)."""
     res = kawasaki_residuals(cp, interior)
+    tol = kawasaki_tolerances(cp, interior)
     folding = cp.edge_mask(*_FOLD, "U", "J")
-    for v, r in zip(interior, res, strict=True):
-        if abs(r) <= FLAT_FOLD_TOLERANCE:
+    for v, r, t in zip(interior, res, tol, strict=True):
+        if abs(r) / 2 <= t:
             continue
         loc = _mm(cp.vertices[v])
         if not np.isfinite(r):  # an odd number of folding creases
@@ -308,7 +322,7 @@ def _propagate(cp, prep: _Prepared, driving_edge: int, angle: float, tol: float)
             k = edges.index(e)
             order = [edges[(k + j) % 4] for j in range(4)]
             if (v, e) not in ratios:
-                ratios[v, e] = _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign)
+                ratios[v, e] = _vertex_ratio(cp, v, order, np.roll(sectors, -k), sign, tol)
             a, c = magnitude[e], ratios[v, e]
             settle(order[2], a, v)
             # a map's vertex (two straight lines): tan(b/2) = c tan(a/2) with c = inf says the
@@ -322,12 +336,14 @@ def _propagate(cp, prep: _Prepared, driving_edge: int, angle: float, tol: float)
     return magnitude
 
 
-def _vertex_ratio(cp, v: int, order: list[int], sectors: np.ndarray, sign: np.ndarray) -> float:
+def _vertex_ratio(
+    cp, v: int, order: list[int], sectors: np.ndarray, sign: np.ndarray, tol: float
+) -> float:
     """The degree-4 ratio of vertex ``v`` with its creases in ``order`` (the driving one
     first) and ``sectors`` (rad) in the same order; a clear error when it cannot fold.
     """
     try:
-        return degree4_ratio(sectors, sign[order])
+        return degree4_ratio(sectors, sign[order], tol)
     except ValueError as exc:
         loc = _mm(cp.vertices[v])
         raise PatternError(

@@ -20,7 +20,8 @@
 takes ``path`` (relative to the design file) of a ``.fold``, ``.dxf`` or ``.svg``
 and optionally its size: ``unit`` (``"mm"``, ``"cm"``, ``"m"``, ``"in"``, ...,
 replacing the unit the file declares) and/or ``scale`` (a factor), or ``width``
-(mm), as :func:`~origami_cad.pattern.io.read_pattern` takes them.
+(mm), and ``tolerance`` (mm: vertices closer than this merge), as
+:func:`~origami_cad.pattern.io.read_pattern` takes them.
 """
 
 from __future__ import annotations
@@ -98,31 +99,38 @@ def miura_design(
     return Design(cp, tg, "miura")
 
 
-#: the size options of an imported pattern (keywords of read_pattern)
-SIZE_OPTIONS = ("unit", "scale", "width")
+#: the size options of an imported pattern (keywords of read_pattern), and its tolerance
+SIZE_OPTIONS = ("unit", "scale", "width", "tolerance")
 
 
 def _sized(size: dict[str, Any], where: str, kind: str) -> None:
     """A DesignError when size options are given for a design that is not imported."""
     given = [k for k in SIZE_OPTIONS if size.get(k) is not None]
+    if given == ["tolerance"] and kind != "file":
+        raise DesignError(
+            f"{where}: the tolerance option joins up only imported patterns (.fold, .dxf, "
+            f'.svg, .opx, or kind = "file"); a {kind!r} design is exact'
+        )
     if given and kind != "file":
+        given = [k for k in given if k != "tolerance"]
         raise DesignError(
             f"{where}: the {'/'.join(given)} "
             f"{'options size' if len(given) > 1 else 'option sizes'} only "
-            f'imported patterns (.fold, .dxf, .svg, or kind = "file"); a {kind!r} design is '
-            "sized by its own keys"
+            f'imported patterns (.fold, .dxf, .svg, .opx, or kind = "file"); a {kind!r} design '
+            "is sized by its own keys"
         )
 
 
 def _file_size(table: Table, size: dict[str, Any]) -> dict[str, Any]:
-    """The size options of a ``kind = "file"`` table; ``size`` given by the caller wins."""
-    own = {
-        "unit": table.string("unit") if table.has("unit") else None,
-        "scale": table.number("scale", low=0, low_open=True) if table.has("scale") else None,
-        "width": table.number("width", low=0, low_open=True) if table.has("width") else None,
-    }
-    if any(size.get(k) is not None for k in SIZE_OPTIONS):
-        return {k: size.get(k) for k in SIZE_OPTIONS}
+    """The size options of a ``kind = "file"`` table; those given by the caller win (the
+    size as a whole, the tolerance on its own)."""
+    number = {k: table.number(k, low=0, low_open=True) if table.has(k) else None for k in (
+        "scale", "width", "tolerance")}  # fmt: skip
+    own = {"unit": table.string("unit") if table.has("unit") else None, **number}
+    if any(size.get(k) is not None for k in ("unit", "scale", "width")):
+        own = {**own, **{k: size.get(k) for k in ("unit", "scale", "width")}}
+    if size.get("tolerance") is not None:
+        own["tolerance"] = size["tolerance"]
     return own
 
 
@@ -132,12 +140,13 @@ def load_design(
     unit: str | float | None = None,
     scale: float | None = None,
     width: float | None = None,
+    tolerance: float | None = None,
 ) -> Design:
     """Read a design file (TOML).
 
     ``unit``, ``scale`` and ``width`` size an imported pattern (``kind =
-    "file"``; any of them replaces the table's own), as
-    :func:`~origami_cad.pattern.io.read_pattern` takes them.
+    "file"``; any of them replaces the table's own), and ``tolerance`` (mm) joins it up,
+    as :func:`~origami_cad.pattern.io.read_pattern` takes them.
 
     Raises
     ------
@@ -152,7 +161,7 @@ def load_design(
     table = top.table("pattern")
     top.finish()
     kind = table.string("kind", choices=KINDS)
-    size = {"unit": unit, "scale": scale, "width": width}
+    size = {"unit": unit, "scale": scale, "width": width, "tolerance": tolerance}
     _sized(size, str(p), kind)
     try:
         if kind == "transition-graph":
@@ -309,16 +318,19 @@ def load_pattern_source(
     unit: str | float | None = None,
     scale: float | None = None,
     width: float | None = None,
+    tolerance: float | None = None,
 ) -> Design:
-    """A design file (``.toml``) or a pattern file (``.fold``/``.dxf``/``.svg``) as a Design.
+    """A design file (``.toml``) or a pattern file (``.fold``/``.dxf``/``.svg``/``.opx``)
+    as a Design.
 
-    ``unit``, ``scale`` and ``width`` size an imported pattern (see
-    :func:`~origami_cad.pattern.io.read_pattern`).
+    ``unit``, ``scale`` and ``width`` size an imported pattern and ``tolerance`` (mm)
+    joins it up (see :func:`~origami_cad.pattern.io.read_pattern`).
     """
     p = Path(path)
+    size = {"unit": unit, "scale": scale, "width": width, "tolerance": tolerance}
     if p.suffix.lower() == ".toml":
-        return load_design(p, unit=unit, scale=scale, width=width)
-    return Design(read_pattern(p, unit=unit, scale=scale, width=width), None, "file", p)
+        return load_design(p, **size)
+    return Design(read_pattern(p, **size), None, "file", p)
 
 
 def tg_design(

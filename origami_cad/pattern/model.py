@@ -60,6 +60,7 @@ from origami_cad.pattern.planar import (
     planar_faces,
     rings_with_edges,
 )
+from origami_cad.pattern.problems import CLEANUP_CODES, Problem, Severity, cleanup_notes
 
 __all__ = [
     "DEFAULT_RELATIVE_TOLERANCE",
@@ -102,45 +103,6 @@ class Assignment(StrEnum):
 
 
 _VALID = frozenset(a.value for a in Assignment)
-#: the codes of the notes :func:`cleanup_notes` writes
-_CLEANUP_CODES = frozenset({"merged", "normalised", "duplicate-conflict"})
-
-
-class Severity(StrEnum):
-    """How bad a :class:`Problem` is."""
-
-    ERROR = "error"
-    WARNING = "warning"
-    INFO = "info"
-
-
-@dataclass(frozen=True)
-class Problem:
-    """One finding of :meth:`CreasePattern.check` or of normalisation.
-
-    Parameters
-    ----------
-    code : str
-        Short machine-readable kind, e.g. ``"maekawa"``, ``"open-border"``.
-    message : str
-        What is wrong, naming the vertex, edge or face.
-    location : tuple of float or None
-        Where, in pattern coordinates (mm).
-    severity : Severity
-        ``error`` (the pattern cannot be folded or fabricated as is),
-        ``warning`` or ``info`` (what normalisation changed).
-    """
-
-    code: str
-    message: str
-    location: tuple[float, float] | None = None
-    severity: Severity = Severity.ERROR
-
-    def __str__(self) -> str:
-        where = ""
-        if self.location is not None:
-            where = f" at ({self.location[0]:.4g}, {self.location[1]:.4g}) mm"
-        return f"{self.severity.value}: {self.code}{where}: {self.message}"
 
 
 @dataclass(frozen=True)
@@ -506,8 +468,44 @@ class CreasePattern:
         )
         note = Problem("scaled", f"scaled by {factor:.6g}", severity=Severity.INFO)
         out.cleanup = self.cleanup.scaled(factor)  # what the reader merged, in the new mm
-        kept = [n for n in self.notes if n.code not in _CLEANUP_CODES]
+        kept = [n for n in self.notes if n.code not in CLEANUP_CODES]
         out.notes = (*cleanup_notes(out.cleanup), *kept, *out.notes, note)
+        return out
+
+    def with_outline_cuts_as_border(self) -> CreasePattern:
+        """A copy whose cut (``C``) edges on the outer boundary of the sheet are border
+        (``B``): ORIPA draws its paper's outline as cut lines. Itself when there are none;
+        an ``outline-cuts`` note counts them."""
+        cut = np.flatnonzero(self.assignments == "C")
+        if cut.size == 0 or not self._faces:
+            return self
+        parts = shapely.get_parts(shapely.union_all(self.face_polygons()))
+        polys = parts[shapely.get_type_id(parts) == 3]  # Polygon
+        if polys.size == 0:
+            return self
+        rings = shapely.get_exterior_ring(polys)
+        mids = shapely.points(self.vertices[self.edges[cut]].mean(axis=1))
+        on = shapely.dwithin(mids[:, None], rings[None, :], 4 * self.tolerance).any(axis=1)
+        if not on.any():
+            return self
+        assign = self.assignments.copy()
+        assign[cut[on]] = "B"
+        out = CreasePattern(
+            self.vertices,
+            self.edges,
+            assign,
+            self.fold_angles,
+            metadata=self.metadata,
+            holes=self.holes,
+            tolerance=self.tolerance,
+        )
+        note = Problem(
+            "outline-cuts",
+            f"{int(on.sum())} cut edges on the outer boundary of the sheet taken as border",
+            severity=Severity.INFO,
+        )
+        out.cleanup = self.cleanup
+        out.notes = (*self.notes, *out.notes, note)
         return out
 
     def _copy(self) -> CreasePattern:
@@ -519,13 +517,18 @@ class CreasePattern:
         return out
 
     # ------------------------------------------------------------- validation
-    def check(self, angle_tolerance: float = 1e-6) -> list[Problem]:
+    def check(self, angle_tolerance: float | None = None) -> list[Problem]:
         """Problems of the pattern, each with its location; empty when sound.
+
+        ``angle_tolerance``: the least tolerance of Kawasaki's defect, radians
+        (default :data:`~origami_cad.pattern.check.KAWASAKI_TOLERANCE`).
 
         See :func:`origami_cad.pattern.check.check_pattern` for what is checked.
         """
         from origami_cad.pattern.check import check_pattern
 
+        if angle_tolerance is None:
+            return check_pattern(self)
         return check_pattern(self, angle_tolerance=angle_tolerance)
 
     def same_graph(self, other: CreasePattern, tolerance: float = 1e-9) -> bool:
@@ -563,7 +566,7 @@ def _as_edges(edges: Any) -> np.ndarray:
         if not whole.all():
             bad = np.argwhere(~whole)[0]
             raise PatternError(
-                f"edge {bad[0]}: vertex index {raw[tuple(bad)]!r} is not a whole number"
+                f"edge {bad[0]}: vertex index {raw[tuple(bad)].item()!r} is not a whole number"
             )
     elif raw.dtype.kind not in "iu":
         raise PatternError(
@@ -668,50 +671,6 @@ def _resolve_tolerance(
     if not (math.isfinite(value) and value > 0):
         raise PatternError(f"tolerance must be a finite length > 0 mm, got {value:g}")
     return value
-
-
-def _gap(mm: float) -> str:
-    return f"{mm:.2g} mm" if mm > 0 else "0 mm"
-
-
-def cleanup_notes(c: Cleanup) -> list[Problem]:
-    """The notes of a :class:`~origami_cad.pattern.planar.Cleanup`: what was merged,
-    with the largest gap closed and the tolerance (``merged``), and what else changed
-    (``normalised``); coincident creases of different letters are warnings."""
-    notes: list[Problem] = []
-    tol = f"tolerance {c.tolerance:.2g} mm"
-    for count, gap, text in (
-        (c.merged, c.merged_gap, "vertices merged with a neighbour closer than the tolerance"),
-        (c.snapped, c.snapped_gap, "vertices off an edge by less than the tolerance put on it"),
-        (c.crossings_merged, c.crossing_gap, "crossing points merged with a vertex"),
-    ):
-        if count:
-            notes.append(
-                Problem(
-                    "merged",
-                    f"{count} {text} (largest gap {_gap(gap)}; {tol})",
-                    severity=Severity.INFO,
-                )
-            )
-    for count, text in (
-        (c.zero_length, "zero-length edges dropped"),
-        (c.split, "edges split at T-junctions or crossings"),
-        (c.crossings, "vertices added where edges cross"),
-        (c.duplicates, "duplicate edges dropped"),
-        (c.unused, "unused vertices dropped"),
-    ):
-        if count:
-            notes.append(Problem("normalised", f"{count} {text}", severity=Severity.INFO))
-    for mid, letter, kept in c.conflicts:
-        notes.append(
-            Problem(
-                "duplicate-conflict",
-                f"two coincident edges are {letter} and {kept}; kept {kept}",
-                mid,
-                Severity.WARNING,
-            )
-        )
-    return notes
 
 
 def _as_vertices(vertices: Any) -> np.ndarray:

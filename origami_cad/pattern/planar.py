@@ -98,8 +98,12 @@ class Cleanup:
     tolerance : float
         The tolerance it worked within, mm.
     merged, merged_gap : int, float
-        Vertices merged into a neighbour closer than the tolerance, and the largest
-        distance from one to the vertex it was merged into, mm.
+        Vertices merged into a neighbour closer than the tolerance but not at the same
+        point (a gap closed), and the largest distance from one to the vertex it was
+        merged into, mm.
+    coincident : int
+        Vertices at the very point of another (the shared ends of lines drawn one by
+        one), joined.
     snapped, snapped_gap : int, float
         Vertices that lay off an edge by less than the tolerance (not on it) and split
         it there (a T-junction drawn with a gap), and the largest such gap, mm.
@@ -109,7 +113,7 @@ class Cleanup:
         Points added where edges cross.
     crossings_merged, crossing_gap : int, float
         Crossing points merged with a vertex or another crossing point closer than the
-        tolerance, and the largest distance closed, mm.
+        tolerance (not at the same point), and the largest distance closed, mm.
     zero_length, duplicates, unused : int
         Zero-length edges (once merged), duplicate edges, unused vertices dropped.
     conflicts : tuple
@@ -121,6 +125,7 @@ class Cleanup:
     tolerance: float
     merged: int = 0
     merged_gap: float = 0.0
+    coincident: int = 0
     snapped: int = 0
     snapped_gap: float = 0.0
     split: int = 0
@@ -356,12 +361,10 @@ def _drop_duplicates(
     return edges, assign, angles, n_dup
 
 
-def _largest_gap(verts: np.ndarray, rep: np.ndarray, which: np.ndarray) -> float:
-    """The largest distance (mm) from a vertex of ``which`` to its representative."""
-    if not len(which):
-        return 0.0
+def _gaps(verts: np.ndarray, rep: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """The distance (mm) from each vertex of ``which`` to its representative."""
     d = verts[which] - verts[rep[which]]
-    return float(np.hypot(d[:, 0], d[:, 1]).max())
+    return np.hypot(d[:, 0], d[:, 1])
 
 
 def _snap_gaps(verts: np.ndarray, edges: np.ndarray, se: np.ndarray, sv: np.ndarray) -> np.ndarray:
@@ -404,8 +407,9 @@ def _split(
         # crossing points may coincide with each other or with vertices
         rep = merge_close(verts, tol)
         moved = np.flatnonzero(rep != np.arange(len(rep)))
-        crossings_merged = int(np.sum(moved >= n_before))
-        crossing_gap = _largest_gap(verts, rep, moved)
+        gaps = _gaps(verts, rep, moved)
+        crossings_merged = int(np.sum((moved >= n_before) & (gaps > 0)))
+        crossing_gap = float(gaps.max(initial=0.0))
         edges = rep[edges]
         zero = edges[:, 0] == edges[:, 1]
         edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
@@ -432,8 +436,9 @@ def normalise(
     # 1. snap near-coincident vertices
     rep = merge_close(verts, tol)
     moved = np.flatnonzero(rep != np.arange(len(rep)))
-    merged = len(moved)
-    merged_gap = _largest_gap(verts, rep, moved)
+    gaps = _gaps(verts, rep, moved)
+    merged, coincident = int(np.sum(gaps > 0)), int(np.sum(gaps == 0))
+    merged_gap = float(gaps.max(initial=0.0))
     edges = rep[edges]
     n_used = len(np.unique(edges))
     if n_used > MAX_VERTICES:
@@ -463,12 +468,14 @@ def normalise(
     remap[used] = np.arange(len(used))
     verts = verts[used]
     edges = remap[edges]
-    n_unused = max(0, n_in_vertices + n_cross - merged - crossings_merged - len(used))
-    changed = bool(merged or n_zero or n_split or n_dup or n_unused) or len(edges) != n_in_edges
+    n_unused = max(0, n_in_vertices + n_cross - len(moved) - crossings_merged - len(used))
+    changed = bool(len(moved) or n_zero or n_split or n_dup or n_unused)
+    changed = changed or len(edges) != n_in_edges
     cleanup = Cleanup(
         tolerance=float(tol),
         merged=merged,
         merged_gap=merged_gap,
+        coincident=coincident,
         snapped=snapped,
         snapped_gap=snapped_gap,
         split=n_split,

@@ -7,17 +7,20 @@ suffix     module                 notes
 ``.dxf``   :mod:`.formats.dxf`    layers Mountain/Valley/Cut/Border, mm
 ``.svg``   :mod:`.formats.svg`    Origami Simulator colour convention
 ``.json``  :mod:`.formats.pygamix` PyGamiX's designs (read only), FOLD
+``.opx``   :mod:`.formats.opx`    ORIPA's XML (line types, y down)
 =========  =====================  ======================================
 
 Each format module ends in two small dicts, ``readers`` and ``writers``, from a
 lower-case suffix to ``read(path, mm_per_unit) -> CreasePattern`` (mm; ``mm_per_unit``
-None for the unit the file declares) and ``write(cp, path) -> Path`` (atomic).
+None for the unit the file declares; a reader that also takes ``tolerance=`` (mm, see
+:func:`~origami_cad.pattern.planar.import_tolerance`) honours ``--tolerance``) and
+``write(cp, path) -> Path`` (atomic).
 :data:`READERS` and :data:`WRITERS` merge them; :func:`origami_cad.pattern.read_pattern`
 and :func:`~origami_cad.pattern.write_pattern` dispatch through them. A new format is
 its module and one line of :data:`MODULES`.
 
 >>> sorted(READERS), sorted(WRITERS)
-(['.dxf', '.fold', '.json', '.svg'], ['.dxf', '.fold', '.svg'])
+(['.dxf', '.fold', '.json', '.opx', '.svg'], ['.dxf', '.fold', '.opx', '.svg'])
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from typing import Any, ClassVar
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
-from origami_cad.pattern.formats import dxf, fold, pygamix, svg
+from origami_cad.pattern.formats import dxf, fold, opx, pygamix, svg
 
 __all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
 
@@ -42,6 +45,7 @@ MODULES = (
     dxf,
     svg,
     pygamix,
+    opx,
 )
 
 MODULES_BY_NAME = {m.__name__.rsplit(".", 1)[-1]: m for m in MODULES}

@@ -86,11 +86,10 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import shapely
 
-from origami_cad._fileio import atomic_path
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats.dxf_write import write_dxf
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
     MAX_EDGES,
@@ -103,20 +102,6 @@ from origami_cad.pattern.model import (
 from origami_cad.pattern.planar import Tolerance, import_tolerance
 
 __all__ = ["MAX_ENTITIES", "MAX_SEGMENTS", "read_dxf", "write_dxf"]
-
-#: assignment -> (layer, ACI colour, linetype) written by :func:`write_dxf`
-_LAYERS = {
-    "M": ("Mountain", 1, "CONTINUOUS"),
-    "V": ("Valley", 5, "DASHED"),
-    "C": ("Cut", 3, "CONTINUOUS"),
-    "B": ("Border", 7, "CONTINUOUS"),
-    "F": ("Flat", 8, "CONTINUOUS"),
-    "U": ("Unassigned", 9, "CONTINUOUS"),
-    "J": ("Join", 9, "CONTINUOUS"),
-}
-_HOLE_LAYER = ("Holes", 4)
-#: assignment -> the ACI colour of each LINE (ORIPA reads these, not the layers')
-_LINE_ACI = {"M": 1, "V": 5, "C": 3, "B": 3, "F": 8, "U": 9, "J": 9}
 
 #: layer-name words (lower case, substrings) and the assignment they mean, in order
 _LAYER_WORDS = (
@@ -147,7 +132,7 @@ _CURVED = ("ARC", "CIRCLE", "ELLIPSE", "SPLINE")
 _FLATTEN_MM = 0.01
 #: chord tolerance relative to the drawing's size: a curve never becomes more than a
 #: few thousand chords, however large the drawing (the pattern merges vertices closer
-#: than 1e-6 of its size anyway)
+#: than 1e-4 of its size anyway: IMPORT_RELATIVE_TOLERANCE)
 _FLATTEN_RELATIVE = 1e-6
 #: block nesting deeper than this is taken as a cycle
 _MAX_DEPTH = 32
@@ -156,69 +141,6 @@ _MAX_DEPTH = 32
 MAX_ENTITIES = 100_000
 #: most line segments read, curves flattened: a pattern's limit of edges
 MAX_SEGMENTS = MAX_EDGES
-
-
-# --------------------------------------------------------------------- writing
-def _dxf_text(text: str, limit: int = 255) -> str:
-    """``text`` safe as one DXF string value: a line break would start a new group
-    (injecting entities), so control characters become spaces; lone surrogates,
-    which no encoding holds, become U+FFFD; at most ``limit`` characters."""
-    out = []
-    for c in str(text)[:limit]:
-        code = ord(c)
-        out.append(" " if code < 32 or code == 127 else "\ufffd" if 0xD800 <= code < 0xE000 else c)
-    return "".join(out)
-
-
-def write_dxf(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
-    """Write a crease pattern as a DXF file (R2010, millimetres), atomically.
-
-    Parameters
-    ----------
-    cp : CreasePattern
-        The pattern; coordinates in mm.
-    path : path-like
-        Output ``.dxf`` file; replaced only once it is completely written.
-
-    Returns
-    -------
-    Path
-        ``path``.
-
-    Notes
-    -----
-    Fold angles are not stored (DXF has no place for them): reading the file
-    back gives the default +-180 degrees for mountains and valleys.
-    """
-    import ezdxf
-
-    doc = ezdxf.new("R2010", setup=True)  # setup: standard linetypes incl. DASHED
-    doc.header["$INSUNITS"] = 4
-    doc.header["$MEASUREMENT"] = 1
-    if cp.title:
-        doc.header["$PROJECTNAME"] = _dxf_text(cp.title)
-    for name, color, linetype in dict.fromkeys(_LAYERS.values()):
-        doc.layers.add(name, color=color, linetype=linetype)
-    doc.layers.add(_HOLE_LAYER[0], color=_HOLE_LAYER[1])
-    msp = doc.modelspace()
-    for (a, b), letter in zip(cp.edges.tolist(), cp.assignments.tolist(), strict=True):
-        xa, ya = cp.vertices[a]
-        xb, yb = cp.vertices[b]
-        msp.add_line(
-            (float(xa), float(ya)),
-            (float(xb), float(yb)),
-            dxfattribs={"layer": _LAYERS[letter][0], "color": _LINE_ACI[letter]},
-        )
-    for h in cp.holes:
-        attribs = {"layer": _HOLE_LAYER[0], "color": _HOLE_LAYER[1]}
-        msp.add_circle((h.x, h.y), h.diameter / 2, dxfattribs=attribs)
-    x0, y0, x1, y1 = cp.bounds
-    doc.set_modelspace_vport(
-        height=1.1 * max(y1 - y0, (x1 - x0) * 0.75, 1.0), center=((x0 + x1) / 2, (y0 + y1) / 2)
-    )
-    with atomic_path(path) as tmp:
-        doc.saveas(tmp)
-    return Path(path)
 
 
 # ------------------------------------------------------------- classification
@@ -512,7 +434,8 @@ def _flat_pieces(e: Any, flatten: float) -> Iterator[list[Any]]:
 
 
 def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
-    """Vertex chains of an entity in WCS drawing units (z dropped; curves flattened).
+    """Vertex chains of an entity in WCS drawing units (z dropped, once checked finite;
+    curves flattened).
 
     ``flatten`` is the largest distance (drawing units) between a curve and its chords.
     """
@@ -534,6 +457,8 @@ def _points(item: _Item, flatten: float) -> list[list[tuple[float, float]]]:
         raise PatternError(f"{item.describe()}: cannot read its geometry ({_why(exc)})") from None
     if m is not None:
         chains = [list(m.transform_vertices(chain)) for chain in chains]
+    if not all(math.isfinite(v.z) for chain in chains for v in chain):  # z is dropped: check
+        raise PatternError(f"{item.describe()}: a vertex's z is not finite (NaN or infinite)")
     return [[(float(v.x), float(v.y)) for v in chain] for chain in chains]
 
 
@@ -592,34 +517,6 @@ def _mm_per_unit(doc: Any) -> float:
         return float(units.conversion_factor(code, 4))
     except (TypeError, ValueError, IndexError):
         raise PatternError(f"$INSUNITS = {code} is not a known unit code") from None
-
-
-def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
-    """Cut edges on the outer boundary of the sheet become border (ORIPA's outline)."""
-    cut = np.flatnonzero(cp.assignments == "C")
-    if cut.size == 0 or not cp.faces:
-        return cp
-    parts = shapely.get_parts(shapely.union_all(cp.face_polygons()))
-    polys = parts[shapely.get_type_id(parts) == 3]  # Polygon
-    if polys.size == 0:
-        return cp
-    rings = shapely.get_exterior_ring(polys)
-    mids = shapely.points(cp.vertices[cp.edges[cut]].mean(axis=1))
-    on = shapely.dwithin(mids[:, None], rings[None, :], 4 * cp.tolerance).any(axis=1)
-    if not on.any():
-        return cp
-    assign = cp.assignments.copy()
-    assign[cut[on]] = "B"
-    out = CreasePattern(
-        cp.vertices, cp.edges, assign, metadata={"title": title}, tolerance=cp.tolerance
-    )
-    note = Problem(
-        "outline-cuts",
-        f"{int(on.sum())} cut edges on the outer boundary of the sheet taken as border",
-        severity=Severity.INFO,
-    )
-    out.notes = (*cp.notes, *out.notes, note)
-    return out
 
 
 # ------------------------------------------------------------------- reading
@@ -870,7 +767,7 @@ def _read(p: Path, mm_per_unit: float | None = None, tolerance: Tolerance = None
     cp = CreasePattern(
         coords, edges, letters, metadata={"title": title}, tolerance=import_tolerance(tolerance)
     )
-    cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
+    cp = cp.with_outline_cuts_as_border().with_metadata(source_unit=unit_text)
     cp.notes = (*cp.notes, *unit_notes, *_dropped_notes(dropped))
     return cp.with_holes(holes) if holes else cp
 

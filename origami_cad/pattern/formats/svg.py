@@ -43,6 +43,7 @@ from origami_cad._fileio import atomic_write
 from origami_cad._names import xml_text
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats.xmlparse import parse_bounded
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
     MAX_EDGES,
@@ -562,44 +563,14 @@ def _dropped_notes(dropped: dict[str, bool], name: str) -> list[Problem]:
 
 
 def _svg_root(p: Path, name: str) -> ET.Element:
-    """The ``<svg>`` root element of file ``p`` (``name`` starts every error).
-
-    Parsed incrementally: an element nested deeper than :data:`MAX_DEPTH` or the
-    element past :data:`MAX_ELEMENTS` stops the parse with a PatternError naming it.
-    """
-    try:
-        root = _parse_bounded(p, name)
-    except ET.ParseError as exc:
-        raise PatternError(f"{name}: not valid XML ({exc})") from None
-    except OSError as exc:
-        raise PatternError(f"{name}: cannot be read ({exc.strerror or exc})") from None
+    """The ``<svg>`` root element of file ``p`` (``name`` starts every error), parsed
+    within :data:`MAX_DEPTH` and :data:`MAX_ELEMENTS` (:func:`.xmlparse.parse_bounded`)."""
+    why = " (libxml2's, so browsers and Inkscape cannot open it either)"
+    root = parse_bounded(p, name, MAX_DEPTH, MAX_ELEMENTS, why)
     if _local(root.tag) != "svg":
         raise PatternError(
             f"{name}: the root element is <{printable(_local(root.tag))}>, not <svg>"
         )
-    return root
-
-
-def _parse_bounded(p: Path, name: str) -> ET.Element:
-    """The root of ``p``'s element tree, refused while parsing past the limits."""
-    root = None
-    depth = count = 0
-    with open(p, "rb") as fh:
-        for event, el in ET.iterparse(fh, events=("start", "end")):
-            if event == "end":
-                depth -= 1
-                continue
-            depth, count = depth + 1, count + 1
-            root = el if root is None else root
-            if depth > MAX_DEPTH:
-                raise PatternError(
-                    f"{name}: <{printable(_local(el.tag))}> (element {count:,}) is nested "
-                    f"{depth} deep, deeper than the limit of {MAX_DEPTH} (libxml2's, so "
-                    "browsers and Inkscape cannot open it either)"
-                )
-            if count > MAX_ELEMENTS:
-                raise PatternError(f"{name}: more than {MAX_ELEMENTS:,} elements")
-    assert root is not None  # a document has a root, or iterparse raised ParseError
     return root
 
 
@@ -643,6 +614,8 @@ def _walk_svg(
             f"{name}: <{printable(tag)}{' id=' + printable(ident) if ident else ''}> "
             f"(element {counter})"
         )
+        if tag == "svg" and el is not root:
+            _nested_svg(el, where)
         if "opacity" in own:
             opacity = opacity * _opacity(own["opacity"], where, "opacity")
         m = matrix @ _transform(el.attrib.get("transform", ""), where)
@@ -662,6 +635,23 @@ def _walk_svg(
             )
         stack.extend((child, m, style, opacity, using) for child in reversed(el))
     return segments, holes, title, dropped
+
+
+def _nested_svg(el: ET.Element, where: str) -> None:  # fmt: skip
+    """PatternError for a nested ``<svg>`` that sets its own viewport (``viewBox``, ``x``,
+    ``y``), which this reader does not apply: an empty ``viewBox`` draws nothing, and a
+    valid one, or an offset, would move and scale what it holds."""
+    box = _numbers(el.attrib.get("viewBox", ""), where, "viewBox")
+    if box and (len(box) != 4 or box[2] <= 0 or box[3] <= 0):
+        raise PatternError(
+            f"{where}: viewBox must be 4 numbers, width and height > 0 (got "
+            f"{printable(el.attrib['viewBox'], 60)!r}; SVG draws nothing then)"
+        )
+    if box or any(_num(el.attrib.get(k, "0"), where, k) != 0 for k in ("x", "y")):
+        raise PatternError(
+            f"{where}: a nested <svg> with its own viewBox or x, y is not read "
+            "(it would move and scale what it holds); ungroup it first"
+        )
 
 
 def _used(
