@@ -167,15 +167,23 @@ class Structure:
         return self.hinge_edge >= 0
 
 
-def _triangulate(cp: CreasePattern, ring: np.ndarray, label: str) -> list[tuple[int, int, int]]:
+def _triangulate(
+    cp: CreasePattern, ring: np.ndarray, label: str, size: float
+) -> list[tuple[int, int, int]]:
+    """Panel ``ring``'s triangles; ``size`` is the pattern's (mm), for the zero-area check."""
     pts = cp.vertices[ring]
     poly = shapely.Polygon(pts)
-    if poly.area <= 1e-6 * max(cp.size, 1.0) ** 2:
+    if poly.area <= 1e-6 * max(size, 1.0) ** 2:
         raise PatternError(f"panel {label} has zero area: it cannot be simulated")
     if len(ring) == 3:
         return [tuple(int(v) for v in ring)]
     if poly.convex_hull.area - poly.area <= 1e-9 * poly.area:  # convex: a fan
-        return [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
+        fan = [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
+        a, b, c = (cp.vertices[list(t)] for t in zip(*fan, strict=True))
+        u, w = b - a, c - a
+        areas = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
+        if np.all(areas > 1e-6 * poly.area):  # (vertices along a side make slivers)
+            return fan
     index = {(float(x), float(y)): int(v) for (x, y), v in zip(pts, ring, strict=True)}
     tris = []
     for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(poly)):
@@ -250,9 +258,9 @@ def build_structure(
 
 def _panel_triangles(cp: CreasePattern) -> np.ndarray:
     """Every panel triangulated: node triples (t, 3), panel by panel."""
-    tris = []
+    tris, size = [], cp.size  # (computed once: it measures every vertex)
     for fi, ring in enumerate(cp.faces):
-        tris.extend(_triangulate(cp, ring, cp.face_labels[fi]))
+        tris.extend(_triangulate(cp, ring, cp.face_labels[fi], size))
     return np.array(tris, dtype=np.int64)
 
 
