@@ -36,6 +36,8 @@ _API = {
     "FoldedState": "origami_cad.kinematics.folding",
     "fold_design": "origami_cad.kinematics.folding",
     "fold_sequence": "origami_cad.kinematics.folding",
+    "fold": "origami_cad.simulation.folder",
+    "fold_states": "origami_cad.simulation.folder",
     "place_on_table": "origami_cad.kinematics.placement",
     # arm design (eq. 5, CMA-ES)
     "ArmTask": "origami_cad.design",
@@ -90,8 +92,10 @@ __all__ = [
     "display_mode",
     "export_step_tree",
     "fabricate",
+    "fold",
     "fold_design",
     "fold_sequence",
+    "fold_states",
     "load_design",
     "load_route",
     "load_task",
@@ -130,6 +134,7 @@ if TYPE_CHECKING:  # for type checkers and the docs' name check; at run time: __
     from origami_cad.pattern.model import CreasePattern
     from origami_cad.pattern.tg import TGDesign
     from origami_cad.simulation import SimulationParams, simulate
+    from origami_cad.simulation.folder import fold, fold_states
     from origami_cad.simulation.mjcf import to_mjcf
     from origami_cad.strings import RouteSpec, TSAParams, load_route, simulate_dcqc
     from origami_cad.strings.plan import plan_routes

@@ -211,3 +211,15 @@ def test_asking_for_the_closed_form_where_it_does_not_apply_is_one_line(tmp_path
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "vertex" in err[0]
     assert not out.exists()
+
+
+def test_a_dangling_creases_far_end_moves_with_its_panel():
+    # two panels on a valley, and a mountain crease from the valley's middle into the left
+    # panel that ends there: its far end is on no panel's outline, and folds with the panel
+    v = [(0, 0), (20, 0), (40, 0), (40, 20), (20, 20), (0, 20), (20, 10), (8, 10)]
+    edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 0), (1, 6), (6, 4), (6, 7)]
+    cp = CreasePattern(v, edges, ["B"] * 6 + ["V", "V", "M"])
+    state = fold_general(cp, [0.5])[0]
+    assert state.strain < 0.01  # every pattern edge keeps its length, the dangling one too
+    assert _edge_strain(cp, state.coords) * 100 <= state.strain + 1e-9
+    assert abs(state.fold_angles[cp.edge_mask("V")][0]) == pytest.approx(90.0, abs=0.05)

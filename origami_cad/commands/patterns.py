@@ -161,13 +161,23 @@ class Pattern(Command):
         return result
 
 
-def _flat_creases_note(cp, fold_angles) -> list[str]:
-    """A note when some mountain and valley creases do not fold at all (degrees given)."""
+def _flat_creases_note(cp, fold_angles, method: str = "closed form") -> list[str]:
+    """A note when some mountain and valley creases do not fold at all (degrees given), or,
+    folded by the general solver, when most of them turn by less than 5 deg."""
     import numpy as np
 
     if fold_angles is None:
         return []
     creases = cp.edge_mask("M", "V")
+    if method != "closed form":
+        turned = int(np.sum(np.abs(np.asarray(fold_angles)[creases]) > 5.0))
+        if 2 * turned >= creases.sum():
+            return []
+        return [
+            f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
+            "with panels as stiff as printed ones this pattern hardly folds from flat (it does "
+            "not fold rigidly; its panels would have to bend)"
+        ]
     flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
     if not flat.any():
         return []
@@ -230,9 +240,14 @@ def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
 
 @register
 class Fold(Command):
-    """Fold rigidly from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif, .glb
+    """Fold from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif, .glb
     or a .step of the printed structure folded at ``ratio`` (``Fabrication.assembly``; the
-    default fabrication parameters, with the pattern's own string holes).
+    default fabrication parameters, with the pattern's own string holes; closed form only).
+
+    ``method``: ``auto`` folds in closed form where it applies, else by the general
+    solver (:mod:`origami_cad.simulation.folder`; its largest edge strain is reported and
+    a warning given over :data:`~origami_cad.simulation.folder.STRAIN_LIMIT` percent);
+    ``closed-form`` or ``general`` ask for one.
 
     ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30),
     each lying on the table, centred on the flat sheet
@@ -267,8 +282,9 @@ class Fold(Command):
         still = file_format(out, FOLD_SUFFIXES) == ".png"
         caption = f"Folded at p = {ratio:g}" if still else f"Folding from p = 0 to {ratio:g}"
         plural = "s" if len(states) > 1 else ""
-        flat = _flat_creases_note(loaded.pattern, states[-1].fold_angles if ratio > 0 else None)
         method, strain = states[-1].method, max(s.strain for s in states)
+        end = states[-1].fold_angles if ratio > 0 else None
+        flat = _flat_creases_note(loaded.pattern, end, method)
         how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
         return Outputs(
             files=[out],

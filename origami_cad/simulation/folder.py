@@ -259,11 +259,40 @@ def _facet_stiffness(st: Structure, params: SimulationParams) -> np.ndarray:
 
 
 def _state(cp: CreasePattern, st: Structure, x: np.ndarray, p: float) -> FoldedState:
-    """The folded state of nodes ``x`` (n, 3) mm: fold angles per edge (degrees, 0 on the
-    border) and the largest bar strain, percent."""
+    """The folded state of nodes ``x`` (n, 3) mm: the vertices on no panel carried by the
+    panel triangle they lie in, fold angles per edge (degrees, 0 on the border) and the
+    largest strain of a bar or pattern edge, percent."""
+    x = _carry_loose(cp, st, x)
     length, _ = bar_lengths(x, st.bars)
-    strain = float(np.max(np.abs(length - st.bar_rest) / st.bar_rest)) * 100.0
+    strain = float(np.max(np.abs(length - st.bar_rest) / st.bar_rest))
+    flat = cp.edge_lengths()
+    folded = np.linalg.norm(x[cp.edges[:, 1]] - x[cp.edges[:, 0]], axis=1)
+    keep = flat > 0
+    if keep.any():
+        strain = max(strain, float(np.max(np.abs(folded[keep] - flat[keep]) / flat[keep])))
     angles = np.zeros(cp.n_edges)
     folds = st.hinge_edge >= 0
     angles[st.hinge_edge[folds]] = np.degrees(fold_angles(x, st.hinges[folds]))
-    return FoldedState(float(p), x.copy(), angles, method="general", strain=strain)
+    return FoldedState(float(p), x, angles, method="general", strain=100.0 * strain)
+
+
+def _carry_loose(cp: CreasePattern, st: Structure, x: np.ndarray) -> np.ndarray:
+    """``x`` (n, 3) mm with each vertex that no panel triangle has (the far end of a
+    dangling crease) moved with the triangle it lies in (or the nearest), flat."""
+    x = x.copy()
+    loose = np.setdiff1d(np.arange(cp.n_vertices), st.triangles.ravel())
+    if not len(loose):
+        return x
+    tri = st.triangles
+    a, b, c = (cp.vertices[tri[:, k]] for k in range(3))
+    u, w = b - a, c - a
+    det = u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]
+    for v in loose:
+        d = cp.vertices[v] - a
+        s1 = (d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0]) / det
+        s2 = (u[:, 0] * d[:, 1] - u[:, 1] * d[:, 0]) / det
+        inside = np.minimum(np.minimum(s1, s2), 1.0 - s1 - s2)  # >= 0 inside the triangle
+        t = int(np.argmax(inside))
+        i, j, k = tri[t]
+        x[v] = x[i] + s1[t] * (x[j] - x[i]) + s2[t] * (x[k] - x[i])
+    return x
