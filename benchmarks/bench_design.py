@@ -66,10 +66,10 @@ def run() -> list[tuple[str, float, str]]:
         (
             "fitness: designs per second (1,000 designs, 10 vectors, 46 samples)",
             best,
-            "target >= 20,000",
+            "(wall)",
         ),
         ("  median of 15 timings, designs per second", median, "(shared machine)"),
-        ("  by this process's CPU time, designs per second", cpu, "(load-independent)"),
+        ("  by this process's CPU time, designs per second", cpu, "goal >= 100,000"),
         ("fitness: microseconds per design", 1e6 / best, "target <= 50"),
         ("fitness with co-designed bias: designs per second", co_best, ">= 20,000"),
         ("  by this process's CPU time, designs per second", co_cpu, "(load-independent)"),

@@ -44,12 +44,10 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.design.kernel import population_terms
+from origami_cad.design.kernel import population_terms, reachable_ends, sampled_turns
 from origami_cad.design.limits import panel_bias_violations
 from origami_cad.design.predicates import area_edges
 from origami_cad.design.task import ArmTask
-from origami_cad.kinematics.chain import half_turn_tangents, hypar_alpha0
-from origami_cad.kinematics.limits import reachable_fold_angle
 from origami_cad.pattern.miura import leg_gaps
 
 __all__ = [
@@ -223,7 +221,7 @@ def _fold_ranges(
     """Each design's bias (mm), crease limit and end of its reachable fold range (radians)."""
     b = np.broadcast_to(np.asarray(task.bias if bias is None else bias, float), (n_designs,))
     limit = np.broadcast_to(task.crease_limit(None if bias is None else b), (n_designs,))
-    return b, limit, reachable_fold_angle(beta, limit)
+    return b, limit, reachable_ends(np.ascontiguousarray(beta), np.ascontiguousarray(limit))
 
 
 def _build_violations(
@@ -245,10 +243,10 @@ def _sampled_turns(
     task: ArmTask, theta_end: np.ndarray, beta: np.ndarray, entry_flags: Any
 ) -> tuple[np.ndarray, np.ndarray]:
     """Eq. 2's half-turn tangents (D, S, n) and eq. 3's ``alpha_0`` (D, S) over each range."""
-    theta = theta_end[:, None] * np.linspace(0.0, 1.0, task.samples)[None, :]
-    t = half_turn_tangents(theta, beta, entry_flags)
-    a0 = hypar_alpha0(theta) if task.hypar_base else np.zeros_like(theta)
-    return np.ascontiguousarray(t), np.ascontiguousarray(a0)
+    ramp = np.linspace(0.0, 1.0, task.samples)
+    ef0 = np.asarray(entry_flags, dtype=np.int64).reshape(-1)
+    ef0 = np.ascontiguousarray(np.broadcast_to(ef0, (beta.shape[0],)))
+    return sampled_turns(theta_end, np.ascontiguousarray(beta), ef0, ramp, bool(task.hypar_base))
 
 
 def arm_fitness(

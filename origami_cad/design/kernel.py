@@ -24,7 +24,53 @@ from origami_cad.design.predicates import (
     state_touches_area,
 )
 
-__all__ = ["population_terms"]
+__all__ = ["population_terms", "reachable_ends", "sampled_turns"]
+
+
+@njit(cache=True)
+def reachable_ends(beta, main):  # pragma: no cover - compiled
+    """Each design's end of the reachable fold range, radians (D,): the main crease's
+    limit ``main`` (D,) and every leg's, ``2 atan(|cos beta_i| tan(main / 2))``; the
+    same arithmetic as :func:`~origami_cad.kinematics.limits.reachable_fold_angle`
+    with ``leg_limit`` its default, libm's scalar functions for the trigonometry."""
+    n_designs, n = beta.shape
+    out = np.empty(n_designs)
+    for d in range(n_designs):
+        tan_half = math.tan(min(main[d], math.pi) / 2.0)
+        end = main[d]
+        for i in range(n):
+            leg = 2.0 * math.atan(abs(math.cos(beta[d, i])) * tan_half)
+            end = min(end, leg)
+        out[d] = end
+    return out
+
+
+@njit(cache=True)
+def sampled_turns(theta_end, beta, ef0, ramp, hypar):  # pragma: no cover - compiled
+    """Eq. 2's half-turn tangents (D, S, n) and eq. 3's ``alpha_0`` (D, S) at the samples
+    ``theta = theta_end[d] ramp[s]`` (radians), with the arithmetic of
+    :func:`~origami_cad.kinematics.chain.half_turn_tangents` and
+    :func:`~origami_cad.kinematics.chain.hypar_alpha0` (``alpha_0`` 0 unless ``hypar``)
+    and libm's scalar functions for the trigonometry: the same bits on every CPU."""
+    n_designs, n = beta.shape
+    n_samples = ramp.shape[0]
+    t = np.empty((n_designs, n_samples, n))
+    a0 = np.zeros((n_designs, n_samples))
+    tb = np.empty(n)
+    for d in range(n_designs):
+        for i in range(n):
+            sign = 1.0 - 2.0 * ((ef0[d] + i) % 2)
+            tb[i] = math.tan(beta[d, i]) * sign
+        for s in range(n_samples):
+            theta = theta_end[d] * ramp[s]
+            half = math.sin(theta / 2.0)
+            for i in range(n):
+                t[d, s, i] = half * tb[i]
+            if hypar:
+                c = min(max(math.cos(theta / 2.0), 0.0), 1.0)
+                r = min(max(math.sqrt(2.0 * c / (1.0 + c)), 0.0), 1.0)
+                a0[d, s] = math.acos(r)
+    return t, a0
 
 
 @njit(cache=True)
