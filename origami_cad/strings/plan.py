@@ -172,12 +172,17 @@ def plan_routes(
     if n_strings is None:
         return fewest_strings(design, geom, settings, seed, executor, progress, check)
     planned = search_routes(geom, settings, n_strings, seed, executor, progress)
+    return _checked(design, geom, settings, planned, check, n_strings)
+
+
+def _checked(design, geom, settings, planned, check: int, n_strings: int) -> list:
+    """:func:`_check_best`, refusing when none of ``n_strings`` strings passes."""
     planned = _check_best(design, geom, settings, planned, check)
     if not planned:
-        other = "onboard:PANEL" if geom.placement.kind == "ring" else "ring"
+        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
         raise StringsError(
             f"no route of {n_strings} strings satisfies DCQC to p = {geom.target_p:.3f}: leave "
-            f"--strings out to plan the fewest that reach it, or try --tsa {other} or a "
+            f"--strings out to plan the fewest that reach it, or try the TSA {other} or a "
             "smaller --target-p"
         )
     return planned
@@ -234,11 +239,11 @@ def fewest_strings(
         planned = _check_best(design, geom, settings, planned, check)
         if planned:
             return planned
-    other = "onboard:PANEL" if geom.placement.kind == "ring" else "ring"
+    other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
     raise StringsError(
         f"no route of 1 to {tried} strings reaches p = {geom.target_p:.3f} within "
         f"{settings.max_turns:g} TSA turns{why}; try a smaller --target-p, a larger "
-        f"--budget, or --tsa {other}"
+        f"turn budget, or the TSA {other}"
     )
 
 
@@ -360,9 +365,10 @@ def plan_messages(planned, geom: PlanGeometry, fewest: bool = False) -> list[str
     the fewest that reach the target), and the routes the simulator stops short."""
     best = planned[0]
     n = len(best.strings)
-    chose = f" (the fewest that reach p = {geom.target_p:.4f}: {n} chosen)" if fewest else ""
+    strings = f"{n} string{'s' if n != 1 else ''}"
+    chose = " (the fewest that reach the target)" if fewest else ""
     lines = [
-        f"best of {len(planned)} routes: {n} string{'s' if n != 1 else ''}{chose}, {best.turns:.2f} TSA turns "
+        f"best of {len(planned)} routes: {strings}{chose}, {best.turns:.2f} TSA turns "
         f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
     ]
     for r in planned:

@@ -450,11 +450,11 @@ def string_pool(geom: PlanGeometry, settings: PlanSettings, executor, tick) -> d
     found = run_tasks(executor, _beam_task, [(geom, settings, s) for s in _starts(geom)], tick)
     pool = _merge(found)
     if not len(pool["cost"]):
-        other = "onboard:PANEL" if geom.placement.kind == "ring" else "ring"
+        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
         raise StringsError(
             f"no string satisfies DCQC from flat to p = {geom.target_p:.3f}: every hole "
             f"sequence of {len(set(geom.hole_face.tolist()))} panels with holes lengthens or "
-            f"cuts a panel; try --tsa {other}, a smaller --target-p, or larger panels (--width)"
+            f"cuts a panel; try the TSA {other}, a smaller --target-p, or larger panels (--width)"
         )
     return {k: v[: max(4 * settings.candidates, 4 * SET_BEAM)] for k, v in pool.items()}
 
