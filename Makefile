@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test fuzz lint format bench docs clean
+.PHONY: demo test fuzz corpus lint format bench docs clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -26,6 +26,12 @@ FUZZ_EXAMPLES ?= 1000
 fuzz: $(STAMP)
 	ORIGAMI_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(PY) -m pytest -q -n 0 \
 		tests/test_fuzz_readers.py tests/test_hostile_readers.py
+
+# the whole chain (check, fold, fabricate, plan-route, simulate) on every public pattern of
+# tests/data/corpus.toml, as a table (docs/patterns.md shows the last one)
+corpus: $(STAMP)
+	mkdir -p out
+	$(PY) tests/corpus.py --markdown out/corpus.md
 
 format: $(STAMP)
 	$(VENV)/bin/ruff format .

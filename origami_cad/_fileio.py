@@ -37,10 +37,14 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
+from origami_cad._inputs import check_outputs, protected_files, referenced_files
 from origami_cad.errors import OutputError
 
 __all__ = [
+    "WRITE_ERRORS",
+    "GrowingFile",
     "Interrupted",
+    "WriteRefused",
     "atomic_directory",
     "atomic_path",
     "atomic_write",
@@ -112,6 +116,8 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
     ``exiting`` (the process ends after the block), further signals are ignored
     instead: the command has finished (or been interrupted), and a Ctrl-C while the
     interpreter shuts down must not replace its exit code by a death by SIGINT.
+    The handlers are installed whatever the process inherited (a background job starts
+    with SIGINT ignored), so a command stops cleanly on either signal.
     """
     _received.clear()
     previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -119,7 +125,9 @@ def handle_signals(exiting: bool = False) -> Iterator[None]:
         yield
     finally:
         for sig, handler in previous.items():
-            signal.signal(sig, signal.SIG_IGN if exiting else handler)
+            # None: a handler installed from C, which Python cannot put back
+            restored = signal.SIG_DFL if handler is None else handler
+            signal.signal(sig, signal.SIG_IGN if exiting else restored)
         _received.clear()
 
 
@@ -268,8 +276,29 @@ def _target(path: PathLike) -> tuple[Path, os.stat_result | None]:
     return _real(path), st
 
 
+#: What a file system says when it refuses to store what was written: a full disk, a
+#: quota, a file over the size limit, a read-only file system, an I/O error.
+WRITE_ERRORS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO})
+
+
+def _sync(path: PathLike, folder: bool = False) -> None:
+    """Flush ``path`` (a file, or with ``folder`` a folder's entries) to the disk.
+
+    A folder's flush is best effort: some file systems cannot flush a folder.
+    """
+    fd = os.open(path, os.O_RDONLY | (os.O_DIRECTORY if folder else 0))
+    try:
+        os.fsync(fd)
+    except OSError:
+        if not folder:
+            raise
+    finally:
+        os.close(fd)
+
+
 def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
-    """Put the finished file ``src`` in place of ``dest`` (already resolved)."""
+    """Put the finished file ``src`` in place of ``dest`` (already resolved): flushed to
+    the disk first, then renamed over it, so ``dest`` is the old file or the whole new one."""
     if st is not None and not stat.S_ISREG(st.st_mode):
         # a device or pipe: write into it, never rename over it
         with open(src, "rb") as fin, open(dest, "wb") as fout:
@@ -277,6 +306,7 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         src.unlink()
         return
     os.chmod(src, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual mode
+    _sync(src)
     try:
         os.replace(src, dest)
     except OSError as exc:
@@ -286,20 +316,45 @@ def _install(src: Path, dest: Path, st: os.stat_result | None) -> None:
         try:
             shutil.copyfile(src, tmp)
             os.chmod(tmp, 0o666 & ~_umask())
+            _sync(tmp)
             os.replace(tmp, dest)
         except BaseException:
             tmp.unlink(missing_ok=True)
             raise
         src.unlink()
+    _sync(dest.parent, folder=True)
 
 
-def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> None:
+class WriteRefused(OutputError):
+    """The file system refused to store an output (:data:`WRITE_ERRORS`): ``where``
+    (the user's path), ``reason`` (its words) and what was ``kept`` instead."""
+
+    def __init__(self, where: str, reason: str, kept: str) -> None:
+        super().__init__(f"{where}: cannot be written ({reason}); {kept}")
+        self.where, self.reason, self.kept = where, reason, kept
+
+
+def _refused(exc: BaseException, shown: PathLike, kept: str, fix=str) -> BaseException:
+    """``exc``, or when it is the file system refusing a write a :class:`WriteRefused`
+    naming the file (``shown``, or the file the error names) and what was ``kept``.
+
+    ``fix`` turns a temporary path into the user's (:func:`_user_paths`).
+    """
+    if isinstance(exc, WriteRefused):
+        return WriteRefused(fix(exc.where), exc.reason, kept)
+    if isinstance(exc, OSError) and exc.errno in WRITE_ERRORS:
+        where = exc.filename if isinstance(exc.filename, str) else str(shown)
+        return WriteRefused(fix(where), exc.strerror or os.strerror(exc.errno), kept)
+    return exc
+
+
+def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> Callable[[str], str]:
     """Say ``shown`` (the user's path) wherever ``exc`` names ``staged`` (our temporary one).
 
     A check run on a staged file (a sequence read back, a 3MF validated) raises with the
     temporary file's name, which is gone once the error is printed; the user must read
     the path they gave. The message, its notes and an ``OSError``'s file names are
-    rewritten in place.
+    rewritten in place; the rewriting is returned.
     """
     shown = str(shown).rstrip(os.sep) or str(shown)
     names = {str(staged): shown}
@@ -319,6 +374,7 @@ def _user_paths(exc: BaseException, staged: Path, shown: PathLike) -> None:
     notes = getattr(exc, "__notes__", None)
     if isinstance(notes, list):
         notes[:] = [fix(n) for n in notes]
+    return fix
 
 
 def _make_temp(make: Callable[[], Path], created: list[Path], where: str) -> Path:
@@ -364,7 +420,11 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     except BaseException as exc:
         tmp.unlink(missing_ok=True)
         _remove_created(created)
-        _user_paths(exc, tmp, path)
+        fix = _user_paths(exc, tmp, path)
+        kept = "the old file is kept" if st is not None else "nothing was written"
+        refused = _refused(exc, path, kept, fix)
+        if refused is not exc:
+            raise refused from None
         raise
 
 
@@ -373,6 +433,108 @@ def atomic_write(path: PathLike, mode: str = "w", **kwargs) -> Iterator[IO]:
     """Open a temporary file for writing; it replaces ``path`` only on success."""
     with atomic_path(path) as tmp, open(tmp, mode, **kwargs) as fh:
         yield fh
+
+
+class GrowingFile:
+    """An output written line by line as a run goes (``drive``'s log), in place of
+    ``path`` only once :meth:`publish` says the run began.
+
+    Until then the lines go to a temporary file beside ``path`` (into memory for a
+    device or pipe), and an old file at ``path`` stays as it was; a file never
+    published is removed on :meth:`close`: a run that never began leaves no trace.
+    Each :meth:`write` adds whole lines or nothing: a write the file system refuses
+    (:data:`WRITE_ERRORS`), or an interrupt in the middle, cuts the file back to its
+    last whole line; the refusal is raised as :class:`WriteRefused` naming ``path``.
+
+    Raises
+    ------
+    OutputError
+        ``path`` is a folder, or no file can be made beside it.
+    """
+
+    def __init__(self, path: PathLike) -> None:
+        self.path, self.published, self.size = path, False, 0
+        self._dest, st = _target(path)
+        self._stream = st is not None and not stat.S_ISREG(st.st_mode)
+        self._pending: list[str] = []
+        self._fd: int | None = None
+        self._tmp: Path | None = None
+        self._created: list[Path] = []
+        if self._stream:
+            return  # a device or pipe: opened when published
+        self._created = _ensure_folder(self._dest.parent, path)
+        clean_stale(self._dest.parent)
+        self._tmp = _make_temp(
+            lambda: _temp_file(self._dest.parent, self._dest.suffix or ".tmp"),
+            self._created,
+            f"{path}: cannot write in {self._dest.parent}",
+        )
+        self._fd = os.open(self._tmp, os.O_WRONLY)
+
+    def write(self, text: str) -> None:
+        """Add ``text`` (whole lines) at the end: all of it, or nothing."""
+        if self._fd is None:
+            self._pending.append(text)
+            return
+        encoded = text.encode("utf-8")
+        data = memoryview(encoded)
+        try:
+            while data:
+                data = data[os.write(self._fd, data) :]
+        except BaseException as exc:
+            if not self._stream:
+                with contextlib.suppress(OSError):
+                    os.ftruncate(self._fd, self.size)
+            if isinstance(exc, OSError) and exc.errno in WRITE_ERRORS:
+                reason = exc.strerror or os.strerror(exc.errno)
+                raise WriteRefused(
+                    str(self.path), reason, "it ends at its last whole line"
+                ) from None
+            raise
+        self.size += len(text.encode("utf-8"))
+
+    def flush(self) -> None:
+        """Nothing to do: every :meth:`write` reaches the file system at once."""
+
+    def publish(self) -> None:
+        """The run began: the file replaces the old one at ``path``, flushed to the disk
+        first; further lines go into it."""
+        if self.published:
+            return
+        self.published = True
+        try:
+            if self._stream:
+                self._fd = os.open(self._dest, os.O_WRONLY)
+                pending, self._pending = "".join(self._pending), []
+                self.write(pending)
+                return
+            os.fchmod(self._fd, 0o666 & ~_umask())  # mkstemp makes 0600; the usual mode
+            os.fsync(self._fd)
+            os.replace(self._tmp, self._dest)
+        except OSError as exc:
+            self.published = False
+            raise _refused(
+                exc, self.path, "the old file is kept", lambda _: str(self.path)
+            ) from None
+        _sync(self._dest.parent, folder=True)
+
+    def close(self) -> None:
+        """Close the file; one never published is removed, the old file left as it was."""
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            with contextlib.suppress(OSError):
+                if self.published and not self._stream:
+                    os.fsync(fd)
+            os.close(fd)
+        if not self.published and self._tmp is not None:
+            self._tmp.unlink(missing_ok=True)
+            _remove_created(self._created)
+
+    def __enter__(self) -> GrowingFile:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
 
 def _staged_files(stage: Path) -> list[Path]:
@@ -431,14 +593,17 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
     except BaseException as exc:
         shutil.rmtree(root, ignore_errors=True)
         _remove_created(created)
-        _user_paths(exc, stage, shown)
+        fix = _user_paths(exc, stage, shown)
+        refused = _refused(exc, shown, "the folder's old files are kept", fix)
+        if refused is not exc:
+            raise refused from None
         raise
     shutil.rmtree(root, ignore_errors=True)
 
 
 def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[PathLike]):
     """Where each staged file goes; every check done before anything moves."""
-    protected = _protected(inputs)
+    protected = protected_files(inputs)
     plan = []
     for rel in _staged_files(stage):
         out = folder / rel
@@ -459,15 +624,22 @@ def _signals_held() -> Iterator[list[int]]:
     """Within the block, SIGINT and SIGTERM are noted, not raised (main thread only).
 
     The list yielded holds the signals that came; the caller decides what they undo.
+    A signal the process ignores stays ignored, and every handler found is restored.
     """
     held: list[int] = []
     if threading.current_thread() is not threading.main_thread():
         yield held
         return
+    # a signal the process ignores (SIGINT of a background job, or under `nohup ... &`)
+    # stays ignored; one whose handler Python cannot restore (None: installed from C) is
+    # left alone
     previous = {
-        sig: signal.signal(sig, lambda signum, frame: held.append(signum))
+        sig: handler
         for sig in (signal.SIGINT, signal.SIGTERM)
+        if (handler := signal.getsignal(sig)) not in (signal.SIG_IGN, None)
     }
+    for sig in previous:
+        signal.signal(sig, lambda signum, frame: held.append(signum))
     try:
         yield held
     finally:
@@ -513,6 +685,7 @@ def _prepare_commit(root: Path, stage: Path, plan, entries: list[dict]) -> list:
                 os.link(dest, backup)
             except OSError:  # a file system without hard links
                 shutil.copy2(dest, backup)
+        _sync(entry["new"])  # on the disk before any old file is replaced
         new = os.stat(entry["new"])
         entry["id"] = [new.st_dev, new.st_ino]
     _write_journal(root, {"pid": os.getpid(), "state": "commit", "entries": entries})
@@ -551,6 +724,8 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
                 _roll_back(entries)
         if held:
             raise Interrupted(held[0])
+        for folder in {str(Path(e["dest"]).parent) for e in entries}:
+            _sync(folder, folder=True)
         _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})
     except OSError as exc:
         raise OutputError(f"{shown}: the outputs cannot be put in place ({exc.strerror})") from None
@@ -601,130 +776,3 @@ def _recover(root: Path) -> None:
         if journal.get("state") == "commit":
             _roll_back(entries)
         _remove_kept(entries, root)
-
-
-def referenced_files(inputs: Sequence[PathLike]) -> dict[Path, tuple[PathLike, str]]:
-    """The files the input files name, found transitively: ``{file: (input, key)}``.
-
-    A TOML input names a file by any string value that resolves, relative to its
-    folder, to an existing file (a design's ``[pattern] path``, a robot's pattern and
-    routes, a sequence's ``mapping``); a named TOML file is searched in turn. The
-    inputs themselves are not listed. Unreadable inputs are skipped (their reader
-    reports them).
-    """
-    found: dict[Path, tuple[PathLike, str]] = {}
-    seen = {_real(p) for p in inputs}
-    todo = [(Path(p), p) for p in inputs]
-    while todo and len(seen) < MAX_REFERENCED:
-        path, shown = todo.pop()
-        for key, target in _named_files(path):
-            if target in seen:
-                continue
-            seen.add(target)
-            found[target] = (shown, key)
-            if target.suffix.lower() == ".toml":
-                todo.append((target, target))
-    return found
-
-
-#: Most files :func:`referenced_files` follows.
-MAX_REFERENCED = 1000
-#: Largest TOML file searched for file names, bytes.
-MAX_SEARCHED = 10_000_000
-
-
-def _named_files(path: Path) -> Iterator[tuple[str, Path]]:
-    """``(key, file)`` for each string value of a TOML file that names an existing file."""
-    import tomllib
-
-    if path.suffix.lower() != ".toml":
-        return
-    try:
-        if os.stat(path).st_size > MAX_SEARCHED:
-            return
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
-        return
-    base = _real(path).parent
-    stack: list[tuple[str, object]] = [("", data)]
-    while stack:
-        key, value = stack.pop()
-        if isinstance(value, dict):
-            stack += [(f"{key}.{k}" if key else str(k), v) for k, v in value.items()]
-        elif isinstance(value, list):
-            stack += [(f"{key}[{i}]", v) for i, v in enumerate(value)]
-        elif isinstance(value, str) and 0 < len(value) < 4096 and "\0" not in value:
-            with contextlib.suppress(OSError, ValueError):
-                target = _real(base / value)
-                if target.is_file():
-                    yield key, target
-
-
-def _protected(inputs: Sequence[PathLike]) -> dict[Path, str]:
-    """Every file no output may replace, with the end of the sentence refusing it."""
-    protected = {
-        ref: f"would overwrite {ref}, which the input {src} names (key '{key}'); "
-        "choose another output"
-        for ref, (src, key) in referenced_files(inputs).items()
-    }
-    protected |= {_real(p): "would overwrite the input" for p in inputs}
-    return protected
-
-
-def check_outputs(
-    inputs: Sequence[PathLike] = (),
-    files: Sequence[PathLike] = (),
-    folders: Sequence[PathLike] = (),
-) -> None:
-    """Refuse outputs that would destroy an input or cannot be written, before any work.
-
-    Parameters
-    ----------
-    inputs : sequence of path-like
-        Files the command reads; the files they name (:func:`referenced_files`) are
-        protected too.
-    files : sequence of path-like
-        Files the command writes.
-    folders : sequence of path-like
-        Folders the command writes into.
-
-    Raises
-    ------
-    OutputError
-        An output resolves to an input or a file an input names, two outputs are
-        the same file, a file output is an existing folder, a folder output is an
-        existing file, or a parent of an output is a file.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> d = pathlib.Path(tempfile.mkdtemp())
-    >>> (d / "d.toml").write_text("x = 1")
-    5
-    >>> check_outputs([d / "d.toml"], files=[d / "d.png"])
-    >>> check_outputs([d / "d.toml"], files=[d / "d.toml"])
-    Traceback (most recent call last):
-    ...
-    origami_cad.errors.OutputError: ...d.toml: the output would overwrite the input
-    """
-    protected = _protected(inputs)
-    seen: dict[Path, PathLike] = {}
-    for out in list(files) + list(folders):
-        real = _real(out)
-        if real in protected:
-            raise OutputError(f"{out}: the output {protected[real]}")
-        if real in seen:
-            raise OutputError(f"{out}: given twice as an output")
-        seen[real] = out
-        probe = real.parent
-        while not probe.exists():
-            probe = probe.parent
-        if not probe.is_dir():
-            raise OutputError(f"{out}: {probe} is a file, not a folder")
-    for out in files:
-        if _real(out).is_dir():
-            raise OutputError(f"{out}: is a folder; give a file name")
-    for out in folders:
-        real = _real(out)
-        if real.exists() and not real.is_dir():
-            raise OutputError(f"{out}: exists and is not a folder; give a folder for the outputs")

@@ -44,6 +44,7 @@ __all__ = [
     "slicer_value",
     "toml_key",
     "toml_string",
+    "visible",
     "xml_text",
 ]
 
@@ -59,6 +60,17 @@ _INVISIBLE = {"Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp"}
 
 def _hidden(c: str) -> bool:
     return unicodedata.category(c) in _INVISIBLE
+
+
+def visible(text: str) -> bool:
+    """Whether every character of ``text`` can be seen: no control (C0 or C1, such as
+    U+009B), format (bidirectional overrides such as U+202E, zero-width), private, unassigned
+    or line-separating character.
+
+    >>> visible("front left"), visible("front\u202eleft"), visible("a\x9bb")
+    (True, False, False)
+    """
+    return not any(_hidden(c) for c in text)
 
 
 def path_component(name: str) -> str:

@@ -57,7 +57,9 @@ def _call(args: argparse.Namespace) -> Outputs:
     """Run the command with the arguments given (the others keep their defaults)."""
     cls = COMMANDS[args.command]
     given = {k: v for k, v in vars(args).items() if v is not None and k in args.names}
-    positional = [given.pop(n) for n in args.positional if n in given]
+    # by keyword where the command orders its arguments itself (ARGS), else in order
+    order = [] if cls.ARGS is not None else args.positional
+    positional = [given.pop(n) for n in order if n in given]
     display, progress = _progress(cls)
     echo = {"echo": lambda line: print(line, flush=True)}
     extra = {"extra": args.extra} if cls.EXTRA else {}
@@ -177,6 +179,8 @@ def _run(args: argparse.Namespace) -> int:
             raise Interrupted(interrupted())
         for line in outputs.messages:
             print(line)
+        for line in outputs.warnings:
+            print(f"origami-cad: warning: {one_line(line)}", file=sys.stderr)
         return outputs.status
     except OrigamiCadError as exc:  # with its notes (a pattern's implausible size)
         _error("; ".join([str(exc), *getattr(exc, "__notes__", ())]))

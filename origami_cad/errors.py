@@ -27,6 +27,7 @@ from __future__ import annotations
 
 __all__ = [
     "DesignError",
+    "DesignWarning",
     "DriveError",
     "FabricationError",
     "OptionsError",
@@ -49,6 +50,11 @@ class PatternError(OrigamiCadError, ValueError):
 class DesignError(OrigamiCadError, ValueError):
     """A design or task description (usually a TOML file) is malformed, or the arm's
     design search cannot run with it."""
+
+
+class DesignWarning(UserWarning):
+    """A design search found a result it could not fully confirm (for example, an arm
+    whose strings cannot fold it over its whole fold range); the result is still returned."""
 
 
 class FabricationError(OrigamiCadError, ValueError):

@@ -1,6 +1,6 @@
 """Where the searches run: a process pool on this machine, or a Dask cluster.
 
-The arm design's CMA-ES runs (:func:`origami_cad.design.search.design_arm`) and the
+The arm design's CMA-ES runs (:func:`origami_cad.design.arm.design_arm`) and the
 route planner's tasks (:func:`origami_cad.strings.plan.run_tasks`) take any
 ``concurrent.futures.Executor`` (a Dask cluster's, for example); without one they use
 :func:`local_pool`. :func:`open_executor` gives either by a scheduler's address.

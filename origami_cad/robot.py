@@ -33,6 +33,7 @@ from origami_cad.strings.route import RouteSpec, load_route, route_sheet
 __all__ = [
     "MOUNT_MARGIN",
     "MOUNT_THICKNESS",
+    "PAPER_CRAWL_MM",
     "SERVO",
     "Leg",
     "PointMass",
@@ -45,6 +46,9 @@ __all__ = [
     "robot_placements",
     "with_gait",
 ]
+
+#: The paper's crawler: mm forward per 32 s gait cycle on a PVC mat.
+PAPER_CRAWL_MM = 63.0
 
 
 @dataclass(frozen=True)

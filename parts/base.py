@@ -91,10 +91,30 @@ class OrigamiPart(BasePartObject):
                 stack.extend(node.children)
 
     def _publish_to_context(self, object_scope: Any) -> None:
-        """Publish to the user's builder, and place the children as the part was placed."""
-        before = self.location
-        super()._publish_to_context(object_scope)
-        self._carry_children(before)
+        """Publish to the user's builder, and place the children as the part was placed.
+
+        Under several ``Locations`` (or a builder's several output placements) the part
+        becomes one copy per placement, as build123d's own objects do: its shape a flat
+        compound of every copy's solids (which the builder combines in ``mode``), its
+        children one labelled tree per copy.
+        """
+        placements = [
+            pub * out
+            for pub in object_scope.publication_locations
+            for out in object_scope.output_placements
+        ]
+        if len(placements) <= 1:
+            before = self.location
+            super()._publish_to_context(object_scope)
+            self._carry_children(before)
+            return
+        trees = [moved_tree(child, loc) for loc in placements for child in self.children]
+        solids = [loc * solid for loc in placements for solid in self.solids()]
+        self.wrapped = Compound(solids).wrapped
+        self.children = trees
+        target = object_scope.publication_target
+        if target is not None and self.mode != Mode.PRIVATE:
+            target._add_to_context(self, mode=self.mode)
 
     def locate(self, loc: Location) -> OrigamiPart:
         """Place the part at ``loc`` (what ``connect_to`` does), its children with it."""

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from build123d import Align, Compound, Location, Mode, Part, Plane, Polyline, extrude, make_face
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.params import FabricationParams, theta_max
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.pattern.model import CreasePattern
@@ -65,11 +65,13 @@ def blocker_frame(
     panel ``B`` (the face on the crease's right), and the two face indices.
     """
     cp = pattern
+    if isinstance(crease, bool) or not isinstance(crease, int | np.integer):
+        raise FabricationError(f"crease must be an edge index (an integer), got {crease!r}")
     if not 0 <= crease < cp.n_edges or cp.assignments[crease] not in ("M", "V"):
-        raise DesignError(f"edge {crease} is not a mountain or valley crease of the pattern")
+        raise FabricationError(f"edge {crease} is not a mountain or valley crease of the pattern")
     ef = cp.edge_faces()[crease]
     if (ef < 0).any():
-        raise DesignError(f"crease {crease} does not join two panels")
+        raise FabricationError(f"crease {crease} does not join two panels")
     a, b = cp.vertices[cp.edges[crease]]
     direction = (b - a) / np.linalg.norm(b - a)
     across = np.array([direction[1], -direction[0]])  # right of the edge: face column 1
@@ -147,9 +149,15 @@ def _build(
     """The blocker's solid and its ``crease`` joint, mm."""
     angle, length, reach, base, clearance = p.angle, p.length, p.reach, p.base, p.clearance
     bias, height, thickness = p.bias, p.height, p.thickness
+    if not clearance >= 0:
+        raise FabricationError(f"parameter clearance: must be >= 0 mm, got {clearance!r}")
+    if plan is None and crease is not None:
+        raise FabricationError("crease needs plan (the PanelPlan of the pattern it is on)")
+    if plan is not None and crease is None:
+        raise FabricationError("plan needs crease (the edge index of the crease to stop)")
     limit = math.degrees(theta_max(bias, height, thickness))
     if not 0 < angle < min(limit, 180.0):
-        raise DesignError(f"angle must lie in (0, {limit:.1f}) deg (theta_max), got {angle}")
+        raise FabricationError(f"angle must lie in (0, {limit:.1f}) deg (theta_max), got {angle}")
     rho = math.radians(angle)
     z_c = (height + thickness) / 2  # hinge: the crease layer's upper surface
     d = height - z_c + clearance  # distance of the outer face from the hinge

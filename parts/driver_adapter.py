@@ -7,7 +7,7 @@ from typing import Any
 
 from build123d import Align, Box, Compound, Cylinder, Location, Mode, Part
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
 from .parameters import resolve_params, spec
@@ -89,10 +89,20 @@ def _build(p: DriverAdapterParams) -> tuple[Compound, Location]:
     board_width, board_length, pitch = p.board_width, p.board_length, p.pitch
     slot_width, slot_depth, mounting_hole = p.slot_width, p.slot_depth, p.mounting_hole
     if connectors < 1:
-        raise DesignError(f"connectors must be >= 1, got {connectors}")
+        raise FabricationError(f"connectors must be >= 1, got {connectors}")
     if pocket >= thickness:
-        raise DesignError(
+        raise FabricationError(
             f"pocket ({pocket:g} mm) must be shallower than the plate ({thickness:g})"
+        )
+    if not slot_depth < pitch:
+        raise FabricationError(
+            f"parameter slot_depth: {slot_depth:g} mm leaves no wall between slots "
+            f"{pitch:g} mm apart (pitch); it must be < {pitch:g} mm"
+        )
+    if not mounting_hole < margin:
+        raise FabricationError(
+            f"parameter mounting_hole: {mounting_hole:g} mm does not fit the {margin:g} mm "
+            f"border it sits in (margin); it must be < {margin:g} mm"
         )
     row = connectors * pitch
     width = max(board_width, slot_width) + 2 * margin

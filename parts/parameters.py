@@ -16,7 +16,7 @@ Demo(width=10.0, offset=12.0, angles=(0.0, 45.0, 90.0))
 >>> resolve_params(Demo, None, {"width": "-1"})
 Traceback (most recent call last):
 ...
-origami_cad.errors.DesignError: parameter width: must be > 0 mm, got -1.0
+origami_cad.errors.FabricationError: parameter width: must be > 0 mm, got -1.0
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import typing
 from collections.abc import Mapping
 from typing import Any, TypeVar
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 
 __all__ = ["ParamInfo", "param_info", "resolve_params", "spec"]
 
@@ -110,17 +110,17 @@ def resolve_params(cls: type[P], params: P | None, values: Mapping[str, Any]) ->
     """``params`` (default ``cls()``) with ``values`` replaced, each converted to its type.
 
     Values may be Python values or text (``"12"``, ``"0,45,90"``, ``"none"``).
-    Raises :class:`DesignError` naming the parameter when a name is unknown or a
+    Raises :class:`FabricationError` naming the parameter when a name is unknown or a
     value has the wrong type or is out of range.
     """
     base = params if params is not None else cls()
     if not isinstance(base, cls):
-        raise DesignError(f"expected {cls.__name__} parameters, got {type(base).__name__}")
+        raise FabricationError(f"expected {cls.__name__} parameters, got {type(base).__name__}")
     infos = {i.name: i for i in param_info(cls)}
     changes = {}
     for name, value in values.items():
         if name not in infos:
-            raise DesignError(f"unknown parameter {name!r} (known: {', '.join(infos)})")
+            raise FabricationError(f"unknown parameter {name!r} (known: {', '.join(infos)})")
         changes[name] = _coerce(infos[name], value)
     return dataclasses.replace(base, **changes)
 
@@ -138,14 +138,14 @@ def _coerce(info: ParamInfo, value: Any) -> Any:
     if value is None or (optional and isinstance(value, str) and value.lower() == "none"):
         if optional:
             return None
-        raise DesignError(f"parameter {info.name}: a value is required")
+        raise FabricationError(f"parameter {info.name}: a value is required")
     if typing.get_origin(base) is tuple:
         return _coerce_tuple(info, base, value)
     if base in (float, int, str):
         return _scalar(info, base, value)
     if isinstance(value, base):
         return value
-    raise DesignError(
+    raise FabricationError(
         f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, got {value!r}"
     )
 
@@ -154,13 +154,13 @@ def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
     args = typing.get_args(tp)
     items = value.split(",") if isinstance(value, str) else list(value)
     if args[-1] is not Ellipsis and len(items) != len(args):
-        raise DesignError(
+        raise FabricationError(
             f"parameter {info.name}: expected {len(args)} comma-separated numbers, got {value!r}"
         )
     if not items:
-        raise DesignError(f"parameter {info.name}: expected at least one value")
+        raise FabricationError(f"parameter {info.name}: expected at least one value")
     if len(items) > MAX_ITEMS:
-        raise DesignError(
+        raise FabricationError(
             f"parameter {info.name}: {len(items)} values, at most {MAX_ITEMS} "
             "(parts.parameters.MAX_ITEMS)"
         )
@@ -170,22 +170,24 @@ def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
 def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
     if tp is str:
         if not isinstance(value, str):
-            raise DesignError(f"parameter {info.name}: expected text, got {value!r}")
+            raise FabricationError(f"parameter {info.name}: expected text, got {value!r}")
         return value
     expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
     if isinstance(value, bool) or not isinstance(value, str | int | float):
-        raise DesignError(f"{expected}, got {value!r}")
+        raise FabricationError(f"{expected}, got {value!r}")
     try:
         number = tp(value.strip()) if isinstance(value, str) else tp(value)
     except ValueError:
-        raise DesignError(f"{expected}, got {value!r}") from None
+        raise FabricationError(f"{expected}, got {value!r}") from None
     if number != value and not isinstance(value, str):
-        raise DesignError(f"{expected}, got {value!r}")
+        raise FabricationError(f"{expected}, got {value!r}")
     if not math.isfinite(number):
-        raise DesignError(f"parameter {info.name}: expected a finite number, got {value!r}")
+        raise FabricationError(f"parameter {info.name}: expected a finite number, got {value!r}")
     if info.low is not None and not number > info.low:
         unit = f" {info.unit}" if info.unit else ""
-        raise DesignError(f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}")
+        raise FabricationError(
+            f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}"
+        )
     _check_bound(info, tp, number)
     return number
 
@@ -196,7 +198,7 @@ def _check_bound(info: ParamInfo, tp: type, number: float) -> None:
     if bound is not None and abs(number) > bound:
         unit = f" {info.unit}" if info.unit else ""
         name = {MAX_LENGTH: "MAX_LENGTH", MAX_ANGLE: "MAX_ANGLE"}.get(bound, "MAX_COUNT")
-        raise DesignError(
+        raise FabricationError(
             f"parameter {info.name}: at most {bound:g}{unit}{' from zero' if unit else ''} "
             f"(parts.parameters.{name}), got {number!r}"
         )

@@ -19,7 +19,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan, plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
 from origami_cad.pattern.model import CreasePattern
@@ -114,7 +114,7 @@ PARTS: dict[str, PartSpec] = {
 
 def _spec(name: str) -> PartSpec:
     if name not in PARTS:
-        raise DesignError(f"unknown part {name!r} (known: {', '.join(PARTS)})")
+        raise FabricationError(f"unknown part {name!r} (known: {', '.join(PARTS)})")
     return PARTS[name]
 
 
@@ -125,8 +125,11 @@ def parse_part_options(tokens: Sequence[str]) -> dict[str, str]:
     while items:
         key = items.pop(0)
         if not key.startswith("--") or not items:
-            raise DesignError(f"expected --name value pairs after the part name, got {key!r}")
-        out[key[2:].replace("-", "_")] = items.pop(0)
+            raise FabricationError(f"expected --name value pairs after the part name, got {key!r}")
+        name = key[2:].replace("-", "_")
+        if name in out:
+            raise FabricationError(f"{key} is given twice; give each part parameter once")
+        out[name] = items.pop(0)
     return out
 
 
@@ -160,7 +163,7 @@ def build_part(
 
     Raises
     ------
-    DesignError
+    FabricationError
         Naming the part or parameter that is unknown or wrong, or the missing placement.
     """
     spec = _spec(name)
@@ -168,22 +171,22 @@ def build_part(
         params = resolve_params(
             spec.params, None, {k.replace("-", "_"): v for k, v in (values or {}).items()}
         )
-    except DesignError as exc:
-        raise DesignError(f"part {name}: {exc} (see origami-cad part --list)") from None
+    except FabricationError as exc:
+        raise FabricationError(f"part {name}: {exc} (see origami-cad part --list)") from None
     if pattern is None:
         if panel is not None or crease is not None:
-            raise DesignError(f"part {name}: --panel and --crease need --pattern")
+            raise FabricationError(f"part {name}: --panel and --crease need --pattern")
         return spec.builder(params=params, **options)
     plan = pattern if isinstance(pattern, PanelPlan) else plan_panels(_source(pattern))
     if spec.placement is Placement.PANEL:
         if not panel:
-            raise DesignError(f"part {name}: give the panel label (--panel) with --pattern")
+            raise FabricationError(f"part {name}: give the panel label (--panel) with --pattern")
         return spec.builder(params=params, plan=plan, panel=panel, **options)
     if spec.placement is Placement.CREASE:
         if crease is None:
-            raise DesignError(f"part {name}: give the crease edge (--crease) with --pattern")
+            raise FabricationError(f"part {name}: give the crease edge (--crease) with --pattern")
         return spec.builder(plan=plan, crease=crease, params=params, **options)
-    raise DesignError(f"part {name} is not placed on a pattern: leave out --pattern")
+    raise FabricationError(f"part {name} is not placed on a pattern: leave out --pattern")
 
 
 def _source(pattern: Design | CreasePattern | str | os.PathLike[str]) -> Design | CreasePattern:

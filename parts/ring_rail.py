@@ -29,7 +29,7 @@ from build123d import (
     Wire,
 )
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
 from .parameters import resolve_params, spec
@@ -150,19 +150,44 @@ def ring_rail(params: RingRailParams | None = None, **values: Any) -> RingRail:
     return RingRail(params, **values)
 
 
+def _check_carriages(p: RingRailParams, half: float) -> None:
+    """Refuse carriages that cannot be made: holes wider than their walls, overlaps (mm, deg)."""
+    if not p.eyelet < min(p.height, p.carriage_length):
+        limit = min(p.height, p.carriage_length)
+        raise FabricationError(
+            f"parameter eyelet: {p.eyelet:g} mm does not fit the carriage's wall beside a ring "
+            f"{p.height:g} mm high and a carriage {p.carriage_length:g} mm long; it must be "
+            f"< {limit:g} mm"
+        )
+    if not p.lock_screw < min(p.width, p.carriage_length):
+        limit = min(p.width, p.carriage_length)
+        raise FabricationError(
+            f"parameter lock_screw: {p.lock_screw:g} mm is wider than the {p.width:g} mm ring "
+            f"it presses on (width); it must be < {limit:g} mm"
+        )
+    order = sorted(((a % 360.0, k) for k, a in enumerate(p.angles)))
+    for (a, i), (b, j) in zip(order, [*order[1:], (order[0][0] + 360.0, order[0][1])], strict=True):
+        if len(order) > 1 and b - a < 2 * half:
+            raise FabricationError(
+                f"parameter angles: carriages {i + 1} ({p.angles[i]:g} deg) and {j + 1} "
+                f"({p.angles[j]:g} deg) overlap; carriages {p.carriage_length:g} mm long "
+                f"need at least {2 * half:.1f} deg between them on this ring"
+            )
+
+
 def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     """The rail's tree and its carriage seats, mm."""
     inner_diameter, width, height, angles = p.inner_diameter, p.width, p.height, p.angles
     centre, z_top, carriage_length = p.centre, p.z_top, p.carriage_length
     carriage_height, lock_screw, eyelet = p.carriage_height, p.lock_screw, p.eyelet
     if not inner_diameter > 0 or not width > 0 or not height > 0:
-        raise DesignError("inner_diameter, width and height must be > 0 mm")
+        raise FabricationError("inner_diameter, width and height must be > 0 mm")
     if not len(angles):
-        raise DesignError("at least one carriage angle is needed")
+        raise FabricationError("at least one carriage angle is needed")
     r_in = inner_diameter / 2.0
     r_out = r_in + width
     if r_in - WALL <= 0:
-        raise DesignError(f"inner_diameter must exceed {2 * WALL:g} mm (the carriage walls)")
+        raise FabricationError(f"inner_diameter must exceed {2 * WALL:g} mm (the carriage walls)")
     cx, cy = float(centre[0]), float(centre[1])
     z0 = z_top - height
     ring = Cylinder(r_out, height, align=None) - Cylinder(r_in, height, align=None)
@@ -172,10 +197,11 @@ def _build(p: RingRailParams) -> tuple[Compound, dict[str, Location]]:
     r_mid = (r_in + r_out) / 2.0
     half = math.degrees(carriage_length / 2.0 / r_mid)  # half the carriage's arc, deg
     if not half < 90.0:
-        raise DesignError(
+        raise FabricationError(
             f"carriage_length {carriage_length:g} mm is too long for a ring of "
             f"inner diameter {inner_diameter:g} mm"
         )
+    _check_carriages(p, half)
     top = z0 + carriage_height + WALL
     for k, a in enumerate(angles):
         # a U-shaped arc straddling the ring, hanging a wall inside it with the eyelet

@@ -23,7 +23,7 @@ from build123d import Color, Compound, Location, export_stl
 
 from origami_cad._fileio import atomic_path
 from origami_cad._names import one_line, path_component
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS, moved_tree, solids_by_part
 from origami_cad.fabrication.build import Fabrication
 from origami_cad.fabrication.exports.step import export_step_tree
@@ -34,6 +34,7 @@ from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from .registry import build_part
 
 __all__ = [
+    "PAPER_CRAWLER_G",
     "PART_COLORS",
     "BlockerPlacement",
     "FreePlacement",
@@ -43,7 +44,10 @@ __all__ = [
     "display_color",
     "robot_assembly",
     "robot_mass_budget",
+    "robot_mass_numbers",
+    "robot_mass_report",
     "robot_overlaps",
+    "robot_render_style",
     "robot_report",
     "robot_tree",
     "write_robot_step",
@@ -53,6 +57,9 @@ __all__ = [
 #: Display colours (sRGB hex) of the added parts: modules dark grey, blockers orange,
 #: adapter blue (the sheet keeps its materials' colours).
 PART_COLORS = {"tsa-module": "#404040", "blocker": "#FF7F0E", "driver-adapter": "#1F77B4"}
+
+#: The paper's crawler's weight, g (the mass budget's reference).
+PAPER_CRAWLER_G = 361.45
 
 
 @dataclass(frozen=True)
@@ -136,7 +143,7 @@ def robot_assembly(
 
     def add(name: str, shape: Any, material: str, kind: str) -> None:
         if name in solids:
-            raise DesignError(f"two parts of the robot are named {name!r}")
+            raise FabricationError(f"two parts of the robot are named {name!r}")
         solids[name] = shape
         materials[name] = material
         kinds[name] = kind
@@ -149,7 +156,7 @@ def robot_assembly(
         add(m.name, moved_tree(shape, motion[face]), "PLA", "tsa-module")
     for b in blockers:
         if cp.assignments[b.crease] not in ("M", "V"):
-            raise DesignError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
+            raise FabricationError(f"blocker {b.name!r}: edge {b.crease} is not a crease")
         mountain = cp.assignments[b.crease] == "M"
         values = {**b.values, "angle": b.angle}
         shape = build_part("blocker", values, pattern=plan, crease=b.crease, mountain=mountain)
@@ -296,7 +303,7 @@ def write_robot_stls(
 
     Each file name is checked by :func:`origami_cad._names.path_component` before any
     file is written: a solid whose name cannot be one file in ``folder`` (``/``, ``..``,
-    control characters, a Windows device name, ...) is a :class:`DesignError` naming it.
+    control characters, a Windows device name, ...) is a :class:`FabricationError` naming it.
     """
     chosen = {}
     for name, shape in robot.solids.items():
@@ -306,7 +313,7 @@ def write_robot_stls(
         try:
             chosen[name] = (Path(folder) / path_component(f"{name}.stl"), shape)
         except ValueError as exc:
-            raise DesignError(f"the solid {one_line(str(name)[:60])}: {exc}") from None
+            raise FabricationError(f"the solid {one_line(str(name)[:60])}: {exc}") from None
     out = {}
     for name, (path, shape) in chosen.items():
         with atomic_path(path) as tmp:
@@ -396,3 +403,64 @@ def robot_mass_budget(
     for name, grams in bought.items() if isinstance(bought, Mapping) else bought:
         parts[str(name)] = parts.get(str(name), 0.0) + float(grams)
     return MassBudget(float(sheet_g), printed, parts)
+
+
+def robot_mass_report(
+    source: str | os.PathLike[str],
+    fab: Fabrication,
+    report: Mapping[str, Mapping[str, Any]],
+    overlaps: Mapping[tuple[str, str], float],
+    bought: Sequence[tuple[str, float]],
+) -> dict[str, Any]:
+    """``robot.json``'s content: the mass budget from the print settings the 3MF carries
+    (g, against the paper's crawler, :data:`PAPER_CRAWLER_G`), those settings, each solid
+    of :func:`robot_report` and the interpenetrating pairs (mm^3).
+
+    ``source`` names the robot file; ``bought``: its bought parts, (name, g).
+    """
+    from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
+    from origami_cad.fabrication.printmass import sheet_print_mass
+
+    settings = slicer_settings(fab.params)
+    sheet = sum(sheet_print_mass(fab, settings).values())
+    budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
+    return {
+        "robot": str(source),
+        "mass_budget": budget,
+        "print_settings": {k: settings[k] for k in PRINT_SETTINGS},
+        "solids": dict(report),
+        "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
+    }
+
+
+def robot_mass_numbers(data: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """The key numbers of :func:`robot_mass_report`'s ``data``: the masses (g) against the
+    paper's crawler, the parts by kind, the interpenetrating pairs."""
+    budget, kinds = data["mass_budget"], [v["kind"] for v in data["solids"].values()]
+    sheet, printed, total = budget["sheet_g"], budget["printed_parts_g"], budget["total_g"]
+    bought = sum(budget["bought_parts_g"].values())
+    return [
+        ("sheet mass (as printed)", f"{sheet:.1f} g"),
+        ("printed parts", f"{printed:.1f} g"),
+        ("bought parts (servos, driver module)", f"{bought:.1f} g"),
+        (f"mass estimate (paper: {PAPER_CRAWLER_G:g} g)",
+         f"{total:.0f} g ({budget['difference_percent']:+.0f} %)"),
+        (
+            "parts",
+            f"{kinds.count('tsa-module')} TSA modules, {kinds.count('blocker')} blockers, "
+            f"{kinds.count('driver-adapter')} driver adapter",
+        ),
+        ("interpenetrating pairs", str(len(data["interpenetrating_mm3"]))),
+    ]  # fmt: skip
+
+
+def robot_render_style(
+    robot: RobotAssembly, names: Sequence[str]
+) -> tuple[dict[str, str], dict[str, str]]:
+    """The legend labels and colours (sRGB hex) of the added parts ``names`` in a render:
+    each part's kind (plural when several share it) and :func:`display_color`."""
+    kinds = {n: robot.kinds[n] for n in names}
+    labels = {
+        n: k.replace("-", " ") + "s" * (list(kinds.values()).count(k) > 1) for n, k in kinds.items()
+    }
+    return labels, {n: display_color(robot, n) for n in names}

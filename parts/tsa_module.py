@@ -12,6 +12,7 @@ height of the servo horn, the mount sits on the panel's outer face (z = h).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -31,7 +32,7 @@ from build123d import (
     make_face,
 )
 
-from origami_cad.errors import DesignError
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
@@ -167,7 +168,7 @@ def _build(
     spec = SERVOS.get(servo, {})
     if body is None:
         if not spec:
-            raise DesignError(
+            raise FabricationError(
                 f"unknown servo {servo!r}: give its body=(w, l, h) in mm "
                 f"(known: {', '.join(SERVOS)})"
             )
@@ -178,7 +179,23 @@ def _build(
     tsa = p.tsa or TSAParams()
     w, length, h = (float(v) for v in body)
     if min(w, length, h) <= 0:
-        raise DesignError(f"servo body dimensions must be > 0 mm, got {body}")
+        raise FabricationError(f"servo body dimensions must be > 0 mm, got {body}")
+    if not 0 <= horn_offset <= length:
+        raise FabricationError(
+            f"parameter horn_offset: {horn_offset:g} mm is not on the servo's case, "
+            f"{length:g} mm long; it must lie in [0, {length:g}] mm"
+        )
+    hub_r = max(tsa.d1 / 2 + max(3.0, p.anchor_hole * 2), horn_d / 2)
+    wall = min(hub_r, w / 2, 6.0)  # around the guide's hole: its half width, foot, top
+    if not p.guide_hole / 2 < wall:
+        raise FabricationError(
+            f"parameter guide_hole: {p.guide_hole:g} mm is wider than the exit guide "
+            f"around it; it must be < {2 * wall:g} mm"
+        )
+    if panel is not None and plan is None:
+        raise FabricationError("panel needs plan (the PanelPlan the panel belongs to)")
+    if plan is not None and panel is not None:
+        _check_fits(plan, panel, h, length)
     reach = _reach(p, tsa, horn_d, horn_offset, length, h)
     mount, cx, cy, z_base = _mount(p, plan, panel, reach)
     # the servo lies on its side: its height runs along the twist axis (local x, horn face
@@ -204,6 +221,27 @@ def _build(
         "hub": shift * Location(hub_face),
     }
     return assembly, joints
+
+
+#: How many times its panel's largest extent a servo case's narrower side may be.
+MAX_OVERHANG = 2.0
+
+
+def _check_fits(plan: PanelPlan, panel: str, h: float, length: float) -> None:
+    """Refuse a servo whose case, lying on its side, is wider than the panel every way (mm).
+
+    A case may overhang its panel (the paper's arm carries an XL330, 26 x 34 mm, on a
+    base panel 15.9 mm across), but its narrower side may not exceed
+    :data:`MAX_OVERHANG` times the panel's largest extent (its bounding box's diagonal).
+    """
+    x0, y0, x1, y1 = shapely.Polygon(plan.outline(panel).outer).bounds
+    extent = math.hypot(x1 - x0, y1 - y0)
+    if min(h, length) > MAX_OVERHANG * extent:
+        raise FabricationError(
+            f"the servo's case ({h:g} x {length:g} mm lying on its side) is larger than panel "
+            f"{panel!r} ({extent:.1f} mm across; a case may be at most {MAX_OVERHANG:g} times "
+            "that): mount it on a larger panel or use a smaller servo"
+        )
 
 
 def _reach(
@@ -233,7 +271,7 @@ def _mount(
     holes: list[tuple[float, float, float]] = []
     if plan is not None:
         if panel is None:
-            raise DesignError("give the panel label to mount the TSA module on")
+            raise FabricationError("give the panel label to mount the TSA module on")
         outline = plan.outline(panel)
         foot = shapely.Polygon(outline.outer).buffer(-1.0, join_style="mitre")
         holes = [(h.x, h.y, h.diameter) for h in plan.holes_of(outline.index)]
@@ -242,7 +280,7 @@ def _mount(
         if p.mount_margin is not None:
             foot = foot.intersection(_footprint(p, reach, p.mount_margin, cx, cy))
             if not isinstance(foot, shapely.Polygon) or foot.is_empty:
-                raise DesignError(f"the TSA module's mount does not fit panel {panel!r}")
+                raise FabricationError(f"the TSA module's mount does not fit panel {panel!r}")
     else:
         cx, cy = p.centre
         margin = 2.0 if p.mount_margin is None else p.mount_margin

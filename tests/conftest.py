@@ -4,6 +4,7 @@ helper that says what a picture shows."""
 from __future__ import annotations
 
 import io
+import signal
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,18 @@ def small_miura_toml(tmp_path) -> Path:
         "panel_width = 25.0\nsector_angle = 65.0\n"
     )
     return path
+
+
+@pytest.fixture
+def python_sigint():
+    """SIGINT raises ``KeyboardInterrupt`` during the test (Python's own handler), whatever
+    the test run inherited: started in the background (``make test &``, ``nohup``) a
+    process ignores SIGINT. The disposition found is restored afterwards."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_DFL if previous is None else previous)
 
 
 @pytest.fixture

@@ -320,7 +320,7 @@ def test_robot_stl_names_go_through_path_component(tmp_path, bad):
     build123d = pytest.importorskip("build123d")
     from origami_cad.parts.robot import RobotAssembly, write_robot_stls
 
-    from origami_cad.errors import DesignError
+    from origami_cad.errors import FabricationError
 
     def robot(names):
         solids = {n: build123d.Box(1, 1, 1) for n in names}
@@ -328,7 +328,7 @@ def test_robot_stl_names_go_through_path_component(tmp_path, bad):
 
     out = tmp_path / "out"
     out.mkdir()
-    with pytest.raises(DesignError, match="cannot be a file name") as info:
+    with pytest.raises(FabricationError, match="cannot be a file name") as info:
         write_robot_stls(robot(["tsa_1", bad]), out)
     assert "\n" not in str(info.value)
     assert list(tmp_path.rglob("*.stl")) == []  # not even the good one: checked first

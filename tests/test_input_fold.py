@@ -187,9 +187,9 @@ def test_booleans_are_not_coordinates(tmp_path):
 def test_infinite_fold_angles_are_refused_by_the_model():
     with pytest.raises(PatternError, match="edge 1: fold angle inf"):
         CreasePattern(TRIANGLE, [[0, 1], [1, 2], [2, 0]], "BVB", [0, np.inf, 0])
-    # NaN still means "the default for the assignment"
-    cp = CreasePattern(TRIANGLE, [[0, 1], [1, 2], [2, 0]], "BVB", [0, np.nan, 0])
-    assert cp.fold_angles.tolist() == [0.0, 180.0, 0.0]
+    # NaN is refused too (no silent default); a FOLD file's null is the letter's default
+    with pytest.raises(PatternError, match="edge 1: fold angle nan is not a finite number"):
+        CreasePattern(TRIANGLE, [[0, 1], [1, 2], [2, 0]], "BVB", [0, np.nan, 0])
 
 
 def test_three_thousand_crossing_creases_are_refused_quickly(tmp_path):

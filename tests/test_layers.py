@@ -4,8 +4,8 @@ The page lists every stage (``pattern``, ``kinematics``, ..., ``cli``, ``demo``)
 module of its own below them (``parallel``) with the ones it imports, ``A → B, C``.
 Every import of the package (lazy ones inside functions, and ``importlib.import_module``
 of a literal name, too) must be an arrow of that list, every arrow must be an import that
-exists, and the graph has no cycle. ``errors``, ``_fileio``, ``_libm``, ``_names`` and
-``_toml`` are the base every node may use. Names starting with an underscore never cross
+exists, and the graph has no cycle. ``errors``, ``_fileio``, ``_inputs``, ``_libm``, ``_names``
+and ``_toml`` are the base every node may use. Names starting with an underscore never cross
 a module boundary, in the package, its tests or its benchmarks.
 """
 
@@ -22,9 +22,11 @@ BASE = {
     "origami_cad",
     "origami_cad.errors",
     "origami_cad._fileio",
+    "origami_cad._inputs",
     "origami_cad._libm",
     "origami_cad._names",
     "origami_cad._toml",
+    "origami_cad._args",
 }
 PAGE = ROOT / "docs" / "architecture.md"
 ARROW = re.compile(r"^(\w+)\s*→\s*(.*)$")
@@ -198,7 +200,7 @@ def test_the_graph_names_every_node_and_has_no_cycle():
 
 
 def test_the_base_imports_no_stage():
-    for name in ("errors.py", "_fileio.py", "_libm.py", "_names.py", "_toml.py"):
+    for name in ("errors.py", "_fileio.py", "_inputs.py", "_libm.py", "_names.py", "_toml.py"):
         for module, _, line in _imports(ROOT / "origami_cad" / name):
             assert _stage(_canonical(module)) is None, f"{name}:{line} imports {module}"
 

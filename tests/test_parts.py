@@ -7,6 +7,7 @@ import runpy
 from pathlib import Path
 
 import numpy as np
+import origami_cad.parts
 import pytest
 import shapely
 import trimesh
@@ -28,8 +29,9 @@ from origami_cad.parts import (
 )
 from origami_cad.parts.parameters import param_info
 
+import origami_cad as oc
 from origami_cad.cli import main
-from origami_cad.errors import DesignError, PatternError
+from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, theta_max
 from origami_cad.fabrication.export import export_part
 from origami_cad.pattern import CreasePattern
@@ -89,7 +91,7 @@ def test_driver_adapter_volume_is_the_plate_minus_its_cuts():
         width * length * 3.0 - 25 * 45 * 1.2 - 5 * 7.8 * 2.8 * 3.0 - 4 * math.pi * 1.6**2 * 3.0
     )
     assert plate.volume == pytest.approx(expected, rel=1e-6)
-    with pytest.raises(DesignError, match="connectors must be >= 1"):
+    with pytest.raises(FabricationError, match="connectors must be >= 1"):
         driver_adapter(connectors=0)
 
 
@@ -139,7 +141,7 @@ def test_tsa_mount_fits_its_panel_and_its_holes():
     z = plan.params.height + 1.5
     assert not mount.is_inside(Vector(x, y, z))  # the panel's hole goes through the mount
     assert mount.is_inside(Vector(x + d / 2 + 0.5, y, z))
-    with pytest.raises(DesignError, match="unknown servo"):
+    with pytest.raises(FabricationError, match="unknown servo"):
         tsa_module(servo="XM999")
 
 
@@ -171,7 +173,7 @@ def test_blocker_stops_the_fold_at_its_angle(angle):
     at = panel_b.rotate(axis, -angle)
     assert at.distance_to(blk) < 1e-6 and overlap(at, blk) < 1e-6  # contact
     assert overlap(panel_b.rotate(axis, -(angle + 2.0)), blk) > 1e-2  # beyond: blocked
-    with pytest.raises(DesignError, match="theta_max"):
+    with pytest.raises(FabricationError, match="theta_max"):
         blocker(fab.plan, crease, angle=170.0)
 
 
@@ -221,6 +223,8 @@ def test_text_parameters_get_their_declared_types():
     assert plate.label == "driver adapter (2 connectors)"
     assert plate.bounding_box().size.Z == pytest.approx(4.0)
     assert parse_part_options(["--horn-offset", "12"]) == {"horn_offset": "12"}
+    with pytest.raises(FabricationError, match="--angle is given twice"):
+        parse_part_options(["--angle", "30", "--angle", "45"])
 
 
 @pytest.mark.parametrize(
@@ -243,10 +247,20 @@ def test_text_parameters_get_their_declared_types():
         ("tsa-module", {"heading": "1e300"}, "parameter heading: at most 360 deg"),
         ("driver-adapter", {"connectors": 10**12}, r"connectors: at most 64 \(.*MAX_COUNT"),
         ("ring-rail", {"angles": ",".join(["1"] * 65)}, "angles: 65 values, at most 64"),
+        # parameters that cannot make the part, refused by name with the limit
+        ("ring-rail", {"eyelet": 50, "width": 12}, r"eyelet: 50 mm .* must be < 8 mm"),
+        ("ring-rail", {"lock_screw": 40}, r"lock_screw: 40 mm .* must be < 12 mm"),
+        ("ring-rail", {"angles": "0,90,90"}, r"angles: carriages 2 \(90 deg\) and 3 .* overlap"),
+        ("ring-rail", {"angles": "0,359"}, r"carriages 2 \(359 deg\) and 1 \(0 deg\) overlap"),
+        ("driver-adapter", {"slot_depth": 9, "pitch": 8}, r"slot_depth: 9 mm .* must be < 8 mm"),
+        ("driver-adapter", {"mounting_hole": 60}, r"mounting_hole: 60 mm .* must be < 6 mm"),
+        ("tsa-module", {"guide_hole": 500}, r"guide_hole: 500 mm .* must be < \d+ mm"),
+        ("tsa-module", {"horn_offset": 1e4}, r"horn_offset: 10000 mm .* in \[0, 34\] mm"),
+        ("blocker", {"clearance": -1}, r"clearance: must be >= 0 mm, got -1"),
     ],
 )
 def test_bad_part_parameters_are_named(name, values, message):
-    with pytest.raises(DesignError, match=message):
+    with pytest.raises(FabricationError, match=message):
         build_part(name, values)
 
 
@@ -258,13 +272,13 @@ def test_placement_follows_the_registry(tmp_path):
         "driver-adapter": Placement.NONE,
     }
     design = EXAMPLES / "miura_6x4.toml"
-    with pytest.raises(DesignError, match="give the panel label"):
+    with pytest.raises(FabricationError, match="give the panel label"):
         build_part("tsa-module", pattern=design)
-    with pytest.raises(DesignError, match="give the crease edge"):
+    with pytest.raises(FabricationError, match="give the crease edge"):
         build_part("blocker", pattern=design)
-    with pytest.raises(DesignError, match="not placed on a pattern"):
+    with pytest.raises(FabricationError, match="not placed on a pattern"):
         build_part("ring-rail", pattern=design)
-    with pytest.raises(DesignError, match="need --pattern"):
+    with pytest.raises(FabricationError, match="need --pattern"):
         build_part("blocker", crease=3)
     with pytest.raises(PatternError, match="no panel labelled 'zz'"):
         build_part("tsa-module", pattern=design, panel="zz")
@@ -285,7 +299,7 @@ def test_blocker_limit_is_eq6_of_its_panels():
     params = BlockerParams(bias=1.0, height=3.0, thickness=1.0)
     limit = math.degrees(theta_max(1.0, 3.0, 1.0))  # 90 deg
     blocker(params=params, angle=limit - 1.0)
-    with pytest.raises(DesignError, match=f"\\(0, {limit:.1f}\\) deg"):
+    with pytest.raises(FabricationError, match=f"\\(0, {limit:.1f}\\) deg"):
         blocker(params=params, angle=limit + 1.0)
 
 
@@ -363,3 +377,17 @@ def test_every_exported_part_lies_on_the_bed(tmp_path):
     step, _ = export_part(rail, tmp_path / "labels", "ring-rail")
     children = import_step(step).children
     assert children[0].label == "rail" and len(children) == len(rail.children)
+
+
+def test_parts_refuse_what_cannot_be_placed():
+    fab = fabricate(load_design(EXAMPLES / "arm_design.toml"))
+    with pytest.raises(FabricationError, match="larger than panel 'c1r0s0'"):
+        oc.parts.TSAModule(plan=fab.plan, panel="c1r0s0", body=(200, 200, 200), horn_offset=10)
+    with pytest.raises(FabricationError, match="panel needs plan"):
+        oc.parts.TSAModule(panel="c1r0s0")
+    crease = int(np.flatnonzero(fab.plan.pattern.assignments == "V")[0])
+    with pytest.raises(FabricationError, match=r"crease must be an edge index .* got 1.5"):
+        oc.parts.Blocker(fab.plan, 1.5)
+    with pytest.raises(FabricationError, match="crease needs plan"):
+        oc.parts.Blocker(None, crease)
+    assert oc.parts.Blocker(fab.plan, crease).volume > 0  # the valid call still builds

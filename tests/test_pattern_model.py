@@ -50,7 +50,8 @@ def test_snapping_merges_close_vertices_and_reports_it():
     cp = CreasePattern(verts, edges, ["B"] * 4 + ["M"])
     assert cp.n_vertices == 4  # the near-duplicate merged, the unused vertex dropped
     assert cp.n_edges == 5
-    assert any(p.code == "normalised" and "merged" in p.message for p in cp.notes)
+    assert any(p.code == "merged" and "merged" in p.message for p in cp.notes)
+    assert cp.cleanup.merged == 1 and 0 < cp.cleanup.merged_gap < 2e-8
 
 
 def test_crossing_and_t_junction_are_split():

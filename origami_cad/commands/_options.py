@@ -3,32 +3,17 @@ and the checks every value passes before any work (one line naming the option)."
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from origami_cad._args import check_number
 from origami_cad.errors import OptionsError
 
 __all__ = ["SIZING", "Option"]
 
 _KINDS = ("float", "int", "str", "flag", "object")
-
-
-def _describe_range(opt: Option) -> str:
-    """``a finite number in [0, 1]``, ``an integer in 1..4096``..."""
-    if opt.kind == "int":
-        lo = "" if opt.min is None else str(int(opt.min))
-        hi = "" if opt.max is None else str(int(opt.max))
-        return "an integer" + (f" in {lo}..{hi}" if lo or hi else "")
-    text = "a finite number"
-    if opt.min is None and opt.max is None:
-        return text
-    left = "(" if opt.open_min else "["
-    lo = "-inf" if opt.min is None else f"{opt.min:g}"
-    hi = "inf" if opt.max is None else f"{opt.max:g}"
-    return f"{text} in {left}{lo}, {hi}{')' if opt.max is None else ']'}"
 
 
 @dataclass(frozen=True)
@@ -137,33 +122,14 @@ class Option:
         return value
 
     def _number(self, value: Any) -> float | int:
-        expected = f"{self.shown}: expected {_describe_range(self)}, got {_shown(value)}"
-        if isinstance(value, bool):
-            raise OptionsError(expected)
-        try:
-            number = float(value) if self.kind == "float" else _integer(value)
-        except (TypeError, ValueError, OverflowError):
-            raise OptionsError(expected) from None
-        if not math.isfinite(number):
-            raise OptionsError(expected)
-        low = self.min is not None and (number <= self.min if self.open_min else number < self.min)
-        if low or (self.max is not None and number > self.max):
-            raise OptionsError(expected)
-        return number
-
-
-def _shown(value: Any) -> str:
-    return value if isinstance(value, str) else repr(value)
-
-
-def _integer(value: Any) -> int:
-    if isinstance(value, str):
-        return int(value.strip())
-    if isinstance(value, float) and not value.is_integer():
-        raise ValueError(value)
-    import operator
-
-    return operator.index(value) if not isinstance(value, float) else int(value)
+        return check_number(
+            self.shown,
+            value,
+            kind=self.kind,
+            low=self.min,
+            high=self.max,
+            open_min=self.open_min,
+        )
 
 
 #: ``unit``, ``scale`` and ``width``: how an imported pattern (.dxf, .svg) is sized.

@@ -29,6 +29,9 @@ class Outputs:
         Key results, name and value with its unit.
     messages : list of str
         Lines for the user: summary and warnings.
+    warnings : list of str
+        Warnings the command line prints on stderr (``origami-cad: warning: ...``): a
+        result the library returned but could not fully confirm.
     result : object
         The library result the files were made from (a ``DCQCResult``,
         ``Fabrication``, list of ``ArmDesign``...), or ``None``.
@@ -41,6 +44,7 @@ class Outputs:
     images: list[tuple[Path, str]] = field(default_factory=list)
     numbers: list[tuple[str, str]] = field(default_factory=list)
     messages: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
     result: Any = None
     status: int = 0
 
@@ -54,6 +58,7 @@ class Outputs:
         self.images += other.images
         self.numbers += [n for n in other.numbers if n not in self.numbers]
         self.messages += other.messages
+        self.warnings += other.warnings
         return self
 
 

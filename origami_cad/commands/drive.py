@@ -67,29 +67,17 @@ def _start_bus(stack, seq, a, emulate: dict | None):
     return stack.enter_context(bus)
 
 
-def _open_bus(stack, seq, a, emulate: dict | None):
-    """:func:`_start_bus`; if the bus cannot be opened (an absent servo), the log says why."""
-    from origami_cad.drive.sequence import log_not_started
-
-    try:
-        return _start_bus(stack, seq, a, emulate)
-    except BaseException as exc:
-        log_not_started(a.log, seq, exc)
-        raise
-
-
 def _drive_stopped(exc: BaseException, plot, names: dict[int, str], done=None) -> BaseException:
     """After a run stopped early: the ``plot`` of its readings (``done``: all of them, when
     only the shutdown failed), so log and plot stay one set; and the error to raise (a
     stall names the TSA, not only its servo ID)."""
     from origami_cad.drive import StallError
-    from origami_cad.drive.sequence import DriveLog
     from origami_cad.viz.drive_plots import save_drive_png
 
     ran = done or getattr(exc, "drive_log", None) or getattr(exc.__cause__, "drive_log", None)
-    if plot:  # no readings yet (stopped while the bus opened): an empty plot, as the log
+    if plot and ran is not None:  # a run that never began has no log, and no plot
         with finishing():
-            save_drive_png(ran or DriveLog.empty(list(names), 0), plot, names)
+            save_drive_png(ran, plot, names)
     if isinstance(exc, StallError) and names.get(exc.servo):
         return StallError(f"{names[exc.servo]}: {exc}", exc.servo)
     return exc
@@ -134,7 +122,7 @@ class Drive(Command):
         Option("speed", "float", "dry-run time acceleration", default=8.0, min=0, open_min=True,
                max=1000),
         Option("load_scale", "float", "dry run: loads x this", default=1.0, min=0, max=1e6),
-        Option("log", help="CSV log, written as it runs", default="drive_log.csv"),
+        Option("log", help="CSV log, written as it runs (none unless given)"),
         Option("plot", help="also a PNG of commanded and measured turns"),
     )  # fmt: skip
 
@@ -160,11 +148,11 @@ class Drive(Command):
         names, done = {t.dxl_id: t.name for t in seq.tsas}, None
         try:
             with contextlib.ExitStack() as stack:
-                bus = _open_bus(stack, seq, a, emulate)
+                bus = _start_bus(stack, seq, a, emulate)
                 done = run_sequence(seq, bus, a.log, time_scale=scale, progress=a.progress)
         except BaseException as exc:  # the plot shows what ran; a stall names the TSA
             raise _drive_stopped(exc, a.plot, names, done) from exc.__cause__
-        files = [Path(a.log)]
+        files = [Path(a.log)] if a.log else []
         if a.plot:
             with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
                 save_drive_png(done, a.plot, names)
@@ -181,6 +169,7 @@ class Drive(Command):
                 f"{' (dry run)' if a.dry_run else ''}: {done.target.size} readings, "
                 f"lag {lag:.3f} turns (95 % of readings), {float(done.lag.max()):.3f} at most",
                 *map(wrote, files),
+                *([] if a.log else ["note: no log was kept; --log FILE keeps every reading"]),
             ],
             result=done,
         )

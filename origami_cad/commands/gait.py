@@ -8,7 +8,6 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
-from origami_cad.commands.robot import PAPER_CRAWL_MM
 from origami_cad.commands.simulation import GIF_FRAMES, gif_states
 from origami_cad.parallel import open_executor
 
@@ -21,6 +20,10 @@ ROBOT_FILES = (
     "crawler.fold",
     *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr")),
 )
+
+#: The options that are ``GaitSettings`` fields.
+SETTINGS = ("runs", "popsize", "generations", "seed", "steps", "cycle", "mix", "frictions")
+SETTINGS += ("targets",)
 
 
 def _command_line(a) -> str:
@@ -36,45 +39,12 @@ def _command_line(a) -> str:
     return " ".join([*args, *(["--mix", a.mix] if a.mix else [])])
 
 
-def _settings(a, robot):
-    """The search's settings: the library's defaults, the options given, the robot's limits.
-
-    Raises :class:`OptionsError` in one line when ``targets`` does not give one target per
-    friction (or ``--mix shortfall`` has a friction without a default target)."""
-    from origami_cad.design.gait import GaitLimits, GaitSettings
-    from origami_cad.errors import OptionsError
-
-    given = {k: getattr(a, k) for k in ("runs", "popsize", "generations", "seed", "steps")}
-    given |= {"cycle": a.cycle, "mix": a.mix}
-    given = {k: v for k, v in given.items() if v is not None}
-    if a.frictions is not None:
-        given["frictions"] = tuple(a.frictions)
-    if a.targets is not None:
-        given["targets"] = tuple(a.targets)
-    try:
-        return GaitSettings(limits=GaitLimits.of(robot), **given)
-    except ValueError as exc:  # targets against frictions
-        raise OptionsError(f"design-gait: {exc} (--targets)") from None
-
-
-def _gait_header(design, command: str) -> str:
-    best, hand = design.best, design.hand
-    per = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in best.terms)
-    was = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in hand)
-    return (
-        f"# A gait found by origami-cad design-gait (CMA-ES, score {best.score:.1f} mm, "
-        f"{design.settings.mix} over frictions): forward per cycle {per}\n"
-        f"# (the robot file's hand gait: {was}; the paper: {PAPER_CRAWL_MM:g} mm).\n"
-        "# crawl reads its keyframes (origami-cad crawl ROBOT.toml --gait gait.toml), drive\n"
-        "# runs it (origami-cad drive gait.toml --dry-run).\n"
-        f"#   {command}\n"
-    )
-
-
 def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) -> None:
     """gait.toml, results.json, the plots and the side-view GIF into ``stage``."""
     import numpy as np
 
+    from origami_cad.design.gait_files import gait_header
+    from origami_cad.robot import PAPER_CRAWL_MM
     from origami_cad.simulation.crawler import gait_sequence_text
     from origami_cad.viz import crawl_plots as plots
     from origami_cad.viz.render3d import render_folding_gif
@@ -82,7 +52,7 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
     best_robot, result = walked
     text = gait_sequence_text(best_robot, result=result, command=report["command"])
     with atomic_write(stage / FILES[0], "w", encoding="utf-8") as fh:
-        fh.write(_gait_header(design, report["command"]) + text)
+        fh.write(gait_header(design, report["command"]) + text)
     with atomic_write(stage / FILES[1], "w", encoding="utf-8") as fh:
         json.dump(report, fh, indent=1)
     cands = design.candidates
@@ -105,47 +75,9 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
     render_folding_gif(best_robot.pattern, shown, stage / FILES[5], view="xz", captions=captions)
 
 
-def _report(robot, design, seconds: float, command: str) -> dict:
-    """results.json: the settings, the best and the hand gait, the limits, every candidate."""
-    import dataclasses
-
-    from origami_cad.design.gait import stride_limits
-
-    return {
-        "robot": str(robot.source),
-        "command": command,
-        "search_s": seconds,
-        "settings": dataclasses.asdict(design.settings),
-        "targets_mm": (  # the shortfall mix's target per friction, resolved
-            list(design.settings.target_values()) if design.settings.mix == "shortfall" else None
-        ),
-        "paper_mm_per_cycle": PAPER_CRAWL_MM,
-        "best": design.best.to_dict(),
-        "hand_gait": {
-            "score_mm": design.hand_score,
-            "per_friction": [t.to_dict() for t in design.hand],
-        },
-        "best_score_per_generation": design.history,
-        "what_limits_the_stride": stride_limits(robot, design, PAPER_CRAWL_MM),
-        "candidates": [c.to_dict() for c in design.candidates],
-    }
-
-
-def _within_limits(a, design) -> None:
-    """Refuse a search whose every candidate passed a limit (crawl --gait and drive would
-    refuse its gait): one line naming the limit the best one passed."""
-    from origami_cad.design.gait import hard_hits
-    from origami_cad.errors import DesignError
-
-    hard = hard_hits(design.best)
-    if hard:
-        raise DesignError(
-            f"{a.robot}: none of {len(design.candidates)} gaits stays within the limits; "
-            f"the best: {hard[0]} (try a longer --cycle or more --generations)"
-        )
-
-
 def _numbers(design, seconds: float) -> list[tuple[str, str]]:
+    from origami_cad.robot import PAPER_CRAWL_MM
+
     rows = [("search", f"{len(design.candidates)} candidates in {seconds:.0f} s")]
     for best, hand in zip(design.best.terms, design.hand, strict=True):
         rows.append((
@@ -155,29 +87,6 @@ def _numbers(design, seconds: float) -> list[tuple[str, str]]:
         ))  # fmt: skip
     hits = sorted({h for t in design.best.terms for h in t.hits})
     return [*rows, ("limits hit by the best gait", "; ".join(hits) or "none")]
-
-
-def _search(a, robot, settings):
-    """The gait search, or with ``--design`` the joint design and gait search:
-    ``(GaitDesign, CrawlerSearch or None)``."""
-    from origami_cad.design.crawler_search import design_crawler, parse_design_bounds
-    from origami_cad.design.gait import design_gait
-
-    bounds = parse_design_bounds(a.design) if a.design is not None else None
-    with open_executor(a.scheduler) as executor:
-        if bounds is None:
-            return design_gait(robot, settings, executor=executor, progress=a.progress), None
-        search = design_crawler(robot, settings, bounds, executor=executor, progress=a.progress)
-    return search.gait, search
-
-
-def _robot_gait_header(design, command: str) -> str:
-    per = ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in design.best.terms)
-    return (
-        f"# The gait found with this crawler's design by design-gait --design (forward per\n"
-        f"# cycle {per}; the paper: {PAPER_CRAWL_MM:g} mm). Fold ratios p = fold angle / 180 deg\n"
-        f"# of the legs [front left, front right, rear left, rear right].\n#   {command}"
-    )
 
 
 @register
@@ -231,27 +140,28 @@ class DesignGait(Command):
         return {o.name: fields[o.name] for o in cls.OPTIONS if o.name in fields}
 
     def run(self, a) -> Outputs:
+        from origami_cad.design import gait_files as lib
         from origami_cad.design.crawler import write_crawler
-        from origami_cad.robot import load_robot
+        from origami_cad.robot import PAPER_CRAWL_MM, load_robot
         from origami_cad.simulation.crawler import simulate_gait
 
         robot = load_robot(a.robot)
-        settings, command = _settings(a, robot), _command_line(a)
+        settings = lib.gait_settings(robot, **{k: getattr(a, k) for k in SETTINGS})
+        command = _command_line(a)
         start = time.perf_counter()
-        design, search = _search(a, robot, settings)
+        with open_executor(a.scheduler) as executor:
+            design, search = lib.search_gait(robot, settings, a.design, executor, a.progress)
         seconds = time.perf_counter() - start
-        _within_limits(a, design)
+        lib.check_within_limits(design, str(a.robot))
         best_robot = search.robot() if search else design.robot(robot)
         result = simulate_gait(best_robot, cycles=settings.cycles, steps=settings.steps)
-        report = _report(best_robot if search else robot, design, seconds, command)
-        if search is not None:
-            report["crawler_design"] = search.to_dict()
+        walker = best_robot if search else robot
+        report = lib.gait_report(walker, design, seconds, command, search)
         with self.stage(a, robot.pattern_path, *(leg.route_path for leg in robot.legs)) as stage:
             _write(stage, robot, design, (best_robot, result), report, a.gif_frames)
             if search is not None:
-                write_crawler(search.files(_robot_gait_header(design, command)), stage)
+                write_crawler(search.files(lib.crawler_gait_header(design, command)), stage)
         files = [Path(a.folder) / n for n in FILES + (ROBOT_FILES if search else ())]
-        best = design.best.terms
         return Outputs(
             files=files,
             images=[
@@ -263,7 +173,7 @@ class DesignGait(Command):
             numbers=_numbers(design, seconds),
             messages=[
                 "designed gait: "
-                + ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in best)
+                + ", ".join(f"{t.forward:.1f} mm at {t.friction:g}" for t in design.best.terms)
                 + f" per cycle (paper {PAPER_CRAWL_MM:g} mm), {seconds:.0f} s",
                 wrote(a.folder, FILES + (ROBOT_FILES if search is not None else ())),
             ],

@@ -146,23 +146,29 @@ def _flat_creases_note(cp, fold_angles) -> list[str]:
     return [
         f"note: {int(flat.sum())} of the {int(creases.sum())} creases stay flat: their straight "
         "crease lines fold independently of the driving crease (as a map's lines fold one at "
-        "a time), which a one-parameter rigid folding leaves flat; the bar-and-hinge "
-        "simulation (simulate) folds them together"
+        "a time), which a one-parameter rigid folding leaves flat; --method general folds "
+        "them together"
     ]
 
 
-def _placed_states(loaded, ratio: float, frames: int):
-    """The folded states from p = 0 to ``ratio``, each placed on the table."""
+def _placed_states(loaded, ratio: float, frames: int, method: str = "auto"):
+    """The folded states from p = 0 to ``ratio``, each placed on the table, and the
+    warnings of the fold (lines for the user)."""
     import dataclasses
+    import warnings
 
     import numpy as np
 
-    from origami_cad.kinematics.folding import fold_sequence
     from origami_cad.kinematics.placement import place_sequence
+    from origami_cad.simulation.folder import StrainWarning, fold_states
 
-    states = fold_sequence(loaded, np.linspace(0.0, ratio, frames) if frames > 1 else [ratio])
+    ratios = np.linspace(0.0, ratio, frames) if frames > 1 else [ratio]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", StrainWarning)
+        states = fold_states(loaded, ratios, method=method)
     placed = place_sequence(loaded.pattern, [s.coords for s in states])
-    return [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
+    states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
+    return states, [f"warning: {w.message}" for w in caught if w.category is StrainWarning]
 
 
 def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
@@ -214,6 +220,12 @@ class Fold(Command):
         Option("ratio", "float", "fold ratio p in [0, 1]", default=0.5, min=0, max=1),
         Option("frames", "int", "states from p = 0 to --ratio", default=1, min=1, max=MAX_FRAMES),
         Option("view", help="camera of the renders", default="iso", flag="", parse=str),
+        Option(
+            "method",
+            help="auto: the closed form where it applies, else the general solver",
+            default="auto",
+            choices=("auto", "closed-form", "general"),
+        ),
         *SIZING,
     )
 
@@ -221,20 +233,25 @@ class Fold(Command):
         out, ratio = Path(a.output), a.ratio
         loaded, warned = self.load(a, a.design)
         animated = out.suffix.lower() in (".gif", ".glb")
-        states = _placed_states(loaded, ratio, a.frames if a.frames > 1 or not animated else 30)
+        frames = a.frames if a.frames > 1 or not animated else 30
+        states, strained = _placed_states(loaded, ratio, frames, a.method.replace("-", " "))
         _write_folded(loaded, states, out, ratio, a.view)
         still = out.suffix.lower() == ".png"
         caption = f"Folded at p = {ratio:g}" if still else f"Folding from p = 0 to {ratio:g}"
         plural = "s" if len(states) > 1 else ""
         flat = _flat_creases_note(loaded.pattern, states[-1].fold_angles if ratio > 0 else None)
+        method, strain = states[-1].method, max(s.strain for s in states)
+        how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
         return Outputs(
             files=[out],
             images=[(out, caption)] if out.suffix.lower() not in (".fold", ".step") else [],
             messages=[
                 *warned,
+                *strained,
                 *flat,
-                wrote(out, detail=f"{len(states)} state{plural}, p up to {ratio:g}"),
+                wrote(out, detail=f"{len(states)} state{plural}, p up to {ratio:g}; {how}"),
             ],
+            numbers=[("fold method", method), ("largest edge strain", f"{strain:.3g} %")],
             result=states,
         )
 

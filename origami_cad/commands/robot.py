@@ -12,10 +12,7 @@ from origami_cad.commands._base import Command, Option, Outputs, moved, register
 from origami_cad.commands.fabrication import SHEET_FILES
 from origami_cad.commands.simulation import GIF_FRAMES, gif_states
 
-__all__ = ["PAPER_CRAWLER_G", "PAPER_CRAWL_MM"]
-
-PAPER_CRAWL_MM = 63.0  # the paper's crawler: mm forward per 32 s gait cycle on a PVC mat
-PAPER_CRAWLER_G = 361.45  # the paper's crawler's weight, g
+__all__: list[str] = []
 
 
 def _crawl_command(a) -> str:
@@ -28,20 +25,9 @@ def _crawl_command(a) -> str:
     return " ".join(args)
 
 
-def _walker(a):
-    """The robot, walking ``--gait``'s gait if given (past a limit: refused, by name)."""
-    from origami_cad.robot import load_gait, load_robot
-    from origami_cad.simulation.crawler import check_servo_speed
-
-    spec = load_robot(a.robot)
-    if a.gait is not None:
-        spec = load_gait(a.gait, spec)
-        check_servo_speed(spec, where=str(a.gait))
-    return spec
-
-
 def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
     """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
+    from origami_cad.robot import PAPER_CRAWL_MM
     from origami_cad.simulation.crawler import gait_sequence_text
     from origami_cad.viz.crawl_plots import (
         save_crawl_gait_png,
@@ -80,23 +66,6 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
         fh.write(text)
 
 
-def _crawl_numbers(result, seconds: float) -> list[tuple[str, str]]:
-    per = result.displacement_per_cycle()
-    mean = float(per.mean()) if per.size else math.nan
-    return [
-        ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
-        ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
-        ("total displacement", f"{result.body[-1, 0] - result.body[0, 0]:.1f} mm"),
-        ("lateral drift", f"{result.body[-1, 1] - result.body[0, 1]:.1f} mm"),
-        ("largest TSA torque", f"{result.torque.max():.1f} N mm"),
-        ("largest string tension", f"{result.tensions.max():.1f} N"),
-        ("largest blocked fold", f"{result.blocked.max():.1f} deg"),
-        ("simulated mass", f"{result.mass_g:.0f} g"),
-        ("simulation time", f"{seconds:.1f} s"),
-        ("how the gait ended", result.reason),
-    ]
-
-
 @register
 class Crawl(Command):
     """Walk a legged robot through its gait in simulation: crawl.json, .png plots, crawl.gif.
@@ -132,9 +101,10 @@ class Crawl(Command):
         return [a.robot, *([a.gait] if a.gait is not None else [])]
 
     def run(self, a) -> Outputs:
-        from origami_cad.simulation.crawler import simulate_gait
+        from origami_cad.robot import PAPER_CRAWL_MM
+        from origami_cad.simulation.crawler import simulate_gait, walking_robot
 
-        spec = _walker(a)
+        spec = walking_robot(a.robot, a.gait)
         start = time.perf_counter()
         result = simulate_gait(
             spec, cycles=a.cycles, steps=a.steps, reverse=a.reverse, friction=a.friction,
@@ -159,7 +129,7 @@ class Crawl(Command):
                 (files[2], "TSA torque and string tension per leg"),
                 (files[3], "The crawl seen from the side"),
             ],
-            numbers=_crawl_numbers(result, seconds),
+            numbers=result.numbers(seconds),
             messages=[
                 f"{a.cycles} gait cycle(s), {len(result.t)} states in {seconds:.1f} s: "
                 f"{mean:.1f} mm per cycle (the paper's crawler: {PAPER_CRAWL_MM:g} mm)",
@@ -171,50 +141,12 @@ class Crawl(Command):
         )
 
 
-def _render_robot(stage: Path, robot, assembly, stls) -> None:
-    from origami_cad.parts.robot import display_color
-    from origami_cad.viz.parts_render import render_parts
-
-    every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
-    every.update(stls)
-    kinds = {n: assembly.kinds[n] for n in stls}
-    render_parts(
-        every,
-        stage / "robot.png",
-        title=f"{Path(robot).stem}: printed robot",
-        labels={
-            n: k.replace("-", " ") + "s" * (list(kinds.values()).count(k) > 1)
-            for n, k in kinds.items()
-        },
-        colors={n: display_color(assembly, n) for n in stls},
-    )
-
-
-def _robot_json(robot, spec, fab, report: dict, overlaps: dict) -> dict:
-    """``robot.json``'s content: the mass budget from the print settings the 3MF carries
-    (g, against the paper's crawler), the settings, each solid and the overlaps (mm^3)."""
-    from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
-    from origami_cad.fabrication.printmass import sheet_print_mass
-    from origami_cad.parts.robot import robot_mass_budget
-
-    settings = slicer_settings(fab.params)
-    sheet = sum(sheet_print_mass(fab, settings).values())
-    bought = [(m.name, m.grams) for m in spec.masses]
-    budget = robot_mass_budget(sheet, report, bought).to_dict(reference_g=PAPER_CRAWLER_G)
-    return {
-        "robot": str(robot),
-        "mass_budget": budget,
-        "print_settings": {k: settings[k] for k in PRINT_SETTINGS},
-        "solids": report,
-        "interpenetrating_mm3": {f"{x} / {y}": v for (x, y), v in overlaps.items()},
-    }
-
-
 def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -> list:
     """The sheet's files, the parts' STLs, robot.step, robot.json and the pictures; images."""
     from origami_cad.fabrication import write_fabrication
-    from origami_cad.parts.robot import write_robot_step, write_robot_stls
+    from origami_cad.parts.robot import robot_render_style, write_robot_step, write_robot_stls
     from origami_cad.viz.fabrication_plots import save_panels_png
+    from origami_cad.viz.parts_render import render_parts
 
     write_fabrication(fab, stage)
     save_panels_png(fab, stage / "panels.png")
@@ -224,27 +156,13 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
         json.dump(data, fh, indent=1)
     images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
     if renders:
-        _render_robot(stage, robot, assembly, stls)
+        every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+        labels, colors = robot_render_style(assembly, list(stls))
+        title = f"{Path(robot).stem}: printed robot"
+        render_parts({**every, **stls}, stage / "robot.png", title=title, labels=labels,
+                     colors=colors)  # fmt: skip
         images.insert(0, (stage / "robot.png", "The printed robot with its parts in place"))
     return images
-
-
-def _robot_numbers(budget, kinds, overlaps) -> list[tuple[str, str]]:
-    sheet, printed, total = budget["sheet_g"], budget["printed_parts_g"], budget["total_g"]
-    bought = sum(budget["bought_parts_g"].values())
-    difference = budget["difference_percent"]
-    return [
-        ("sheet mass (as printed)", f"{sheet:.1f} g"),
-        ("printed parts", f"{printed:.1f} g"),
-        ("bought parts (servos, driver module)", f"{bought:.1f} g"),
-        ("mass estimate (paper: 361.45 g)", f"{total:.0f} g ({difference:+.0f} %)"),
-        (
-            "parts",
-            f"{kinds.count('tsa-module')} TSA modules, {kinds.count('blocker')} blockers, "
-            f"{kinds.count('driver-adapter')} driver adapter",
-        ),
-        ("interpenetrating pairs", str(len(overlaps))),
-    ]  # fmt: skip
 
 
 @register
@@ -271,27 +189,35 @@ class Robot(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.fabrication import fabricate
-        from origami_cad.parts.robot import robot_assembly, robot_overlaps, robot_report
+        from origami_cad.parts.robot import (
+            PAPER_CRAWLER_G,
+            robot_assembly,
+            robot_mass_numbers,
+            robot_mass_report,
+            robot_overlaps,
+            robot_report,
+        )
         from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, spec.sheet(holes=spec.holes or "auto"))
         assembly = robot_assembly(fab, **robot_placements(spec), ratio=a.ratio)
         report, overlaps = robot_report(assembly), robot_overlaps(assembly)
-        data = _robot_json(a.robot, spec, fab, report, overlaps)
+        bought = [(m.name, m.grams) for m in spec.masses]
+        data = robot_mass_report(a.robot, fab, report, overlaps, bought)
         budget = data["mass_budget"]
         with self.stage(a, spec.pattern_path, *(leg.route_path for leg in spec.legs)) as stage:
             images = _write_robot(stage, a.robot, fab, assembly, data, a.renders)
             files = moved(staged(stage), stage, a.folder)
         total, sheet = budget["total_g"], budget["sheet_g"]
-        printed, bought = budget["printed_parts_g"], sum(budget["bought_parts_g"].values())
+        printed, bought_g = budget["printed_parts_g"], sum(budget["bought_parts_g"].values())
         return Outputs(
             files=files,
             images=[(Path(a.folder) / p.name, c) for p, c in images],
-            numbers=_robot_numbers(budget, [v["kind"] for v in report.values()], overlaps),
+            numbers=robot_mass_numbers(data),
             messages=[
                 f"mass estimate {total:.0f} g against the paper's {PAPER_CRAWLER_G:g} g "
-                f"(sheet {sheet:.0f} g, printed parts {printed:.0f} g, bought {bought:.0f} g)",
+                f"(sheet {sheet:.0f} g, printed parts {printed:.0f} g, bought {bought_g:.0f} g)",
                 *(f"warning: {x} and {y} share {v:.1f} mm^3" for (x, y), v in overlaps.items()),
                 *(f"warning: {w}" for w in fab.warnings),
                 wrote(a.folder, files),

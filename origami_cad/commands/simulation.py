@@ -73,20 +73,26 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
 
 @register
 class Simulate(Command):
-    """Bar-and-hinge folding by strings and TSA: states.fold, simulation.json, fold.gif, folded.png.
+    """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold, ...
 
-    ``params`` is a ``SimulationParams``, or give ``gravity`` (mm/s^2, along -z),
-    ``ground`` (height of a ground plane, mm) and ``friction`` (Coulomb
-    coefficient). ``blockers`` maps crease index to its limit in degrees;
+    ``route`` is the route file; a design that carries its tendons (a PyGamiX
+    description) needs none. ``params`` is a ``SimulationParams``, or give ``gravity``
+    (mm/s^2, along -z), ``ground`` (height of a ground plane, mm) and ``friction``
+    (Coulomb coefficient). ``blockers`` maps crease index to its limit in degrees;
     ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
-    the number of frames of the animation.
+    the number of frames of the animation. ``pull`` (mm) pulls the strings' anchored
+    end as a test machine does, at ``rate`` mm/s, instead of the TSA: pull.csv
+    (``pull_mm,tension_N,...``), states.fold and simulation.json.
     ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
 
-    NAME, INPUTS, OUTPUT, PROGRESS = "simulate", ("pattern", "route"), "folder", "simulating"
+    NAME, INPUTS, OUTPUT, PROGRESS = "simulate", ("pattern",), "folder", "simulating"
     ARGS = ("pattern", "route", "folder", "params")
     FILES = ("states.fold", "simulation.json", "fold.gif", "folded.png", "route.png")
+    PULL_FILES = ("pull.csv", "states.fold", "simulation.json")
     OPTIONS = (
+        Option("route", help="route file (default: the design's own tendons)", nargs="?",
+               positional=True, metavar="ROUTE"),
         Option("steps", "int", "actuation steps over the route's turns", min=1, max=100_000),
         Option("blockers", "object", "stop crease EDGE at DEG deg (repeat)", repeat=True,
                parse=_blocker, flag="--blocker", metavar="EDGE:DEG"),
@@ -94,6 +100,14 @@ class Simulate(Command):
         Option("ground", "float", "height of a ground plane", "mm", min=-1e5, max=1e5),
         Option("friction", "float", "Coulomb friction coefficient", min=0, max=100),
         Option("free", "flag", "hold no panel (needs --gravity, --ground)"),
+        Option("pull", "float", "pull the strings' end by this much (test machine)", "mm",
+               min=0, max=1e4, open_min=True),
+        Option("rate", "float", "the pull's speed", "mm/s", default=1000.0 / 60.0, min=0,
+               max=1e4, open_min=True),
+        Option("pull_step", "float", "pull per state", "mm", default=1.0, min=0, max=1e3,
+               open_min=True),
+        Option("fixed_panel", help="hold this panel (default: the route's or design's)"),
+        Option("materials", help="materials file (materials.toml)"),
         Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
         _GIF,
         *SIZING,
@@ -108,19 +122,25 @@ class Simulate(Command):
         fields = dataclasses.fields(SimulationParams)
         return {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
 
-    def run(self, a) -> Outputs:
-        from origami_cad.simulation import SimulationParams, simulate
-        from origami_cad.strings import load_route
+    def inputs(self, a):
+        return [a.pattern, *([a.route] if a.route else []), *([a.materials] if a.materials else [])]
 
-        loaded, warned = self.load(a, a.pattern)
-        cp = loaded.pattern
-        spec = load_route(a.route, cp)
-        given = {k: getattr(a, k) for k in ("gravity", "ground", "friction")}
-        loads = {k: v for k, v in given.items() if v is not None}
-        params = a.params or SimulationParams.for_route(spec, **loads)
+    def outputs(self, a):
+        names = self.PULL_FILES if a.pull is not None else self.FILES
+        return [Path(a.folder) / n for n in names], [a.folder]
+
+    def run(self, a) -> Outputs:
+        from origami_cad.commands.pull import simulation_setup, write_pull
+
+        loaded, warned, cp, spec, params = simulation_setup(self, a)
+        if a.pull is not None:
+            return write_pull(self, a, loaded, spec, params, warned)
+        from origami_cad.simulation import simulate
+
         limits = _blocker_limits(cp, a.blockers, a.pattern)
         kwargs = {"steps": a.steps, "fold_limits": limits or None, "free": a.free}
-        result = simulate(cp, spec, params, design=loaded, progress=a.progress, **kwargs)
+        result = simulate(cp, spec, params, design=loaded, progress=a.progress,
+                          fixed_panel=a.fixed_panel, **kwargs)  # fmt: skip
         with self.stage(a, loaded) as stage:
             _write_simulation(stage, self.FILES, cp, spec, result, a.gif_frames)
         files = [Path(a.folder) / n for n in self.FILES]

@@ -6,6 +6,7 @@
 11
 """
 
+from origami_cad.design.arm import ArmSearch, choose_arm_winner, design_arm
 from origami_cad.design.fitness import (
     INFEASIBLE_COST,
     FitnessResult,
@@ -18,7 +19,6 @@ from origami_cad.design.search import (
     ArmDesign,
     decode,
     decode_bias,
-    design_arm,
     rank_designs,
     run_one,
     ties,
@@ -29,11 +29,13 @@ from origami_cad.kinematics.limits import crease_fold_limit, leg_fold_angles, re
 __all__ = [
     "INFEASIBLE_COST",
     "ArmDesign",
+    "ArmSearch",
     "ArmTask",
     "FitnessResult",
     "FitnessTerms",
     "SearchSettings",
     "arm_fitness",
+    "choose_arm_winner",
     "crease_fold_limit",
     "decode",
     "decode_bias",

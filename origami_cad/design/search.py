@@ -40,9 +40,7 @@ caps it for bounds.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -52,7 +50,6 @@ import numpy as np
 from origami_cad._libm import canonical_eigh
 from origami_cad.design.fitness import FitnessResult, FitnessTerms, arm_fitness
 from origami_cad.design.task import ArmTask, SearchSettings
-from origami_cad.parallel import local_pool, start_context
 from origami_cad.pattern.tg import TGDesign
 
 __all__ = [
@@ -65,7 +62,6 @@ __all__ = [
     "canonical_eigh",
     "decode",
     "decode_bias",
-    "design_arm",
     "rank_designs",
     "run_one",
     "ties",
@@ -319,62 +315,6 @@ def run_one(
     )
 
 
-def design_arm(
-    task: ArmTask,
-    settings: SearchSettings,
-    executor: cf.Executor | None = None,
-    progress: Callable[[int, int, float], None] | None = None,
-) -> list[ArmDesign]:
-    """Run ``settings.runs`` independent CMA-ES searches; best design of each, ranked.
-
-    Parameters
-    ----------
-    task : ArmTask
-        The design task.
-    settings : SearchSettings
-        Runs, seed, population size, generations.
-    executor : concurrent.futures.Executor, optional
-        Where the runs go (a Dask or Ray executor spreads them over a cluster).
-        Default: a process pool with one worker per core.
-    progress : callable, optional
-        ``progress(run, generation, best_fitness)``, called in this process as
-        runs advance (only with the default executor or a thread/in-process one
-        sharing this process's memory; silent otherwise).
-
-    Returns
-    -------
-    list of ArmDesign
-        One per feasible run, ranked by :func:`rank_designs`: the designs that tie
-        for the best fitness first, by fold range then run index. Infeasible runs
-        (the chain always hit a prohibited area) are left out.
-    """
-    own = executor is None
-    queue = None
-    manager = None
-    if own:
-        executor = local_pool(settings.runs)
-        if progress is not None:
-            manager = start_context().Manager()
-            queue = manager.Queue()
-    elif progress is not None and isinstance(executor, cf.ThreadPoolExecutor):
-        queue = _CallbackQueue(progress)
-    try:
-        futures = [executor.submit(run_one, task, settings, r, queue) for r in range(settings.runs)]
-        if manager is not None and queue is not None:
-            pending = set(futures)
-            while pending:
-                _, pending = cf.wait(pending, timeout=0.1)
-                _drain(queue, progress)
-            _drain(queue, progress)
-        results = [f.result() for f in futures]
-    finally:
-        if own:
-            executor.shutdown(wait=True, cancel_futures=True)
-        if manager is not None:
-            manager.shutdown()
-    return rank_designs(results)
-
-
 def rank_designs(designs: list[ArmDesign]) -> list[ArmDesign]:
     """Feasible designs, best first, by a rule that does not depend on the machine.
 
@@ -421,21 +361,3 @@ def ties(designs: list[ArmDesign]) -> list[ArmDesign]:
         return []
     best = max(finite)
     return [r for r in designs if math.isfinite(r.fitness) and r.fitness >= best - FITNESS_TIE]
-
-
-class _CallbackQueue:
-    def __init__(self, callback: Callable[[int, int, float], None]) -> None:
-        self.callback = callback
-
-    def put(self, item: tuple[int, int, float]) -> None:
-        self.callback(*item)
-
-
-def _drain(queue: Any, progress: Callable[[int, int, float], None] | None) -> None:
-    while True:
-        try:
-            item = queue.get_nowait()
-        except Exception:  # queue.Empty from a manager proxy
-            return
-        if progress is not None:
-            progress(*item)

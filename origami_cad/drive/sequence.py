@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import io
 import itertools
 import json
 import math
@@ -44,11 +45,12 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._names import one_line
+from origami_cad._fileio import GrowingFile
+from origami_cad._names import one_line, visible
 from origami_cad._toml import Table, load_toml, toml_table
 from origami_cad.drive.errors import DriveError, describe_exit, hold_ctrl_c
 from origami_cad.drive.load import LoadCurve
-from origami_cad.errors import StringsError
+from origami_cad.errors import OutputError, StringsError
 from origami_cad.strings.tsa import TSAParams, onboard_angle
 
 __all__ = [
@@ -62,7 +64,6 @@ __all__ = [
     "check_time_scale",
     "dump_sequence",
     "load_sequence",
-    "log_not_started",
     "note_stop",
     "run_sequence",
     "stop_reason",
@@ -252,7 +253,7 @@ def _load(t: Table) -> np.ndarray:
 
 def _name(t: Table, default: str) -> str:
     name = t.string("name", default)
-    if not name.strip() or len(name) > 100 or any(ord(c) < 32 or ord(c) == 127 for c in name):
+    if not name.strip() or len(name) > 100 or not visible(name):
         raise t.error("name", f"expected 1-100 printable characters, got {name[:40]!r}")
     return name
 
@@ -491,7 +492,8 @@ class DriveLog:
 
 @contextlib.contextmanager
 def _open_log(log, sequence: Sequence):
-    """The CSV log, opened before anything moves; None without ``log``."""
+    """The CSV log (a :class:`~origami_cad._fileio.GrowingFile`), made before anything
+    moves and put in place of an old log only when the run begins; None without ``log``."""
     if log is None:
         yield None
         return
@@ -503,21 +505,21 @@ def _open_log(log, sequence: Sequence):
     if path.exists() and not (path.is_file() or path.is_char_device() or path.is_fifo()):
         raise DriveError(f"{path}: the log must be a file, not a folder")
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fh = open(path, "w", newline="", encoding="utf-8")
+        fh = GrowingFile(path)
     except OSError as exc:
         raise DriveError(f"{path}: the log cannot be written ({exc.strerror or exc})") from None
     with fh:
         yield fh
 
 
-def log_not_started(log, sequence: Sequence, exc: BaseException) -> None:
-    """Write the CSV ``log`` of a run that never began: its header and why
-    (``# not started: servo 7 did not answer a ping ...``); nothing without ``log``."""
-    with _open_log(log, sequence) as fh:
-        if fh is not None:
-            csv.DictWriter(fh, fieldnames=list(LOG_FIELDS)).writeheader()
-            note_stop(fh, exc)
+def _csv_rows(rows: list[dict[str, Any]], header: bool = False) -> str:
+    """CSV text of log rows (:data:`LOG_FIELDS`), whole lines, with the header first."""
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=list(LOG_FIELDS))
+    if header:
+        writer.writeheader()
+    writer.writerows(rows)
+    return text.getvalue()
 
 
 def run_sequence(
@@ -534,13 +536,16 @@ def run_sequence(
     ``time_scale`` > 1 runs faster than real time (dry runs); it must be
     finite and in (0, 1000]. Returns the columnar log (:class:`DriveLog`).
 
-    The CSV log is written as the run goes, one flushed row per reading (columns
-    :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC or
-    hardware error or a lost port leaves a valid CSV up to its last reading.
-    It is opened (and checked) before the first command; a log path that is
-    the sequence file itself is refused. A run that stops early ends the log with
-    a comment saying why (:func:`note_stop`), and the exception carries the
-    readings of the cycles that ran as ``drive_log`` (a :class:`DriveLog`).
+    The CSV log is written as the run goes, the rows of each reading written whole
+    (columns :data:`LOG_FIELDS`), so a run ended by Ctrl-C, a stall, a timeout, a CRC
+    or hardware error, a lost port or a full disk leaves a valid CSV up to its last
+    reading. It is made (and checked) beside its path before the first command, and
+    replaces an old log there only as the first command is sent: a run that never
+    began leaves an old log as it was, and no new one. A log path that is the sequence
+    file itself is refused. A run that stops early ends the log with a comment saying
+    why (:func:`note_stop`), and the exception carries the readings of the cycles that
+    ran as ``drive_log`` (a :class:`DriveLog`). A log the disk cannot hold stops the
+    run (``WriteRefused``, an ``OutputError``, naming the log).
 
     ``progress(t, targets, state)`` is called after every reading (``t`` in s); a
     callback with a ``total`` attribute (the servo table of
@@ -558,13 +563,10 @@ def run_sequence(
         steps -= 1
     out = DriveLog.empty(sequence.ids, steps)
     with _open_log(log, sequence) as fh:
-        writer = None
         if fh is not None:
-            writer = csv.DictWriter(fh, fieldnames=list(LOG_FIELDS))
-            writer.writeheader()
-            fh.flush()
+            fh.write(_csv_rows([], header=True))
         start = time.monotonic()
-        t, ran = 0.0, 0
+        t, ran, began = 0.0, 0, False
         try:
             for k in range(steps):
                 t = k * period
@@ -572,19 +574,22 @@ def run_sequence(
                 if delay > 0:
                     time.sleep(delay)
                 targets = sequence.turns_at(t)
+                if fh is not None:
+                    fh.publish()  # the run begins: its log replaces an old one
+                began = True
                 bus.set_turns(targets)
                 state = bus.read()
                 new = out.record(k, round(t, 6), targets, state)
                 ran = k + 1
-                if writer is not None:
-                    writer.writerows(new)  # whole rows: a Ctrl-C cannot cut one in half
-                    fh.flush()
+                if fh is not None:
+                    fh.write(_csv_rows(new))  # whole rows, or none
                 if progress is not None:
                     progress(t, targets, state)
         except BaseException as exc:
-            exc.drive_log = out.first(ran)  # what ran, for the caller (a plot of it)
-            if fh is not None:
-                with hold_ctrl_c():  # the reason's line is written whole
+            if began:
+                exc.drive_log = out.first(ran)  # what ran, for the caller (a plot of it)
+            if fh is not None and fh.published:
+                with hold_ctrl_c(), contextlib.suppress(OutputError):  # a full disk: no line
                     note_stop(fh, exc, t)
             raise
     return out

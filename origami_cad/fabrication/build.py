@@ -15,7 +15,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
-from origami_cad.errors import FabricationError
+from origami_cad.errors import FabricationError, OutputError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import (
@@ -243,7 +243,12 @@ def write_fabrication(
         fab.slicer = slicer
 
     out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"{folder}: is a file, not a folder to write the fabrication into")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"{folder}: cannot make this folder ({exc.strerror})") from None
     written: dict[str, dict[str, Path]] = {}
     for fmt, write in WRITERS.items():
         written[fmt], fab.timings[fmt] = _timed_write(write, fab, out)

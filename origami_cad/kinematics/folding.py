@@ -26,11 +26,19 @@ class FoldedState:
         Vertex coordinates, mm, in the pattern's vertex order.
     fold_angles : ndarray, shape (m,)
         Signed fold angle of every edge, degrees (valley positive).
+    method : str
+        How it was folded: ``"closed form"`` (exact, rigid) or ``"general"`` (the
+        bar-and-hinge solver of :mod:`origami_cad.simulation.folder`).
+    strain : float
+        Largest change of an edge's length (the panels' triangulation's too), percent
+        of its flat length: 0 for the closed form.
     """
 
     p: float
     coords: np.ndarray
     fold_angles: np.ndarray
+    method: str = "closed form"
+    strain: float = 0.0
 
 
 def fold_design(design: Design, p: float) -> FoldedState:

@@ -1,6 +1,6 @@
 """Reading and writing crease patterns by file extension, in mm.
 
-The formats (``.fold``, ``.dxf``, ``.svg``) are registered in
+The formats (``.fold``, ``.dxf``, ``.svg``, ``.opx``) are registered in
 :mod:`origami_cad.pattern.formats`, one module each; here are the entry points, the
 units and the size checks shared by all of them.
 
@@ -9,6 +9,7 @@ PNG pictures of a pattern are drawn by :func:`origami_cad.viz.plot_pattern`.
 
 from __future__ import annotations
 
+import inspect
 import math
 import os
 from pathlib import Path
@@ -74,8 +75,9 @@ def read_pattern(
     unit: str | float | None = None,
     scale: float | None = None,
     width: float | None = None,
+    tolerance: float | None = None,
 ) -> CreasePattern:
-    """Read a crease pattern from a ``.fold``, ``.dxf`` or ``.svg`` file (mm).
+    """Read a crease pattern from a ``.fold``, ``.dxf``, ``.svg`` or ``.opx`` file (mm).
 
     Parameters
     ----------
@@ -91,6 +93,13 @@ def read_pattern(
     width : float, optional
         Instead, scale the pattern so that it is this wide (x extent), mm;
         excludes ``unit`` and ``scale``.
+    tolerance : float, optional
+        Vertices closer than this merge, and a vertex this close to a line lies on
+        it, mm of the pattern returned (once sized by ``scale`` or ``width``).
+        Default: :data:`~origami_cad.pattern.planar.IMPORT_RELATIVE_TOLERANCE` of
+        the pattern's size, which closes the gaps real exports leave and keeps
+        their features. What was merged, and the largest gap closed, is in the
+        pattern's ``notes`` (code ``merged``) and ``cleanup``.
 
     Returns
     -------
@@ -109,12 +118,17 @@ def read_pattern(
     read = reader(p)
     if width is not None and (unit is not None or scale is not None):
         raise PatternError("give the width alone, or the unit and/or the scale, not both")
-    for name, value in (("scale", scale), ("width", width)):
+    for name, value in (("scale", scale), ("width", width), ("tolerance", tolerance)):
         if value is not None and not (math.isfinite(value) and value > 0):
             raise PatternError(f"the {name} must be a number > 0, got {value:g}")
     per_unit = None if unit is None else mm_per_unit(unit)
     p, name = input_file(p, PatternError)
-    cp = read(p, per_unit)
+    if tolerance is None:
+        cp = read(p, per_unit)
+    elif "tolerance" not in inspect.signature(read).parameters:
+        raise PatternError(f"{name}: the reader of {p.suffix.lower()} files takes no tolerance")
+    else:
+        cp = read(p, per_unit, tolerance=_file_tolerance(tolerance, scale, width))
     x0, _, x1, _ = cp.bounds
     if width is not None and not x1 > x0:
         raise PatternError(f"{name}: the pattern has no width to scale to {width:g} mm")
@@ -127,6 +141,20 @@ def read_pattern(
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
     return _check_size(cp, name)
+
+
+def _file_tolerance(tolerance: float, scale: float | None, width: float | None):
+    """The reader's tolerance (mm of the file as read) of ``tolerance`` mm of the pattern
+    once sized: divided by the scale, or a function of the vertices giving it at the
+    width they will be scaled to."""
+    if width is not None:
+
+        def at_width(used) -> float:
+            across = float(used[:, 0].max() - used[:, 0].min()) if len(used) else 0.0
+            return tolerance * across / width if across > 0 else tolerance
+
+        return at_width
+    return tolerance / scale if scale is not None else tolerance
 
 
 def _check_size(cp: CreasePattern, name: str) -> CreasePattern:

@@ -2,19 +2,26 @@
 
 A :class:`CreasePattern` is a planar straight-line graph in millimetres: vertices,
 edges with an M/V/B/F/U/C/J assignment and a target fold angle, and the faces
-(panels) bounded by the edges. It normalises its input on construction (snaps
-near-coincident vertices, splits edges at T-junctions and crossings, drops
-zero-length and duplicate edges) in O(n log n), and records what it changed in
-:attr:`CreasePattern.notes` so nothing is repaired behind the user's back.
+(panels) bounded by the edges. It normalises its input on construction
+(:func:`origami_cad.pattern.planar.normalise`: snaps near-coincident vertices, splits
+edges at T-junctions and crossings, drops zero-length and duplicate edges) in
+O(n log n), and records what it changed in :attr:`CreasePattern.notes` and
+:attr:`CreasePattern.cleanup` (the largest gap it closed), so nothing is repaired behind
+the user's back.
 
 Inputs are checked, not coerced: vertex indices must be whole numbers,
-coordinates finite numbers within :data:`MAX_COORDINATE` mm, fold angles within
-[-180, 180] degrees; a pattern has at most :data:`MAX_EDGES` edges and
-:data:`MAX_VERTICES` vertices (checked before any costly step). Normalisation
-works within budgets (:data:`MAX_CROSSINGS` crossing points,
-:data:`MAX_CANDIDATE_PAIRS` overlapping edge pairs,
-:data:`MAX_CLOSE_PAIRS` near-coincident vertex pairs) and refuses a pattern that
-would exceed one, instead of running for minutes into gigabytes.
+coordinates finite numbers within :data:`MAX_COORDINATE` mm, fold angles finite,
+within [-180, 180] degrees and of the assignment's sign (a mountain folds to a
+negative angle, a valley to a positive one, a border, flat crease or cut not at all);
+an edge joins two different vertices; given faces name vertices that exist. A pattern
+has at most :data:`MAX_EDGES` edges and :data:`MAX_VERTICES` vertices (checked before
+any costly step), and normalisation works within the budgets of
+:mod:`origami_cad.pattern.planar`.
+
+Flat (``F``) edges are facet creases: they stay flat (a triangulated panel's
+diagonals, as Origami Simulator draws them); :meth:`CreasePattern.panels` groups the
+faces they join into the panels a printer makes. Unassigned (``U``) edges are free
+hinges.
 
 Examples
 --------
@@ -30,7 +37,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
@@ -43,18 +50,33 @@ from scipy.spatial import cKDTree
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
+from origami_cad.pattern.planar import (
+    MAX_CANDIDATE_PAIRS,
+    MAX_CLOSE_PAIRS,
+    MAX_CROSSINGS,
+    MAX_VERTICES,
+    Cleanup,
+    normalise,
+    planar_faces,
+    rings_with_edges,
+)
 
 __all__ = [
     "DEFAULT_RELATIVE_TOLERANCE",
+    "MAX_CANDIDATE_PAIRS",
+    "MAX_CLOSE_PAIRS",
     "MAX_COORDINATE",
     "MAX_CROSSINGS",
     "MAX_EDGES",
     "MAX_VERTICES",
     "Assignment",
+    "Cleanup",
     "CreasePattern",
     "Hole",
     "Problem",
     "Severity",
+    "cleanup_notes",
+    "default_fold_angles",
     "printable",
 ]
 
@@ -63,23 +85,8 @@ DEFAULT_RELATIVE_TOLERANCE = 1e-6
 #: Largest coordinate magnitude accepted, mm (1000 km). Anything larger is a
 #: mistake (or a hostile file) and would overflow the geometry in squares and areas.
 MAX_COORDINATE = 1e9
-#: Most vertices a pattern may have, once coincident ones are merged (about a 223 x 223
-#: grid: converting one from FOLD to SVG took 94 s and 450 MB on a busy 2-core machine; a
-#: larger one ran out of memory). Checked before the crossing search and
-#: the faces, which need the time and memory; the readers check it (or :data:`MAX_EDGES`)
-#: before they convert a file's numbers.
-MAX_VERTICES = 50_000
 #: Most edges a pattern may be given (before normalisation splits them at crossings).
 MAX_EDGES = 100_000
-#: Normalisation budget: most crossing points added where edges cross. A drawing
-#: needing more is refused instead of being normalised for minutes into gigabytes.
-MAX_CROSSINGS = 100_000
-#: Normalisation budget: most pairs of edges whose bounding boxes overlap.
-MAX_CANDIDATE_PAIRS = 25_000_000
-#: Normalisation budget: most pairs of vertices closer than the tolerance.
-MAX_CLOSE_PAIRS = 5_000_000
-#: Candidate edge pairs examined at once (bounds the memory of normalisation).
-_PAIR_CHUNK = 500_000
 
 
 class Assignment(StrEnum):
@@ -95,8 +102,8 @@ class Assignment(StrEnum):
 
 
 _VALID = frozenset(a.value for a in Assignment)
-#: When two edges coincide, the one whose letter comes first here is kept.
-_PRIORITY = {a: i for i, a in enumerate("BCMVJUF")}
+#: the codes of the notes :func:`cleanup_notes` writes
+_CLEANUP_CODES = frozenset({"merged", "normalised", "duplicate-conflict"})
 
 
 class Severity(StrEnum):
@@ -202,22 +209,29 @@ class CreasePattern:
         One letter per edge (``M V B F U C J``, see :class:`Assignment`), or one
         letter for all.
     fold_angles : array_like, shape (m,), optional
-        Target fold angle per edge, degrees (valley positive, mountain negative).
-        Missing values (NaN, or the whole array) default to +-180 for V/M and 0
-        for other edges.
+        Target fold angle per edge, degrees (valley positive, mountain negative),
+        finite, within [-180, 180] and of the letter's sign (``B``, ``F``, ``C``: 0).
+        Default: +-180 for V/M and 0 for other edges.
     faces : sequence of index arrays, optional
-        Faces as vertex-index rings. Used when normalisation does not change the
-        graph and every side is an edge; otherwise faces are computed from the
-        planar graph (shapely ``polygonize``).
+        Faces as vertex-index rings (at least 3 vertices that exist, or a
+        :class:`PatternError` naming the face). Used when normalisation does not
+        change the graph and every side is an edge; otherwise faces are computed
+        from the planar graph (shapely ``polygonize``), with a warning note when
+        they were usable but their sides are not edges.
     holes : iterable of Hole, optional
         Circular holes on panels.
     face_labels : sequence of str, optional
         One label per face (used with ``faces``); default ``f0, f1, ...``.
     metadata : dict, optional
         Free-form metadata; ``title`` and ``creator`` are written to files.
-    tolerance : float, optional
-        Distance under which vertices merge and points count as on an edge, mm.
-        Default: ``1e-6`` times the diagonal of the bounding box.
+    tolerance : float or callable, optional
+        Distance under which vertices merge and points count as on an edge, mm; or
+        a function of the vertices in use (an ``(k, 2)`` array, mm) returning it
+        (how :func:`~origami_cad.pattern.io.read_pattern` applies a tolerance meant
+        for the pattern once scaled to a width). Default:
+        :data:`DEFAULT_RELATIVE_TOLERANCE` times the diagonal of the bounding box
+        (exact constructions; the file readers default to
+        :data:`~origami_cad.pattern.planar.IMPORT_RELATIVE_TOLERANCE`).
 
     Notes
     -----
@@ -230,6 +244,7 @@ class CreasePattern:
         "_face_edges",
         "_faces",
         "assignments",
+        "cleanup",
         "edges",
         "face_labels",
         "fold_angles",
@@ -251,41 +266,22 @@ class CreasePattern:
         holes: Iterable[Hole] = (),
         face_labels: Sequence[str] | None = None,
         metadata: dict[str, Any] | None = None,
-        tolerance: float | None = None,
+        tolerance: float | Callable[[np.ndarray], float] | None = None,
     ) -> None:
         verts = _as_vertices(vertices)
         edge_arr = _as_edges(edges)
-        if edge_arr.size and (edge_arr.min() < 0 or edge_arr.max() >= len(verts)):
-            bad = int(np.flatnonzero((edge_arr < 0).any(1) | (edge_arr >= len(verts)).any(1))[0])
-            raise PatternError(
-                f"edge {bad} refers to vertex {edge_arr[bad].tolist()} but there are "
-                f"{len(verts)} vertices"
-            )
+        _check_edge_indices(edge_arr, len(verts))
         assign = _as_assignments(assignments, len(edge_arr))
-        angles = default_fold_angles(assign)
-        if fold_angles is not None:
-            given = np.asarray(fold_angles, dtype=float).reshape(-1)
-            if given.shape != (len(edge_arr),):
-                raise PatternError(f"{given.size} fold angles given for {len(edge_arr)} edges")
-            bad = np.flatnonzero(np.isinf(given) | (np.abs(np.nan_to_num(given)) > 180 + 1e-9))
-            if bad.size:
-                raise PatternError(
-                    f"edge {bad[0]}: fold angle {given[bad[0]]} deg is outside [-180, 180]"
-                )
-            known = np.isfinite(given)
-            angles[known] = given[known]
+        angles = _as_fold_angles(fold_angles, assign)
         if len(edge_arr) == 0:
             raise PatternError("the pattern has no edges")
-        size = float(np.linalg.norm(np.ptp(verts[np.unique(edge_arr)], axis=0)))
-        if tolerance is None:
-            tolerance = DEFAULT_RELATIVE_TOLERANCE * max(size, 1e-9)
-        if not tolerance > 0:
-            raise PatternError(f"tolerance must be > 0 mm, got {tolerance}")
-        self.tolerance = float(tolerance)
+        if faces is not None:
+            _check_face_indices(faces, len(verts))
+        self.tolerance = _resolve_tolerance(tolerance, verts[np.unique(edge_arr)])
         self.metadata = dict(metadata or {})
         self.metadata.setdefault("unit", "mm")
-        result = _normalise(verts, edge_arr, assign, angles, self.tolerance)
-        self.vertices, self.edges, self.assignments, self.fold_angles, notes, changed = result
+        result = normalise(verts, edge_arr, assign, angles, self.tolerance)
+        self.vertices, self.edges, self.assignments, self.fold_angles, self.cleanup = result
         if len(self.edges) == 0:
             raise PatternError(
                 "every edge has zero length (its two vertices coincide): no crease is left"
@@ -294,7 +290,7 @@ class CreasePattern:
             arr.flags.writeable = False
         face_notes: list[Problem] = []
         computed = True
-        if faces is not None and not changed:
+        if faces is not None and not self.cleanup.changed:
             try:
                 self._faces, self._face_edges = _given_faces(self, faces)
                 computed = False
@@ -316,7 +312,7 @@ class CreasePattern:
             self.face_labels = tuple(str(s) for s in face_labels)
         else:
             self.face_labels = tuple(f"f{i}" for i in range(nf))
-        self.notes = tuple(notes + face_notes)
+        self.notes = tuple(cleanup_notes(self.cleanup) + face_notes)
         self.holes = tuple(holes)
 
     # ------------------------------------------------------------------ basics
@@ -381,7 +377,7 @@ class CreasePattern:
 
     def face_areas(self) -> np.ndarray:
         """Area of every face, mm^2."""
-        return _rings_with_edges(self, list(self._faces))[2]
+        return rings_with_edges(self.vertices, self.edges, list(self._faces))[2]
 
     def face_index(self, label: str) -> int:
         """Index of the face with this label; :class:`PatternError` if none."""
@@ -406,6 +402,38 @@ class CreasePattern:
         out[fedges[forward], 0] = face[forward]  # a face seen twice: the later one, as before
         out[fedges[~forward], 1] = face[~forward]
         return out
+
+    def face_panels(self) -> np.ndarray:
+        """Panel index of every face, shape (f,): faces joined across flat (``F``) facet
+        creases share a panel, numbered by their lowest face index.
+
+        A facet crease stays flat, so the faces it joins are one rigid, printed panel
+        (Origami Simulator's triangulated panels); every other edge bounds panels.
+        """
+        nf = len(self._faces)
+        if not nf:
+            return np.zeros(0, dtype=np.int64)
+        ef = self.edge_faces()
+        join = self.edge_mask("F") & (ef >= 0).all(axis=1) & (ef[:, 0] != ef[:, 1])
+        pairs = ef[join]
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(nf, nf))
+        _, labels = connected_components(graph, directed=False)
+        first = np.full(labels.max() + 1, nf, dtype=np.int64)
+        np.minimum.at(first, labels, np.arange(nf))
+        order = np.argsort(first)  # panels numbered in the order of their first face
+        rank = np.empty_like(order)
+        rank[order] = np.arange(len(order))
+        return rank[labels]
+
+    def panels(self) -> tuple[np.ndarray, ...]:
+        """The panels: the face indices of each, faces joined across flat (``F``) facet
+        creases together (see :meth:`face_panels`), in the order of their first face."""
+        which = self.face_panels()
+        if not len(which):
+            return ()
+        order = np.argsort(which, kind="stable")
+        starts = np.flatnonzero(np.r_[True, np.diff(which[order]) != 0])
+        return tuple(np.split(order, starts[1:]))
 
     def face_of_point(self, x: float, y: float) -> int:
         """Index of the face containing the point (mm); -1 if none."""
@@ -477,7 +505,9 @@ class CreasePattern:
             tolerance=self.tolerance * factor,
         )
         note = Problem("scaled", f"scaled by {factor:.6g}", severity=Severity.INFO)
-        out.notes = (*self.notes, *out.notes, note)
+        out.cleanup = self.cleanup.scaled(factor)  # what the reader merged, in the new mm
+        kept = [n for n in self.notes if n.code not in _CLEANUP_CODES]
+        out.notes = (*cleanup_notes(out.cleanup), *kept, *out.notes, note)
         return out
 
     def _copy(self) -> CreasePattern:
@@ -547,6 +577,143 @@ def _as_edges(edges: Any) -> np.ndarray:
     return raw.astype(np.int64)
 
 
+def _check_edge_indices(edges: np.ndarray, n: int) -> None:
+    """PatternError naming the first edge that refers to a missing vertex or joins a
+    vertex to itself."""
+    if not edges.size:
+        return
+    if edges.min() < 0 or edges.max() >= n:
+        bad = int(np.flatnonzero((edges < 0).any(1) | (edges >= n).any(1))[0])
+        raise PatternError(
+            f"edge {bad} refers to vertex {edges[bad].tolist()} but there are {n} vertices"
+        )
+    loops = np.flatnonzero(edges[:, 0] == edges[:, 1])
+    if loops.size:
+        k = int(loops[0])
+        raise PatternError(
+            f"edge {k} joins vertex {int(edges[k, 0])} to itself (an edge needs two vertices)"
+        )
+
+
+def _as_fold_angles(fold_angles: Any, assign: np.ndarray) -> np.ndarray:
+    """The fold angles (degrees) of the edges: the letters' defaults, or those given,
+    checked (finite, within [-180, 180], of the letter's sign)."""
+    angles = default_fold_angles(assign)
+    if fold_angles is None:
+        return angles
+    try:
+        given = np.asarray(fold_angles, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise PatternError("fold angles must be numbers, in degrees") from None
+    if given.shape != angles.shape:
+        raise PatternError(f"{given.size} fold angles given for {angles.size} edges")
+    bad = np.flatnonzero(~np.isfinite(given))
+    if bad.size:
+        k = int(bad[0])
+        raise PatternError(f"edge {k}: fold angle {float(given[k])} is not a finite number")
+    bad = np.flatnonzero(np.abs(given) > 180 + 1e-9)
+    if bad.size:
+        k = int(bad[0])
+        raise PatternError(f"edge {k}: fold angle {float(given[k]):g} deg is outside [-180, 180]")
+    flat = np.isin(assign, ("B", "F", "C")) & (np.abs(given) > 1e-6)
+    wrong = ((assign == "M") & (given > 0)) | ((assign == "V") & (given < 0)) | flat
+    if wrong.any():
+        k = int(np.flatnonzero(wrong)[0])
+        letter = str(assign[k])
+        what, sign = {"M": ("a mountain", "negative"), "V": ("a valley", "positive")}.get(
+            letter, (f"a {Assignment(letter).name.lower()} edge", "zero")
+        )
+        raise PatternError(
+            f"edge {k}: fold angle {float(given[k]):g} deg contradicts its assignment "
+            f"{letter}: {what} folds to a {sign} angle"
+        )
+    return given.copy()
+
+
+def _check_face_indices(faces: Sequence[Sequence[int]], n: int) -> None:
+    """PatternError naming the first given face with fewer than 3 vertices, or with an
+    index that is not a whole number naming a vertex."""
+    for fi, face in enumerate(faces):
+        try:
+            ring = np.asarray(face)
+        except (TypeError, ValueError):
+            raise PatternError(f"face {fi} is not a list of vertex indices") from None
+        ring = ring.reshape(-1)
+        if ring.dtype.kind not in "iu" and not (
+            ring.dtype.kind == "f" and np.all(np.isfinite(ring) & (ring == np.round(ring)))
+        ):
+            raise PatternError(f"face {fi} holds something other than whole vertex indices")
+        if len(ring) < 3:
+            raise PatternError(f"face {fi} has {len(ring)} vertices, fewer than 3")
+        out = (ring < 0) | (ring >= n)
+        if out.any():
+            raise PatternError(
+                f"face {fi} refers to vertex {int(ring[out][0])} but there are {n} vertices"
+            )
+
+
+def _resolve_tolerance(
+    tolerance: float | Callable[[np.ndarray], float] | None, used: np.ndarray
+) -> float:
+    """The tolerance in mm: given, computed from the vertices in use, or the default."""
+    if callable(tolerance):
+        tolerance = tolerance(used)
+    if tolerance is None:
+        size = float(np.linalg.norm(np.ptp(used, axis=0))) if len(used) else 0.0
+        tolerance = DEFAULT_RELATIVE_TOLERANCE * max(size, 1e-9)
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        raise PatternError(f"tolerance must be a length in mm, got {tolerance!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise PatternError(f"tolerance must be a finite length > 0 mm, got {value:g}")
+    return value
+
+
+def _gap(mm: float) -> str:
+    return f"{mm:.2g} mm" if mm > 0 else "0 mm"
+
+
+def cleanup_notes(c: Cleanup) -> list[Problem]:
+    """The notes of a :class:`~origami_cad.pattern.planar.Cleanup`: what was merged,
+    with the largest gap closed and the tolerance (``merged``), and what else changed
+    (``normalised``); coincident creases of different letters are warnings."""
+    notes: list[Problem] = []
+    tol = f"tolerance {c.tolerance:.2g} mm"
+    for count, gap, text in (
+        (c.merged, c.merged_gap, "vertices merged with a neighbour closer than the tolerance"),
+        (c.snapped, c.snapped_gap, "vertices off an edge by less than the tolerance put on it"),
+        (c.crossings_merged, c.crossing_gap, "crossing points merged with a vertex"),
+    ):
+        if count:
+            notes.append(
+                Problem(
+                    "merged",
+                    f"{count} {text} (largest gap {_gap(gap)}; {tol})",
+                    severity=Severity.INFO,
+                )
+            )
+    for count, text in (
+        (c.zero_length, "zero-length edges dropped"),
+        (c.split, "edges split at T-junctions or crossings"),
+        (c.crossings, "vertices added where edges cross"),
+        (c.duplicates, "duplicate edges dropped"),
+        (c.unused, "unused vertices dropped"),
+    ):
+        if count:
+            notes.append(Problem("normalised", f"{count} {text}", severity=Severity.INFO))
+    for mid, letter, kept in c.conflicts:
+        notes.append(
+            Problem(
+                "duplicate-conflict",
+                f"two coincident edges are {letter} and {kept}; kept {kept}",
+                mid,
+                Severity.WARNING,
+            )
+        )
+    return notes
+
+
 def _as_vertices(vertices: Any) -> np.ndarray:
     try:
         raw = np.asarray(vertices)
@@ -578,352 +745,13 @@ def _as_vertices(vertices: Any) -> np.ndarray:
     return np.ascontiguousarray(verts)
 
 
-def _merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
-    """Map each vertex to a representative; vertices within ``tol`` share one."""
-    n = len(verts)
-    # exact duplicates first (cheap), so that many copies of a point cost nothing
-    uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    u = len(uniq)
-    tree = cKDTree(uniq)
-    close = int(tree.query_ball_point(uniq, tol, return_length=True).sum()) - u
-    if close // 2 > MAX_CLOSE_PAIRS:
-        raise PatternError(
-            f"more than {MAX_CLOSE_PAIRS:,} pairs of vertices lie closer than the tolerance "
-            f"({tol:.3g} mm); the pattern is too degenerate to normalise"
-        )
-    pairs = tree.query_pairs(tol, output_type="ndarray")
-    if len(pairs) == 0 and u == n:
-        return np.arange(n)
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(u, u))
-    _, labels = connected_components(graph, directed=False)
-    labels = labels[inverse]
-    # representative: the lowest index of each cluster, so coordinates stay exact
-    rep = np.full(labels.max() + 1, n, dtype=np.int64)
-    np.minimum.at(rep, labels, np.arange(n))
-    return rep[labels]
-
-
-def _endpoint_splits(
-    verts: np.ndarray,
-    edges: np.ndarray,
-    tol: float,
-    a: np.ndarray,
-    b: np.ndarray,
-) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Endpoints of edges ``b`` lying inside edges ``a`` (pairwise), within ``tol`` mm.
-
-    One ``(edge, t, vertex)`` triple per end (column 0, then 1) of ``b``: edge
-    ``a[k]`` is split at parameter ``t`` by that end vertex.
-    """
-    p0 = verts[edges[a, 0]]
-    d = verts[edges[a, 1]] - p0
-    la = np.hypot(d[:, 0], d[:, 1])
-    out = []
-    for col in (0, 1):
-        q_idx = edges[b, col]
-        q = verts[q_idx]
-        rel = q - p0
-        t = np.einsum("ij,ij->i", rel, d) / (la * la)
-        foot = p0 + t[:, None] * d
-        dist = np.hypot(*(foot - q).T)
-        inside = (dist <= tol) & (t * la > tol) & ((1.0 - t) * la > tol)
-        inside &= (q_idx != edges[a, 0]) & (q_idx != edges[a, 1])
-        out.append((a[inside], t[inside], q_idx[inside]))
-    return out
-
-
-def _proper_crossings(
-    verts: np.ndarray, edges: np.ndarray, tol: float, i: np.ndarray, j: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(ci, cj, t, u)``: the pairs ``(i, j)`` of edges sharing no vertex that cross
-    properly (more than ``tol`` mm inside both), at parameter ``t`` along ``ci`` and
-    ``u`` along ``cj``."""
-    shares = (
-        (edges[i, 0] == edges[j, 0])
-        | (edges[i, 0] == edges[j, 1])
-        | (edges[i, 1] == edges[j, 0])
-        | (edges[i, 1] == edges[j, 1])
-    )
-    ci, cj = i[~shares], j[~shares]
-    p0i, p0j = verts[edges[ci, 0]], verts[edges[cj, 0]]
-    di, dj = verts[edges[ci, 1]] - p0i, verts[edges[cj, 1]] - p0j
-    denom = di[:, 0] * dj[:, 1] - di[:, 1] * dj[:, 0]
-    w = p0j - p0i
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = (w[:, 0] * dj[:, 1] - w[:, 1] * dj[:, 0]) / denom
-        u = (w[:, 0] * di[:, 1] - w[:, 1] * di[:, 0]) / denom
-    li, lj = np.hypot(di[:, 0], di[:, 1]), np.hypot(dj[:, 0], dj[:, 1])
-    sin_angle = np.abs(denom) / np.maximum(li * lj, 1e-300)
-    cross = (
-        (sin_angle > 1e-12)
-        & (t * li > tol)
-        & ((1 - t) * li > tol)
-        & (u * lj > tol)
-        & ((1 - u) * lj > tol)
-    )
-    return ci[cross], cj[cross], t[cross], u[cross]
-
-
-def _collect_splits(
-    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]],
-    new: np.ndarray,
-    n_verts: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The ``(edge, t, vertex, new_vertices)`` result of :func:`_split_points`.
-
-    ``parts`` holds the four endpoint kinds, then the crossings (alternately the
-    ``ci`` and ``cj`` splits); crossing ``k`` is vertex ``n_verts + k``.
-    """
-    new_idx = n_verts + np.arange(len(new))
-    # crossings: all the "ci" splits first, then the "cj" splits, as one batch each
-    cross_ci = [pc for k, pc in enumerate(parts[4]) if k % 2 == 0]
-    cross_cj = [pc for k, pc in enumerate(parts[4]) if k % 2 == 1]
-    split_e: list[np.ndarray] = []
-    split_t: list[np.ndarray] = []
-    split_v: list[np.ndarray] = []
-    for kind in range(4):
-        for e, t, v in parts[kind]:
-            split_e.append(e)
-            split_t.append(t)
-            split_v.append(v)
-    for batch in (cross_ci, cross_cj):
-        for e, t, _ in batch:
-            split_e.append(e)
-            split_t.append(t)
-        split_v.append(new_idx)
-    empty_i, empty_f = np.zeros(0, np.int64), np.zeros(0)
-    return (
-        np.concatenate([*split_e, empty_i]).astype(np.int64),
-        np.concatenate([*split_t, empty_f]),
-        np.concatenate([*split_v, empty_i]).astype(np.int64),
-        new,
-    )
-
-
-def _split_points(
-    verts: np.ndarray, edges: np.ndarray, tol: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Find where edges must be split.
-
-    Returns ``(edge, t, vertex, new_vertices)``: edge ``edge[k]`` is split at
-    parameter ``t[k]`` by vertex ``vertex[k]`` (indices >= len(verts) refer to
-    ``new_vertices``, the crossing points).
-
-    The candidate pairs (edges whose boxes overlap) are examined in chunks, so the
-    memory stays bounded; more than :data:`MAX_CANDIDATE_PAIRS` candidates or
-    :data:`MAX_CROSSINGS` crossings is a :class:`PatternError`.
-    """
-    p0 = verts[edges[:, 0]]
-    p1 = verts[edges[:, 1]]
-    lo = np.minimum(p0, p1) - tol
-    hi = np.maximum(p0, p1) + tol
-    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
-    tree = shapely.STRtree(boxes)
-    d = p1 - p0
-    # five kinds of split, each in the order of the candidate pairs
-    parts: list[list[tuple[np.ndarray, np.ndarray, np.ndarray]]] = [[], [], [], [], []]
-    crossings: list[np.ndarray] = []
-    n_pairs = n_cross = 0
-    step = max(1, _PAIR_CHUNK // max(len(edges), 1))
-    for first in range(0, len(edges), step):
-        i, j = tree.query(boxes[first : first + step])
-        i = i + first
-        keep = i < j
-        i, j = i[keep], j[keep]
-        n_pairs += len(i)
-        if n_pairs > MAX_CANDIDATE_PAIRS:
-            raise PatternError(
-                f"more than {MAX_CANDIDATE_PAIRS:,} pairs of edges overlap (by bounding box); "
-                "the pattern is too dense to normalise"
-            )
-        for kind, (a, b) in ((0, (i, j)), (2, (j, i))):
-            for col, split in enumerate(_endpoint_splits(verts, edges, tol, a, b)):
-                parts[kind + col].append(split)
-        ci, cj, t, u = _proper_crossings(verts, edges, tol, i, j)
-        n_cross += len(ci)
-        if n_cross > MAX_CROSSINGS:
-            raise PatternError(
-                f"more than {MAX_CROSSINGS:,} points where edges cross; the pattern is too "
-                "tangled to normalise (are these really creases?)"
-            )
-        crossings.append(p0[ci] + t[:, None] * d[ci])
-        parts[4].append((ci, t, cj))
-        parts[4].append((cj, u, ci))
-    new = np.concatenate(crossings) if crossings else np.zeros((0, 2))
-    return _collect_splits(parts, new, len(verts))
-
-
-def _drop_duplicates(
-    verts: np.ndarray,
-    edges: np.ndarray,
-    assign: np.ndarray,
-    angles: np.ndarray,
-    notes: list[Problem],
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Drop edges joining the same two vertices (either direction), keeping the one
-    whose assignment comes first in ``BCMVJUF`` (then the first given); conflicts
-    between creases are added to ``notes``."""
-    key_lo = np.minimum(edges[:, 0], edges[:, 1])
-    key_hi = np.maximum(edges[:, 0], edges[:, 1])
-    prio = np.vectorize(_PRIORITY.__getitem__, otypes=[int])(assign) if len(assign) else assign
-    order = np.lexsort((np.arange(len(edges)), prio, key_hi, key_lo))
-    k_lo, k_hi = key_lo[order], key_hi[order]
-    first = np.ones(len(order), dtype=bool)
-    first[1:] = (k_lo[1:] != k_lo[:-1]) | (k_hi[1:] != k_hi[:-1])
-    group = np.cumsum(first) - 1
-    kept_assign = assign[order][first][group]
-    conflict = (assign[order] != kept_assign) & ~np.isin(assign[order], ["U", "F"])
-    for idx in order[conflict][:20]:
-        a, b = edges[idx]
-        mid = tuple(float(c) for c in (verts[a] + verts[b]) / 2)
-        kept = kept_assign[np.flatnonzero(order == idx)[0]]
-        notes.append(
-            Problem(
-                "duplicate-conflict",
-                f"two coincident edges are {assign[idx]} and {kept}; kept {kept}",
-                mid,
-                Severity.WARNING,
-            )
-        )
-    n_dup = int((~first).sum())
-    keep = np.sort(order[first])
-    edges, assign, angles = edges[keep], assign[keep], angles[keep]
-    return edges, assign, angles, n_dup
-
-
-def _normalise(
-    verts: np.ndarray,
-    edges: np.ndarray,
-    assign: np.ndarray,
-    angles: np.ndarray,
-    tol: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[Problem], bool]:
-    notes: list[Problem] = []
-    n_in_vertices, n_in_edges = len(verts), len(edges)
-    # 1. snap near-coincident vertices
-    rep = _merge_close(verts, tol)
-    merged = int(np.sum(rep != np.arange(len(rep))))
-    edges = rep[edges]
-    n_used = len(np.unique(edges))
-    if n_used > MAX_VERTICES:
-        raise PatternError(
-            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
-        )
-    # 2. zero-length edges
-    zero = edges[:, 0] == edges[:, 1]
-    n_zero = int(zero.sum())
-    edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # exact duplicates go before the split, so that they cost nothing there
-    edges, assign, angles, n_dup = _drop_duplicates(verts, edges, assign, angles, notes)
-    # 3. split at T-junctions and crossings
-    se, st, sv, new = _split_points(verts, edges, tol)
-    n_split = len(np.unique(se))
-    n_cross = len(new)
-    if len(se):
-        verts = np.vstack([verts, new])
-        m = len(edges)
-        all_e = np.concatenate([np.arange(m), np.arange(m), se])
-        all_t = np.concatenate([np.zeros(m), np.ones(m), st])
-        all_v = np.concatenate([edges[:, 0], edges[:, 1], sv])
-        order = np.lexsort((all_t, all_e))
-        all_e, all_v = all_e[order], all_v[order]
-        same = all_e[:-1] == all_e[1:]
-        src = all_e[:-1][same]
-        edges = np.stack([all_v[:-1][same], all_v[1:][same]], axis=1)
-        assign, angles = assign[src], angles[src]
-        # crossing points may coincide with each other or with vertices
-        rep = _merge_close(verts, tol)
-        edges = rep[edges]
-        zero = edges[:, 0] == edges[:, 1]
-        edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
-    # 4. duplicates in either direction: keep the highest-priority assignment
-    edges, assign, angles, more = _drop_duplicates(verts, edges, assign, angles, notes)
-    n_dup += more
-    # 5. drop unused vertices, keeping order
-    used = np.unique(edges)
-    if len(used) > MAX_VERTICES:  # the crossings made them (checked before the faces)
-        raise PatternError(
-            f"{len(used):,} vertices once the edges are split where they cross ({n_cross:,} "
-            f"crossings), more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
-        )
-    remap = np.full(len(verts), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    verts = verts[used]
-    edges = remap[edges]
-    n_unused = n_in_vertices - merged - len(used) + n_cross
-    changed = bool(merged or n_zero or n_split or n_dup or n_unused) or len(edges) != n_in_edges
-    for count, text in (
-        (merged, "vertices merged with a neighbour closer than the tolerance"),
-        (n_zero, "zero-length edges dropped"),
-        (n_split, "edges split at T-junctions or crossings"),
-        (n_cross, "vertices added where edges cross"),
-        (n_dup, "duplicate edges dropped"),
-        (n_unused, "unused vertices dropped"),
-    ):
-        if count:
-            notes.append(Problem("normalised", f"{count} {text}", severity=Severity.INFO))
-    return (
-        np.ascontiguousarray(verts, dtype=float),
-        np.ascontiguousarray(edges, dtype=np.int64),
-        assign.astype("<U1"),
-        angles.astype(float),
-        notes,
-        changed,
-    )
-
-
-def _flat_rings(rings: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Concatenate rings: (flat vertex indices, next position in the ring, ring starts)."""
-    counts = np.array([len(r) for r in rings], dtype=np.int64)
-    flat = np.concatenate(rings) if rings else np.zeros(0, np.int64)
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
-    nxt = np.arange(len(flat)) + 1
-    if len(rings):
-        nxt[starts + counts - 1] = starts
-    return flat, nxt, starts
-
-
-def _rings_with_edges(
-    cp: CreasePattern, rings: list[np.ndarray]
-) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...], np.ndarray]:
-    """Orient rings counter-clockwise, find the edge of every side (-1 where none).
-
-    Returns ``(rings, sides, areas)`` with areas in mm^2.
-    """
-    if not rings:
-        return (), (), np.zeros(0)
-    flat, nxt, starts = _flat_rings(rings)
-    p, q = cp.vertices[flat], cp.vertices[flat[nxt]]
-    area = 0.5 * np.add.reduceat(p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0], starts)
-    rings = [r[::-1].copy() if a < 0 else r for r, a in zip(rings, area, strict=True)]
-    flat, nxt, starts = _flat_rings(rings)
-    n = cp.n_vertices
-    keys = np.minimum(cp.edges[:, 0], cp.edges[:, 1]) * n + np.maximum(
-        cp.edges[:, 0], cp.edges[:, 1]
-    )
-    order = np.argsort(keys)
-    sk = keys[order]
-    a, b = flat, flat[nxt]
-    k = np.minimum(a, b) * n + np.maximum(a, b)
-    pos = np.minimum(np.searchsorted(sk, k), len(sk) - 1)
-    side = np.where(sk[pos] == k, order[pos], -1)
-    return tuple(rings), tuple(np.split(side, starts[1:])), np.abs(area)
-
-
 def _given_faces(
     cp: CreasePattern, faces: Sequence[Sequence[int]]
 ) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
-    n = cp.n_vertices
-    rings = []
-    for fi, face in enumerate(faces):
-        ring = np.asarray(face, dtype=np.int64).reshape(-1)
-        if len(ring) < 3:
-            raise PatternError(f"face {fi} has fewer than 3 vertices")
-        if ring.min() < 0 or ring.max() >= n:
-            raise PatternError(f"face {fi} refers to a vertex that does not exist")
-        rings.append(ring)
-    out, sides, _ = _rings_with_edges(cp, rings)
+    """The given faces (indices checked already) counter-clockwise with their sides'
+    edges; a PatternError naming a face with a side that is not an edge."""
+    rings = [np.asarray(face, dtype=np.int64).reshape(-1) for face in faces]
+    out, sides, _ = rings_with_edges(cp.vertices, cp.edges, rings)
     for fi, fe in enumerate(sides):
         if (fe < 0).any():
             raise PatternError(f"face {fi} has a side that is not an edge")
@@ -933,38 +761,18 @@ def _given_faces(
 def _compute_faces(
     cp: CreasePattern,
 ) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...], list[Problem]]:
-    """Faces of the planar graph (shapely ``polygonize``), sorted by centroid (y, x)."""
-    notes: list[Problem] = []
-    lines = shapely.linestrings(cp.vertices[cp.edges])
-    polys = shapely.get_parts(shapely.polygonize(lines))
-    if len(polys) == 0:
-        return (), (), notes
-    coords, idx = shapely.get_coordinates(shapely.get_exterior_ring(polys), return_index=True)
-    last = np.r_[idx[1:] != idx[:-1], True]  # each ring's closing coordinate
-    coords, idx = coords[~last], idx[~last]
-    dist, vid = cKDTree(cp.vertices).query(coords)
-    if np.any(dist > 0):  # pragma: no cover - polygonize keeps input coordinates
-        raise PatternError("internal error: a face corner is not a vertex")
-    starts = np.flatnonzero(np.r_[True, idx[1:] != idx[:-1]])
-    rings = np.split(vid.astype(np.int64), starts[1:])
-    for k in np.flatnonzero(shapely.get_num_interior_rings(polys)):
-        c = shapely.get_coordinates(shapely.get_interior_ring(polys[k], 0))[0]
-        notes.append(
-            Problem(
-                "face-with-hole",
-                "a panel encloses another part of the pattern (its inner outline is "
-                "not connected to its outer one)",
-                (float(c[0]), float(c[1])),
-            )
+    """Faces of the planar graph (:func:`~origami_cad.pattern.planar.planar_faces`), and
+    an error note at each panel enclosing another part of the pattern."""
+    rings, sides, inner = planar_faces(cp.vertices, cp.edges)
+    notes = [
+        Problem(
+            "face-with-hole",
+            "a panel encloses another part of the pattern (its inner outline is "
+            "not connected to its outer one)",
+            where,
         )
-    cent = shapely.get_coordinates(shapely.centroid(polys))
-    perm = np.lexsort((np.round(cent[:, 0], 6), np.round(cent[:, 1], 6)))
-    rings = [rings[k] for k in perm]
-    rings, sides, _ = _rings_with_edges(cp, rings)
-    # start every ring at its lowest vertex index, so faces are canonical
-    shift = [int(np.argmin(r)) for r in rings]
-    rings = tuple(np.roll(r, -s) for r, s in zip(rings, shift, strict=True))
-    sides = tuple(np.roll(e, -s) for e, s in zip(sides, shift, strict=True))
+        for where in inner
+    ]
     return rings, sides, notes
 
 

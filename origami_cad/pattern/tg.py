@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import PatternError
 from origami_cad.pattern.miura import miura_tessellation
 from origami_cad.pattern.model import CreasePattern
@@ -150,6 +151,14 @@ class TGDesign:
         return self.unit_width / 2.0
 
 
+@checked(
+    PatternError,
+    fold_ratio=Arg(min=0.0, open_min=True, max=1.0, optional=False),
+    entry_flag=Arg("int", choices=(0, 1), optional=False),
+    unit_width=Arg(min=0.0, open_min=True, max=1e5, optional=False),
+    copies=Arg("int", min=1, max=1000, optional=False),
+    min_turn=Arg(min=0.0, open_min=True, max=90.0, optional=False),
+)
 def design_from_vectors(
     vectors: Sequence[Sequence[float]],
     fold_ratio: float,
@@ -213,7 +222,12 @@ def _checked_vectors(vectors: Sequence[Sequence[float]], min_turn: float) -> np.
 
     ``min_turn`` (degrees) is checked too; PatternError naming the first bad value.
     """
-    vec = np.asarray(vectors, dtype=float)
+    try:
+        vec = np.asarray(vectors, dtype=float)
+    except (TypeError, ValueError):
+        raise PatternError(
+            "vectors must be a list of [length_mm, angle_deg] pairs of numbers"
+        ) from None
     if vec.ndim != 2 or vec.shape[1] != 2 or len(vec) < 1:
         raise PatternError("vectors must be a list of [length_mm, angle_deg] pairs")
     for k, (length, ang) in enumerate(vec):

@@ -21,7 +21,14 @@ from numba import njit
 
 from origami_cad.simulation.mechanics import skew
 
-__all__ = ["SimString", "StringSet", "string_derivatives", "string_length", "string_lengths"]
+__all__ = [
+    "SimString",
+    "StringSet",
+    "string_derivatives",
+    "string_length",
+    "string_lengths",
+    "update_capstan",
+]
 
 
 @dataclass
@@ -44,6 +51,7 @@ class SimString:
     anchor_tri: np.ndarray | None = None  # (3,) the mounting panel's frame, or None: fixed
     anchor_ab: np.ndarray | None = None  # (2,)
     anchor_orient: float = 1.0
+    weights: np.ndarray | None = None  # (k,) capstan weight of the segment reaching hole h
     cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -75,6 +83,7 @@ class StringSet:
     offset: float  # half the panel thickness, mm
     tsa: object  # TSAParams
     theta: float = 0.0  # TSA rotation, rad
+    friction: float = 0.0  # string-on-hole friction coefficient (capstan law)
     _packed: tuple | None = None
 
     def packed(self) -> tuple:
@@ -164,6 +173,23 @@ def string_lengths(x: np.ndarray, strings: StringSet) -> tuple[np.ndarray, np.nd
     return np.asarray(
         strings.tsa.consumed(strings.theta, x_dis), dtype=float
     ) + rest + through, x_dis
+
+
+def update_capstan(x: np.ndarray, strings: StringSet) -> None:
+    """Set every string's capstan weights from the state ``x`` (n, 3) mm (friction > 0).
+
+    The weights are held while the solver finds the next equilibrium (lagged by one
+    state). They weigh each segment's force in :func:`string_derivatives` (the
+    tension at the pulled end times the weight), not the string's length: friction
+    changes the forces, not what the length allows. Without friction they stay 1.
+    """
+    if strings.friction <= 0:
+        return
+    from origami_cad.strings.friction import capstan_weights
+
+    for s in strings.strings:
+        _, arrive, leave, anchor = _points(x, s, strings.offset)
+        s.weights = capstan_weights(anchor, arrive, leave, strings.friction)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -292,8 +318,9 @@ def string_derivatives(
     anchor = np.asarray(s.anchor, dtype=float)
     x_dis = _anchor_stretch(x, tri, ab, orient, off_a, k, s.mounted, anchor)
     _, _, rate, curv = (float(v) for v in strings.tsa.consumed_derivatives(strings.theta, x_dis))
+    w = np.ones(k) if s.weights is None else np.asarray(s.weights, dtype=float)
     grad, hess = _derivatives_kernel(
-        x, tri, ab, orient, off_a, off_l, k, s.mounted, anchor, rate, curv, dofs, len(nodes)
+        x, tri, ab, orient, off_a, off_l, k, s.mounted, anchor, rate, curv, dofs, len(nodes), w
     )
     return nodes, grad, (hess if hessian else None)
 
@@ -390,10 +417,12 @@ def _add_pair(hess, jp, jq, dp, dq, hs):
 
 
 @njit(cache=True)
-def _derivatives_kernel(x, tri, ab, orient, off_a, off_l, k, mounted, anchor, rate, curv, dofs, m):
+def _derivatives_kernel(
+    x, tri, ab, orient, off_a, off_l, k, mounted, anchor, rate, curv, dofs, m, w
+):
     """Gradient (m, 3) and Hessian (3m, 3m) of one string's demanded length (see
     :func:`string_derivatives`); ``rate`` and ``curv`` are the TSA share's first and
-    second derivatives by the anchor stretch.
+    second derivatives by the anchor stretch, ``w`` (k,) the segments' capstan weights.
     """
     nf = len(tri)
     ja = np.empty((nf, 3, 9))
@@ -430,9 +459,9 @@ def _derivatives_kernel(x, tri, ab, orient, off_a, off_l, k, mounted, anchor, ra
         seg = arrive[j + 1] - leave[j]
         length = math.sqrt(seg @ seg)
         unit = seg / length
-        ga[j + 1] += unit
-        gl[j] -= unit
-        hs = (np.eye(3) - np.outer(unit, unit)) / length
+        ga[j + 1] += w[j + 1] * unit
+        gl[j] -= w[j + 1] * unit
+        hs = w[j + 1] * (np.eye(3) - np.outer(unit, unit)) / length
         _add_pair(hess, jl[j], ja[j + 1], dofs[j], dofs[j + 1], hs)
     grad = np.zeros(3 * m)
     for f in range(nf):

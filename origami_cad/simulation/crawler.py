@@ -21,6 +21,7 @@ from __future__ import annotations
 import importlib
 import itertools
 import math
+import os
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -63,6 +64,7 @@ __all__ = [
     "robot_params",
     "simulate_gait",
     "turn_rates",
+    "walking_robot",
 ]
 
 #: Names that moved to :mod:`origami_cad.robot` (issue 29), forwarded for one release.
@@ -208,6 +210,23 @@ def check_servo_speed(robot: Robot, rpm: float = SERVO_SPEED_RPM, where: str = "
             f"{rates[k, leg]:.1f} rev/min between keyframes t = {t[k]:g} s and {t[k + 1]:g} s, "
             f"over its servo's {rpm:g} rev/min"
         )
+
+
+def walking_robot(
+    robot: str | os.PathLike[str], gait: str | os.PathLike[str] | None = None
+) -> Robot:
+    """The robot file ``robot``, walking the gait file ``gait``'s keyframes if given.
+
+    A gait past the servo's speed is refused (:class:`SimulationError` naming the gait
+    file), as ``drive`` would refuse it.
+    """
+    from origami_cad.robot import load_gait, load_robot
+
+    spec = load_robot(robot)
+    if gait is not None:
+        spec = load_gait(gait, spec)
+        check_servo_speed(spec, where=str(gait))
+    return spec
 
 
 def gait_loads(robot: Robot, result: GaitResult) -> tuple[np.ndarray, np.ndarray]:
@@ -359,6 +378,25 @@ class GaitResult:
         return np.array(
             [self.body[b, axis] - self.body[a, axis] for a, b in itertools.pairwise(idx)]
         )
+
+    def numbers(self, seconds: float) -> list[tuple[str, str]]:
+        """The key numbers of the walk: displacement per cycle and in total, drift (mm),
+        the largest TSA torque (N mm), string tension (N) and blocked fold (deg), the
+        simulated mass (g), ``seconds`` (the simulation's time, s) and how it ended."""
+        per = self.displacement_per_cycle()
+        mean = float(per.mean()) if per.size else math.nan
+        return [
+            ("displacement per cycle", ", ".join(f"{d:.1f} mm" for d in per) or "none complete"),
+            ("mean per cycle (paper: 63 mm)", f"{mean:.1f} mm"),
+            ("total displacement", f"{self.body[-1, 0] - self.body[0, 0]:.1f} mm"),
+            ("lateral drift", f"{self.body[-1, 1] - self.body[0, 1]:.1f} mm"),
+            ("largest TSA torque", f"{self.torque.max():.1f} N mm"),
+            ("largest string tension", f"{self.tensions.max():.1f} N"),
+            ("largest blocked fold", f"{self.blocked.max():.1f} deg"),
+            ("simulated mass", f"{self.mass_g:.0f} g"),
+            ("simulation time", f"{seconds:.1f} s"),
+            ("how the gait ended", self.reason),
+        ]
 
     def to_dict(self) -> dict:
         per = self.displacement_per_cycle()

@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad._names import xml_text
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import FabricationParams
@@ -98,7 +99,15 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     robot = None
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
-        if path.suffix.lower() == ".toml" and "[robot]" in path.read_text(encoding="utf-8"):
+        if not path.is_file():
+            raise MjcfError(f"{path}: no such file")
+        try:
+            text = path.read_text(encoding="utf-8") if path.suffix.lower() == ".toml" else ""
+        except (OSError, UnicodeDecodeError) as exc:
+            raise MjcfError(
+                f"{path}: cannot be read as UTF-8 text ({exc.__class__.__name__})"
+            ) from None
+        if "[robot]" in text:
             robot = load_robot(path)
         else:
             source = load_pattern_source(path)
@@ -387,6 +396,14 @@ def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
     return out
 
 
+@checked(
+    SimulationError,
+    gravity=Arg(min=-1e9, max=1e9, optional=False),
+    friction=Arg(min=0.0, max=100.0),
+    crease_damping=Arg(min=0.0, max=1e9, optional=False),
+    timestep=Arg(min=0.0, open_min=True, max=0.1, optional=False),
+    armature=Arg(min=0.0, max=1e3, optional=False),
+)
 def to_mjcf(
     source,
     routes=(),

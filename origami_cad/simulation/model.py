@@ -18,13 +18,33 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from origami_cad.errors import PatternError
+from origami_cad._args import Arg, check_fields
+from origami_cad.errors import PatternError, SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["SimulationParams", "Structure", "build_structure"]
 
 _PRINTED = FabricationParams()  # the default printed sheet (paper Fig. 4)
+
+_POSITIVE = Arg(min=0.0, open_min=True, max=1e12, optional=False)
+#: What each field of :class:`SimulationParams` must be (its unit in the class's docstring).
+_FIELDS = {
+    "panel_modulus": _POSITIVE,
+    "panel_thickness": Arg(min=0.0, open_min=True, max=1e4, optional=False),
+    "crease_modulus": _POSITIVE,
+    "crease_thickness": Arg(min=0.0, open_min=True, max=1e4, optional=False),
+    "hinge_zone": Arg(min=0.0, open_min=True, max=1e4, optional=False),
+    "string_axial_stiffness": _POSITIVE,
+    "fold_limit": Arg(min=0.0, open_min=True, max=180.0, optional=False),
+    "limit_margin": Arg(min=0.0, max=180.0, optional=False),
+    "density": Arg(min=0.0, open_min=True, max=1e3, optional=False),
+    "gravity": Arg(min=-1e9, max=1e9, optional=False),
+    "ground": Arg(min=-1e6, max=1e6),
+    "friction": Arg(min=0.0, max=100.0, optional=False),
+    "ground_stiffness": _POSITIVE,
+    "slip": Arg(min=0.0, open_min=True, max=1e6, optional=False),
+}
 
 
 @dataclass(frozen=True)
@@ -67,6 +87,9 @@ class SimulationParams:
     slip : float
         Friction's stick-slip regularisation: a node pushed sideways below
         ``friction x normal force`` creeps by about this much per step, mm.
+    hole_friction : float
+        Friction coefficient of a string sliding through a panel's hole (the capstan
+        law, :mod:`origami_cad.strings.friction`; 0: none).
     """
 
     panel_modulus: float = 3500.0
@@ -83,6 +106,10 @@ class SimulationParams:
     friction: float = 0.5
     ground_stiffness: float = 100.0
     slip: float = 1e-3
+    hole_friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_fields(self, SimulationError, _FIELDS)
 
     @classmethod
     def from_fabrication(cls, fab: FabricationParams, **overrides) -> SimulationParams:
@@ -134,6 +161,7 @@ class SimulationParams:
         return {
             "crease_stiffness": self.crease_stiffness,
             "string_stiffness": self.string_axial_stiffness,
+            "hole_friction": self.hole_friction,
         }
 
     @property

@@ -34,10 +34,17 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, check_number, checked
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.simulation.cables import SimString, StringSet, string_length, string_lengths
+from origami_cad.simulation.cables import (
+    SimString,
+    StringSet,
+    string_length,
+    string_lengths,
+    update_capstan,
+)
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
@@ -151,7 +158,8 @@ def _strings(cp: CreasePattern, route: RouteSpec, flat: np.ndarray, params) -> S
             sim.anchor_orient = float(frame_orientation(cp, sim.anchor_tri))
             sim.anchor = np.array([*s.anchor[:2], s.anchor[2] + route.thickness / 2.0])
         out.append(sim)
-    strings = StringSet(out, route.thickness / 2.0, route.tsa)
+    strings = StringSet(out, route.thickness / 2.0, route.tsa, friction=params.hole_friction)
+    update_capstan(flat, strings)  # the tensions along the strings on the flat sheet
     for s in strings.strings:  # the strings are tight on the flat sheet (eq. 7)
         s.free_length, _ = string_length(flat, s, strings)
         s.stiffness = params.string_axial_stiffness / s.free_length
@@ -288,6 +296,18 @@ class StopRules:
     max_states: int = 5000
 
 
+@checked(
+    SimulationError,
+    steps=Arg("int", min=1, max=100_000),
+    prefold=Arg(min=0.0, max=90.0),
+    tension_limit=Arg(min=0.0, open_min=True, max=1e6),
+    jam_ratio=Arg(min=0.0, open_min=True, max=1.0),
+    jam_steps=Arg("int", min=1, max=10_000),
+    max_string_strain=Arg(min=0.0, open_min=True, max=1.0),
+    max_bar_strain=Arg(min=0.0, open_min=True, max=1.0),
+    max_dp=Arg(min=1e-4, max=1.0),
+    max_states=Arg("int", min=1, max=1_000_000),
+)
 def simulate(
     cp: CreasePattern,
     route: RouteSpec,
@@ -347,6 +367,7 @@ def simulate(
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
     """
+    fold_limits = _checked_limits(cp, fold_limits)
     params = _default_params(route, params, free)
     cap = route.max_tension if tension_limit is None else tension_limit
     rules = StopRules(
@@ -359,6 +380,39 @@ def simulate(
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
     return _result(rows, stop, run.notes)
+
+
+def _checked_limits(cp: CreasePattern, fold_limits: Any) -> dict[int, float] | None:
+    """``{edge: degrees}`` checked: mountain or valley creases of ``cp``, limits in (0, 180]."""
+    if fold_limits is None:
+        return None
+    if not isinstance(fold_limits, dict):
+        raise SimulationError(
+            f"simulate: fold_limits: expected {{edge: degrees}}, got {fold_limits!r}"
+        )
+    out = {}
+    for key, value in fold_limits.items():
+        edge = check_number(
+            "simulate: fold_limits edge",
+            key,
+            kind="int",
+            low=0,
+            high=cp.n_edges - 1,
+            error=SimulationError,
+        )
+        if cp.assignments[edge] not in ("M", "V"):
+            raise SimulationError(
+                f"simulate: fold_limits: edge {edge} is not a mountain or valley crease"
+            )
+        out[edge] = check_number(
+            f"simulate: fold_limits[{edge}]",
+            value,
+            low=0.0,
+            open_min=True,
+            high=180.0,
+            error=SimulationError,
+        )
+    return out
 
 
 def _route_limits(route: RouteSpec, design: Design | None, fold_limits: dict | None):
@@ -513,6 +567,7 @@ def _step_equilibrium(run: _Run, theta: float, previous: np.ndarray | None):
     """The equilibrium at TSA angle ``theta`` (rad), from ``run.x`` or a secant predictor."""
     st, strings, ground = run.st, run.strings, run.ground
     strings.theta = theta
+    update_capstan(run.x, strings)  # friction at the holes, from the last state
     start = run.x
     if previous is not None:  # secant predictor, kept when it starts lower
         guess = 2.0 * run.x - previous

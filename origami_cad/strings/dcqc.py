@@ -41,9 +41,11 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
+from origami_cad.strings.friction import capstan_rate
 from origami_cad.strings.route import (
     RouteSpec,
     StringRoute,
@@ -58,6 +60,7 @@ from origami_cad.strings.route import (
 
 __all__ = [
     "MAX_STRING_STRAIN",
+    "MIN_DP",
     "DCQCResult",
     "FoldLimit",
     "Jam",
@@ -71,6 +74,10 @@ __all__ = [
     "tsa_step",
     "turn_limit_stop",
 ]
+
+#: The smallest ``max_dp`` of :func:`simulate_dcqc`: a step of the fold ratio below it would
+#: need over 10,000 states to cross the fold (the halving of a step is bounded by it).
+MIN_DP = 1e-4
 
 
 MAX_STRING_STRAIN = 0.02  #: an elastic string strained beyond this jams (both models)
@@ -354,6 +361,13 @@ def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:
     return None
 
 
+@checked(
+    SimulationError,
+    grid=Arg("int", min=2, max=100_000),
+    crease_stiffness=Arg(min=0.0, max=1e9),
+    max_dp=Arg(min=MIN_DP, max=1.0),
+    string_stiffness=Arg(min=0.0, open_min=True, max=1e12),
+)
 def simulate_dcqc(
     design: Design,
     route: RouteSpec,
@@ -361,6 +375,7 @@ def simulate_dcqc(
     crease_stiffness: float | None = None,
     max_dp: float = 0.01,
     string_stiffness: float | None = None,
+    hole_friction: float = 0.0,
 ) -> DCQCResult:
     """Simulate the folding that the route's strings and TSA produce, state by state.
 
@@ -378,8 +393,8 @@ def simulate_dcqc(
         Rotational stiffness of the creases per unit length, N mm / rad / mm
         (e.g. ``SimulationParams.crease_stiffness``); gives tensions and torque.
     max_dp : float
-        Largest change of the fold ratio between two states; a TSA step that
-        folds more is halved.
+        Largest change of the fold ratio between two states, in [:data:`MIN_DP`, 1]; a
+        TSA step that folds more is halved.
     string_stiffness : float, optional
         Axial stiffness ``EA`` of the strings, N (e.g.
         ``SimulationParams.string_axial_stiffness``). With ``crease_stiffness`` the
@@ -387,13 +402,19 @@ def simulate_dcqc(
         equilibrium of the creases' and the strings' energy along the rigid folding,
         the same energy as the bar-and-hinge simulation's with rigid panels.
         Without it the strings are inextensible.
+    hole_friction : float
+        Friction coefficient in the holes (capstan law; 0: none); needs elastic strings.
     """
+    if not (math.isfinite(hole_friction) and hole_friction >= 0) or (
+        hole_friction > 0 and string_stiffness is None
+    ):
+        raise SimulationError(f"simulate_dcqc: hole_friction {hole_friction} needs >= 0 and EA")
     if string_stiffness is not None and (crease_stiffness is None or not string_stiffness > 0):
         raise SimulationError(
             "simulate_dcqc: elastic strings need a positive string_stiffness (EA, N) and the "
             f"creases' crease_stiffness too (got {string_stiffness!r}, {crease_stiffness!r})"
         )
-    t = _tables(design, route, grid, crease_stiffness, string_stiffness)
+    t = _tables(design, route, grid, crease_stiffness, string_stiffness, hole_friction)
     rows: dict[str, list] = {k: [] for k in _ROWS}
     _record(t, route, rows, 0.0, route.p0, False)
     theta_end = min(route.max_turns * 2 * math.pi, route.tsa.max_theta())
@@ -446,9 +467,7 @@ class _Tables:
         return np.array([np.interp(p, self.ratios, row) for row in table])
 
 
-def _tables(
-    design: Design, route: RouteSpec, grid: int | None, crease_stiffness, string_stiffness=None
-) -> _Tables:
+def _tables(design: Design, route: RouteSpec, grid, crease_stiffness, ks=None, mu=0.0) -> _Tables:
     """The geometry of the route on ``grid`` fold ratios from ``p0`` to the fold limit."""
     cp = design.pattern
     limit = fold_limit(design, route)
@@ -485,10 +504,12 @@ def _tables(
         energy_rate = np.gradient(energy, angle_ratios) if len(angle_ratios) > 1 else energy * 0
     tol = 1e-7 * max(cp.size, 1.0)
     t = _Tables(limit, ratios, x_dis, rest, l0, angles, angle_ratios, energy_rate, placement, tol)
-    if energy_rate is not None and string_stiffness is not None and len(ratios) > 1:
-        t.k = float(string_stiffness) / l0
+    if energy_rate is not None and ks is not None and len(ratios) > 1:
+        t.k = float(ks) / l0
         t.dx_dis = np.gradient(x_dis, ratios, axis=1)
         t.drest = np.gradient(rest, ratios, axis=1)
+        if mu > 0:  # friction at the holes: the segments pull by their capstan weights
+            t.drest = capstan_rate(cp, coords, route, frames, segs, ratios, mu)
     return t
 
 

@@ -74,6 +74,7 @@ __all__ = [
     "panel_frame",
     "parse_route",
     "rigid_fit",
+    "route_from_pattern",
     "route_sheet",
     "side_rule",
     "string_lengths",
@@ -219,6 +220,46 @@ def _route_from_data(data: dict, where: str, cp: CreasePattern) -> RouteSpec:
         for si, item in enumerate(raw)
     )
     return RouteSpec(tsa, strings, **settings, fabrication=fabrication)
+
+
+def route_from_pattern(cp: CreasePattern, tsa: dict | None = None, **settings) -> RouteSpec | None:
+    """The route a pattern carries (a PyGamiX design's tendons), or None if it has none.
+
+    ``cp.metadata["tendons"]`` (see :mod:`origami_cad.pattern.formats.pygamix`):
+    each tendon from its anchor (fixed, or riding on a panel: an onboard TSA) through
+    its panels' holes, on the sides the file gives; the first fixed panel is held.
+    ``tsa`` is the ``[tsa]`` table (default: ring, or onboard for an anchor on a
+    panel), ``settings`` the ``[route]`` keys (``thickness`` mm, ``take_up`` mm...).
+    The route is checked as a route file is; errors name the tendon.
+    """
+    tendons = cp.metadata.get("tendons")
+    if not tendons or not tendons.get("strings"):
+        return None
+    factor = cp.size / tendons["size"] if tendons.get("size") else 1.0
+    where = f"{cp.title or 'the design'}'s tendons"
+    anchors, strings = tendons["anchors"], []
+    for si, stops in enumerate(tendons["strings"]):
+        if not stops or stops[0][0] != "anchor" or any(t[0] == "anchor" for t in stops[1:]):
+            raise StringsError(
+                f"{where}: tendon {si + 1} does not start at its one anchor (an anchor at its "
+                "end or in its middle is not supported)"
+            )
+        if len(stops) < 2:
+            raise StringsError(f"{where}: tendon {si + 1} passes through no panel")
+        anchor = anchors[stops[0][1]]
+        item: dict = {"anchor": [v * factor for v in anchor["point"][:2]] + [anchor["point"][2]]}
+        if anchor["face"] >= 0:
+            item["anchor_panel"] = cp.face_labels[anchor["face"]]
+        item["holes"] = [[v * factor for v in t[3]] for t in stops[1:]]
+        item["sides"] = ["top" if t[2] > 0 else "bottom" for t in stops[1:]]
+        strings.append(item)
+    onboard = any("anchor_panel" in s for s in strings)
+    fixed = tendons.get("fixed") or []
+    route = {**settings, "strings": strings}
+    if fixed and "fixed_panel" not in route:
+        route["fixed_panel"] = cp.face_labels[fixed[0]]
+    table = tsa if tsa is not None else {"model": "onboard" if onboard else "ring"}
+    return _route_from_data({"tsa": table, "route": route}, where, cp)
 
 
 def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, check_fields
 from origami_cad.errors import StringsError
 
 __all__ = [
@@ -206,10 +207,14 @@ class TSAParams:
         if self.model not in ("ring", "onboard"):
             raise StringsError(f"[tsa] model must be 'ring' or 'onboard', got {self.model!r}")
         for name in ("d1", "d2", "string_width", "length", "radius"):
-            if not getattr(self, name) > 0:
-                raise StringsError(f"[tsa] {name} must be > 0 mm")
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                raise StringsError(f"[tsa] {name} must be a number of mm, got {value!r}")
+            if not (value > 0 and math.isfinite(value)):
+                raise StringsError(f"[tsa] {name} must be > 0 mm and finite, got {value!r}")
         if not 0 < self.max_helix_angle < 90:
             raise StringsError("[tsa] max_helix_angle must lie in (0, 90) deg")
+        check_fields(self, StringsError, {"x_dis": Arg(min=0.0, max=1e5)})
 
     def consumed(self, theta_s: Any, x_dis: Any) -> np.ndarray:
         """Length of string between the TSA and the first hole after twisting ``theta_s``, mm.

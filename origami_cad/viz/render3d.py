@@ -174,9 +174,8 @@ def render_folding_gif(
 
     bounds = pv.PolyData(np.concatenate([np.asarray(f, float) for f in frames])).bounds
     with atomic_path(path) as tmp:
-        # closing the plotter also closes the GIF writer, before the rename
         with offscreen_plotter(window_size) as plotter:
-            plotter.open_gif(str(tmp), fps=fps)
+            gif, encoded = _gif_writer(plotter, fps)
             for k, coords in enumerate(frames):
                 plotter.clear_actors()
                 _add_state(plotter, cp, coords)
@@ -185,4 +184,26 @@ def render_folding_gif(
                 if k == 0:
                     _set_view(plotter, view, bounds=bounds)
                 plotter.write_frame()
+            plotter.mwriter = None  # pyvista's close would swallow the writer's errors
+            gif.close()
+        # the encoded GIF is in memory: a full disk or a quota fails here, loudly
+        with open(tmp, "wb") as fh:
+            fh.write(encoded.getvalue())
     return Path(path)
+
+
+def _gif_writer(plotter, fps: int):
+    """An imageio GIF writer into memory, as the plotter's movie writer (what
+    ``plotter.open_gif`` makes, with its defaults, but never writing a file: an
+    error on the disk would only surface in the writer's ``__del__``, ignored)."""
+    import io
+
+    import imageio
+
+    buffer = io.BytesIO()
+    writer = imageio.get_writer(
+        buffer, format=".gif", mode="I", loop=0, palettesize=256,
+        subrectangles=False, duration=1000 / fps,
+    )  # fmt: skip
+    plotter.mwriter = writer
+    return writer, buffer

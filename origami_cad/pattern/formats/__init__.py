@@ -6,6 +6,7 @@ suffix     module                 notes
 ``.fold``  :mod:`.formats.fold`   FOLD 1.2 (JSON), lossless
 ``.dxf``   :mod:`.formats.dxf`    layers Mountain/Valley/Cut/Border, mm
 ``.svg``   :mod:`.formats.svg`    Origami Simulator colour convention
+``.json``  :mod:`.formats.pygamix` PyGamiX's designs (read only), FOLD
 =========  =====================  ======================================
 
 Each format module ends in two small dicts, ``readers`` and ``writers``, from a
@@ -15,8 +16,8 @@ None for the unit the file declares) and ``write(cp, path) -> Path`` (atomic).
 and :func:`~origami_cad.pattern.write_pattern` dispatch through them. A new format is
 its module and one line of :data:`MODULES`.
 
->>> sorted(READERS) == sorted(WRITERS) == [".dxf", ".fold", ".svg"]
-True
+>>> sorted(READERS), sorted(WRITERS)
+(['.dxf', '.fold', '.json', '.svg'], ['.dxf', '.fold', '.svg'])
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from typing import Any, ClassVar
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
-from origami_cad.pattern.formats import dxf, fold, svg
+from origami_cad.pattern.formats import dxf, fold, pygamix, svg
 
 __all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
 
@@ -40,6 +41,7 @@ MODULES = (
     fold,
     dxf,
     svg,
+    pygamix,
 )
 
 MODULES_BY_NAME = {m.__name__.rsplit(".", 1)[-1]: m for m in MODULES}

@@ -100,6 +100,7 @@ from origami_cad.pattern.model import (
     Severity,
     printable,
 )
+from origami_cad.pattern.planar import Tolerance, import_tolerance
 
 __all__ = ["MAX_ENTITIES", "MAX_SEGMENTS", "read_dxf", "write_dxf"]
 
@@ -622,7 +623,9 @@ def _outline_cuts_to_border(cp: CreasePattern, title: str) -> CreasePattern:
 
 
 # ------------------------------------------------------------------- reading
-def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
+def read_dxf(
+    path: str | os.PathLike[str], mm_per_unit: float | None = None, tolerance: Tolerance = None
+) -> CreasePattern:
     """Read a crease pattern from a DXF file, converted to millimetres.
 
     Parameters
@@ -632,6 +635,9 @@ def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
     mm_per_unit : float, optional
         Millimetres per drawing unit, replacing what ``$INSUNITS`` declares
         (default: the declared unit; mm when the file declares none).
+    tolerance : float, optional
+        Lines whose ends lie this close (mm) meet there (default
+        :func:`~origami_cad.pattern.planar.import_tolerance`).
 
     Returns
     -------
@@ -654,7 +660,7 @@ def read_dxf(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
     """
     p, name = input_file(path, PatternError)
     try:
-        cp = _read(p, mm_per_unit)
+        cp = _read(p, mm_per_unit, tolerance)
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
     cp.notes = tuple(
@@ -848,7 +854,7 @@ def _unit_notes(doc: Any, given: float | None) -> tuple[str, list[Problem]]:
     return text, [note]
 
 
-def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
+def _read(p: Path, mm_per_unit: float | None = None, tolerance: Tolerance = None) -> CreasePattern:
     """The crease pattern of the DXF file ``p`` (errors without the file name)."""
     doc = _open_dxf(p)
     scale = _mm_per_unit(doc) if mm_per_unit is None else float(mm_per_unit)
@@ -861,7 +867,9 @@ def _read(p: Path, mm_per_unit: float | None = None) -> CreasePattern:
     _check_found(unknown, skipped, holes, segments)
     coords, edges = _merge_ends(segments, scale)
     title = p.stem
-    cp = CreasePattern(coords, edges, letters, metadata={"title": title})
+    cp = CreasePattern(
+        coords, edges, letters, metadata={"title": title}, tolerance=import_tolerance(tolerance)
+    )
     cp = _outline_cuts_to_border(cp, title).with_metadata(source_unit=unit_text)
     cp.notes = (*cp.notes, *unit_notes, *_dropped_notes(dropped))
     return cp.with_holes(holes) if holes else cp

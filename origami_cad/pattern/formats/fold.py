@@ -37,8 +37,10 @@ from origami_cad.pattern.model import (
     Hole,
     Problem,
     Severity,
+    default_fold_angles,
     printable,
 )
+from origami_cad.pattern.planar import Tolerance, import_tolerance
 
 __all__ = [
     "FoldFrame",
@@ -147,9 +149,16 @@ def write_fold(
         Extra frames for ``file_frames`` (e.g. from :func:`folded_frame`).
     """
     data = fold_dict(cp, frames)
+    try:  # FOLD is JSON: no NaN or infinity, which no reader (ours included) accepts
+        text = json.dumps(data, indent=1, allow_nan=False)
+    except ValueError:
+        raise PatternError(
+            f"{path}: a frame holds NaN or an infinite number; FOLD (JSON) cannot hold it"
+        ) from None
+    except TypeError as exc:
+        raise PatternError(f"{path}: a frame holds a value FOLD cannot hold ({exc})") from None
     with atomic_write(path, "w", encoding="utf-8") as fh:
-        json.dump(data, fh, indent=1)
-        fh.write("\n")
+        fh.write(text + "\n")
     return Path(path)
 
 
@@ -443,7 +452,7 @@ def _labels(frame: dict[str, Any], where: str) -> list[str] | None:
 
 
 def _frame_to_pattern(
-    frame: dict[str, Any], where: str, title: str, verts: np.ndarray
+    frame: dict[str, Any], where: str, title: str, verts: np.ndarray, tolerance: Tolerance = None
 ) -> CreasePattern:
     if "edges_vertices" not in frame:
         raise PatternError(f"{where}: missing key 'edges_vertices'")
@@ -460,6 +469,9 @@ def _frame_to_pattern(
             assign = np.where(a > 0, "V", np.where(a < 0, "M", "U"))
         else:
             assign = "U"
+    if angles is not None:  # a null angle: the letter's (+-180 for V/M, else 0)
+        letters = np.asarray([str(x).upper() for x in np.broadcast_to(assign, len(e))])
+        angles = np.where(np.isnan(angles), default_fold_angles(letters), angles)
     faces = None
     if frame.get("faces_vertices") is not None:
         faces = _index_rows(frame, "faces_vertices", where, len(verts), None)
@@ -475,6 +487,7 @@ def _frame_to_pattern(
             face_labels=labels if faces is not None else None,
             holes=holes,
             metadata={"title": title} if title else {},
+            tolerance=import_tolerance(tolerance),
         )
     except PatternError as exc:
         raise PatternError(f"{where}: {exc}") from None
@@ -488,12 +501,16 @@ def _is_flat(verts: np.ndarray) -> bool:
     return bool(np.ptp(z) <= 1e-9 * max(1.0, float(np.abs(verts).max())))
 
 
-def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
+def read_fold(
+    path: str | os.PathLike[str], mm_per_unit: float | None = None, tolerance: Tolerance = None
+) -> CreasePattern:
     """Read the crease pattern of a FOLD file.
 
     ``mm_per_unit`` (millimetres per coordinate unit) replaces what the frame's
     ``frame_unit`` declares (default: the declared unit; mm when none, one mm per
-    unit for ``"unit"``); ``metadata["source_unit"]`` says which was used.
+    unit for ``"unit"``); ``metadata["source_unit"]`` says which was used. Vertices
+    within ``tolerance`` mm merge (default
+    :func:`~origami_cad.pattern.planar.import_tolerance`).
 
     The key frame is used when it is flat (and not declared a ``foldedForm``);
     otherwise the first such frame of ``file_frames``; otherwise the first folded
@@ -534,7 +551,7 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
         if mm_per_unit is not None:
             unit = f"{scale:g} mm per unit (given)"
         if _is_flat(verts) and not _is_folded_form(frame):
-            cp = _frame_to_pattern(frame, where, title, verts)
+            cp = _frame_to_pattern(frame, where, title, verts, tolerance)
             return cp.with_metadata(source_unit=printable(unit, 80))
         if frame.get("faces_vertices") is not None and "edges_vertices" in frame:
             forms.append((frame, where, verts, unit))
@@ -544,7 +561,7 @@ def read_fold(path: str | os.PathLike[str], mm_per_unit: float | None = None) ->
             "the file holds no crease pattern"
         )
     frame, where, verts, unit = forms[0]
-    cp = _unfolded_pattern(frame, where, title, verts)
+    cp = _unfolded_pattern(frame, where, title, verts, tolerance)
     return cp.with_metadata(source_unit=printable(unit, 80))
 
 
@@ -558,7 +575,7 @@ def _is_folded_form(frame: dict[str, Any]) -> bool:
 
 
 def _unfolded_pattern(
-    frame: dict[str, Any], where: str, title: str, verts: np.ndarray
+    frame: dict[str, Any], where: str, title: str, verts: np.ndarray, tolerance: Tolerance = None
 ) -> CreasePattern:
     """The crease pattern of a folded-form frame, its faces laid flat (:mod:`.unfold`).
 
@@ -606,7 +623,7 @@ def _unfolded_pattern(
     given = {"edges_assignment": list(assign), "faces_vertices": faces}
     if "edges_foldAngle" not in frame and "edges_foldAngles" not in frame:
         given["edges_foldAngle"] = [None if np.isnan(a) else float(a) for a in measured]
-    cp = _frame_to_pattern({**frame, **given}, where, title, flat)
+    cp = _frame_to_pattern({**frame, **given}, where, title, flat, tolerance)
     note = Problem(
         "unfolded",
         f"{where}: the file holds a folded form only; its {len(faces)} faces were laid "

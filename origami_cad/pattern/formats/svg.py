@@ -52,6 +52,7 @@ from origami_cad.pattern.model import (
     Severity,
     printable,
 )
+from origami_cad.pattern.planar import Tolerance, import_tolerance
 
 __all__ = [
     "MAX_DEPTH",
@@ -481,7 +482,11 @@ def _polylines(el: ET.Element, tag: str, where: str) -> list[list[tuple[float, f
     return []
 
 
-def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> CreasePattern:
+def read_svg(
+    path: str | os.PathLike[str],
+    mm_per_unit: float | None = None,
+    tolerance: Tolerance = None,
+) -> CreasePattern:
     """Read a crease pattern from an SVG in Origami Simulator's convention (mm).
 
     Every number, transform, colour and opacity is checked: malformed path
@@ -490,7 +495,10 @@ def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
 
     ``mm_per_unit`` (millimetres per user unit) replaces what the root's
     ``viewBox`` and ``width``/``height`` declare (see the module notes);
-    ``metadata["source_unit"]`` says which was used.
+    ``metadata["source_unit"]`` says which was used. Lines whose ends lie within
+    ``tolerance`` mm of each other (or of a line) meet there (default
+    :data:`~origami_cad.pattern.planar.IMPORT_RELATIVE_TOLERANCE` of the pattern's
+    size; see :func:`~origami_cad.pattern.planar.import_tolerance`).
 
     Raises
     ------
@@ -522,6 +530,7 @@ def read_svg(path: str | os.PathLike[str], mm_per_unit: float | None = None) -> 
             [s[2] for s in segments],
             [s[3] for s in segments],
             metadata={"title": title or p.stem, "source_unit": unit},
+            tolerance=import_tolerance(tolerance),
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None

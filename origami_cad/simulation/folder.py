@@ -1,0 +1,269 @@
+"""Fold any crease pattern: the exact closed form where it applies, else the bar-and-hinge solver.
+
+The closed form (:func:`~origami_cad.kinematics.folding.fold_design`) folds TG
+tessellations and patterns whose interior vertices are flat-foldable degree-4 vertices
+moving with one degree of freedom: one driving crease sets every other. Where it does
+not apply (other vertices, or several degrees of freedom, which the closed form would
+leave partly flat), :func:`fold_general` folds the pattern as Origami Simulator does
+(Ghassaei et al. 2018): every crease is a torsional spring driven toward its target
+angle, on the bar-and-hinge model of :mod:`origami_cad.simulation.model` (panels as
+stiff as the printed ones, triangulated, with stiff facet hinges on their diagonals),
+in equilibrium by :func:`~origami_cad.simulation.solver.solve_equilibrium`:
+
+- mountain and valley creases: the file's fold angle where it has one (FOLD's
+  ``edges_foldAngle``, an SVG's stroke opacity), else -180 / +180 deg, times the fold
+  ratio ``p`` (at most :data:`MAX_TARGET_DEG` in magnitude);
+- facet (``F``) and join (``J``) creases: 0, as stiff as the panels' facet hinges;
+- unassigned (``U``) creases: free hinges with no target (a spring of
+  :data:`FREE_HINGE_STIFFNESS` times a crease's, toward the angle they had at the start
+  of each step, only keeps the equations well posed).
+
+The targets ramp from 0 in steps of at most :data:`STEP_DEG` (continuation), each
+solve starting from the last one extrapolated, so the solver follows the folding path.
+Panels stretch where the creases cannot reach their targets together (a pattern that
+does not fold rigidly): the largest change of an edge's length is reported (percent),
+and a :class:`StrainWarning` is issued above :data:`STRAIN_LIMIT`. Units: mm, degrees
+at the edges, radians inside.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+
+from origami_cad.errors import PatternError
+from origami_cad.kinematics.folding import FoldedState, fold_design, fold_sequence
+from origami_cad.pattern.design import Design
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.simulation.mechanics import bar_lengths, fold_angles
+from origami_cad.simulation.model import SimulationParams, Structure, build_structure
+from origami_cad.simulation.solver import HessianAssembly, solve_equilibrium
+
+__all__ = [
+    "FREE_HINGE_STIFFNESS",
+    "MAX_TARGET_DEG",
+    "METHODS",
+    "STEP_DEG",
+    "STRAIN_LIMIT",
+    "StrainWarning",
+    "closed_form_applies",
+    "fold",
+    "fold_general",
+    "fold_states",
+]
+
+#: Above this largest edge strain (percent) a fold warns: the panels stretch visibly, the
+#: pattern does not fold this far without bending or stretching its panels.
+STRAIN_LIMIT = 5.0
+#: Largest change of any crease's target between two solves of the continuation, degrees.
+STEP_DEG = 10.0
+#: Largest target fold angle, degrees: at 180 a crease's angle would wrap around.
+MAX_TARGET_DEG = 179.0
+#: A free (``U``) hinge's spring, as a fraction of a crease's stiffness.
+FREE_HINGE_STIFFNESS = 1e-3
+#: The methods :func:`fold` and :func:`fold_states` take.
+METHODS = ("auto", "closed form", "general")
+
+_FOLDING = ("M", "V")
+_FACET = ("F", "J")
+# residual force (N) at which a solve counts as converged: between steps, at the end
+_TOL_STEP, _TOL_END = 1e-4, 1e-5
+_MAX_ITER = 200
+
+
+class StrainWarning(UserWarning):
+    """A general fold stretched an edge by more than :data:`STRAIN_LIMIT` percent."""
+
+
+def closed_form_applies(design: Design) -> bool:
+    """Whether ``design`` folds in closed form, with one degree of freedom.
+
+    True for a TG tessellation, and for a pattern the degree-4 folder folds with every
+    mountain and valley crease moving (a pattern with more degrees of freedom, such as a
+    map, would keep some crease lines flat there).
+    """
+    if design.tg is not None:
+        return True
+    creases = design.pattern.edge_mask(*_FOLDING)
+    try:
+        probe = fold_design(design, 0.1).fold_angles
+    except PatternError:
+        return False
+    return bool(creases.any() and np.all(np.abs(probe[creases]) > 1e-6))
+
+
+def fold(
+    design: Design | CreasePattern,
+    p: float,
+    *,
+    method: str = "auto",
+    params: SimulationParams | None = None,
+) -> FoldedState:
+    """Fold ``design`` (or a bare pattern) to fold ratio ``p`` in [0, 1].
+
+    ``method`` ``"auto"`` takes the closed form where it applies
+    (:func:`closed_form_applies`), else the general solver (:func:`fold_general`, with
+    the materials of ``params``). The state says which (``method``) and its largest
+    edge strain, percent (``strain``); a :class:`StrainWarning` names a strain over
+    :data:`STRAIN_LIMIT`.
+    """
+    return fold_states(design, [p], method=method, params=params)[-1]
+
+
+def fold_states(
+    design: Design | CreasePattern,
+    ratios: Sequence[float],
+    *,
+    method: str = "auto",
+    params: SimulationParams | None = None,
+) -> list[FoldedState]:
+    """Fold ``design`` to each fold ratio of ``ratios`` (each in [0, 1]), one method for all.
+
+    See :func:`fold`; the general solver folds through the ratios in increasing order
+    in one continuation, so a sequence costs about as much as its largest ratio.
+    """
+    if isinstance(design, CreasePattern):
+        design = Design(design, None, "file")
+    if method not in METHODS:
+        raise PatternError(f"fold method must be one of {', '.join(METHODS)}, got {method!r}")
+    values = [_ratio(p) for p in ratios]
+    if method == "auto":
+        method = "closed form" if closed_form_applies(design) else "general"
+    if method == "closed form":
+        return fold_sequence(design, values)
+    return fold_general(design.pattern, values, params=params)
+
+
+def _ratio(p) -> float:
+    value = float(p)
+    if not 0.0 <= value <= 1.0:
+        raise PatternError(f"fold ratio must lie in [0, 1], got {p}")
+    return value
+
+
+def fold_general(
+    cp: CreasePattern,
+    ratios: Sequence[float],
+    *,
+    params: SimulationParams | None = None,
+    step_deg: float = STEP_DEG,
+) -> list[FoldedState]:
+    """Fold ``cp`` by driving every crease toward its target angle times each ratio.
+
+    Parameters
+    ----------
+    cp : CreasePattern
+        Any pattern with panels, mm.
+    ratios : sequence of float
+        Fold ratios in [0, 1]: each crease's target is its fold angle (or +-180 deg)
+        times the ratio.
+    params : SimulationParams, optional
+        Materials of the panels and creases (default: the printed sheet's); fold
+        limits, gravity and ground are not used.
+    step_deg : float
+        Largest change of a target between two solves, degrees.
+
+    Returns
+    -------
+    list of FoldedState
+        One per ratio, in the order given (``method`` ``"general"``, ``strain`` percent),
+        the panel nearest the pattern's centre held flat in ``z = 0``.
+    """
+    values = [_ratio(p) for p in ratios]
+    if not step_deg > 0:
+        raise PatternError(f"the continuation step must be > 0 deg, got {step_deg}")
+    if not values:
+        return []
+    if not cp.edge_mask(*_FOLDING).any():
+        raise PatternError("the pattern has no mountain or valley crease to fold")
+    st, target, free = _driven_structure(cp, params or SimulationParams())
+    asm = HessianAssembly(st)
+    cap = math.radians(MAX_TARGET_DEG)
+    largest = float(np.degrees(np.max(np.abs(target)))) if len(target) else 0.0
+    x, previous = st.x0.copy(), st.x0.copy()
+    q_x = q_previous = done = 0.0  # the ratios of x and of the state before it
+    states: dict[float, FoldedState] = {}
+    for goal in sorted(set(values)):
+        ramp = _ramp(done, goal, largest, step_deg)
+        for k, q in enumerate(ramp, start=1):
+            n = len(ramp)
+            # predictor: the last step extrapolated (the path is smooth between solves)
+            reach = (q - q_x) / (q_x - q_previous) if q_x > q_previous else 0.0
+            guess = x + (x - previous) * min(reach, 1.0)
+            previous, q_previous, q_x = x, q_x, q
+            st.hinge_rest = np.clip(target * q, -cap, cap)
+            st.hinge_rest[free] = fold_angles(x, st.hinges[free])
+            x, _ = solve_equilibrium(
+                guess,
+                st,
+                assembly=asm,
+                tol=_TOL_END if k == n else _TOL_STEP,
+                max_iter=_MAX_ITER,
+            )
+        done = goal
+        states[goal] = _state(cp, st, x, goal)
+    out = [states[p] for p in values]
+    worst = max(s.strain for s in out)
+    if worst > STRAIN_LIMIT:
+        warnings.warn(
+            f"the general fold stretches an edge by {worst:.3g} %, over the {STRAIN_LIMIT:g} % "
+            "limit: the pattern does not fold this far without bending or stretching its panels",
+            StrainWarning,
+            stacklevel=2,
+        )
+    return out
+
+
+def _ramp(start: float, goal: float, largest: float, step_deg: float) -> list[float]:
+    """The ratios of the solves from ratio ``start`` to ``goal`` (>= ``start``): equal
+    steps of at most ``step_deg`` on the ``largest`` target (degrees)."""
+    if goal <= start or largest <= 0:
+        return [goal]
+    n = max(1, math.ceil((goal - start) * largest / step_deg - 1e-9))
+    return [start + (goal - start) * k / n for k in range(1, n + 1)]
+
+
+def _driven_structure(cp: CreasePattern, params: SimulationParams):
+    """The bar-and-hinge model with every hinge's stiffness set for folding: ``(structure,
+    target (H,) rad at p = 1, free (H,) bool: the unassigned creases)``."""
+    st: Structure = build_structure(cp, params)
+    st.hinge_limit = np.full(len(st.hinges), math.inf)
+    edge = st.hinge_edge
+    assigned = np.full(len(edge), "", dtype="<U1")
+    assigned[edge >= 0] = cp.assignments[edge[edge >= 0]]
+    driven = np.isin(assigned, _FOLDING)
+    target = np.zeros(len(edge))
+    target[driven] = np.radians(cp.fold_angles[edge[driven]])
+    facet = np.isin(assigned, _FACET)
+    st.hinge_k = st.hinge_k.copy()
+    st.hinge_k[facet] = _facet_stiffness(st, params)[facet]
+    free = assigned == "U"
+    st.hinge_k[free] *= FREE_HINGE_STIFFNESS
+    return st, target, free
+
+
+def _facet_stiffness(st: Structure, params: SimulationParams) -> np.ndarray:
+    """A stiff facet hinge's rotational stiffness on every hinge, N mm/rad: the panels'
+    bending ``E h^3 / 12`` times the hinge's length over its triangles' mean height (as
+    :func:`~origami_cad.simulation.model.build_structure` gives a panel's diagonal)."""
+    x0 = st.x0
+    i, j, k, l = st.hinges.T
+    axis = x0[j] - x0[i]
+    length = np.linalg.norm(axis, axis=1)
+    h1 = np.abs(np.cross(axis, x0[k] - x0[i])[:, 2]) / length
+    h2 = np.abs(np.cross(axis, x0[l] - x0[i])[:, 2]) / length
+    return params.panel_bending * length / np.maximum(0.5 * (h1 + h2), 1e-6)
+
+
+def _state(cp: CreasePattern, st: Structure, x: np.ndarray, p: float) -> FoldedState:
+    """The folded state of nodes ``x`` (n, 3) mm: fold angles per edge (degrees, 0 on the
+    border) and the largest bar strain, percent."""
+    length, _ = bar_lengths(x, st.bars)
+    strain = float(np.max(np.abs(length - st.bar_rest) / st.bar_rest)) * 100.0
+    angles = np.zeros(cp.n_edges)
+    folds = st.hinge_edge >= 0
+    angles[st.hinge_edge[folds]] = np.degrees(fold_angles(x, st.hinges[folds]))
+    return FoldedState(float(p), x.copy(), angles, method="general", strain=strain)

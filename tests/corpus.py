@@ -1,0 +1,250 @@
+"""The whole chain on the public crease-pattern corpus (``make corpus``).
+
+Every pattern of ``tests/data/corpus.toml`` (files written by Origami Simulator, the FOLD
+format's examples and, where present, PyGamiX) goes through the commands a user runs, each
+in a fresh folder and a subprocess with a time limit, at 150 mm wide:
+
+1. ``check FILE``: passes with no error (status 0);
+2. ``fold FILE --ratio 0.3``: passes when the fold really folds, measured on the written
+   FOLD file itself: at least half the mountain and valley creases turn by more than 5 deg
+   (the dihedral angle between the two faces, from the 3D coordinates) and no edge changes
+   length by more than 5 %;
+3. ``fabricate FILE``: status 0;
+4. ``plan-route FILE --tsa ring`` (no ``--strings``): status 0;
+5. ``simulate FILE route.toml``: status 0 on what plan-route wrote.
+
+It prints a table (Markdown with ``--markdown FILE``): each stage's result, and on failure
+the command's own one-line reason. ``--fast`` runs only the patterns marked fast (the ones
+``tests/test_corpus.py`` runs inside ``make test``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import tomllib
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+DATA = Path(__file__).resolve().parent / "data"
+MANIFEST = DATA / "corpus.toml"
+STAGES = ("check", "fold", "fabricate", "plan-route", "simulate")
+WIDTH = "150"
+RATIO = "0.3"
+TURN_DEG = 5.0  # a crease "turns" when its dihedral angle exceeds this
+MAX_STRAIN = 0.05  # the largest relative change of an edge's length
+TIMEOUT_S = 180.0
+
+
+@dataclass
+class Stage:
+    """One command's outcome on one pattern."""
+
+    name: str
+    ok: bool
+    code: int | None
+    seconds: float
+    message: str = ""
+
+
+@dataclass
+class Row:
+    """The chain's outcome on one pattern."""
+
+    file: str
+    kind: str
+    stages: list[Stage] = field(default_factory=list)
+
+    def passed(self, stage: str) -> bool:
+        return any(s.name == stage and s.ok for s in self.stages)
+
+
+def load_manifest(fast: bool = False) -> list[dict]:
+    """The corpus's entries (``fast``: only those marked fast), each with ``file`` and ``kind``."""
+    entries = tomllib.loads(MANIFEST.read_text())["pattern"]
+    extra = DATA / "pygamix" / "corpus.toml"
+    if extra.exists():
+        for e in tomllib.loads(extra.read_text()).get("pattern", []):
+            entries.append({**e, "file": f"pygamix/{e['file']}"})
+    return [e for e in entries if e.get("fast") or not fast]
+
+
+def _cli() -> list[str]:
+    script = Path(sys.executable).with_name("origami-cad")
+    if script.exists():
+        return [str(script)]
+    return [sys.executable, "-c", "import sys; from origami_cad.cli import main; sys.exit(main())"]
+
+
+def _run(args: list[str], cwd: Path, timeout: float) -> tuple[int | None, float, str]:
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(
+            [*_cli(), *args],
+            cwd=cwd,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            stdin=subprocess.DEVNULL,
+        )
+    except subprocess.TimeoutExpired:
+        return None, time.perf_counter() - t0, f"over {timeout:.0f} s"
+    seconds = time.perf_counter() - t0
+    lines = [ln for ln in (proc.stderr + "\n" + proc.stdout).splitlines() if ln.strip()]
+    bad = [ln for ln in lines if ln.startswith(("error", "origami-cad:", "internal"))]
+    message = (bad or lines[-1:] or [""])[0]
+    return proc.returncode, seconds, message.strip()
+
+
+def _newell(points: list[list[float]]) -> tuple[float, float, float]:
+    nx = ny = nz = 0.0
+    for i, (x0, y0, z0) in enumerate(points):
+        x1, y1, z1 = points[(i + 1) % len(points)]
+        nx += (y0 - y1) * (z0 + z1)
+        ny += (z0 - z1) * (x0 + x1)
+        nz += (x0 - x1) * (y0 + y1)
+    n = math.sqrt(nx * nx + ny * ny + nz * nz) or 1.0
+    return nx / n, ny / n, nz / n
+
+
+def fold_measures(path: Path) -> tuple[float, float, int]:
+    """(share of M/V creases turning > 5 deg, largest edge strain, M/V count) of a FOLD file.
+
+    Measured on the last frame's 3D coordinates against the file's flat crease pattern
+    (the top-level ``vertices_coords``): the dihedral angle between the faces on either side
+    of each crease, and each edge's length change relative to its flat length.
+    """
+    doc = json.loads(path.read_text())
+    flat = [list(map(float, v)) + [0.0] * (3 - len(v)) for v in doc["vertices_coords"]]
+    frames = doc.get("file_frames") or [doc]
+    coords = frames[-1].get("vertices_coords", doc["vertices_coords"])
+    coords = [list(map(float, v)) + [0.0] * (3 - len(v)) for v in coords]
+    edges = doc["edges_vertices"]
+    kinds = doc.get("edges_assignment", ["U"] * len(edges))
+    faces = doc.get("faces_vertices", [])
+    side: dict[tuple[int, int], list[int]] = {}
+    for f, loop in enumerate(faces):
+        for i, a in enumerate(loop):
+            b = loop[(i + 1) % len(loop)]
+            side.setdefault((min(a, b), max(a, b)), []).append(f)
+    normals = [_newell([coords[v] for v in loop]) for loop in faces]
+    turned = creases = 0
+    strain = 0.0
+    for (a, b), kind in zip(edges, kinds, strict=True):
+        rest = math.dist(flat[a], flat[b])
+        if rest > 0:
+            strain = max(strain, abs(math.dist(coords[a], coords[b]) - rest) / rest)
+        if kind not in ("M", "V"):
+            continue
+        creases += 1
+        pair = side.get((min(a, b), max(a, b)), [])
+        if len(pair) == 2:
+            dot = sum(p * q for p, q in zip(normals[pair[0]], normals[pair[1]], strict=True))
+            if math.degrees(math.acos(max(-1.0, min(1.0, dot)))) > TURN_DEG:
+                turned += 1
+    return (turned / creases if creases else 0.0), strain, creases
+
+
+def run_pattern(entry: dict, timeout: float = TIMEOUT_S, keep: Path | None = None) -> Row:
+    """Run the chain on one corpus entry; ``keep`` keeps the outputs in that folder."""
+    src = DATA / entry["file"]
+    row = Row(entry["file"], entry.get("kind", ""))
+    work = Path(tempfile.mkdtemp(prefix="oc-corpus-"))
+    try:
+        code, sec, msg = _run(["check", str(src)], work, timeout)
+        row.stages.append(Stage("check", code == 0, code, sec, "" if code == 0 else msg))
+
+        code, sec, msg = _run(
+            ["fold", str(src), "--width", WIDTH, "--ratio", RATIO, "-o", "fold.fold"], work, timeout
+        )
+        ok = code == 0
+        if ok:
+            share, strain, creases = fold_measures(work / "fold.fold")
+            ok = share >= 0.5 and strain <= MAX_STRAIN
+            msg = f"{share:.0%} of {creases} creases turn > {TURN_DEG:g} deg, strain {strain:.1%}"
+        row.stages.append(Stage("fold", ok, code, sec, msg))
+
+        code, sec, msg = _run(["fabricate", str(src), "--width", WIDTH, "-o", "fab"], work, timeout)
+        row.stages.append(Stage("fabricate", code == 0, code, sec, "" if code == 0 else msg))
+
+        code, sec, msg = _run(
+            ["plan-route", str(src), "--width", WIDTH, "--tsa", "ring", "-o", "route/route.toml"],
+            work,
+            timeout,
+        )
+        routed = code == 0
+        row.stages.append(Stage("plan-route", routed, code, sec, "" if routed else msg))
+
+        if routed:
+            code, sec, msg = _run(
+                ["simulate", str(src), "route/route.toml", "--width", WIDTH, "-o", "sim"],
+                work,
+                timeout,
+            )
+            row.stages.append(Stage("simulate", code == 0, code, sec, "" if code == 0 else msg))
+        else:
+            row.stages.append(Stage("simulate", False, None, 0.0, "no route"))
+    finally:
+        if keep is not None:
+            dest = keep / Path(entry["file"]).stem
+            shutil.rmtree(dest, ignore_errors=True)
+            shutil.copytree(work, dest)
+        shutil.rmtree(work, ignore_errors=True)
+    return row
+
+
+def table(rows: list[Row]) -> str:
+    """The results as a Markdown table, with a line of totals."""
+    out = ["| pattern | kind | " + " | ".join(STAGES) + " |", "|---|---|" + "---|" * len(STAGES)]
+    for r in rows:
+        cells = []
+        for s in r.stages:
+            mark = "pass" if s.ok else ("**exit 3**" if s.code == 3 else "no")
+            note = f" ({s.message})" if s.message and (not s.ok or s.name == "fold") else ""
+            cells.append(f"{mark}{note.replace('|', '/')}")
+        out.append(f"| {Path(r.file).name} | {r.kind} | " + " | ".join(cells) + " |")
+    totals = [sum(r.passed(s) for r in rows) for s in STAGES]
+    out.append(
+        f"| **{len(rows)} patterns** | | "
+        + " | ".join(f"**{t} of {len(rows)}**" for t in totals)
+        + " |"
+    )
+    return "\n".join(out)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--fast", action="store_true", help="only the patterns marked fast")
+    ap.add_argument("--only", action="append", default=[], help="a file name part (repeat)")
+    ap.add_argument("--jobs", type=int, default=max(1, (os.cpu_count() or 1) // 2))
+    ap.add_argument("--timeout", type=float, default=TIMEOUT_S, help="seconds per command")
+    ap.add_argument("--markdown", type=Path, help="also write the table to this file")
+    ap.add_argument("--keep", type=Path, help="keep every output in this folder")
+    args = ap.parse_args(argv)
+    entries = load_manifest(args.fast)
+    if args.only:
+        entries = [e for e in entries if any(o in e["file"] for o in args.only)]
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(args.jobs) as pool:
+        rows = list(pool.map(lambda e: run_pattern(e, args.timeout, args.keep), entries))
+    text = table(rows)
+    print(text)
+    slow = max((s.seconds for r in rows for s in r.stages), default=0.0)
+    exit3 = sum(s.code == 3 for r in rows for s in r.stages)
+    print(f"\n{len(rows)} patterns in {time.perf_counter() - t0:.0f} s; slowest step {slow:.0f} s;")
+    print(f"exit code 3: {exit3}")
+    if args.markdown:
+        args.markdown.write_text(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
