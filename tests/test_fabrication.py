@@ -437,16 +437,22 @@ def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys
 
 
 def test_a_sheet_of_too_many_panels_is_refused_before_any_work(tmp_path, capsys):
-    """On a bed it fits, a 60 x 60 sheet would still build for minutes into gigabytes."""
-    from origami_cad.fabrication.plan import MAX_FABRICATED_PANELS
+    """On a bed it fits, a 70 x 70 sheet would still build past the time budget."""
+    from origami_cad.fabrication.plan import (
+        FABRICATION_BUDGET_S,
+        MAX_FABRICATED_PANELS,
+        SECONDS_PER_PANEL,
+    )
 
-    huge = miura_design(60, 60, 5.0, 5.0, 65.0)
+    assert MAX_FABRICATED_PANELS * SECONDS_PER_PANEL <= FABRICATION_BUDGET_S
+    assert (MAX_FABRICATED_PANELS + 1) * SECONDS_PER_PANEL > FABRICATION_BUDGET_S
+    huge = miura_design(70, 70, 5.0, 5.0, 65.0)
     assert len(huge.pattern.faces) > MAX_FABRICATED_PANELS
-    with pytest.raises(FabricationError, match=r"3,600 panels, more than the 2,500"):
+    with pytest.raises(FabricationError, match=r"4,900 panels: fabricate would take about 74 s"):
         fabricate(huge, bed=(1000.0, 1000.0))
     design = tmp_path / "many.toml"
     design.write_text(
-        '[pattern]\nkind = "miura"\nrows = 60\ncolumns = 60\npanel_length = 5.0\n'
+        '[pattern]\nkind = "miura"\nrows = 70\ncolumns = 70\npanel_length = 5.0\n'
         "panel_width = 5.0\nsector_angle = 65.0\n"
     )
     out = tmp_path / "out"
@@ -454,7 +460,7 @@ def test_a_sheet_of_too_many_panels_is_refused_before_any_work(tmp_path, capsys)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "MAX_FABRICATED_PANELS" in err
     assert not out.exists()
-    edge = miura_design(50, 50, 5.0, 5.0, 65.0).pattern  # exactly the limit: accepted
+    edge = miura_design(50, 80, 5.0, 5.0, 65.0).pattern  # exactly the limit: accepted
     from origami_cad.fabrication import check_panel_count
 
     check_panel_count(edge)

@@ -10,13 +10,9 @@ from pathlib import Path
 from origami_cad._fileio import atomic_write
 from origami_cad._names import one_line
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
-from origami_cad.errors import StringsError
 from origami_cad.parallel import open_executor
 
 __all__: list[str] = []
-
-
-_PLAN_HINT = "try another TSA place, fewer strings or a smaller --target-p"
 
 
 def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
@@ -43,82 +39,16 @@ def _plan_budget(budget: str):
     return PlanSettings(max_turns=values[0], max_torque=values[1] if len(values) > 1 else math.inf)
 
 
-def _check_tsa(text: str) -> str:
-    _tsa_placement(text, 126.0, 10.0)
-    return text
-
-
-def _check_budget(text: str) -> str:
-    _plan_budget(text)
-    return text
-
-
 def _plan_header(a, planned, geom) -> str:
     """The route file's comment lines: the command line that planned it, and its rank 1."""
     target = f" --target-p {a.target_p:g}" if a.target_p is not None else ""
+    strings = f" --strings {a.strings}" if a.strings is not None else ""
     return (
-        f"# Planned by: origami-cad plan-route {one_line(a.pattern)} --tsa {one_line(a.tsa)} "
-        f"--strings {a.strings}{target} --seed {a.seed}\n"
+        f"# Planned by: origami-cad plan-route {one_line(a.pattern)} --tsa {one_line(a.tsa)}"
+        f"{strings}{target} --seed {a.seed}\n"
         f"# rank 1 of {len(planned)}: {planned[0].turns:.2f} TSA turns to p = "
         f"{geom.target_p:.4f}, peak torque {planned[0].peak_torque:.3g} N mm (DCQC model)"
     )
-
-
-def _plan_numbers(planned, geom, seconds: float, cpu: float) -> list[tuple[str, str]]:
-    best = planned[0]
-    sim = best.checks.get("simulation")
-    checked = (
-        "not run"
-        if sim is None
-        else f"p = {sim['p']:.3f} after {sim['turns']:.1f} turns ({sim['stop']})"
-    )
-    return [
-        ("valid routes ranked", str(len(planned))),
-        ("target fold ratio", f"p = {geom.target_p:.4f} (fold limit {geom.limit_p:.4f})"),
-        ("best: TSA turns / peak torque", f"{best.turns:.2f} / {best.peak_torque:.3g} N mm"),
-        ("best: load share", f"{best.share:.2f}"),
-        ("search time", f"{seconds:.1f} s wall, {cpu:.1f} s CPU here"),
-        ("bar-and-hinge check of the best", checked),
-    ]
-
-
-def _plan_messages(planned, geom) -> list[str]:
-    best = planned[0]
-    lines = [
-        f"best of {len(planned)} routes: {len(best.strings)} strings, {best.turns:.2f} TSA turns "
-        f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
-    ]
-    for r in planned:
-        sim = r.checks.get("simulation")
-        if sim is not None and not sim["reaches_target"]:
-            lines.append(
-                f"warning: route {r.rank}: the bar-and-hinge simulation stops at p = "
-                f"{sim['p']:.3f} ({sim['reason']})"
-            )
-    return lines
-
-
-def _write_plan(a, loaded, geom, planned, stage: Path, names, seconds: float) -> list:
-    """route.toml, routes.json and the two plots into ``stage``; the routes, verified."""
-    from origami_cad.simulation.verify import verify_planned
-    from origami_cad.strings.plan import route_toml
-    from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
-
-    text = route_toml(geom, planned[0], _plan_header(a, planned, geom))
-    (stage / names[0]).write_text(text, encoding="utf-8")
-    planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
-    data = {
-        "target_p": geom.target_p,
-        "fold_limit_p": geom.limit_p,
-        "tsa": geom.placement.kind,
-        "search_seconds": seconds,
-        "routes": [r.to_dict() for r in planned],
-    }
-    with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
-        json.dump(data, fh, indent=1)
-    save_planned_routes_png(loaded.pattern, planned, stage / names[2])
-    save_planned_turns_png(planned, stage / names[3])
-    return planned
 
 
 @register
@@ -130,8 +60,10 @@ class PlanRoute(Command):
     ranked by TSA turns, peak torque and load share; the best ``verify`` routes are
     folded by the bar-and-hinge simulator. ``--tsa ring`` puts the guides on a ring
     of ``ring_radius`` mm, ``ring_height`` mm above the sheet; ``onboard:PANEL``
-    mounts the TSA on that panel. ``--budget TURNS[,NMM]``: the TSA's turns and peak
-    torque (N mm) to stay within (default 40 turns). routes.json, routes.png and
+    mounts the TSA on that panel. Without ``--strings``, the fewest strings whose best
+    route reaches the target are planned (1, 2, ...), and the count is said.
+    ``--budget TURNS[,NMM]``: the TSA's turns and peak torque (N mm) to stay within
+    (default 40 turns). routes.json, routes.png and
     routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
     cluster. ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
     """
@@ -140,13 +72,14 @@ class PlanRoute(Command):
     SUFFIXES, WHAT = (".toml",), "the route"
     OPTIONS = (
         Option("tsa", help="ring, or onboard:PANEL (the TSA on that panel)", default="ring",
-               parse=_check_tsa),
-        Option("strings", "int", "strings the TSA twists", default=4, min=1, max=16),
+               parse=lambda t: _tsa_placement(t, 126.0, 10.0) and t),
+        Option("strings", "int", "strings the TSA twists (default: the fewest that reach the "
+               "target)", min=1, max=16),
         Option("target_p", "float", "fold ratio (default: eq. 6 limit)", min=0, open_min=True,
                max=1),
         Option("candidates", "int", "beam width of the search", default=128, min=1, max=4096),
         Option("budget", help="turn [and torque] budget", metavar="TURNS[,NMM]",
-               parse=_check_budget),
+               parse=lambda t: _plan_budget(t) and t),
         Option("seed", "int", "seed (overrides [search])", default=0, min=0, max=2**32 - 1),
         Option("scheduler", help="Dask scheduler", metavar="ADDR"),
         Option("ring_radius", "float", "radius of the ring TSA's guides", "mm", 126.0, min=0,
@@ -164,7 +97,13 @@ class PlanRoute(Command):
         return [folder / n for n in (Path(a.output).name, *self.NAMES)], []
 
     def run(self, a) -> Outputs:
-        from origami_cad.strings.plan import PlanSettings, plan_geometry, plan_routes
+        from origami_cad.strings.plan import (
+            PlanSettings,
+            plan_geometry,
+            plan_messages,
+            plan_numbers,
+            plan_routes,
+        )  # fmt: skip
 
         placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
         loaded, warned = self.load(a, a.pattern)
@@ -178,16 +117,32 @@ class PlanRoute(Command):
                 check=max(a.verify, 1), settings=settings,
             )  # fmt: skip
         seconds = time.perf_counter() - t0
-        if not planned:
-            raise StringsError(f"{a.pattern}: no route satisfies DCQC to the target; {_PLAN_HINT}")
         files, _ = self.outputs(a)
-        names, done = [f.name for f in files], wrote(files[0].parent, files)
         with self.stage(a, loaded, folder=files[0].parent) as stage:
-            planned = _write_plan(a, loaded, geom, planned, stage, names, seconds)
+            planned = self.write(a, loaded, geom, planned, stage, seconds)
         return Outputs(
             files=files,
             images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
-            numbers=_plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
-            messages=[*warned, *_plan_messages(planned, geom), done],
+            numbers=plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
+            messages=[
+                *warned, *plan_messages(planned, geom, fewest=a.strings is None),
+                wrote(files[0].parent, files),
+            ],
             result=planned,
         )  # fmt: skip
+
+    def write(self, a, loaded, geom, planned, stage: Path, seconds: float) -> list:
+        """route.toml, routes.json and the two plots into ``stage``; the routes, verified."""
+        from origami_cad.simulation.verify import verify_planned
+        from origami_cad.strings.plan import plan_data, route_toml
+        from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
+
+        names = [f.name for f in self.outputs(a)[0]]
+        text = route_toml(geom, planned[0], _plan_header(a, planned, geom))
+        (stage / names[0]).write_text(text, encoding="utf-8")
+        planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
+        with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
+            json.dump(plan_data(geom, planned, seconds), fh, indent=1)
+        save_planned_routes_png(loaded.pattern, planned, stage / names[2])
+        save_planned_turns_png(planned, stage / names[3])
+        return planned

@@ -43,7 +43,10 @@ from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
     "DEFAULT_BED",
+    "FABRICATION_BUDGET_S",
+    "MAX_FABRICATED_PANELS",
     "MIN_BIAS",
+    "SECONDS_PER_PANEL",
     "CreaseLimits",
     "LimitStatus",
     "PanelBiases",
@@ -348,34 +351,48 @@ def _bed_excess(cp: CreasePattern, bed: tuple[float, float]) -> str | None:
     )
 
 
-#: The most panels :func:`~origami_cad.fabrication.build.fabricate` builds: a 50 x 50 sheet.
-#: Memory grows with the panels (a 30 x 30 peaks near 1.5 GB), so a larger sheet is
-#: refused before any work instead of running for minutes into the machine's memory.
-MAX_FABRICATED_PANELS = 2_500
+#: CPU seconds :func:`~origami_cad.fabrication.build.fabricate` may take on a sheet, with
+#: every file ``origami-cad fabricate`` writes: a minute, well inside the three minutes no
+#: step of the chain may take on a busy machine.
+FABRICATION_BUDGET_S = 60.0
+
+#: CPU seconds per panel of the build and every export, measured (``benchmarks/
+#: bench_fabrication.py``): 0.5 s for 25 panels, 1.3 s for 100, 5.0 s for 400, 12.4 s for
+#: 900 Miura panels; linear in the panels from 100 on (14.8 ms a panel between 400 and 900,
+#: rounded up). Memory grows alike: 1.6 GB peak for the 900.
+SECONDS_PER_PANEL = 0.015
+
+#: The most panels fabricate builds: those that fit :data:`FABRICATION_BUDGET_S` at
+#: :data:`SECONDS_PER_PANEL` (4,000, a 63 x 63 sheet). A larger sheet is refused before
+#: any work instead of running past its budget.
+MAX_FABRICATED_PANELS = int(FABRICATION_BUDGET_S / SECONDS_PER_PANEL)
 
 
 def check_panel_count(cp: CreasePattern) -> None:
-    """Refuse a pattern of more than :data:`MAX_FABRICATED_PANELS` panels, before any work.
+    """Refuse a pattern of more than :data:`MAX_FABRICATED_PANELS` printed panels (its faces
+    merged across facet creases), before any work.
 
     Raises
     ------
     FabricationError
-        Naming the panel count and the limit.
+        Naming the panel count, the time it would take and the budget.
 
     Examples
     --------
     >>> from origami_cad.pattern.design import miura_design
-    >>> check_panel_count(miura_design(50, 50, 5.0, 5.0, 70.0).pattern)  # the limit: accepted
-    >>> check_panel_count(miura_design(60, 60, 5.0, 5.0, 70.0).pattern)  # doctest: +ELLIPSIS
+    >>> check_panel_count(miura_design(60, 60, 5.0, 5.0, 70.0).pattern)  # 3,600: accepted
+    >>> check_panel_count(miura_design(70, 70, 5.0, 5.0, 70.0).pattern)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    origami_cad.errors.FabricationError: the sheet has 3,600 panels, more than the 2,500 ...
+    origami_cad.errors.FabricationError: the sheet has 4,900 panels: fabricate would take ...
     """
     n = len(printed_pattern(cp).faces)
     if n > MAX_FABRICATED_PANELS:
         raise FabricationError(
-            f"the sheet has {n:,} panels, more than the {MAX_FABRICATED_PANELS:,} fabricate "
-            f"builds (MAX_FABRICATED_PANELS, a 50 x 50 sheet): split it into sheets printed apart"
+            f"the sheet has {n:,} panels: fabricate would take about {n * SECONDS_PER_PANEL:.0f} "
+            f"s of CPU ({1000 * SECONDS_PER_PANEL:g} ms a panel), more than its budget of "
+            f"{FABRICATION_BUDGET_S:g} s (MAX_FABRICATED_PANELS = {MAX_FABRICATED_PANELS:,}): "
+            "split it into sheets printed apart"
         )
 
 

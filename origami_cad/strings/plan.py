@@ -62,18 +62,30 @@ from origami_cad.strings.plan_model import (
     TSAPlacement,
 )
 from origami_cad.strings.plan_scoring import evaluate_routes, string_curves
-from origami_cad.strings.plan_search import run_tasks, search_routes
+from origami_cad.strings.plan_search import (
+    progress_tick,
+    ranked_routes,
+    run_tasks,
+    search_routes,
+    string_pool,
+    string_sets,
+)
 from origami_cad.strings.route import TOP, RouteSpec
 
 __all__ = [
     "DEFAULT_CREASE_STIFFNESS",
+    "MAX_STRINGS",
     "PlanGeometry",
     "PlanSettings",
     "PlannedRoute",
     "RouteScores",
     "TSAPlacement",
     "evaluate_routes",
+    "fewest_strings",
+    "plan_data",
     "plan_geometry",
+    "plan_messages",
+    "plan_numbers",
     "plan_routes",
     "route_spec",
     "route_toml",
@@ -83,10 +95,14 @@ __all__ = [
 ]
 
 
+#: The most strings :func:`fewest_strings` tries (the ``--strings`` option's maximum).
+MAX_STRINGS = 16
+
+
 def plan_routes(
     design: Design,
     tsa: TSAPlacement,
-    n_strings: int,
+    n_strings: int | None = None,
     target_p: float | None = None,
     target_angles: dict[int, float] | None = None,
     free_panels: Sequence[str] = (),
@@ -109,8 +125,9 @@ def plan_routes(
         A pattern the kinematics folds (a TG tessellation or degree-4 vertices).
     tsa : TSAPlacement
         Ring rail (radius, height mm) or onboard on a panel, and the actuator.
-    n_strings : int
-        Strings the TSA twists.
+    n_strings : int, optional
+        Strings the TSA twists; default the fewest (1, 2, ... up to :data:`MAX_STRINGS`)
+        whose best route reaches the target within the budgets (:func:`fewest_strings`).
     target_p : float, optional
         Fold ratio to reach; or ``target_angles`` ``{edge: degrees}``; default the fold
         limit (eq. 6 for ``fabrication``, the printed sheet, default ``FabricationParams()``).
@@ -137,7 +154,7 @@ def plan_routes(
     list of PlannedRoute
         Valid routes, best first (at most ``settings.keep``).
     """
-    if n_strings < 1:
+    if n_strings is not None and n_strings < 1:
         raise StringsError(f"--strings must be >= 1, got {n_strings}")
     if candidates < 1:
         raise StringsError(f"--candidates must be >= 1, got {candidates}")
@@ -152,8 +169,82 @@ def plan_routes(
         free_panels=free_panels,
         existing_holes=existing_holes,
     )
+    if n_strings is None:
+        return fewest_strings(design, geom, settings, seed, executor, progress, check)
     planned = search_routes(geom, settings, n_strings, seed, executor, progress)
-    return _check_best(design, geom, settings, planned, check)
+    return _checked(design, geom, settings, planned, check, n_strings)
+
+
+def _checked(design, geom, settings, planned, check: int, n_strings: int) -> list:
+    """:func:`_check_best`, refusing when none of ``n_strings`` strings passes."""
+    planned = _check_best(design, geom, settings, planned, check)
+    if not planned:
+        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
+        raise StringsError(
+            f"no route of {n_strings} strings satisfies DCQC to p = {geom.target_p:.3f}: leave "
+            f"--strings out to plan the fewest that reach it, or try the TSA {other} or a "
+            "smaller --target-p"
+        )
+    return planned
+
+
+def _reaches(route: PlannedRoute, settings: PlanSettings) -> bool:
+    """Whether a checked route reaches the target within the turn and torque budgets."""
+    dcqc = route.checks.get("dcqc")
+    return bool(
+        dcqc is not None
+        and route.turns <= settings.max_turns
+        and route.peak_torque <= settings.max_torque
+    )
+
+
+def fewest_strings(
+    design: Design,
+    geom: PlanGeometry,
+    settings: PlanSettings,
+    seed: int = 0,
+    executor: cf.Executor | None = None,
+    progress: Callable[[int, int | None], None] | None = None,
+    check: int = 3,
+) -> list[PlannedRoute]:
+    """The routes of the fewest strings that reach the target, as PyGamiX searches its count.
+
+    One beam search of single strings, then for 1, 2, ... :data:`MAX_STRINGS` strings the
+    best sets of that many: the first count whose best route, re-run by the full DCQC model
+    (:func:`~origami_cad.strings.simulate_dcqc`), reaches ``geom.target_p`` within
+    ``settings.max_turns`` and ``settings.max_torque`` is refined by CMA-ES and returned
+    (every route has that many strings).
+
+    Raises
+    ------
+    StringsError
+        No count reaches the target, saying how far the search went and what else to try.
+    """
+    tick = progress_tick(progress)
+    pool = string_pool(geom, settings, executor, tick)
+    tried, why = 0, ""
+    for n in range(1, MAX_STRINGS + 1):
+        try:
+            routes, evaluated = string_sets(geom, settings, pool, n)
+        except StringsError:
+            why = f"; no {n} strings fit together on this sheet"
+            break
+        tick({"evaluated": evaluated})
+        tried = n
+        quick = ranked_routes(geom, settings, pool, routes, seed, executor, tick, 0)
+        within = [r for r in quick if r.turns <= settings.max_turns]
+        if not any(_reaches(r, settings) for r in _check_best(design, geom, settings, within, 1)):
+            continue
+        planned = ranked_routes(geom, settings, pool, routes, seed, executor, tick, settings.refine)
+        planned = _check_best(design, geom, settings, planned, check)
+        if planned:
+            return planned
+    other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
+    raise StringsError(
+        f"no route of 1 to {tried} strings reaches p = {geom.target_p:.3f} within "
+        f"{settings.max_turns:g} TSA turns{why}; try a smaller --target-p, a larger "
+        f"turn budget, or the TSA {other}"
+    )
 
 
 def route_spec(geom: PlanGeometry, planned: PlannedRoute) -> RouteSpec:
@@ -247,3 +338,55 @@ def route_toml(geom: PlanGeometry, planned: PlannedRoute, header: str = "") -> s
         sides = ", ".join('"top"' if v == TOP else '"bottom"' for v in s.sides)
         lines.append(f"sides = [{sides}]  # DCQC: above valleys, below mountains")
     return "\n".join(lines) + "\n"
+
+
+def plan_numbers(planned, geom: PlanGeometry, seconds: float, cpu: float) -> list[tuple[str, str]]:
+    """The key numbers of a plan (``planned`` best first; ``seconds`` wall, ``cpu`` CPU s)."""
+    best = planned[0]
+    sim = best.checks.get("simulation")
+    checked = (
+        "not run"
+        if sim is None
+        else f"p = {sim['p']:.3f} after {sim['turns']:.1f} turns ({sim['stop']})"
+    )
+    return [
+        ("valid routes ranked", str(len(planned))),
+        ("strings", str(len(best.strings))),
+        ("target fold ratio", f"p = {geom.target_p:.4f} (fold limit {geom.limit_p:.4f})"),
+        ("best: TSA turns / peak torque", f"{best.turns:.2f} / {best.peak_torque:.3g} N mm"),
+        ("best: load share", f"{best.share:.2f}"),
+        ("search time", f"{seconds:.1f} s wall, {cpu:.1f} s CPU here"),
+        ("bar-and-hinge check of the best", checked),
+    ]
+
+
+def plan_messages(planned, geom: PlanGeometry, fewest: bool = False) -> list[str]:
+    """What a plan tells its user: the best route, how many strings (``fewest``: chosen as
+    the fewest that reach the target), and the routes the simulator stops short."""
+    best = planned[0]
+    n = len(best.strings)
+    strings = f"{n} string{'s' if n != 1 else ''}"
+    chose = " (the fewest that reach the target)" if fewest else ""
+    lines = [
+        f"best of {len(planned)} routes: {strings}{chose}, {best.turns:.2f} TSA turns "
+        f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
+    ]
+    for r in planned:
+        sim = r.checks.get("simulation")
+        if sim is not None and not sim["reaches_target"]:
+            lines.append(
+                f"warning: route {r.rank}: the bar-and-hinge simulation stops at p = "
+                f"{sim['p']:.3f} ({sim['reason']})"
+            )
+    return lines
+
+
+def plan_data(geom: PlanGeometry, planned, seconds: float) -> dict[str, Any]:
+    """The content of ``routes.json``: the target, the TSA and every ranked route."""
+    return {
+        "target_p": geom.target_p,
+        "fold_limit_p": geom.limit_p,
+        "tsa": geom.placement.kind,
+        "search_seconds": seconds,
+        "routes": [r.to_dict() for r in planned],
+    }

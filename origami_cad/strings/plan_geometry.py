@@ -11,8 +11,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from origami_cad.errors import StringsError
-from origami_cad.fabrication.panels import panel_outlines
+from origami_cad.errors import PatternError, StringsError
+from origami_cad.fabrication.panels import panel_outline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
@@ -120,25 +120,46 @@ def _frames(cp, coords: np.ndarray):
     return v0, e1, e2, normal, flat[:, 0], np.linalg.inv(mats)
 
 
+def _auto_holes(cp, fab: FabricationParams):
+    """Each face's outline (``None`` where it has no room) and automatic hole (mm), by face.
+
+    The outlines and holes ``fabricate`` makes (each panel at its own bias); on a pattern
+    with facet creases, whose printed panels merge several faces, each face's outline at
+    ``fab.bias`` where it fits and the printed holes on the face they fall on.
+    """
+    plan = plan_panels(cp, fab)
+    if plan.pattern is cp:
+        outlines = list(plan.outlines)
+    else:
+        outlines = []
+        for fi in range(len(cp.faces)):
+            try:
+                outlines.append(panel_outline(cp, fi, fab))
+            except PatternError:
+                outlines.append(None)
+    auto = {}
+    for h in plan.holes:
+        fi = cp.face_of_point(h.x, h.y)
+        if fi >= 0:
+            auto.setdefault(fi, (h.x, h.y))
+    return outlines, auto
+
+
 def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, existing):
     """Candidate holes (faces, xy) and each panel's shrunk operation region (rings)."""
     import shapely
 
     fab = replace(fab, hole_diameter=settings.hole_diameter, holes="auto")
-    outlines = panel_outlines(cp, fab)
-    try:
-        auto = {lab: (h[0].x, h[0].y) for lab, h in plan_panels(cp, fab).holes_by_label().items()}
-    except Exception:  # a panel too small for a hole: no automatic holes there
-        auto = {}
+    outlines, auto = _auto_holes(cp, fab)
     faces, points, regions = [], [], []
-    for o in outlines:
-        region = o.region_polygon().buffer(-settings.hole_diameter / 2.0)
-        if o.label in free or region.is_empty or o.label not in auto:
+    for fi, o in enumerate(outlines):
+        region = o.region_polygon().buffer(-settings.hole_diameter / 2.0) if o else None
+        if region is None or o.label in free or region.is_empty or fi not in auto:
             regions.append(())
             continue
         region = max(shapely.get_parts(region), key=lambda g: g.area)
         regions.append((shapely.get_coordinates(region.exterior),))
-        pole = np.array(auto[o.label])
+        pole = np.array(auto[fi])
         pts = [pole] + [
             pole + t * (v - pole)
             for v in shapely.get_coordinates(region.exterior)[:-1]
@@ -154,7 +175,10 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
         faces.append(fi)
         points.append(np.array([x, y], dtype=float))
     if not faces:
-        raise StringsError("no panel has room for a hole (all free, or regions too small)")
+        raise StringsError(
+            f"no panel has room for a {settings.hole_diameter:g} mm hole (all free, or too "
+            "small): print the pattern larger (--width) or free fewer panels"
+        )
     return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(regions)
 
 
@@ -223,8 +247,8 @@ def plan_geometry(
     parts.update(flat_v0=flat_v0, flat_inv=flat_inv)
     auto_xy = None
     if held >= 0:
-        auto_xy = plan_panels(cp, replace(fab, hole_diameter=settings.hole_diameter)).holes_of(held)
-        auto_xy = (auto_xy[0].x, auto_xy[0].y) if auto_xy else tuple(flat_v0[held])
+        auto = _auto_holes(cp, replace(fab, hole_diameter=settings.hole_diameter))[1]
+        auto_xy = auto.get(held, tuple(flat_v0[held]))
     anchors, angles, centre = _anchors(parts, placement, cp, auto_xy, fab.height)
     n_faces = len(cp.faces)
     rule = np.zeros((n_faces, n_faces), dtype=np.int8)

@@ -22,7 +22,14 @@ from origami_cad.strings.plan_model import PlanGeometry, PlannedRoute, PlanSetti
 from origami_cad.strings.plan_scoring import evaluate_routes, string_curves
 from origami_cad.strings.route import BOTTOM, TOP, StringRoute
 
-__all__ = ["run_tasks", "search_routes"]
+__all__ = [
+    "progress_tick",
+    "ranked_routes",
+    "run_tasks",
+    "search_routes",
+    "string_pool",
+    "string_sets",
+]
 
 TASKS = 8  # the beam search is split into this many tasks, whatever the executor
 STALL = 60  # a CMA-ES refinement stops after this many generations without a better route
@@ -62,7 +69,7 @@ def _score_strings(geom, settings, s: _Strings, width: int) -> tuple[np.ndarray,
 def _expand(geom: PlanGeometry, beam: _Strings, next_holes) -> _Strings:
     """Every string of ``beam`` extended by one hole on an adjacent, unvisited panel."""
     out_a, out_h, out_s = [], [], []
-    d = int(beam.depth[0])
+    d = int(beam.depth[0]) if len(beam.depth) else 0
     for c in range(len(beam.anchor)):
         seq = beam.holes[c, :d]
         visited = geom.hole_face[seq]
@@ -176,38 +183,81 @@ def _pool_curves(geom: PlanGeometry, pool: dict):
     return x, rest, cuts, used
 
 
-def _compatible(geom: PlanGeometry, pool: dict, used, routes: np.ndarray) -> np.ndarray:
-    """(B, P) which pool strings may join each route: later in the pool, no panel or ring
-    guide shared on a ring, not the same holes onboard."""
+def _overlap(route_sets: np.ndarray, sets: np.ndarray) -> np.ndarray:
+    """(B, P): whether each route's set (B, X) meets each pool string's set (P, X)."""
+    return (route_sets.astype(np.uint8) @ sets.T.astype(np.uint8)).astype(bool)
+
+
+def _compatible(geom: PlanGeometry, pool: dict, used, routes: np.ndarray, share: bool):
+    """(B, P) which pool strings may join each route: later in the pool; on a ring no guide
+    shared and no panel (``share``: no hole) shared, onboard not the same holes."""
     last = routes.max(axis=1)
     ok = np.arange(len(used))[None, :] > last[:, None]
-    if geom.placement.kind == "ring":
-        route_used = used[routes].any(axis=1)  # (B, F)
-        ok &= ~(route_used.astype(np.uint8) @ used.T.astype(np.uint8)).astype(bool)
-        anchors = pool["anchor"]
-        ok &= ~(anchors[routes][:, :, None] == anchors[None, None, :]).any(axis=1)
-    else:
+    if geom.placement.kind != "ring":
         same = (pool["holes"][routes][:, :, None, :] == pool["holes"][None, None]).all(axis=-1)
-        ok &= ~same.any(axis=1)
-    return ok
+        return ok & ~same.any(axis=1)
+    if share:
+        holes = np.zeros((len(used), len(geom.hole_face)), dtype=bool)
+        np.put_along_axis(holes, pool["holes"], True, axis=1)
+        ok &= ~_overlap(holes[routes].any(axis=1), holes)
+    else:
+        ok &= ~_overlap(used[routes].any(axis=1), used)
+    anchors = pool["anchor"]
+    return ok & ~(anchors[routes][:, :, None] == anchors[None, None, :]).any(axis=1)
 
 
-def _combine(geom, settings, pool: dict, n_strings: int, progress=None):
+def string_sets(geom, settings, pool: dict, n_strings: int) -> tuple[np.ndarray, int]:
+    """Beam search over sets of ``n_strings`` pool strings: the best routes (B, n) and the
+    sets evaluated.
+
+    On a ring, strings first keep to panels of their own (each panel pulled by one
+    string); when no ``n_strings`` such strings fit together (a small sheet), they may
+    share panels through holes of their own. Never two strings through one hole, nor
+    (ring) from one guide.
+
+    Raises
+    ------
+    StringsError
+        No ``n_strings`` strings fit together, saying how many do.
+    """
+    try:
+        return _combine(geom, settings, pool, n_strings, share=False)
+    except _TooMany as exc:
+        if geom.placement.kind != "ring":
+            raise StringsError(exc.message) from None
+    try:
+        return _combine(geom, settings, pool, n_strings, share=True)
+    except _TooMany as exc:
+        raise StringsError(exc.message) from None
+
+
+class _TooMany(Exception):
+    """No set of the asked size fits together; ``message`` says how many do."""
+
+    def __init__(self, message: str) -> None:
+        super().__init__(message)
+        self.message = message
+
+
+def _combine(geom, settings, pool: dict, n_strings: int, share: bool):
     """Beam search over sets of ``n_strings`` pool strings: the best routes (B, n), scores."""
     x, rest, cuts, used = _pool_curves(geom, pool)
     width = max(settings.candidates, SET_BEAM)
     routes = np.arange(len(x))[:, None]
     scores = evaluate_routes(geom, settings, x[:, None], rest[:, None], cuts[:, None])
     evaluated = len(routes)
-    for _size in range(2, n_strings + 1):
+    for size in range(2, n_strings + 1):
         keep = np.lexsort((np.arange(len(routes)), scores.cost))[:width]
         routes = routes[keep]
-        ok = _compatible(geom, pool, used, routes)
+        ok = _compatible(geom, pool, used, routes, share)
         b, p = np.nonzero(ok)
         if not len(b):
-            raise StringsError(
-                f"no {n_strings} strings fit together (on a ring no two may share a panel "
-                "or a guide): ask for fewer strings"
+            fewer = "1 string fits" if size == 2 else f"at most {size - 1} strings fit"
+            raise _TooMany(
+                f"no {n_strings} strings fit together (each needs a hole sequence of its own"
+                f"{' and a guide of its own' if geom.placement.kind == 'ring' else ''}): "
+                f"{fewer} on this sheet; ask for --strings {size - 1}, or leave --strings out "
+                "to plan the fewest that reach the target"
             )
         routes = np.column_stack([routes[b], p])
         parts = []
@@ -221,8 +271,6 @@ def _combine(geom, settings, pool: dict, n_strings: int, progress=None):
             )
         )
         evaluated += len(routes)
-        if progress is not None:
-            progress(evaluated)
     order = np.lexsort((np.arange(len(routes)), scores.cost))[:width]
     return routes[order], evaluated
 
@@ -378,10 +426,8 @@ def _merge(results: list[dict]) -> dict:
     return {k: v[order].astype(np.int64) if k != "cost" else v[order] for k, v in pool.items()}
 
 
-def search_routes(
-    geom, settings, n_strings: int, seed: int, executor, progress
-) -> list[PlannedRoute]:
-    """Beam search of strings (tasks on ``executor``), string sets, CMA-ES of the best."""
+def progress_tick(progress: Callable[[int, int | None], None] | None) -> Callable[[dict], None]:
+    """A callback adding each task's ``evaluated`` count and calling ``progress(total, None)``."""
     counter = [0]
 
     def tick(result: dict) -> None:
@@ -389,23 +435,50 @@ def search_routes(
         if progress is not None:
             progress(counter[0], None)
 
+    return tick
+
+
+def string_pool(geom: PlanGeometry, settings: PlanSettings, executor, tick) -> dict:
+    """The beam search of single strings (tasks on ``executor``): the best valid ones, as
+    padded arrays (``anchor``, ``holes``, ``sides``, ``cost``), best first.
+
+    Raises
+    ------
+    StringsError
+        No string satisfies DCQC from flat to the target, saying what else to try.
+    """
     found = run_tasks(executor, _beam_task, [(geom, settings, s) for s in _starts(geom)], tick)
     pool = _merge(found)
     if not len(pool["cost"]):
+        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
         raise StringsError(
-            "no string satisfies DCQC from flat to the target: every hole sequence lengthens "
-            "or cuts a panel (try another TSA place or a smaller target)"
+            f"no string satisfies DCQC from flat to p = {geom.target_p:.3f}: every hole "
+            f"sequence of {len(set(geom.hole_face.tolist()))} panels with holes lengthens or "
+            f"cuts a panel; try the TSA {other}, a smaller --target-p, or larger panels (--width)"
         )
-    pool = {k: v[: max(4 * settings.candidates, 4 * SET_BEAM)] for k, v in pool.items()}
-    routes, evaluated = _combine(geom, settings, pool, n_strings)
-    tick({"evaluated": evaluated})
+    return {k: v[: max(4 * settings.candidates, 4 * SET_BEAM)] for k, v in pool.items()}
+
+
+def ranked_routes(
+    geom, settings, pool: dict, routes: np.ndarray, seed: int, executor, tick, refine: int
+) -> list[PlannedRoute]:
+    """The string sets ``routes`` (B, n) ranked, the best ``refine`` of them refined by
+    CMA-ES first (task ``k`` seeded ``seed + k``); invalid ones dropped."""
     arrays = [_route_arrays(geom, pool, r) for r in routes[: settings.keep]]
-    tasks = [
-        (geom, settings, arrays[k], seed + k) for k in range(min(settings.refine, len(arrays)))
-    ]
-    refined = run_tasks(executor, _refine_task, tasks, tick)
-    planned = _ranked(geom, settings, refined, arrays[len(refined) :])
-    return planned
+    tasks = [(geom, settings, arrays[k], seed + k) for k in range(min(refine, len(arrays)))]
+    refined = run_tasks(executor, _refine_task, tasks, tick) if tasks else []
+    return _ranked(geom, settings, refined, arrays[len(refined) :])
+
+
+def search_routes(
+    geom, settings, n_strings: int, seed: int, executor, progress
+) -> list[PlannedRoute]:
+    """Beam search of strings (tasks on ``executor``), string sets, CMA-ES of the best."""
+    tick = progress_tick(progress)
+    pool = string_pool(geom, settings, executor, tick)
+    routes, evaluated = string_sets(geom, settings, pool, n_strings)
+    tick({"evaluated": evaluated})
+    return ranked_routes(geom, settings, pool, routes, seed, executor, tick, settings.refine)
 
 
 def _strings_of(geom: PlanGeometry, route: dict) -> tuple[StringRoute, ...]:
