@@ -12,7 +12,6 @@ from origami_cad.errors import SimulationError
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.design import load_design
 from origami_cad.simulation import SimulationParams
-from origami_cad.simulation.cables import string_lengths
 from origami_cad.simulation.pull import simulate_pull
 from origami_cad.strings import load_route, simulate_dcqc
 from origami_cad.strings.friction import capstan_weights, wrap_angles
@@ -62,19 +61,6 @@ def test_a_zero_coefficient_changes_nothing_and_friction_costs_force(mountain) -
     folded = cp.edge_mask("M", "V")
     turned = [np.abs(r.result.fold_angles[-1, folded]).max() for r in (none, rough)]
     assert turned[1] == pytest.approx(turned[0], abs=1.0)
-
-
-def test_the_weights_fall_along_the_string_and_leave_its_length(mountain) -> None:
-    from origami_cad.simulation.simulate import _strings
-
-    cp, route = mountain
-    flat = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-    strings = _strings(cp, route, flat, SimulationParams())
-    assert all(s.weights is None for s in strings.strings)
-    rough = _strings(cp, route, flat, SimulationParams(hole_friction=0.25))
-    assert all(s.weights[0] == 1.0 and np.all(np.diff(s.weights) <= 0) for s in rough.strings)
-    assert any(s.weights[-1] < 0.5 for s in rough.strings)  # threaded through the sheet
-    assert np.array_equal(string_lengths(flat, strings)[0], string_lengths(flat, rough)[0])
 
 
 def test_dcqc_friction_raises_the_tension_for_the_same_fold() -> None:

@@ -24,7 +24,7 @@ MOUNTAIN = DATA / "descriptionData" / "f-mountain-big-fix-new.json"
 def test_the_kept_designs_are_the_sources_and_of_six_kinds() -> None:
     assert (DATA / "LICENSE").read_text().startswith("MIT License")
     kinds = {s["kind"] for s in SOURCES}
-    assert {"mountain", "robot", "box", "miura"} <= kinds
+    assert {"mountain", "robot", "box", "miura", "waterbomb", "resch"} <= kinds
     for s in SOURCES:
         raw = (DATA / s["file"]).read_bytes()
         assert len(raw.decode("utf-8")) == s["chars"], s["file"]
@@ -38,7 +38,12 @@ def test_each_design_reads_or_is_refused_in_one_line(entry) -> None:
     if entry["expect"] == "reads":
         cp = read_pattern(path)
         assert len(cp.faces) == len(cp.holes) > 0
-        assert route_from_pattern(cp) is not None
+        assert len({cp.face_of_point(h.x, h.y) for h in cp.holes}) == len(cp.faces)
+        tendons = json.loads(path.read_text())["strings"]["type"]
+        route = route_from_pattern(cp)
+        assert (route is None) == (not tendons)
+        if route is not None:
+            assert [len(s.faces) + 1 for s in route.strings] == [len(t) for t in tendons]
     else:
         with pytest.raises(PatternError) as err:
             read_pattern(path)

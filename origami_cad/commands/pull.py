@@ -8,10 +8,33 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from origami_cad._fileio import atomic_write
-from origami_cad.commands._base import Command, Outputs, wrote
+from origami_cad.commands._base import Command, Option, Outputs, wrote
 from origami_cad.errors import OptionsError, StringsError
 
-__all__ = ["simulation_setup", "write_pull"]
+__all__ = ["MATERIALS", "materials_of", "robot_materials", "simulation_setup", "write_pull"]
+
+#: The ``--materials FILE`` option of the commands that simulate.
+MATERIALS = Option("materials", help="materials file (materials.toml)", metavar="FILE")
+
+
+def materials_of(a: SimpleNamespace):
+    """The materials file ``a.materials`` read (``Materials``), or None when not given."""
+    if getattr(a, "materials", None) is None:
+        return None
+    from origami_cad.simulation.materials import load_materials
+
+    return load_materials(a.materials)
+
+
+def robot_materials(a: SimpleNamespace, robot):
+    """A robot's simulation parameters with the materials file ``a.materials`` (None: the
+    robot's own, :func:`~origami_cad.simulation.crawler.robot_params`)."""
+    materials = materials_of(a)
+    if materials is None:
+        return None
+    from origami_cad.simulation.crawler import robot_params
+
+    return robot_params(robot, **materials.overrides())
 
 
 def simulation_setup(cmd: Command, a: SimpleNamespace):
@@ -41,10 +64,9 @@ def simulation_setup(cmd: Command, a: SimpleNamespace):
     loads = {k: v for k, v in given.items() if v is not None}
     if a.params is not None:
         return loaded, warned, cp, spec, a.params
-    if a.materials is not None:
-        from origami_cad.simulation.materials import load_materials
-
-        params = load_materials(a.materials).simulation_params(**loads)
+    materials = materials_of(a)
+    if materials is not None:
+        params = SimulationParams.for_route(spec, **materials.overrides(), **loads)
     else:
         params = SimulationParams.for_route(spec, **loads)
     return loaded, warned, cp, spec, params

@@ -10,18 +10,18 @@ from pathlib import Path
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import Command, Option, Outputs, moved, register, staged, wrote
 from origami_cad.commands.fabrication import SHEET_FILES
-from origami_cad.commands.simulation import GIF_FRAMES, gif_states
+from origami_cad.commands.simulation import GIF_FRAMES, MATERIALS, gif_states, robot_materials
 
 __all__: list[str] = []
 
 
 def _crawl_command(a) -> str:
     """The ``origami-cad crawl`` command line that reproduces a crawl's outputs."""
-    args = ["origami-cad", "crawl", str(a.robot), "-o", str(a.folder)]
-    args += ["--cycles", str(a.cycles), "--steps", str(a.steps)]
-    args += ["--reverse"] * bool(a.reverse)
+    args = ["origami-cad", "crawl", str(a.robot), "-o", str(a.folder), "--cycles", str(a.cycles)]
+    args += ["--steps", str(a.steps), *["--reverse"] * bool(a.reverse)]
     args += ["--friction", f"{a.friction:g}"] if a.friction is not None else []
-    args += ["--gait", str(a.gait)] if a.gait is not None else []
+    for flag, value in (("--gait", a.gait), ("--materials", a.materials)):
+        args += [flag, str(value)] if value is not None else []
     return " ".join(args)
 
 
@@ -93,11 +93,11 @@ class Crawl(Command):
         Option("gait", help="gait file (design-gait's gait.toml) instead of the robot's",
                metavar="GAIT.toml"),
         Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
-               max=1000, flag=""),
+               max=1000, flag=""), MATERIALS,
     )  # fmt: skip
 
-    def inputs(self, a) -> list:  # the gait file too: no output may replace it
-        return [a.robot, *([a.gait] if a.gait is not None else [])]
+    def inputs(self, a) -> list:  # the gait and materials files too: no output replaces them
+        return [a.robot, *(x for x in (a.gait, a.materials) if x is not None)]
 
     def run(self, a) -> Outputs:
         from origami_cad.robot import PAPER_CRAWL_MM
@@ -107,7 +107,7 @@ class Crawl(Command):
         start = time.perf_counter()
         result = simulate_gait(
             spec, cycles=a.cycles, steps=a.steps, reverse=a.reverse, friction=a.friction,
-            progress=a.progress,
+            progress=a.progress, params=robot_materials(a, spec),
         )  # fmt: skip
         seconds = time.perf_counter() - start
         per = result.displacement_per_cycle()

@@ -9,9 +9,10 @@ from typing import Any
 
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.commands.pull import MATERIALS, materials_of, robot_materials
 from origami_cad.errors import DesignError, OptionsError
 
-__all__ = ["GIF_FRAMES", "gif_states"]
+__all__ = ["GIF_FRAMES", "MATERIALS", "gif_states", "robot_materials"]
 
 GIF_FRAMES = 30  # frames of a simulation's animation
 _GIF = Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
@@ -107,7 +108,7 @@ class Simulate(Command):
         Option("pull_step", "float", "pull per state", "mm", default=1.0, min=0, max=1e3,
                open_min=True),
         Option("fixed_panel", help="hold this panel (default: the route's or design's)"),
-        Option("materials", help="materials file (materials.toml)"),
+        MATERIALS,
         Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
         _GIF,
         *SIZING,
@@ -268,15 +269,18 @@ class Mjcf(Command):
     OPTIONS = (
         Option("routes", help="route files (a robot: none)", default=(), nargs="*",
                metavar="ROUTE", positional=True),
+        MATERIALS,
     )  # fmt: skip
 
     def inputs(self, a):
-        return [a.source, *(a.routes or ())]
+        return [a.source, *(a.routes or ()), *([a.materials] if a.materials else [])]
 
     def run(self, a) -> Outputs:
         from origami_cad.simulation.mjcf import to_mjcf
 
-        xml = to_mjcf(a.source, list(a.routes or ()))
+        materials = materials_of(a)
+        params = None if materials is None else materials.simulation_params()
+        xml = to_mjcf(a.source, list(a.routes or ()), params=params)
         with atomic_write(a.output, "w", encoding="utf-8") as fh:
             fh.write(xml)
         keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}

@@ -8,15 +8,19 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import SIZING, Command, Outputs, register, wrote
+from origami_cad.commands.pull import MATERIALS, materials_of
 
 __all__: list[str] = []
 
 
-def _sim_params(spec, **loads):
-    """The simulation's materials: from the route's [fabrication] (one source), else defaults."""
+def _sim_params(spec, a=None, **loads):
+    """The simulation's materials: from the route's [fabrication] (one source), else defaults,
+    with the materials file's (``a.materials``) over them."""
     from origami_cad.simulation import SimulationParams
 
-    return SimulationParams.for_route(spec, **loads)
+    materials = None if a is None else materials_of(a)
+    extra = {} if materials is None else materials.overrides()
+    return SimulationParams.for_route(spec, **extra, **loads)
 
 
 def _route_numbers(spec, result) -> list[tuple[str, str]]:
@@ -39,8 +43,11 @@ class Route(Command):
     """
 
     NAME, INPUTS, OUTPUT = "route", ("design", "route"), "folder"
-    OPTIONS = SIZING
+    OPTIONS = (*SIZING, MATERIALS)
     FILES = ("dcqc.json", "route.png", "dcqc.png", "route_folded.png")
+
+    def inputs(self, a):
+        return [a.design, a.route, *([a.materials] if a.materials else [])]
 
     def run(self, a) -> Outputs:
         from origami_cad.strings import load_route, simulate_dcqc
@@ -50,7 +57,7 @@ class Route(Command):
         loaded, warned = self.load(a, a.design)
         cp, names = loaded.pattern, self.FILES
         spec = load_route(a.route, cp)
-        result = simulate_dcqc(loaded, spec, **_sim_params(spec).dcqc_stiffness())
+        result = simulate_dcqc(loaded, spec, **_sim_params(spec, a).dcqc_stiffness())
         p, turns = float(result.p[-1]), float(result.turns[-1])
         with self.stage(a, loaded) as stage:
             with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:

@@ -1,0 +1,52 @@
+"""Measured force curves read for calibration: PyGamiX's bench files and headed CSV files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from origami_cad.errors import SimulationError
+from origami_cad.simulation.calibrate import nrmse, read_force_curve
+
+
+def test_pygamix_runs_read_quoted_or_not(tmp_path: Path) -> None:
+    plain = tmp_path / "run.csv"
+    plain.write_text("0,0.1,0,1.1\n0.02,0.12,0.5,2.5\n0.04,0.14,1.0,5.0\n")
+    quoted = tmp_path / "quoted.csv"
+    quoted.write_text('"0","0.1","0","1.1"\n"0.02","0.12","0.5","2.5"\n"0.04","0.14","1.0","5.0"\n')
+    for path in (plain, quoted):
+        pull, force = read_force_curve(path)
+        assert pull.tolist() == [0.0, 0.5, 1.0] and force.tolist() == [1.1, 2.5, 5.0]
+
+
+def test_a_headed_csv_reads_its_named_columns(tmp_path: Path) -> None:
+    path = tmp_path / "pull.csv"
+    path.write_text("time_s,tension_N,pull_mm\n0,0,0\n0.1,2,1.5\n0.2,3,3\n")
+    pull, force = read_force_curve(path)
+    assert pull.tolist() == [0.0, 1.5, 3.0] and force.tolist() == [0.0, 2.0, 3.0]
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("0,0.1,0,1\n0.02,0.12,2,x\n", r"row 2, column 4"),
+        ("0,0.1,0,1\n0.02,0.12\n", r"row 2: no column 3"),
+        ("0,0.1,0,1\n0.02,0.12,2,1\n0.04,0.14,1.5,1\n", r"row 3: the pull decreases"),
+        ("time,force_N\n0,1\n", r"pull_mm"),
+        ("0,0.1,0,1\n", r"two rows"),
+    ],
+)
+def test_bad_runs_name_the_row_and_column(tmp_path: Path, text: str, match: str) -> None:
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(SimulationError, match=match) as err:
+        read_force_curve(path)
+    assert "bad.csv" in str(err.value)
+
+
+def test_nrmse_is_the_rms_error_over_the_peak() -> None:
+    measured = np.array([0.0, 10.0, 5.0])
+    assert nrmse(measured, measured) == 0.0
+    assert nrmse(measured + 1.0, measured) == pytest.approx(0.1)
