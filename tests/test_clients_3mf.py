@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.export import (
+from origami_cad.fabrication.exports.threemf import (
     EXTRUDERS,
     SLICERS,
     export_3mf,
@@ -192,7 +192,7 @@ def test_prusaslicer_finds_every_part_on_the_bed_and_manifold(tmp_path):
     """``origami-cad part`` files: PrusaSlicer reads each closed, with its lowest point at z = 0."""
     from origami_cad.parts import PARTS, build_part
 
-    from origami_cad.fabrication.export import export_part
+    from origami_cad.fabrication.exports import export_part
 
     stls = []
     for name in PARTS:
@@ -225,7 +225,7 @@ def test_a_sheet_larger_than_the_default_bed_is_warned_about():
 def test_prusaslicer_slices_a_large_sheet_on_a_bed_that_holds_it(tmp_path):
     # what the warning says: the 3MF is sound, only PrusaSlicer's default bed is too small
     from origami_cad.fabrication import FabricationParams, fabricate
-    from origami_cad.fabrication.export import export_3mf
+    from origami_cad.fabrication.exports.threemf import export_3mf
     from origami_cad.pattern.design import miura_design
 
     fab = fabricate(miura_design(2, 10, 22.0, 20.0, 65.0), FabricationParams(holes="none"))

@@ -18,7 +18,8 @@ import subprocess
 import pytest
 
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
+from origami_cad.fabrication.assembly import MATERIAL_COLORS
+from origami_cad.fabrication.exports.step import export_step_assembly
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.design import miura_design
 

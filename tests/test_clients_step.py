@@ -24,7 +24,8 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.XCAFDoc import XCAFDoc_ColorGen, XCAFDoc_ColorSurf, XCAFDoc_DocumentTool
 
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
+from origami_cad.fabrication.assembly import MATERIAL_COLORS
+from origami_cad.fabrication.exports.step import export_step_assembly
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.design import miura_design
 
@@ -143,7 +144,7 @@ def test_the_reader_sees_the_defect_of_a_colour_on_a_compound(tmp_path, fab):
     """The emulation is strict enough: the old layout (colour on a compound) fails it."""
     from build123d import Compound, export_step
 
-    from origami_cad.fabrication.export import material_color
+    from origami_cad.fabrication.assembly import material_color
 
     children = []
     for name in PART_NAMES:

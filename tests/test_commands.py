@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import ast
 import re
-import warnings
 from pathlib import Path
 
 import pytest
@@ -88,7 +87,6 @@ def test_the_cli_is_the_registry():
         for opt in COMMANDS[name].OPTIONS:
             if opt.flag != "" and not opt.positional:
                 assert opt.shown in flags, (name, opt.shown)
-    assert not (ROOT / "origami_cad" / "jobs.py").read_text().count("def run_")
 
 
 SKELETON = {"check_outputs", "atomic_directory", "check_suffix"}  # the skeleton's calls
@@ -192,56 +190,6 @@ def test_command_line_syntax_lives_only_in_the_commands_and_the_cli():
         CLI_SYNTAX.search(t)
         for t in ["written by origami-cad crawl: each", "reinstall origami-cad", "tsa"]
     )
-
-
-def test_the_old_jobs_names_warn_and_still_work(tmp_path):
-    from origami_cad import jobs
-
-    with pytest.warns(DeprecationWarning, match="origami_cad.commands.execute"):
-        run_pattern = jobs.run_pattern
-    out = run_pattern("examples/miura_6x4.toml", [tmp_path / "cp.fold"])
-    assert [p.name for p in out.files] == ["cp.fold"] and (tmp_path / "cp.fold").stat().st_size
-    with pytest.warns(DeprecationWarning, match="origami_cad.fabrication.fabrication_params"):
-        assert jobs.fabrication_params(theta_max=146.6).bias == pytest.approx(3.0, abs=1e-3)
-    with warnings.catch_warnings(), pytest.raises(AttributeError):
-        warnings.simplefilter("error")
-        jobs.run_nothing  # noqa: B018
-
-
-def test_the_old_jobs_keep_their_positional_order_and_defaults(tmp_path):
-    """Every old ``run_*`` job's positional parameters, as ``origami_cad/jobs.py`` had them
-    before the registry (01f057d): each binds to the command's argument of that name."""
-    from origami_cad import jobs
-
-    old = {
-        "arm_scene": ("task", "design", "route", "folder"), "check": ("source",),
-        "convert": ("source", "output"), "crawl": ("robot", "folder"),
-        "design_arm": ("task", "folder"), "drive": ("sequence", "log"), "emulate": ("ids",),
-        "fabricate": ("design", "folder", "params"), "fold": ("design", "output"),
-        "mjcf": ("source", "routes", "output"), "part": ("name", "folder", "params"),
-        "pattern": ("design", "outputs"), "plan_route": ("pattern", "output"),
-        "robot": ("robot", "folder"), "route": ("design", "route", "folder"),
-        "sequence": ("design", "route", "output"),
-        "simulate": ("pattern", "route", "folder", "params"), "tg": ("design", "output"),
-    }  # fmt: skip
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        for name, order in old.items():
-            cls = COMMANDS[name.replace("_", "-")]
-            if name == "mjcf":  # the command's order differs: the shim keeps the old (below)
-                continue
-            names = [*cls.INPUTS, *([cls.OUTPUT] if cls.OUTPUT else [])]
-            names = list(cls.ARGS or [*names, *(o.name for o in cls.OPTIONS if o.positional)])
-            assert tuple(names[: len(order)]) == order, name
-        out = jobs.run_mjcf("examples/miura_6x4.toml", ["examples/miura_route.toml"],
-                            tmp_path / "m.xml")  # fmt: skip
-        assert out.files == [tmp_path / "m.xml"] and "<spatial " in out.files[0].read_text()
-        assert jobs.parameter_default(jobs.run_fold, "ratio") == 0.5
-        assert jobs.parameter_default(jobs.run_fabricate, "height") == 2.2
-        assert jobs.parameter_default(jobs.run_crawl, "reverse") is False
-        assert jobs.parameter_default(jobs.run_fold, "nothing") is None
-    with pytest.warns(DeprecationWarning, match=r'COMMANDS\["fold"\]\.default'):
-        jobs.parameter_default  # noqa: B018
 
 
 def test_an_option_is_checked_before_any_work(tmp_path):

@@ -431,15 +431,3 @@ def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robo
     assert np.sum(first == first.min()) == 1  # one servo crosses first (at the samples)
     leg = heavy.legs[int(np.argmin(first))]
     assert runs["heavy"].startswith(f"{leg.name}: servo {leg.servo}: current"), runs["heavy"]
-
-
-def test_the_robot_model_moved_and_its_old_path_warns():
-    """Issue 29: the robot model is ``origami_cad.robot``'s; the old names still work, warned."""
-    import origami_cad.robot as robot_module
-    import origami_cad.simulation.crawler as crawler
-
-    for name in crawler.MOVED_TO_ROBOT:
-        with pytest.warns(DeprecationWarning, match=f"origami_cad.robot.{name}"):
-            assert getattr(crawler, name) is getattr(robot_module, name)
-    with pytest.raises(AttributeError):
-        crawler.no_such_name  # noqa: B018

@@ -200,8 +200,9 @@ def test_freecad_reads_every_copied_solid_valid_coloured_and_of_its_volume(
     in both merge modes."""
     from test_clients_freecad import SOLIDS_SCRIPT, _freecad, _rgb, check_freecad_solids
 
-    from origami_cad.fabrication.export import MATERIAL_COLORS, export_step_assembly
+    from origami_cad.fabrication.assembly import MATERIAL_COLORS
     from origami_cad.fabrication.exports import step as step_module
+    from origami_cad.fabrication.exports.step import export_step_assembly
 
     monkeypatch.setattr(step_module, "HOLES_PER_STRIP", 4)  # 16 holes: 4 strips
     strips = len(step_module.crease_strips(fab.parts.solids["creases"][0]))

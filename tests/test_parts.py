@@ -33,7 +33,7 @@ import origami_cad as oc
 from origami_cad.cli import main
 from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, theta_max
-from origami_cad.fabrication.export import export_part
+from origami_cad.fabrication.exports import export_part
 from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import load_design
 from origami_cad.strings import TSAParams

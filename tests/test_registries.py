@@ -120,12 +120,23 @@ def test_unknown_suffixes_name_the_known_formats(tmp_path, toy_format):
     assert not (tmp_path / "cp.ori.tmp").exists()
 
 
-def test_the_old_format_paths_still_work_with_a_deprecation_warning():
-    for name in ("dxf", "svg", "fold"):
-        sys.modules.pop(f"origami_cad.pattern.{name}", None)
-        with pytest.warns(DeprecationWarning, match=f"formats.{name}"):
-            old = importlib.import_module(f"origami_cad.pattern.{name}")
-        assert old is importlib.import_module(f"origami_cad.pattern.formats.{name}")
+def test_the_unreleased_old_paths_are_gone():
+    """0.1.0 is unreleased: the paths that moved before it are gone, not forwarded."""
+    for gone in (
+        "origami_cad.jobs",
+        "origami_cad.design.parallel",
+        "origami_cad.fabrication.export",
+        "origami_cad.pattern.dxf",
+        "origami_cad.pattern.svg",
+        "origami_cad.pattern.fold",
+    ):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(gone)
+    import origami_cad.design.limits as limits
+    import origami_cad.simulation.crawler as crawler
+
+    assert not hasattr(crawler, "load_robot") and not hasattr(crawler, "MOVED_TO_ROBOT")
+    assert not hasattr(limits, "crease_fold_limit")
 
 
 # ---------------------------------------------------------------------- fabrication exports

@@ -18,7 +18,8 @@ import pytest
 import trimesh
 
 from origami_cad.cli import main
-from origami_cad.fabrication.export import MATERIAL_COLORS, read_binary_stl
+from origami_cad.fabrication.assembly import MATERIAL_COLORS
+from origami_cad.fabrication.exports.stl import read_binary_stl
 from origami_cad.kinematics.folding import fold_sequence
 from origami_cad.kinematics.placement import place_sequence
 from origami_cad.pattern.design import load_pattern_source

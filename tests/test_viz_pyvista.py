@@ -7,7 +7,7 @@ import pytest
 import pyvista as pv
 
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.export import MATERIAL_COLORS
+from origami_cad.fabrication.assembly import MATERIAL_COLORS
 from origami_cad.kinematics.folding import fold_sequence
 from origami_cad.pattern.design import load_pattern_source, miura_design
 from origami_cad.strings import load_route

@@ -44,7 +44,7 @@ class Part(Command):
         super().prepare(a)
 
     def run(self, a) -> Outputs:
-        from origami_cad.fabrication.export import export_part
+        from origami_cad.fabrication.exports import export_part
         from origami_cad.parts import build_part, parts_listing
 
         if a.list or not a.name:

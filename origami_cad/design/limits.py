@@ -1,34 +1,16 @@
 """Panels of a TG arm too small for their creases' chamfers (eq. 6's bias).
 
 The fold limits themselves (eq. 6, the legs' fold angles, the reachable range) are in
-:mod:`origami_cad.kinematics.limits`, below both the design and the fabrication; their
-old names here still work for one release, with a ``DeprecationWarning``.
+:mod:`origami_cad.kinematics.limits`, below both the design and the fabrication.
 """
 
 from __future__ import annotations
 
-import warnings
-from typing import Any
-
 import numpy as np
 
 from origami_cad import _libm
-from origami_cad.kinematics import limits as _moved
 
 __all__ = ["panel_bias_violations"]
-
-_MOVED = ("crease_fold_limit", "leg_fold_angles", "reachable_fold_angle")
-
-
-def __getattr__(name: str) -> Any:
-    if name in _MOVED:
-        warnings.warn(
-            f"origami_cad.design.limits.{name} moved to origami_cad.kinematics.limits.{name}",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return getattr(_moved, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def panel_bias_violations(

@@ -14,7 +14,7 @@
 Solid labels hold no space, dot or bracket, which build123d's ``import_step`` would turn
 into underscores: they read back as written.
 
-Every solid carries its material's colour (:data:`~origami_cad.fabrication.export.MATERIAL_COLORS`).
+Every solid carries its material's colour (:data:`MATERIAL_COLORS`).
 Each panel carries build123d joints:
 
 * ``mount`` (``RigidJoint``): the centre of its outer face inset by 1 mm, z = h, axes of

@@ -18,11 +18,9 @@ ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
 
 from __future__ import annotations
 
-import importlib
 import itertools
 import math
 import os
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -68,37 +66,6 @@ __all__ = [
     "turn_rates",
     "walking_robot",
 ]
-
-#: Names that moved to :mod:`origami_cad.robot` (issue 29), forwarded for one release.
-MOVED_TO_ROBOT = frozenset(
-    {
-        "MOUNT_MARGIN",
-        "MOUNT_THICKNESS",
-        "SERVO",
-        "Leg",
-        "PointMass",
-        "Robot",
-        "dump_robot",
-        "leg_heading",
-        "leg_key",
-        "load_robot",
-        "robot_placements",
-    }
-)
-
-
-def __getattr__(name: str) -> Any:
-    """``origami_cad.simulation.crawler.<name>`` of a name that moved: the new one, warned."""
-    if name in MOVED_TO_ROBOT:
-        warnings.warn(
-            f"origami_cad.simulation.crawler.{name} moved to origami_cad.robot.{name}; "
-            "the old path goes in the next release",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return getattr(importlib.import_module("origami_cad.robot"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
 
 # ----------------------------------------------------------------------------- strings
 

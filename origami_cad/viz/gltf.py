@@ -274,7 +274,7 @@ def parts_meshes(meshes: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> list[Gl
         part) to its vertices (mm) and triangles. A part not in the dual-material
         structure is printed in PLA.
     """
-    from origami_cad.fabrication.export import MATERIAL_COLORS
+    from origami_cad.fabrication.assembly import MATERIAL_COLORS
     from origami_cad.fabrication.solids import PART_MATERIALS
 
     out = []
@@ -296,7 +296,7 @@ def write_parts_glb(folder, path: str | os.PathLike[str]) -> Path:
     from origami_cad.fabrication.solids import PART_NAMES
 
     if isinstance(folder, (str, os.PathLike)):
-        from origami_cad.fabrication.export import read_binary_stl
+        from origami_cad.fabrication.exports.stl import read_binary_stl
 
         meshes = {n: read_binary_stl(Path(folder) / f"{n}.stl") for n in PART_NAMES}
     else:  # a Fabrication: the meshes in memory

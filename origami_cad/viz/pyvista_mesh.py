@@ -99,7 +99,8 @@ def _add_strings(blocks, paths: Sequence[np.ndarray]) -> None:
 def _parts_blocks(fab):
     pv = import_pyvista()
 
-    from origami_cad.fabrication.export import MATERIAL_COLORS, parts_tessellation
+    from origami_cad.fabrication.assembly import MATERIAL_COLORS
+    from origami_cad.fabrication.exports.stl import parts_tessellation
     from origami_cad.fabrication.solids import PART_MATERIALS
 
     blocks = pv.MultiBlock()

@@ -25,13 +25,9 @@ its module and one line of :data:`MODULES`.
 
 from __future__ import annotations
 
-import importlib.abc
-import importlib.util
-import sys
-import warnings
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
@@ -84,31 +80,3 @@ def reader(path: Path) -> Callable[..., Any]:
 def writer(path: Path) -> Callable[..., Path]:
     """The writer of ``path`` by its suffix; :class:`PatternError` naming the writable ones."""
     return _lookup(WRITERS, path, "cannot write crease patterns as", "writable")
-
-
-class _MovedFormats(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """The old paths ``origami_cad.pattern.dxf``, ``.svg`` and ``.fold``: importing one
-    gives the format's module here, with a ``DeprecationWarning`` (for one release)."""
-
-    OLD: ClassVar[dict[str, str]] = {f"origami_cad.pattern.{n}": n for n in ("dxf", "fold", "svg")}
-
-    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> Any:
-        if fullname not in self.OLD:
-            return None
-        return importlib.util.spec_from_loader(fullname, self)
-
-    def create_module(self, spec: Any) -> Any:
-        name = self.OLD[spec.name]
-        warnings.warn(
-            f"{spec.name} moved to origami_cad.pattern.formats.{name}",
-            DeprecationWarning,
-            stacklevel=2,
-        )
-        return MODULES_BY_NAME[name]
-
-    def exec_module(self, module: Any) -> None:
-        """The module is the format's, already run."""
-
-
-if not any(isinstance(f, _MovedFormats) for f in sys.meta_path):
-    sys.meta_path.append(_MovedFormats())
