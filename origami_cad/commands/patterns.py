@@ -161,34 +161,6 @@ class Pattern(Command):
         return result
 
 
-def _flat_creases_note(cp, fold_angles, method: str = "closed form") -> list[str]:
-    """A note when some mountain and valley creases do not fold at all (degrees given), or,
-    folded by the general solver, when most of them turn by less than 5 deg."""
-    import numpy as np
-
-    if fold_angles is None:
-        return []
-    creases = cp.edge_mask("M", "V")
-    if method != "closed form":
-        turned = int(np.sum(np.abs(np.asarray(fold_angles)[creases]) > 5.0))
-        if 2 * turned >= creases.sum():
-            return []
-        return [
-            f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
-            "with panels as stiff as printed ones this pattern hardly folds from flat (it does "
-            "not fold rigidly; its panels would have to bend)"
-        ]
-    flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
-    if not flat.any():
-        return []
-    return [
-        f"note: {int(flat.sum())} of the {int(creases.sum())} creases stay flat: their straight "
-        "crease lines fold independently of the driving crease (as a map's lines fold one at "
-        "a time), which a one-parameter rigid folding leaves flat; --method general folds "
-        "them together"
-    ]
-
-
 def _placed_states(loaded, ratio: float, frames: int, method: str = "auto"):
     """The folded states from p = 0 to ``ratio``, each placed on the table, and the
     warnings of the fold (lines for the user)."""
@@ -284,7 +256,9 @@ class Fold(Command):
         plural = "s" if len(states) > 1 else ""
         method, strain = states[-1].method, max(s.strain for s in states)
         end = states[-1].fold_angles if ratio > 0 else None
-        flat = _flat_creases_note(loaded.pattern, end, method)
+        from origami_cad.simulation.folder import fold_notes
+
+        flat = fold_notes(loaded.pattern, end, method)
         how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
         return Outputs(
             files=[out],

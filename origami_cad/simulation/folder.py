@@ -52,6 +52,7 @@ __all__ = [
     "closed_form_applies",
     "fold",
     "fold_general",
+    "fold_notes",
     "fold_states",
 ]
 
@@ -296,3 +297,29 @@ def _carry_loose(cp: CreasePattern, st: Structure, x: np.ndarray) -> np.ndarray:
         i, j, k = tri[t]
         x[v] = x[i] + s1[t] * (x[j] - x[i]) + s2[t] * (x[k] - x[i])
     return x
+
+
+def fold_notes(cp: CreasePattern, fold_angles, method: str = "closed form") -> list[str]:
+    """A note when some mountain and valley creases do not fold at all (``fold_angles``
+    in degrees), or, folded by the general solver, when most turn by less than 5 deg."""
+    if fold_angles is None:
+        return []
+    creases = cp.edge_mask("M", "V")
+    if method != "closed form":
+        turned = int(np.sum(np.abs(np.asarray(fold_angles)[creases]) > 5.0))
+        if 2 * turned >= creases.sum():
+            return []
+        return [
+            f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
+            "with panels as stiff as printed ones this pattern hardly folds from flat (it does "
+            "not fold rigidly; its panels would have to bend)"
+        ]
+    flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
+    if not flat.any():
+        return []
+    return [
+        f"note: {int(flat.sum())} of the {int(creases.sum())} creases stay flat: their straight "
+        "crease lines fold independently of the driving crease (as a map's lines fold one at "
+        "a time), which a one-parameter rigid folding leaves flat; the general method "
+        "folds them together"
+    ]
