@@ -107,6 +107,8 @@ class Arg:
     open_min: bool = False
     choices: tuple | None = None
     optional: bool = True
+    #: ``+inf`` passes: the argument's "never" (a stop rule that is off)
+    inf_ok: bool = False
 
     def check(self, shown: str, value: Any, error: type[OrigamiCadError]) -> Any:
         """The value, converted; ``error`` naming ``shown`` and the value if it is bad."""
@@ -115,6 +117,8 @@ class Arg:
                 return None
             raise error(f"{shown}: a value is needed, got None")
         if self.kind in ("float", "int"):
+            if self.inf_ok and isinstance(value, float) and value == math.inf:
+                return value
             if isinstance(value, str | bytes):  # text is the command line's, parsed there
                 raise error(f"{shown}: expected a number, not text, got {value!r}")
             value = check_number(

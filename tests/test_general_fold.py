@@ -92,11 +92,11 @@ def _one_crease(angle: float | None, second: str = "B") -> CreasePattern:
     v = [(0, 0), (20, 0), (40, 0), (40, 20), (20, 20), (0, 20)]
     edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 0), (1, 4)]
     letters = ["B"] * 6 + ["V"]
-    angles = [math.nan] * 6 + [math.nan if angle is None else angle]
+    angles = [0.0] * 6 + [180.0 if angle is None else angle]  # 180: a valley's default
     if second != "B":
         edges += [(0, 4), (1, 3)]
         letters += [second, second]
-        angles += [math.nan, math.nan]
+        angles += [0.0, 0.0]
     return CreasePattern(v, edges, letters, angles)
 
 

@@ -89,8 +89,10 @@ def test_the_current_folder_as_output(tmp_path, monkeypatch, capsys, where):
 def test_a_failing_command_leaves_the_folder_as_it_was(tmp_path, capsys):
     files = _user_project(tmp_path)
     before = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
-    assert main(["fabricate", str(tmp_path / "design.toml"), "-o", str(tmp_path), "--bias", "40"])
-    assert "too small" in capsys.readouterr().err
+    assert main(
+        ["fabricate", str(tmp_path / "design.toml"), "-o", str(tmp_path), "--thickness", "5"]
+    )
+    assert "thickness" in capsys.readouterr().err
     _assert_kept(files)
     assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before
     # a folder created for the output is removed again, with its new parents
@@ -101,8 +103,8 @@ def test_a_failing_command_leaves_the_folder_as_it_was(tmp_path, capsys):
                 str(tmp_path / "design.toml"),
                 "-o",
                 str(tmp_path / "a" / "b"),
-                "--bias",
-                "40",
+                "--thickness",
+                "5",
             ]
         )
         == 2

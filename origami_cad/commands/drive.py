@@ -143,8 +143,8 @@ class Drive(Command):
         seq = load_sequence(a.sequence)
         if not a.dry_run and not a.port:
             raise DriveError("give the servos' port, or use a dry run on the emulator")
+        emulate = {"time_scale": a.speed, "load_scale": a.load_scale} if a.dry_run else None
         scale = a.speed if a.dry_run else 1.0
-        emulate = {"time_scale": scale, "load_scale": a.load_scale} if a.dry_run else None
         names, done = {t.dxl_id: t.name for t in seq.tsas}, None
         try:
             with contextlib.ExitStack() as stack:
@@ -152,11 +152,10 @@ class Drive(Command):
                 done = run_sequence(seq, bus, a.log, time_scale=scale, progress=a.progress)
         except BaseException as exc:  # the plot shows what ran; a stall names the TSA
             raise _drive_stopped(exc, a.plot, names, done) from exc.__cause__
-        files = [Path(a.log)] if a.log else []
         if a.plot:
             with finishing():  # the log is complete: its plot follows, even past a Ctrl-C
                 save_drive_png(done, a.plot, names)
-            files.append(Path(a.plot))
+        files = [Path(f) for f in (a.log, a.plot) if f]
         loads = seq.loads(a.load_scale if a.dry_run else 1.0)
         caption = "Commanded (dashed) and measured (solid) turns and current per TSA"
         lag = float(np.percentile(done.lag, 95))

@@ -301,10 +301,10 @@ class StopRules:
     steps=Arg("int", min=1, max=100_000),
     prefold=Arg(min=0.0, max=90.0),
     tension_limit=Arg(min=0.0, open_min=True, max=1e6),
-    jam_ratio=Arg(min=0.0, open_min=True, max=1.0),
+    jam_ratio=Arg(min=0.0, open_min=True, max=1.0, inf_ok=True),
     jam_steps=Arg("int", min=1, max=10_000),
-    max_string_strain=Arg(min=0.0, open_min=True, max=1.0),
-    max_bar_strain=Arg(min=0.0, open_min=True, max=1.0),
+    max_string_strain=Arg(min=0.0, open_min=True, max=1.0, inf_ok=True),
+    max_bar_strain=Arg(min=0.0, open_min=True, max=1.0, inf_ok=True),
     max_dp=Arg(min=1e-4, max=1.0),
     max_states=Arg("int", min=1, max=1_000_000),
 )
