@@ -2,10 +2,10 @@
 
 One triangulation for every stage that needs triangles: the bar-and-hinge model's facets
 (``simulation``) and the glTF meshes of a folding (``viz``). A convex panel is a fan from
-its first vertex; a non-convex one (an L-shaped border panel) is shapely's constrained
-Delaunay triangulation, whose corners are the panel's own vertices, so the triangles
-follow the vertices into any folded state. Every triangle is counter-clockwise seen
-from +z, as the panels are.
+its first vertex (unless vertices along a side would make slivers); a non-convex one (an
+L-shaped border panel) is shapely's constrained Delaunay triangulation, whose corners
+are the panel's own vertices, so the triangles follow the vertices into any folded state.
+Every triangle is counter-clockwise seen from +z, as the panels are.
 """
 
 from __future__ import annotations
@@ -29,7 +29,12 @@ def triangulate_panel(cp: CreasePattern, ring) -> list[tuple[int, int, int]]:
     pts = cp.vertices[ring]
     poly = shapely.Polygon(pts)
     if poly.convex_hull.area - poly.area <= 1e-9 * poly.area:  # convex: a fan
-        return [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
+        fan = [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
+        a, b, c = (cp.vertices[list(t)] for t in zip(*fan, strict=True))
+        u, w = b - a, c - a
+        areas = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
+        if np.all(areas > 1e-6 * poly.area):  # (vertices along a side make slivers)
+            return fan
     index = {(float(x), float(y)): int(v) for (x, y), v in zip(pts, ring, strict=True)}
     tris = []
     for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(poly)):

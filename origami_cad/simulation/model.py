@@ -22,6 +22,7 @@ from origami_cad._args import Arg, check_fields
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.pattern.model import CreasePattern
+from origami_cad.pattern.triangles import triangulate_panel
 
 __all__ = ["SimulationParams", "Structure", "build_structure"]
 
@@ -199,29 +200,9 @@ def _triangulate(
     cp: CreasePattern, ring: np.ndarray, label: str, size: float
 ) -> list[tuple[int, int, int]]:
     """Panel ``ring``'s triangles; ``size`` is the pattern's (mm), for the zero-area check."""
-    pts = cp.vertices[ring]
-    poly = shapely.Polygon(pts)
-    if poly.area <= 1e-6 * max(size, 1.0) ** 2:
+    if shapely.Polygon(cp.vertices[ring]).area <= 1e-6 * max(size, 1.0) ** 2:
         raise PatternError(f"panel {label} has zero area: it cannot be simulated")
-    if len(ring) == 3:
-        return [tuple(int(v) for v in ring)]
-    if poly.convex_hull.area - poly.area <= 1e-9 * poly.area:  # convex: a fan
-        fan = [(int(ring[0]), int(ring[k]), int(ring[k + 1])) for k in range(1, len(ring) - 1)]
-        a, b, c = (cp.vertices[list(t)] for t in zip(*fan, strict=True))
-        u, w = b - a, c - a
-        areas = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0]) / 2
-        if np.all(areas > 1e-6 * poly.area):  # (vertices along a side make slivers)
-            return fan
-    index = {(float(x), float(y)): int(v) for (x, y), v in zip(pts, ring, strict=True)}
-    tris = []
-    for tri in shapely.get_parts(shapely.constrained_delaunay_triangles(poly)):
-        c = shapely.get_coordinates(tri)[:-1]
-        t = [index[(float(x), float(y))] for x, y in c]
-        a, b, d = cp.vertices[t]
-        if (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]) < 0:
-            t = [t[0], t[2], t[1]]
-        tris.append(tuple(t))
-    return tris
+    return triangulate_panel(cp, ring)
 
 
 def build_structure(
