@@ -104,13 +104,10 @@ def _run(args: list[str], cwd: Path, timeout: float) -> tuple[int | None, float,
     return proc.returncode, seconds, message.strip()
 
 
-def _newell(points: list[list[float]]) -> tuple[float, float, float]:
-    nx = ny = nz = 0.0
-    for i, (x0, y0, z0) in enumerate(points):
-        x1, y1, z1 = points[(i + 1) % len(points)]
-        nx += (y0 - y1) * (z0 + z1)
-        ny += (z0 - z1) * (x0 + x1)
-        nz += (x0 - x1) * (y0 + y1)
+def _unit_normal(points: list[list[float]]) -> tuple[float, float, float]:
+    from origami_cad.fabrication.polyhedra import newell_normal
+
+    nx, ny, nz = newell_normal([tuple(p) for p in points])
     n = math.sqrt(nx * nx + ny * ny + nz * nz) or 1.0
     return nx / n, ny / n, nz / n
 
@@ -135,7 +132,7 @@ def fold_measures(path: Path) -> tuple[float, float, int]:
         for i, a in enumerate(loop):
             b = loop[(i + 1) % len(loop)]
             side.setdefault((min(a, b), max(a, b)), []).append(f)
-    normals = [_newell([coords[v] for v in loop]) for loop in faces]
+    normals = [_unit_normal([coords[v] for v in loop]) for loop in faces]
     turned = creases = 0
     strain = 0.0
     for (a, b), kind in zip(edges, kinds, strict=True):
