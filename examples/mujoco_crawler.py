@@ -26,7 +26,7 @@ import numpy as np
 
 from origami_cad.robot import load_robot
 from origami_cad.simulation.crawler import gait_turns
-from origami_cad.simulation.mjcf import to_mjcf
+from origami_cad.simulation.crawler_mujoco import robot_mjcf
 from origami_cad.simulation.mujoco_run import load_model, tsa_actuators, tsa_controls
 
 ROBOT = Path(__file__).resolve().parent / "crawler" / "crawler.toml"
@@ -41,7 +41,7 @@ def heading(data, body: int) -> float:
 
 def run(seconds: float, folder: Path) -> dict:
     robot = load_robot(ROBOT)
-    model, data = load_model(to_mjcf(robot, timestep=1e-3))
+    model, data = load_model(robot_mjcf(robot, timestep=1e-3))
     acts = tsa_actuators(model)
     body = model.body(robot.body).id
     keys, times = gait_turns(robot), robot.gait_t

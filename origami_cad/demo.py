@@ -144,7 +144,7 @@ def fig7(out: Path, quick: bool) -> list[Outputs]:
 
 
 def mujoco_frame(robot: Path, png: Path) -> Outputs:
-    """The crawler exported to MuJoCo (``oc.to_mjcf``) 11 s into its gait, rendered off-screen.
+    """The crawler exported to MuJoCo (``oc.robot_mjcf``) 11 s into its gait, rendered off-screen.
 
     Without the ``mujoco`` extra or an off-screen GL context (EGL, OSMesa) the report says
     why instead of showing the frame.
@@ -152,8 +152,8 @@ def mujoco_frame(robot: Path, png: Path) -> Outputs:
     from origami_cad._fileio import atomic_path
 
     try:
+        from origami_cad.simulation.crawler_mujoco import render_gait_frame
         from origami_cad.simulation.mjcf import MjcfError
-        from origami_cad.simulation.mujoco_run import render_gait_frame
     except ImportError as exc:
         return Outputs(numbers=[("MuJoCo frame", f"not rendered: {exc}")])
     try:
@@ -161,7 +161,7 @@ def mujoco_frame(robot: Path, png: Path) -> Outputs:
             render_gait_frame(robot, tmp)
     except (MjcfError, ImportError) as exc:
         return Outputs(numbers=[("MuJoCo frame", f"not rendered: {exc}")])
-    caption = "The crawler in MuJoCo (oc.to_mjcf), 11 s into its gait: mid-stride"
+    caption = "The crawler in MuJoCo (oc.robot_mjcf), 11 s into its gait: mid-stride"
     return Outputs(files=[png], images=[(png, caption)])
 
 

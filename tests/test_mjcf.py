@@ -21,13 +21,17 @@ from origami_cad.cli import main  # noqa: E402
 from origami_cad.pattern.design import load_design  # noqa: E402
 from origami_cad.pattern.model import CreasePattern  # noqa: E402
 from origami_cad.robot import load_robot  # noqa: E402
+from origami_cad.simulation.crawler_mujoco import (  # noqa: E402
+    play_gait,
+    render_gait_frame,
+    robot_mjcf,
+    robot_mjcf_source,
+)
 from origami_cad.simulation.mjcf import MjcfError, load_mjcf_source, spanning_tree, to_mjcf  # noqa: E402
 from origami_cad.simulation.mujoco_run import (  # noqa: E402
     crease_angles,
     hold_mean_pose,
     load_model,
-    play_gait,
-    render_gait_frame,
     set_fold,
     tie_strings,
     tsa_actuators,
@@ -46,7 +50,7 @@ CRAWLER = (EX / "crawler" / "crawler.toml", [])
 @functools.cache
 def _xml(which: str) -> str:
     source, routes = {"miura": MIURA, "arm": ARM, "crawler": CRAWLER}[which]
-    return to_mjcf(source, routes)
+    return robot_mjcf(source) if which == "crawler" else to_mjcf(source, routes)
 
 
 @pytest.mark.parametrize("which", ["miura", "arm", "crawler"])
@@ -55,7 +59,7 @@ def test_every_export_loads_with_the_counts_of_its_pattern_and_routes(which, tmp
     path = tmp_path / "model.xml"
     path.write_text(_xml(which), encoding="utf-8")
     model = mujoco.MjModel.from_xml_path(str(path))
-    src = load_mjcf_source(source, routes)
+    src = robot_mjcf_source(source) if which == "crawler" else load_mjcf_source(source, routes)
     cp = src.pattern
     creases = int(cp.edge_mask("M", "V", "F").sum())
     panels = len(cp.faces)
@@ -93,11 +97,11 @@ def test_panel_masses_and_inertias_are_those_of_the_printed_solids(which):
     from origami_cad.simulation.mjcf import printed_panels
 
     source, routes = {"miura": MIURA, "crawler": CRAWLER}[which]
-    src = load_mjcf_source(source, routes)
+    src = robot_mjcf_source(source) if which == "crawler" else load_mjcf_source(source, routes)
     cp = src.pattern
     model, _ = load_model(_xml(which))
     panels, sheet_g = printed_panels(src)
-    points = sum(m.grams for m in src.robot.masses) if src.robot else 0.0
+    points = sum(grams for _, grams, _, _ in src.masses)
     # the whole model against the fabrication's own estimate (fabrication.json), 1 %
     assert float(model.body_mass.sum()) * 1e3 == pytest.approx(sheet_g + points, rel=0.01)
     # the sheet alone, closer than its crease strips weigh (1.6 g of the crawler's 202 g):
@@ -109,13 +113,12 @@ def test_panel_masses_and_inertias_are_those_of_the_printed_solids(which):
     for face in (0, len(cp.faces) // 2):
         mass, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
         parts = [_mesh_props(v, t, DENSITY_G_CM3[m]) for m, v, t in panels[face].meshes]
-        if src.robot:
-            label = cp.face_labels[face]
-            parts += [
-                (m.grams, np.r_[m.at, 1.1], np.zeros((3, 3)))
-                for m in src.robot.masses
-                if m.panel == label
-            ]
+        label = cp.face_labels[face]
+        parts += [
+            (grams, np.r_[at, 1.1], np.zeros((3, 3)))
+            for _, grams, panel, at in src.masses
+            if panel == label
+        ]
         for m, c, inertia in parts:
             mass, first = mass + m, first + m * c
             second += inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
@@ -264,7 +267,7 @@ def test_the_arm_tip_at_p_e_is_on_the_designed_path():
 
 def test_the_crawler_moves_forward_under_its_gait():
     robot = load_robot(CRAWLER[0])
-    model, data = load_model(to_mjcf(robot, timestep=1e-3))
+    model, data = load_model(robot_mjcf(robot, timestep=1e-3))
     body = model.body(robot.body).id
     play_gait(model, data, robot, 3.0)  # stand up on the strings
     x0 = data.xipos[body].copy()  # the body panel's centre of mass
@@ -287,6 +290,16 @@ def test_a_hole_off_its_named_panel_is_refused_by_name():
     bad = dataclasses.replace(spec, strings=(moved, *spec.strings[1:]))
     with pytest.raises(MjcfError, match=r"string 1: hole c1r1s5 .* not on its panel c1r1s4"):
         to_mjcf(MIURA[0], [bad])
+
+
+def test_a_robot_file_is_refused_by_the_design_export_and_read_by_the_command(tmp_path):
+    with pytest.raises(MjcfError, match=r"crawler.toml: a robot file: .*robot_mjcf"):
+        to_mjcf(CRAWLER[0])
+    out = tmp_path / "robot.xml"
+    assert main(["mjcf", str(CRAWLER[0]), "-o", str(out)]) == 0
+    assert out.read_text(encoding="utf-8") == robot_mjcf(CRAWLER[0])
+    with pytest.raises(MjcfError, match="names its own routes"):
+        to_mjcf(robot_mjcf_source(CRAWLER[0]), MIURA[1])
 
 
 def test_a_crease_on_the_border_is_refused_by_name():

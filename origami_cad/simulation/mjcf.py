@@ -1,11 +1,13 @@
 """Origami robots as MuJoCo models (MJCF): panels, crease hinges, string tendons, TSAs.
 
-:func:`to_mjcf` turns a design (a crease pattern and its routes) or a robot file into
-MJCF text. The construction, in SI units inside the model (m, kg, s, N; the project's
-mm, g and degrees are converted at this edge):
+:func:`to_mjcf` turns a design (a crease pattern and its routes), or an
+:class:`MjcfSource` a caller builds (the crawler's robot:
+``origami_cad.crawler.mujoco.robot_mjcf``), into MJCF text. The construction, in SI
+units inside the model (m, kg, s, N; the project's mm, g and degrees are converted at
+this edge):
 
 * **Panels** are bodies, one per face, arranged along a breadth-first spanning tree of
-  the panel-adjacency graph from a root panel (the robot's body, the route's
+  the panel-adjacency graph from a root panel (the source's ``body``, the route's
   ``fixed_panel``, else the panel nearest the sheet's centre). Every body's frame is
   the pattern's frame in the flat state, so a geom, site or anchor is placed by its
   pattern coordinates. Each panel shows its printed solids as visual mesh geoms (PLA
@@ -19,7 +21,7 @@ mm, g and degrees are converted at this edge):
   positive joint angle is a valley fold (radians, the sign of ``fold_angles``), with the
   crease's rotational stiffness ``E t^3 / (12 w)`` times its length
   (:attr:`SimulationParams.crease_stiffness`), a damping and a range of
-  +-eq. 6's ``theta_max`` (the route's ``[fabrication]``) or the robot's blocker angle.
+  +-eq. 6's ``theta_max`` (the route's ``[fabrication]``) or the source's ``crease_limits``.
 * **Loops**: each crease not in the tree is closed by two ``connect`` equality
   constraints, at its two end points (together a hinge).
 * **Strings** are spatial tendons through sites: the TSA's guide (fixed in the world,
@@ -38,7 +40,7 @@ mm, g and degrees are converted at this edge):
   eq. 8 is not, hence the user-side map; what it needs (the TSA's parameters, ``x0``)
   is stored in the model as a ``custom`` numeric named after the actuator.
 * **Point masses** are massive spheres without contact; the **ground** is a plane
-  with the robot file's friction.
+  with the source's friction.
 """
 
 from __future__ import annotations
@@ -59,7 +61,6 @@ from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.robot import Robot, load_robot
 from origami_cad.simulation.mjcf_solids import MassProps, panel_solids
 from origami_cad.simulation.mjcf_strings import MJ, TSA_CODES, tendon_specs, tendon_xml
 from origami_cad.simulation.model import SimulationParams
@@ -83,20 +84,32 @@ class MjcfError(SimulationError):
 
 @dataclass(frozen=True)
 class MjcfSource:
-    """What :func:`to_mjcf` exports: a pattern, its routes and, for a robot, the robot."""
+    """What :func:`to_mjcf` exports: a pattern, its routes and, for a body free on the
+    ground (a legged robot), that body and what it carries.
+
+    ``body`` is the root panel's label (``None``: a sheet, rooted as the module says);
+    ``holes`` the string holes cut in the printed panels, mm (``None``: where the routes'
+    strings run); ``crease_limits`` the range of a crease by index, degrees (others:
+    eq. 6); ``masses`` the point masses ``(name, grams, panel label, (x, y) mm)``;
+    ``friction`` the Coulomb coefficient of the ground (``None``: the parameters').
+    """
 
     design: Design | None
     pattern: CreasePattern
     routes: tuple[RouteSpec, ...]
-    robot: Robot | None = None
+    body: str | None = None
+    holes: tuple[tuple[float, float], ...] | None = None
+    crease_limits: dict[int, float] = dataclasses.field(default_factory=dict)
+    masses: tuple[tuple[str, float, str, tuple[float, float]], ...] = ()
+    friction: float | None = None
 
 
 def load_mjcf_source(source, routes=()) -> MjcfSource:
-    """A design/pattern file, a robot file (``[robot]`` table), a Design or a Robot.
+    """A design or pattern file, or a Design or CreasePattern, with its route files.
 
-    ``routes`` are route files or :class:`RouteSpec` (a robot brings its legs' own).
+    ``routes`` are route files or :class:`RouteSpec`. A robot file is refused
+    (:class:`MjcfError`): its model is ``origami_cad.crawler.mujoco.robot_mjcf``'s.
     """
-    robot = None
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.is_file():
@@ -108,20 +121,15 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
                 f"{path}: cannot be read as UTF-8 text ({exc.__class__.__name__})"
             ) from None
         if "[robot]" in text:
-            robot = load_robot(path)
-        else:
-            source = load_pattern_source(path)
-    elif isinstance(source, Robot):
-        robot = source
-    if robot is not None:
-        design = Design(robot.pattern, None, "file", robot.pattern_path)
-        specs = [leg.route for leg in robot.legs]
-    else:
-        design = source if isinstance(source, Design) else Design(source, None, "file")
-        specs = []
+            raise MjcfError(
+                f"{path}: a robot file: its MuJoCo model is origami_cad.crawler.mujoco."
+                "robot_mjcf's (origami-cad mjcf reads it)"
+            )
+        source = load_pattern_source(path)
+    design = source if isinstance(source, Design) else Design(source, None, "file")
     cp = design.pattern
-    specs += [r if isinstance(r, RouteSpec) else load_route(r, cp) for r in routes]
-    return MjcfSource(design, cp, tuple(specs), robot)
+    specs = [r if isinstance(r, RouteSpec) else load_route(r, cp) for r in routes]
+    return MjcfSource(design, cp, tuple(specs))
 
 
 @dataclass(frozen=True)
@@ -190,8 +198,8 @@ def _panel_graph(cp: CreasePattern) -> list[tuple[int, int, int]]:
 
 
 def _root(cp: CreasePattern, source: MjcfSource) -> int:
-    if source.robot is not None:
-        return cp.face_index(source.robot.body)
+    if source.body is not None:
+        return cp.face_index(source.body)
     fixed = next((r.fixed_panel for r in source.routes if r.fixed_panel), None)
     if fixed:
         return cp.face_index(fixed)
@@ -281,12 +289,12 @@ _SOLIDS: dict = {}
 def printed_panels(source: MjcfSource, fab: FabricationParams | None = None):
     """The printed solids of every panel (:func:`~.mjcf_solids.panel_solids`), cached.
 
-    The holes are cut where the routes' strings run (the robot file's ``holes``); the
+    The holes are cut where the routes' strings run (or at the source's ``holes``); the
     result is kept per pattern and parameters, as fabricating takes seconds.
     """
     fab = fab or _fabrication(source)
-    if source.robot is not None:
-        holes = source.robot.holes
+    if source.holes is not None:
+        holes = source.holes
     else:
         points = (p for r in source.routes for st in r.strings for p in st.points)
         holes = tuple(dict.fromkeys((float(x), float(y)) for x, y in points)) or fab.holes
@@ -312,13 +320,12 @@ def _hinge_axis(cp: CreasePattern, e: int, parent_face: int) -> tuple[np.ndarray
 
 
 def _limits(source: MjcfSource, fab: FabricationParams, params: SimulationParams):
-    """Range of each crease, radians: eq. 6 (``theta_max``) or the robot's blockers."""
+    """Range of each crease, radians: eq. 6 (``theta_max``) or the source's limits (deg)."""
     base = fab.theta_max if any(r.fabrication for r in source.routes) else None
     base = math.radians(params.fold_limit) if base is None else base
     limits = dict.fromkeys(range(source.pattern.n_edges), base)
-    if source.robot is not None:
-        for leg in source.robot.legs:
-            limits[leg.crease] = math.radians(source.robot.blocker_angle)
+    for e, degrees in source.crease_limits.items():
+        limits[int(e)] = math.radians(degrees)
     return limits
 
 
@@ -338,9 +345,10 @@ def _body_xml(source, fab, params, meshes, sites, masses, damping, held) -> list
     def body(f: int, depth: int) -> None:
         pad = "  " * depth
         label = cp.face_labels[f]
-        z0 = fab.height / 2.0 + 1.0 if f == root and source.robot else 0.0
+        free = source.body is not None
+        z0 = fab.height / 2.0 + 1.0 if f == root and free else 0.0
         lines.append(f'{pad}<body name={_attr(label)} pos="0 0 {z0 * MJ:.9g}">')
-        if f == root and (source.robot or not (held or any(r.fixed_panel for r in source.routes))):
+        if f == root and (free or not (held or any(r.fixed_panel for r in source.routes))):
             lines.append(f'{pad}  <freejoint name="root"/>')
         elif f != root:
             pf, e = parent[f]
@@ -387,12 +395,10 @@ def _inertial_xml(props: MassProps, masses) -> str:
 
 def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
     out: dict[int, list] = {}
-    if source.robot is None:
-        return out
     cp = source.pattern
-    for m in source.robot.masses:
-        at = np.array([*m.at, fab.height / 2.0])
-        out.setdefault(cp.face_index(m.panel), []).append((m.name, m.grams, at))
+    for name, grams, panel, (x, y) in source.masses:
+        at = np.array([x, y, fab.height / 2.0])
+        out.setdefault(cp.face_index(panel), []).append((name, grams, at))
     return out
 
 
@@ -417,15 +423,15 @@ def to_mjcf(
     armature: float = 1e-6,
     contact: Contact | None = None,
 ) -> str:
-    """The MJCF model (XML text) of a design and its routes, or of a robot file.
+    """The MJCF model (XML text) of a design and its routes, or of an :class:`MjcfSource`.
 
     Parameters
     ----------
-    source : path, Design, CreasePattern or Robot
-        A design or pattern file, a robot file (its ``[robot]`` table, legs and
-        masses), or the loaded object.
+    source : path, Design, CreasePattern or MjcfSource
+        A design or pattern file, the loaded object, or a source built by the caller
+        (a robot's: ``origami_cad.crawler.mujoco.robot_mjcf_source``).
     routes : sequence of path or RouteSpec
-        Route files; a robot brings its own.
+        Route files; an :class:`MjcfSource` brings its own.
     params : SimulationParams, optional
         Crease and string materials (default: the first route's ``[fabrication]``).
     gravity : float
@@ -433,7 +439,7 @@ def to_mjcf(
     ground : bool
         A ground plane at z = 0 (the sheet's bottom face rests on it).
     friction : float, optional
-        Coulomb coefficient (default: the robot file's, else ``params.friction``).
+        Coulomb coefficient (default: the source's, else ``params.friction``).
     crease_damping : float
         Viscous damping of a crease per unit length, N mm s / rad / mm.
     timestep : float
@@ -456,8 +462,10 @@ def to_mjcf(
         without an MJCF construction.
     """
     src = source if isinstance(source, MjcfSource) else load_mjcf_source(source, routes)
-    if routes and src.robot is not None and not isinstance(source, MjcfSource):
-        raise MjcfError("a robot file names its own routes: give no route files with it")
+    if routes and isinstance(source, MjcfSource):
+        raise MjcfError(
+            "the source names its own routes (a robot file: its legs'): give no route files"
+        )
     cp = src.pattern
     _panel_graph(cp)
     _check_routes(cp, src.routes)
@@ -465,16 +473,14 @@ def to_mjcf(
     params = params or (
         SimulationParams.for_route(src.routes[0]) if src.routes else SimulationParams()
     )
-    mu = (
-        friction if friction is not None else (src.robot.friction if src.robot else params.friction)
-    )
+    mu = next(m for m in (friction, src.friction, params.friction) if m is not None)
     meshes = _meshes(src, fab)
     tendons = tendon_specs(src.routes, params)
     sites: dict[int, list] = {}
     for _, string_sites, *_ in tendons:
         for face, name, at in string_sites:
             sites.setdefault(face, []).append((name, at))
-    held = src.robot is None and not any(r.fixed_panel for r in src.routes) and not gravity
+    held = src.body is None and not any(r.fixed_panel for r in src.routes) and not gravity
     contact = contact or STICK_SLIP
     visuals = printed_panels(src, fab)[0]
     lines = _header_xml(cp, meshes, visuals, timestep, gravity, armature, mu, contact)

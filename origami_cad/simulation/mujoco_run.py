@@ -24,8 +24,6 @@ __all__ = [
     "crease_angles",
     "hold_mean_pose",
     "load_model",
-    "play_gait",
-    "render_gait_frame",
     "render_png",
     "set_fold",
     "tsa_actuators",
@@ -181,42 +179,6 @@ def set_fold(model, data, table, p: float) -> None:
             e = int(name[6:])
             data.qpos[model.jnt_qposadr[j]] = np.interp(p, ratios, angles[:, e])
     mujoco.mj_forward(model, data)
-
-
-def play_gait(model, data, robot, seconds: float, start: float = 0.0) -> None:
-    """Step ``seconds`` of the robot file's gait (from gait time ``start``, s), open loop.
-
-    Each leg's TSA follows the gait's turns (:func:`~origami_cad.simulation.crawler.
-    gait_turns`, the keyframes' fold ratios through the rigidly folded leg and the
-    onboard TSA), interpolated linearly in time and repeated every cycle.
-    """
-    import mujoco
-
-    from origami_cad.simulation.crawler import gait_turns
-
-    acts, keys, times = tsa_actuators(model), gait_turns(robot), robot.gait_t
-    begin = data.time
-    end = begin + seconds
-    while data.time < end:
-        tc = (data.time - begin + start) % float(times[-1])
-        turns = [np.interp(tc, times, keys[:, k]) for k in range(len(robot.legs))]
-        tsa_controls(model, data, turns, acts)
-        mujoco.mj_step(model, data)
-
-
-def render_gait_frame(robot, path: str | os.PathLike[str], at: float = 11.0, size=(640, 480)):
-    """A PNG of a robot in MuJoCo ``at`` seconds into its gait (default: mid-stride).
-
-    ``robot`` is a robot file or :class:`~origami_cad.robot.Robot`.
-    Renders off-screen (:func:`render_png`); :class:`MjcfError` without a GL context.
-    """
-    from origami_cad.robot import Robot, load_robot
-    from origami_cad.simulation.mjcf import to_mjcf
-
-    robot = robot if isinstance(robot, Robot) else load_robot(robot)
-    model, data = load_model(to_mjcf(robot, timestep=1e-3))
-    play_gait(model, data, robot, at)
-    return render_png(model, data, path, size=size)
 
 
 def tie_strings(model, data) -> None:
