@@ -5,8 +5,8 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from origami_cad.robot import load_robot
-from origami_cad.simulation.crawler import simulate_gait
+from origami_cad.crawler.robot import load_robot
+from origami_cad.crawler.walk import simulate_gait
 
 ROBOT = Path(__file__).resolve().parents[1] / "examples" / "crawler" / "crawler.toml"
 

@@ -5,14 +5,14 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from origami_cad.design.gait import (
+from origami_cad.crawler.gait import (
     GaitLimits,
     GaitSettings,
     design_gait,
     encode_gait,
     evaluate_gait,
 )
-from origami_cad.robot import load_robot
+from origami_cad.crawler.robot import load_robot
 
 ROBOT = Path(__file__).resolve().parents[1] / "examples" / "crawler" / "crawler.toml"
 

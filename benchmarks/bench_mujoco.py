@@ -13,8 +13,8 @@ def run() -> list[tuple[str, float, str]]:
         import mujoco  # noqa: F401
     except ImportError:
         return [("mujoco not installed (pip install origami-cad[mujoco]): skipped", 0.0, "")]
-    from origami_cad.robot import load_robot
-    from origami_cad.simulation.crawler import simulate_gait
+    from origami_cad.crawler.robot import load_robot
+    from origami_cad.crawler.walk import simulate_gait
     from origami_cad.simulation.mjcf import to_mjcf
     from origami_cad.simulation.mujoco_run import load_model, play_gait
 

@@ -24,9 +24,9 @@ import matplotlib.pyplot as plt
 import mujoco
 import numpy as np
 
-from origami_cad.robot import load_robot
-from origami_cad.simulation.crawler import gait_turns
-from origami_cad.simulation.crawler_mujoco import robot_mjcf
+from origami_cad.crawler.mujoco import robot_mjcf
+from origami_cad.crawler.robot import load_robot
+from origami_cad.crawler.walk import gait_turns
 from origami_cad.simulation.mujoco_run import load_model, tsa_actuators, tsa_controls
 
 ROBOT = Path(__file__).resolve().parent / "crawler" / "crawler.toml"

@@ -1,8 +1,12 @@
 """origami_cad: from an origami robot idea to printed, string-driven hardware.
 
-Stages (data flows one way, each may import only the ones above it):
-``pattern`` -> ``kinematics`` -> ``design`` -> ``fabrication`` -> ``strings``
--> ``simulation`` -> ``drive`` -> ``viz``.
+Subpackages (a graph without a circle, docs/architecture.md; each imports only the ones
+it names there): ``pattern`` (crease patterns and their formats), ``kinematics`` (the TG
+chain, rigid folding), ``design`` (the paper's arm search), ``fabrication`` (printable
+solids and their exports), ``strings`` (TSAs, routes, DCQC, route planning),
+``simulation`` (bar-and-hinge folding, MuJoCo), ``drive`` (servo buses, sequences),
+``crawler`` (the legged robot: its file, design, gait search and walk), ``viz`` (plots,
+renders, the report) and ``commands`` (the command line's registry).
 
 ``import origami_cad as oc`` gives the names a script of the paper's pipeline needs
 (:data:`__all__`, docs/api.md): patterns and designs, folding, arm design, fabrication

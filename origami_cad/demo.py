@@ -152,7 +152,7 @@ def mujoco_frame(robot: Path, png: Path) -> Outputs:
     from origami_cad._fileio import atomic_path
 
     try:
-        from origami_cad.simulation.crawler_mujoco import render_gait_frame
+        from origami_cad.crawler.mujoco import render_gait_frame
         from origami_cad.simulation.mjcf import MjcfError
     except ImportError as exc:
         return Outputs(numbers=[("MuJoCo frame", f"not rendered: {exc}")])

@@ -172,8 +172,8 @@ def closed_mesh(t: np.ndarray) -> bool:
 
 def gait_file_text(robot, *, command=None, **options) -> str:
     """A robot's gait as the sequence file crawl writes (the one writer, its gait layout)."""
+    from origami_cad.crawler.walk import gait_sequence, gait_sequence_header
     from origami_cad.drive.sequence import dump_sequence
-    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
 
     header = gait_sequence_header(robot, command)
     return dump_sequence(gait_sequence(robot, **options), header=header, layout="gait")

@@ -13,20 +13,20 @@ import pytest
 from conftest import gait_file_text, gif_motion, ink, panel_frames
 
 from origami_cad.cli import main
-from origami_cad.drive.errors import StallError
-from origami_cad.drive.sequence import load_sequence
-from origami_cad.errors import SimulationError
-from origami_cad.fabrication import FabricationParams, plan_panels
-from origami_cad.pattern import read_pattern
-from origami_cad.pattern.check import check_pattern
-from origami_cad.robot import load_robot
-from origami_cad.simulation.crawler import (
+from origami_cad.crawler.robot import load_robot
+from origami_cad.crawler.walk import (
     STUCK_DEG,
     gait_loads,
     gait_turns,
     leg_contraction,
     simulate_gait,
 )
+from origami_cad.drive.errors import StallError
+from origami_cad.drive.sequence import load_sequence
+from origami_cad.errors import SimulationError
+from origami_cad.fabrication import FabricationParams, plan_panels
+from origami_cad.pattern import read_pattern
+from origami_cad.pattern.check import check_pattern
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 ROBOT = HERE / "crawler.toml"
@@ -66,7 +66,7 @@ def forward(robot):
 
 
 def test_files_are_what_the_generator_writes(robot):
-    from origami_cad.design.crawler import crawler_files
+    from origami_cad.crawler.design import crawler_files
 
     files = crawler_files(_generator().DESIGN, envelope=None)  # make_crawler.py's numbers
     cp = files.pattern
@@ -161,7 +161,7 @@ def test_a_gait_past_the_blockers_is_refused(tmp_path):
     with pytest.raises(SimulationError, match="past its blocker"):
         load_robot(bad)
     # a gait file names the keyframe and the leg (the third leg, at its fourth keyframe)
-    from origami_cad.robot import with_gait
+    from origami_cad.crawler.robot import with_gait
 
     robot = load_robot(ROBOT)
     p = np.array(robot.gait_p, copy=True)

@@ -1,5 +1,5 @@
-"""The parametric crawler (``origami_cad.design.crawler``) and the joint design and gait
-search (``origami_cad.design.crawler_search``, ``design-gait --design``), issue 31.
+"""The parametric crawler (``origami_cad.crawler.design``) and the joint design and gait
+search (``origami_cad.crawler.design_search``, ``design-gait --design``), issue 31.
 
 The search here is tiny (one friction, two candidates, two steps between keyframes): it
 checks that the designed crawler's written files walk the scored stride, not how far it
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from origami_cad.cli import main
-from origami_cad.design.crawler import (
+from origami_cad.crawler.design import (
     ENVELOPE,
     CrawlerDesign,
     check_envelope,
@@ -26,17 +26,17 @@ from origami_cad.design.crawler import (
     module_centre,
     write_crawler,
 )
-from origami_cad.design.crawler_search import (
+from origami_cad.crawler.design_search import (
     DESIGN_GENES,
     decode_design,
     design_crawler,
     max_extent,
     parse_design_bounds,
 )
-from origami_cad.design.gait import GaitSettings
+from origami_cad.crawler.gait import GaitSettings
+from origami_cad.crawler.robot import load_robot
+from origami_cad.crawler.walk import robot_params
 from origami_cad.errors import DesignError
-from origami_cad.robot import load_robot
-from origami_cad.simulation.crawler import robot_params
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 

@@ -17,7 +17,7 @@ from conftest import gait_file_text
 
 from origami_cad.cli import main
 from origami_cad.commands import execute
-from origami_cad.design.gait import (
+from origami_cad.crawler.gait import (
     DIMENSION,
     P_FLOOR,
     GaitSettings,
@@ -30,15 +30,15 @@ from origami_cad.design.gait import (
     hard_hits,
     settings_score,
 )
-from origami_cad.design.search import UnitBox
-from origami_cad.drive.sequence import load_sequence
-from origami_cad.errors import SimulationError
-from origami_cad.robot import load_gait, load_robot, with_gait
-from origami_cad.simulation.crawler import (
+from origami_cad.crawler.robot import load_gait, load_robot, with_gait
+from origami_cad.crawler.walk import (
     SERVO_SPEED_RPM,
     check_servo_speed,
     turn_rates,
 )
+from origami_cad.design.search import UnitBox
+from origami_cad.drive.sequence import load_sequence
+from origami_cad.errors import SimulationError
 
 HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
 ROBOT = HERE / "crawler.toml"
@@ -285,7 +285,7 @@ def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path,
 def test_a_gait_too_fast_for_the_servo_is_never_walked_and_named(robot):
     """Servo speed is known from the keyframes: such a candidate is not simulated, it is
     scored below every walked one and names the limit (only the hand gait walks here)."""
-    from origami_cad.design.gait import FAILED, GaitLimits
+    from origami_cad.crawler.gait import FAILED, GaitLimits
 
     slow = GaitLimits(servo_rpm=1.0)  # every stroke of a 32 s cycle needs more
     settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2, limits=slow)

@@ -165,7 +165,7 @@ def test_route_tsa_gives_a_sequence_drive_reads(arm, tmp_path):
 def test_robot_mass_budget_adds_the_sheet_the_printed_and_the_bought_parts(examples):
     from origami_cad.parts.robot import robot_mass_budget
 
-    from origami_cad.robot import load_robot
+    from origami_cad.crawler.robot import load_robot
 
     robot = load_robot(examples / "crawler" / "crawler.toml")
     bought = [(m.name, m.grams) for m in robot.masses]

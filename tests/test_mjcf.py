@@ -18,15 +18,16 @@ os.environ.setdefault("MUJOCO_GL", "egl")  # headless: before mujoco is first im
 mujoco = pytest.importorskip("mujoco")
 
 from origami_cad.cli import main  # noqa: E402
-from origami_cad.pattern.design import load_design  # noqa: E402
-from origami_cad.pattern.model import CreasePattern  # noqa: E402
-from origami_cad.robot import load_robot  # noqa: E402
-from origami_cad.simulation.crawler_mujoco import (  # noqa: E402
+from origami_cad.crawler.mujoco import (  # noqa: E402
+    mjcf_source,
     play_gait,
     render_gait_frame,
     robot_mjcf,
     robot_mjcf_source,
 )
+from origami_cad.crawler.robot import load_robot  # noqa: E402
+from origami_cad.pattern.design import load_design  # noqa: E402
+from origami_cad.pattern.model import CreasePattern  # noqa: E402
 from origami_cad.simulation.mjcf import MjcfError, load_mjcf_source, spanning_tree, to_mjcf  # noqa: E402
 from origami_cad.simulation.mujoco_run import (  # noqa: E402
     crease_angles,
@@ -300,6 +301,8 @@ def test_a_robot_file_is_refused_by_the_design_export_and_read_by_the_command(tm
     assert out.read_text(encoding="utf-8") == robot_mjcf(CRAWLER[0])
     with pytest.raises(MjcfError, match="names its own routes"):
         to_mjcf(robot_mjcf_source(CRAWLER[0]), MIURA[1])
+    with pytest.raises(MjcfError, match="a robot file names its own routes"):
+        mjcf_source(CRAWLER[0], MIURA[1])
 
 
 def test_a_crease_on_the_border_is_refused_by_name():

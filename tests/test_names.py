@@ -215,7 +215,7 @@ def test_two_legs_whose_files_would_clash_are_refused(tmp_path, capsys):
 
 def test_gait_sequence_holds_any_leg_name_as_text(tmp_path):
     """The TOML writer escapes what the loader would refuse (a library caller's names)."""
-    from origami_cad.robot import load_robot
+    from origami_cad.crawler.robot import load_robot
 
     robot = load_robot(EXAMPLES / "crawler" / "crawler.toml")
     names = ['"\n[evil]', "a\\b\u202e", "x\x00y\r\n[[tsa]]", "# not a comment"]

@@ -132,8 +132,8 @@ def test_the_unreleased_old_paths_are_gone():
     ):
         with pytest.raises(ModuleNotFoundError):
             importlib.import_module(gone)
+    import origami_cad.crawler.walk as crawler
     import origami_cad.design.limits as limits
-    import origami_cad.simulation.crawler as crawler
 
     assert not hasattr(crawler, "load_robot") and not hasattr(crawler, "MOVED_TO_ROBOT")
     assert not hasattr(limits, "crease_fold_limit")
@@ -232,10 +232,10 @@ def _bad_files(tmp_path: Path) -> dict[str, Path]:
 
 
 def _faults(tmp_path: Path) -> dict[type, list]:
+    from origami_cad.crawler.robot import load_robot
     from origami_cad.design import load_task
     from origami_cad.drive.sequence import load_sequence
     from origami_cad.fabrication import bias_for_theta_max
-    from origami_cad.robot import load_robot
     from origami_cad.strings import load_route
 
     f = _bad_files(tmp_path)

@@ -54,9 +54,9 @@ def test_the_commands_write_the_sequence_files_they_wrote(name, tmp_path, monkey
 
 
 def test_the_library_returns_sequences_and_the_writer_reads_back_exactly(tmp_path):
+    from origami_cad.crawler.robot import load_robot
+    from origami_cad.crawler.walk import gait_sequence
     from origami_cad.drive.sequence import Sequence, dump_sequence, load_sequence
-    from origami_cad.robot import load_robot
-    from origami_cad.simulation.crawler import gait_sequence
 
     robot = load_robot(ROOT / "examples" / "crawler" / "crawler.toml")
     seq = gait_sequence(robot, repeat=2, rate=12.5)

@@ -13,13 +13,13 @@ import shapely
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from origami_cad.crawler.robot import dump_robot, load_robot
 from origami_cad.design.task import ArmTask, SearchSettings, dump_task, load_task
 from origami_cad.drive.sequence import dump_sequence, load_sequence
 from origami_cad.errors import OrigamiCadError
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.design import dump_design, load_design, load_pattern_source
 from origami_cad.pattern.tg import TGDesign
-from origami_cad.robot import dump_robot, load_robot
 from origami_cad.strings.route import dump_route, load_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"

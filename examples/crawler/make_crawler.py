@@ -3,7 +3,7 @@
 Run: python examples/crawler/make_crawler.py   (rewrites crawler.fold, route_*.toml and
 crawler.toml here, and examples/crawler_designed/)
 
-The generator is the library's (``origami_cad.design.crawler``, docs/crawler.md): this
+The generator is the library's (``origami_cad.crawler.design``, docs/crawler.md): this
 script passes it the design numbers below.
 
 * ``DESIGN``: the built robot (body 180 mm, legs 90 mm), written here with its hand gait.
@@ -23,7 +23,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parents[1]))
 
-from origami_cad.design.crawler import (  # noqa: E402
+from origami_cad.crawler.design import (  # noqa: E402
     ENVELOPE,
     CrawlerDesign,
     crawler_extent,

@@ -43,10 +43,10 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
     """gait.toml, results.json, the plots and the side-view GIF into ``stage``."""
     import numpy as np
 
-    from origami_cad.design.gait_files import gait_header
+    from origami_cad.crawler.gait_files import gait_header
+    from origami_cad.crawler.robot import PAPER_CRAWL_MM
+    from origami_cad.crawler.walk import gait_sequence, gait_sequence_header
     from origami_cad.drive.sequence import dump_sequence
-    from origami_cad.robot import PAPER_CRAWL_MM
-    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
     from origami_cad.viz import crawl_plots as plots
     from origami_cad.viz.render3d import render_folding_gif
 
@@ -79,7 +79,7 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
 
 
 def _numbers(design, seconds: float) -> list[tuple[str, str]]:
-    from origami_cad.robot import PAPER_CRAWL_MM
+    from origami_cad.crawler.robot import PAPER_CRAWL_MM
 
     rows = [("search", f"{len(design.candidates)} candidates in {seconds:.0f} s")]
     for best, hand in zip(design.best.terms, design.hand, strict=True):
@@ -137,16 +137,16 @@ class DesignGait(Command):
         """The search's defaults (``GaitSettings``), for the help."""
         import dataclasses
 
-        from origami_cad.design.gait import GaitSettings
+        from origami_cad.crawler.gait import GaitSettings
 
         fields = dataclasses.asdict(GaitSettings())
         return {o.name: fields[o.name] for o in cls.OPTIONS if o.name in fields}
 
     def run(self, a) -> Outputs:
-        from origami_cad.design import gait_files as lib
-        from origami_cad.design.crawler import write_crawler
-        from origami_cad.robot import PAPER_CRAWL_MM, load_robot
-        from origami_cad.simulation.crawler import simulate_gait
+        from origami_cad.crawler import gait_files as lib
+        from origami_cad.crawler.design import write_crawler
+        from origami_cad.crawler.robot import PAPER_CRAWL_MM, load_robot
+        from origami_cad.crawler.walk import simulate_gait
 
         robot = load_robot(a.robot)
         settings = lib.gait_settings(robot, **{k: getattr(a, k) for k in SETTINGS})

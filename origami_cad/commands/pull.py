@@ -28,11 +28,11 @@ def materials_of(a: SimpleNamespace):
 
 def robot_materials(a: SimpleNamespace, robot):
     """A robot's simulation parameters with the materials file ``a.materials`` (None: the
-    robot's own, :func:`~origami_cad.simulation.crawler.robot_params`)."""
+    robot's own, :func:`~origami_cad.crawler.walk.robot_params`)."""
     materials = materials_of(a)
     if materials is None:
         return None
-    from origami_cad.simulation.crawler import robot_params
+    from origami_cad.crawler.walk import robot_params
 
     return robot_params(robot, **materials.overrides())
 

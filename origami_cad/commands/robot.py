@@ -27,9 +27,9 @@ def _crawl_command(a) -> str:
 
 def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) -> None:
     """crawl.json, crawl.png, loads.png, crawl.gif and gait_sequence.toml into ``stage``."""
+    from origami_cad.crawler.robot import PAPER_CRAWL_MM
+    from origami_cad.crawler.walk import gait_sequence, gait_sequence_header
     from origami_cad.drive.sequence import dump_sequence
-    from origami_cad.robot import PAPER_CRAWL_MM
-    from origami_cad.simulation.crawler import gait_sequence, gait_sequence_header
     from origami_cad.viz.crawl_plots import (
         save_crawl_gait_png,
         save_crawl_loads_png,
@@ -100,8 +100,8 @@ class Crawl(Command):
         return [a.robot, *(x for x in (a.gait, a.materials) if x is not None)]
 
     def run(self, a) -> Outputs:
-        from origami_cad.robot import PAPER_CRAWL_MM
-        from origami_cad.simulation.crawler import simulate_gait, walking_robot
+        from origami_cad.crawler.robot import PAPER_CRAWL_MM
+        from origami_cad.crawler.walk import simulate_gait, walking_robot
 
         spec = walking_robot(a.robot, a.gait)
         start = time.perf_counter()
@@ -187,6 +187,7 @@ class Robot(Command):
     )
 
     def run(self, a) -> Outputs:
+        from origami_cad.crawler.robot import load_robot, robot_placements
         from origami_cad.fabrication import fabricate
         from origami_cad.parts.robot import (
             PAPER_CRAWLER_G,
@@ -196,7 +197,6 @@ class Robot(Command):
             robot_overlaps,
             robot_report,
         )
-        from origami_cad.robot import load_robot, robot_placements
 
         spec = load_robot(a.robot)
         fab = fabricate(spec.pattern, spec.sheet(holes=spec.holes or "auto"))

@@ -65,10 +65,10 @@ def _robot_sequence(a) -> Outputs:
     without the simulated loads): each leg's mapping from the robot's leg model; the gait
     file's ``[sequence]`` table (checked as ``drive`` checks it) unless ``--rate`` or
     ``--repeat`` is given."""
+    from origami_cad.crawler.robot import load_gait, load_robot
+    from origami_cad.crawler.walk import check_servo_speed, gait_sequence
+    from origami_cad.crawler.walk import gait_sequence_header as header
     from origami_cad.drive.sequence import dump_sequence, load_sequence, load_sequence_table
-    from origami_cad.robot import load_gait, load_robot
-    from origami_cad.simulation.crawler import check_servo_speed, gait_sequence
-    from origami_cad.simulation.crawler import gait_sequence_header as header
 
     shown = {o.name: o.shown for o in SequenceCommand.OPTIONS}
     given = [n for n in ("keyframes", "more_routes", "ids", "fixed_panel") if getattr(a, n)]
@@ -140,10 +140,10 @@ class SequenceCommand(Command):
         return [a.design, a.route, *(a.more_routes or ())]
 
     def run(self, a) -> Outputs:
+        from origami_cad.crawler.robot import is_robot_file
         from origami_cad.drive.from_model import model_sequence, parse_keyframes
         from origami_cad.drive.sequence import dump_sequence, load_sequence
         from origami_cad.pattern.design import load_pattern_source
-        from origami_cad.robot import is_robot_file
 
         if is_robot_file(a.design):
             return _robot_sequence(a)

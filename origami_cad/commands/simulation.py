@@ -276,14 +276,12 @@ class Mjcf(Command):
         return [a.source, *(a.routes or ()), *([a.materials] if a.materials else [])]
 
     def run(self, a) -> Outputs:
-        from origami_cad.robot import is_robot_file
-        from origami_cad.simulation.crawler_mujoco import robot_mjcf_source
+        from origami_cad.crawler.mujoco import mjcf_source
         from origami_cad.simulation.mjcf import to_mjcf
 
         materials = materials_of(a)
         params = None if materials is None else materials.simulation_params()
-        source = robot_mjcf_source(a.source) if is_robot_file(a.source) else a.source
-        xml = to_mjcf(source, list(a.routes or ()), params=params)
+        xml = to_mjcf(mjcf_source(a.source, list(a.routes or ())), params=params)
         with atomic_write(a.output, "w", encoding="utf-8") as fh:
             fh.write(xml)
         keys = {"panel": 'class="panel"', "hinge": 'type="hinge"', "connect": "<connect "}

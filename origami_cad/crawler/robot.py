@@ -6,7 +6,7 @@ creases, point masses (servos, the driver module) and a gait: keyframes of fold 
 one per leg. :func:`load_robot` reads it into a :class:`Robot` (errors name the file,
 table and key), :func:`dump_robot` writes it back, and :func:`robot_placements` gives the
 parts the printed robot carries (``origami_cad.parts.robot.robot_assembly``). Walking it
-in simulation is ``origami_cad.simulation.crawler``'s.
+in simulation is ``origami_cad.crawler.walk``'s.
 
 Units: mm, grams, seconds; degrees at the edges. A leg's fold ratio is
 ``p = |fold angle| / 180 deg`` of its hinge crease.

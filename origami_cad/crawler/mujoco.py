@@ -14,17 +14,17 @@ import os
 
 import numpy as np
 
+from origami_cad.crawler.robot import Robot, is_robot_file, load_robot
 from origami_cad.pattern.design import Design
-from origami_cad.robot import Robot, load_robot
-from origami_cad.simulation.mjcf import MjcfSource, to_mjcf
+from origami_cad.simulation.mjcf import MjcfError, MjcfSource, load_mjcf_source, to_mjcf
 from origami_cad.simulation.mujoco_run import load_model, render_png, tsa_actuators, tsa_controls
 
-__all__ = ["play_gait", "render_gait_frame", "robot_mjcf", "robot_mjcf_source"]
+__all__ = ["mjcf_source", "play_gait", "render_gait_frame", "robot_mjcf", "robot_mjcf_source"]
 
 
 def robot_mjcf_source(robot: Robot | str | os.PathLike[str]) -> MjcfSource:
     """What :func:`~origami_cad.simulation.mjcf.to_mjcf` exports of a robot (file or
-    :class:`~origami_cad.robot.Robot`): its legs' routes, its body free on the ground,
+    :class:`~origami_cad.crawler.robot.Robot`): its legs' routes, its body free on the ground,
     each leg's crease limited to the blocker angle (degrees), its point masses (g, mm)."""
     robot = robot if isinstance(robot, Robot) else load_robot(robot)
     return MjcfSource(
@@ -39,8 +39,20 @@ def robot_mjcf_source(robot: Robot | str | os.PathLike[str]) -> MjcfSource:
     )
 
 
+def mjcf_source(source, routes=()) -> MjcfSource:
+    """What ``origami-cad mjcf`` exports: a robot file's :func:`robot_mjcf_source`, else a
+    design or pattern with its route files
+    (:func:`~origami_cad.simulation.mjcf.load_mjcf_source`). A robot names its own routes:
+    route files given with it are an :class:`~origami_cad.simulation.mjcf.MjcfError`."""
+    if isinstance(source, Robot) or is_robot_file(source):
+        if routes:
+            raise MjcfError("a robot file names its own routes: give no route files with it")
+        return robot_mjcf_source(source)
+    return load_mjcf_source(source, routes)
+
+
 def robot_mjcf(robot: Robot | str | os.PathLike[str], **options) -> str:
-    """The MJCF text of a robot (file or :class:`~origami_cad.robot.Robot`);
+    """The MJCF text of a robot (file or :class:`~origami_cad.crawler.robot.Robot`);
     ``options`` are :func:`~origami_cad.simulation.mjcf.to_mjcf`'s keywords."""
     return to_mjcf(robot_mjcf_source(robot), **options)
 
@@ -48,13 +60,13 @@ def robot_mjcf(robot: Robot | str | os.PathLike[str], **options) -> str:
 def play_gait(model, data, robot: Robot, seconds: float, start: float = 0.0) -> None:
     """Step ``seconds`` of the robot file's gait (from gait time ``start``, s), open loop.
 
-    Each leg's TSA follows the gait's turns (:func:`~origami_cad.simulation.crawler.
+    Each leg's TSA follows the gait's turns (:func:`~origami_cad.crawler.walk.
     gait_turns`, the keyframes' fold ratios through the rigidly folded leg and the
     onboard TSA), interpolated linearly in time and repeated every cycle.
     """
     import mujoco
 
-    from origami_cad.simulation.crawler import gait_turns
+    from origami_cad.crawler.walk import gait_turns
 
     acts, keys, times = tsa_actuators(model), gait_turns(robot), robot.gait_t
     begin = data.time
@@ -69,7 +81,7 @@ def play_gait(model, data, robot: Robot, seconds: float, start: float = 0.0) -> 
 def render_gait_frame(robot, path: str | os.PathLike[str], at: float = 11.0, size=(640, 480)):
     """A PNG of a robot in MuJoCo ``at`` seconds into its gait (default: mid-stride).
 
-    ``robot`` is a robot file or :class:`~origami_cad.robot.Robot`.
+    ``robot`` is a robot file or :class:`~origami_cad.crawler.robot.Robot`.
     Renders off-screen (:func:`~origami_cad.simulation.mujoco_run.render_png`);
     :class:`~origami_cad.simulation.mjcf.MjcfError` without a GL context.
     """

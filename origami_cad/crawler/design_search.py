@@ -1,8 +1,8 @@
 """Joint CMA-ES search of the crawler's design and its gait (issue 31, the design side).
 
 The genome is the design genes (:data:`DESIGN_GENES`, each in [0, 1] over its bounds)
-followed by the gait genes of :mod:`origami_cad.design.gait` (``DIMENSION`` of them). A
-candidate's design numbers decode to a :class:`~origami_cad.design.crawler.CrawlerDesign`:
+followed by the gait genes of :mod:`origami_cad.crawler.gait` (``DIMENSION`` of them). A
+candidate's design numbers decode to a :class:`~origami_cad.crawler.design.CrawlerDesign`:
 
 ================  ==================  ===================================================
 gene              default bounds      what it sets
@@ -23,7 +23,7 @@ crease_thickness  0.4 .. 0.8 mm       the TPU crease layer t, in 0.1 mm layers; 
 Lengths are rounded to 0.1 mm (as the route files write the holes) and the blocker to
 0.1 deg, so a candidate's written files walk exactly the scored crawler. Every candidate
 is within the envelope by construction (:func:`body_for_envelope`); each is walked as
-``design-gait`` walks a gait (:func:`~origami_cad.design.gait.evaluate_gait`) on the
+``design-gait`` walks a gait (:func:`~origami_cad.crawler.gait.evaluate_gait`) on the
 crawler its design genes draw. Units: mm, deg at the edges.
 """
 
@@ -42,7 +42,7 @@ import cma
 import numpy as np
 
 from origami_cad._libm import canonical_eigh
-from origami_cad.design.crawler import (
+from origami_cad.crawler.design import (
     ENVELOPE,
     FLOOR_DEG,
     LAYER,
@@ -56,7 +56,7 @@ from origami_cad.design.crawler import (
     shell_for,
     write_crawler,
 )
-from origami_cad.design.gait import (
+from origami_cad.crawler.gait import (
     DIMENSION,
     FAILED,
     P_FLOOR,
@@ -70,10 +70,10 @@ from origami_cad.design.gait import (
     hard_hits,
     settings_score,
 )
+from origami_cad.crawler.robot import Robot, load_robot, with_gait
 from origami_cad.design.search import UnitBox
 from origami_cad.errors import DesignError, OrigamiCadError
 from origami_cad.parallel import local_pool
-from origami_cad.robot import Robot, load_robot, with_gait
 
 __all__ = [
     "BODY_MAX",
@@ -217,7 +217,7 @@ def _cached_robot(design: CrawlerDesign, cycle: float) -> Robot:
 
 def evaluate_crawler(bounds: dict, genome, friction: float, settings: GaitSettings) -> GaitTerms:
     """Draw the crawler of ``genome``'s design genes and walk its gait genes' gait at
-    ``friction``, scored as :func:`~origami_cad.design.gait.evaluate_gait` scores it.
+    ``friction``, scored as :func:`~origami_cad.crawler.gait.evaluate_gait` scores it.
 
     ``genome`` ``None`` is the start: the built robot's design numbers (within ``bounds``)
     walking the hand gait's genome. A module-level function of picklable arguments; a
@@ -345,11 +345,11 @@ def design_crawler(
         The robot file whose gait is the start (``encode_gait``) and whose friction the
         report uses; the design starts from the built robot's numbers.
     settings : GaitSettings, optional
-        As :func:`~origami_cad.design.gait.design_gait`'s (``runs`` is ignored: one run).
+        As :func:`~origami_cad.crawler.gait.design_gait`'s (``runs`` is ignored: one run).
     bounds : dict or str, optional
         The design genes' bounds (:func:`parse_design_bounds`).
     executor, progress
-        As :func:`~origami_cad.design.gait.design_gait`'s.
+        As :func:`~origami_cad.crawler.gait.design_gait`'s.
     start : array-like, optional
         The genome CMA-ES starts from and scores first (design genes, then gait genes, in
         [0, 1]; e.g. a previous search's ``results.json`` best ``genome``); default the

@@ -17,8 +17,8 @@ import dataclasses
 from collections.abc import Callable
 from typing import Any
 
-from origami_cad.design.crawler_search import CrawlerSearch, design_crawler, parse_design_bounds
-from origami_cad.design.gait import (
+from origami_cad.crawler.design_search import CrawlerSearch, design_crawler, parse_design_bounds
+from origami_cad.crawler.gait import (
     GaitDesign,
     GaitLimits,
     GaitSettings,
@@ -26,8 +26,8 @@ from origami_cad.design.gait import (
     hard_hits,
     stride_limits,
 )
+from origami_cad.crawler.robot import PAPER_CRAWL_MM, Robot
 from origami_cad.errors import DesignError, OptionsError
-from origami_cad.robot import PAPER_CRAWL_MM, Robot
 
 __all__ = [
     "check_within_limits",
@@ -64,7 +64,7 @@ def search_gait(
     progress: Callable[[int, int], None] | None = None,
 ) -> tuple[GaitDesign, CrawlerSearch | None]:
     """The gait search, or with ``design`` (the crawler's design genes' bounds, as
-    :func:`~origami_cad.design.crawler_search.parse_design_bounds` reads them) the joint
+    :func:`~origami_cad.crawler.design_search.parse_design_bounds` reads them) the joint
     design and gait search: ``(GaitDesign, CrawlerSearch or None)``. Writes nothing."""
     if design is None:
         return design_gait(robot, settings, executor=executor, progress=progress), None

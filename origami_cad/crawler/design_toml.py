@@ -1,5 +1,5 @@
 # ruff: noqa: E501  (the template is crawler.toml's own text, lines and all)
-"""The crawler's robot file (``crawler.toml``) as text, for :mod:`origami_cad.design.crawler`.
+"""The crawler's robot file (``crawler.toml``) as text, for :mod:`origami_cad.crawler.design`.
 
 The text is ``examples/crawler/crawler.toml``'s, with the design's numbers put in: the
 blocker angle, the holes' distances from the hinges, the servos' places (each
@@ -14,7 +14,7 @@ import numpy as np
 __all__ = ["gait_file_text", "robot_text"]
 
 _BODY = """# The crawling robot of the paper's Fig. 7 (340 x 320 x 122 mm, 361 g, 63 mm per 32 s cycle).
-# Written with its pattern and routes by make_crawler.py (origami_cad.design.crawler, from
+# Written with its pattern and routes by make_crawler.py (origami_cad.crawler.design, from
 # the design numbers; run it after changing them). See docs/crawler.md for the design choices.
 #   origami-cad robot examples/crawler/crawler.toml -o out/crawler          (printed robot)
 #   origami-cad crawl examples/crawler/crawler.toml -o out/crawl --cycles 2   (walking)
@@ -147,7 +147,7 @@ def gait_file_text(times, ratios, header: str = "") -> str:
 def robot_text(cp, design, gait=None, header: str | None = None) -> str:
     """``crawler.toml``'s text for pattern ``cp`` of ``design``; ``gait`` (times (K,) s,
     fold ratios (K, 4)) replaces the hand gait, ``header`` its comment lines."""
-    from origami_cad.design.crawler import LEGS, SERVO_BEHIND, module_centre
+    from origami_cad.crawler.design import LEGS, SERVO_BEHIND, module_centre
 
     legs, masses = [], []
     for label, servo, name, sx, _ in LEGS:

@@ -361,7 +361,7 @@ def crawler_files(
             f"(it starts {near:.1f} mm from the hinge)"
         )
     routes = {f"route_{leg[0][4:]}.toml": route_text(cp, d, leg) for leg in LEGS}
-    from origami_cad.design.crawler_toml import robot_text
+    from origami_cad.crawler.design_toml import robot_text
 
     return CrawlerFiles(d, cp, routes, robot_text(cp, d, gait, header))
 

@@ -1,6 +1,6 @@
 """Legged robots driven by onboard TSAs: their gait, and walking in simulation.
 
-The robot itself (its file, legs, point masses and parts) is :mod:`origami_cad.robot`'s.
+The robot itself (its file, legs, point masses and parts) is :mod:`origami_cad.crawler.robot`'s.
 :func:`gait_turns` turns fold ratios into TSA turns through the model (the strings'
 lengths of the rigidly folded leg, eq. 7, and the onboard TSA's contraction);
 :func:`simulate_gait` runs the gait in the bar-and-hinge simulator with the robot lying
@@ -10,7 +10,7 @@ independently, and records the body's path, tensions and torques.
 The robot model's names (``Robot``, ``Leg``, ``PointMass``, ``load_robot``,
 ``dump_robot``, ``leg_key``, ``leg_heading``, ``robot_placements``, ``SERVO``,
 ``MOUNT_THICKNESS``, ``MOUNT_MARGIN``) are still found here for one release, with a
-``DeprecationWarning``: import them from :mod:`origami_cad.robot`.
+``DeprecationWarning``: import them from :mod:`origami_cad.crawler.robot`.
 
 Units: mm, N, N mm, grams, seconds; degrees at the edges, radians inside. A leg's fold
 ratio is ``p = |fold angle| / 180 deg`` of its hinge crease.
@@ -48,8 +48,8 @@ from origami_cad.strings.tsa import (
 )
 
 if TYPE_CHECKING:
+    from origami_cad.crawler.robot import Leg, PointMass, Robot
     from origami_cad.drive.sequence import Sequence as DriveSequence
-    from origami_cad.robot import Leg, PointMass, Robot
 
 __all__ = [
     "SERVO_SPEED_RPM",
@@ -189,7 +189,7 @@ def walking_robot(
     A gait past the servo's speed is refused (:class:`SimulationError` naming the gait
     file), as ``drive`` would refuse it.
     """
-    from origami_cad.robot import load_gait, load_robot
+    from origami_cad.crawler.robot import load_gait, load_robot
 
     spec = load_robot(robot)
     if gait is not None:

@@ -31,7 +31,7 @@ penalised (:class:`GaitLimits`), so the search ends inside them.
 Objective
 ---------
 For every friction of ``settings.frictions`` the gait is simulated as ``crawl`` does
-(:func:`origami_cad.simulation.crawler.simulate_gait`, free on the ground), and scored
+(:func:`origami_cad.crawler.walk.simulate_gait`, free on the ground), and scored
 
 ``score = forward - w_drift |drift| - w_yaw |yaw| - w_slip slip - w_limit hits - w_jam jam``
 
@@ -65,11 +65,8 @@ import cma
 import numpy as np
 
 from origami_cad._libm import canonical_eigh
-from origami_cad.design.search import UnitBox
-from origami_cad.errors import SimulationError
-from origami_cad.parallel import local_pool
-from origami_cad.robot import Robot, with_gait
-from origami_cad.simulation.crawler import (
+from origami_cad.crawler.robot import Robot, with_gait
+from origami_cad.crawler.walk import (
     SERVO_SPEED_RPM,
     STUCK_DEG,
     GaitResult,
@@ -77,6 +74,9 @@ from origami_cad.simulation.crawler import (
     simulate_gait,
     turn_rates,
 )
+from origami_cad.design.search import UnitBox
+from origami_cad.errors import SimulationError
+from origami_cad.parallel import local_pool
 
 __all__ = [
     "DEFAULT_TARGETS",
