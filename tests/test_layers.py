@@ -199,6 +199,87 @@ def test_the_graph_names_every_node_and_has_no_cycle():
         visit(node, ())
 
 
+def _type_checking_lines(tree: ast.AST) -> set[int]:
+    """The lines of ``if TYPE_CHECKING:`` blocks: imports for type checkers only."""
+    lines: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and getattr(node.test, "id", None) == "TYPE_CHECKING":
+            for child in node.body:
+                lines.update(n.lineno for n in ast.walk(child) if hasattr(n, "lineno"))
+    return lines
+
+
+def module_graph() -> dict[str, set[str]]:
+    """Every module of the package and the modules it imports at run time (at module
+    level or inside a function; not in ``if TYPE_CHECKING:``), the top-level package's
+    lazy name table left out (it names the modules of the API, it imports none of them
+    until a name is used)."""
+    modules = {_module_name(p): p for p in _sources("origami_cad", "parts")}
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        if name == "origami_cad":
+            continue
+        skip = _type_checking_lines(ast.parse(path.read_text(encoding="utf-8")))
+        targets: set[str] = set()
+        for module, names, line in _imports(path):
+            if line in skip:
+                continue
+            module = _canonical(module)
+            for dotted in (module, *(f"{module}.{n}" for n in names)):
+                if dotted in modules and dotted not in (name, "origami_cad"):
+                    targets.add(dotted)
+        graph[name] = targets
+    return graph
+
+
+def import_circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The circles of a module graph: each strongly connected set of more than one
+    module, as one path around it."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    circles: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            members = []
+            while True:
+                w = stack.pop()
+                members.append(w)
+                if w == v:
+                    break
+            if len(members) > 1:
+                circles.append(sorted(members))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_no_import_circle_between_modules():
+    """Not only the stages: no two modules import each other, directly or around a
+    circle, at module level or lazily inside a function."""
+    graph = module_graph()
+    assert len(graph) > 100
+    circles = import_circles(graph)
+    assert not circles, "import circles: " + "; ".join(" <-> ".join(c) for c in circles)
+
+
+def test_the_circle_finder_sees_every_circle():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": {"f"}, "f": {"e"}}
+    assert import_circles(graph) == [["a", "b", "c"], ["e", "f"]]
+    assert import_circles({"a": {"b"}, "b": set()}) == []
+
+
 def test_the_base_imports_no_stage():
     for name in ("errors.py", "_fileio.py", "_inputs.py", "_libm.py", "_names.py", "_toml.py"):
         for module, _, line in _imports(ROOT / "origami_cad" / name):

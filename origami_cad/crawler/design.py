@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from origami_cad.crawler.design_toml import robot_text
 from origami_cad.errors import DesignError
 from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.formats.fold import write_fold
@@ -361,9 +362,12 @@ def crawler_files(
             f"(it starts {near:.1f} mm from the hinge)"
         )
     routes = {f"route_{leg[0][4:]}.toml": route_text(cp, d, leg) for leg in LEGS}
-    from origami_cad.crawler.design_toml import robot_text
-
-    return CrawlerFiles(d, cp, routes, robot_text(cp, d, gait, header))
+    servos = []
+    for label, servo, name, sx, _ in LEGS:
+        cx, cy = module_centre(cp, label)
+        servos.append((label, servo, name, (round(cx + sx * SERVO_BEHIND), round(cy))))
+    text = robot_text(d, servos, module_centre(cp, "leg_fl"), gait, header)
+    return CrawlerFiles(d, cp, routes, text)
 
 
 def write_crawler(files: CrawlerFiles, folder: str | os.PathLike[str]) -> Path:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["gait_file_text", "robot_text"]
+__all__ = ["robot_text"]
 
 _BODY = """# The crawling robot of the paper's Fig. 7 (340 x 320 x 122 mm, 361 g, 63 mm per 32 s cycle).
 # Written with its pattern and routes by make_crawler.py (origami_cad.crawler.design, from
@@ -137,27 +137,19 @@ def _keyframe_lines(times, ratios, table: str) -> list[str]:
     return lines
 
 
-def gait_file_text(times, ratios, header: str = "") -> str:
-    """A gait file (``[[keyframe]]`` tables of ``t`` s and ``p`` fold ratios per leg) that
-    ``crawl --gait`` reads; fold ratios as the robot file writes them (6 digits)."""
-    lines = [header.rstrip("\n")] if header else []
-    return "\n".join([*lines, *_keyframe_lines(times, ratios, "keyframe")]) + "\n"
-
-
-def robot_text(cp, design, gait=None, header: str | None = None) -> str:
-    """``crawler.toml``'s text for pattern ``cp`` of ``design``; ``gait`` (times (K,) s,
-    fold ratios (K, 4)) replaces the hand gait, ``header`` its comment lines."""
-    from origami_cad.crawler.design import LEGS, SERVO_BEHIND, module_centre
-
+def robot_text(design, servos, module_xy, gait=None, header: str | None = None) -> str:
+    """``crawler.toml``'s text for ``design``: ``servos`` the legs' ``(panel label, servo
+    ID, name, (x, y) mm of its case)``, ``module_xy`` the front left module's centre (mm,
+    for the comments); ``gait`` (times (K,) s, fold ratios (K, 4)) replaces the hand gait,
+    ``header`` its comment lines."""
     legs, masses = [], []
-    for label, servo, name, sx, _ in LEGS:
-        cx, cy = module_centre(cp, label)
-        at = f"[{float(round(cx + sx * SERVO_BEHIND))}, {float(round(cy))}]"
+    for label, servo, name, (x, y) in servos:
+        at = f"[{float(x)}, {float(y)}]"
         legs.append(
             _LEG.format(label=label, route=f"route_{label[4:]}.toml", servo=servo, name=name)
         )
         masses.append(_SERVO_MASS.format(label=label, name=name, at=at))
-    cx, cy = module_centre(cp, "leg_fl")
+    cx, cy = module_xy
     text = _BODY.format(
         blocker_line=f"{'blocker_angle = ' + format(design.blocker_angle, '.1f'):<30}",
         printed=_printed(design),

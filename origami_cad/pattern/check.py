@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from origami_cad.pattern.model import Problem, Severity
+from origami_cad.pattern.problems import Problem, Severity
 
 if TYPE_CHECKING:
     from origami_cad.pattern.model import CreasePattern
