@@ -1,4 +1,4 @@
-"""The gait design command: ``design-gait`` (CMA-ES over a legged robot's gait, issue 31)."""
+"""The gait design command: ``design-gait`` (CMA-ES over a legged robot's gait)."""
 
 from __future__ import annotations
 

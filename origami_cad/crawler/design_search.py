@@ -1,4 +1,4 @@
-"""Joint CMA-ES search of the crawler's design and its gait (issue 31, the design side).
+"""Joint CMA-ES search of the crawler's design and its gait (the design side).
 
 The genome is the design genes (:data:`DESIGN_GENES`, each in [0, 1] over its bounds)
 followed by the gait genes of :mod:`origami_cad.crawler.gait` (``DIMENSION`` of them). A

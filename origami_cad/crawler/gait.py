@@ -1,4 +1,4 @@
-"""CMA-ES search for a legged robot's gait (issue 31): forward per cycle over frictions.
+"""CMA-ES search for a legged robot's gait: forward per cycle over frictions.
 
 Genome
 ------

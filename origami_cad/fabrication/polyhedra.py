@@ -1,4 +1,4 @@
-"""A panel's solids built face by face with OCP, no boolean (issue 30).
+"""A panel's solids built face by face with OCP, no boolean.
 
 The solids of :func:`origami_cad.fabrication.solids.panel_solids` are bounded by planes
 (the footprint rings of :mod:`origami_cad.fabrication.panels` at their heights: outer

@@ -368,7 +368,7 @@ def _refine_task(geom: PlanGeometry, settings: PlanSettings, route: dict, seed: 
     best_g, best_c = np.zeros(dim), float(cost(np.zeros((1, dim)))[0])
     opts = {"seed": seed + 1, "maxiter": settings.generations, "verbose": -9, "verb_log": 0}
     opts.update(verb_disp=0, popsize=max(8, 4 + int(3 * math.log(dim))), tolfun=1e-6)
-    opts["CMA_eigenmethod"] = canonical_eigh  # the same samples whatever the CPU (issue 27)
+    opts["CMA_eigenmethod"] = canonical_eigh  # the same samples whatever the CPU
     es = cma.CMAEvolutionStrategy(np.zeros(dim), 0.5, opts)
     evaluated, since = 1, 0
     while not es.stop() and since < STALL:
