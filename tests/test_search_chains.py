@@ -22,8 +22,9 @@ import pytest
 
 from origami_cad.cli import main
 from origami_cad.design import load_task
-from origami_cad.design.arm_route import arm_route_toml
-from origami_cad.pattern.tg import TGDesign
+from origami_cad.design.arm_route import arm_route
+from origami_cad.pattern.tg import TGDesign, tg_pattern
+from origami_cad.strings.route import dump_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TASK = EXAMPLES / "arm_task.toml"
@@ -91,7 +92,10 @@ def _chain(design: dict, task, folder: Path, capsys) -> None:
     design_path, route = folder / "design.toml", folder / "route.toml"
     tg = _design_file(design, task, design_path)
     route.write_text(
-        arm_route_toml(tg, bias=design["bias_mm"], height=task.height, thickness=task.thickness)
+        dump_route(
+            arm_route(tg, bias=design["bias_mm"], height=task.height, thickness=task.thickness),
+            tg_pattern(tg),
+        )
     )
     p_e = design["fold_ratio_end"]
     steps = [

@@ -58,9 +58,11 @@ def _write_arm_files(search, task, settings, seconds: float, stage: Path) -> lis
     from origami_cad.viz.design_plots import save_convergence_png, save_trajectories_png
 
     files = [stage / n for n in ("results.json", "best.toml", "trajectories.png")]
-    files += [stage / "convergence.png", stage / "best_pattern.png", stage / "route.toml"]
-    with atomic_write(files[-1], "w", encoding="utf-8") as fh:
-        fh.write(search.strings.text)
+    files += [stage / "convergence.png", stage / "best_pattern.png"]
+    if search.strings.route is not None:  # else results.json says why it has none
+        files.append(stage / "route.toml")
+        with atomic_write(files[-1], "w", encoding="utf-8") as fh:
+            fh.write(search.strings.text)
     with atomic_write(files[0], "w", encoding="utf-8") as fh:
         json.dump(search.to_dict(task, settings, seconds), fh, indent=1)
     with atomic_write(files[1], "w", encoding="utf-8") as fh:

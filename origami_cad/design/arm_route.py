@@ -1,9 +1,10 @@
 """The string route of a designed arm: one onboard TSA on the base panel (the paper's Fig. 8).
 
 The paper folds its arm with one TSA whose strings run along the arm, parallel
-to the transition vectors. :func:`arm_route_toml` writes that route for a TG
-design as a route file (``docs/strings.md``) that ``route``, ``simulate`` and
-``sequence`` read: the TSA rides on the base panel ``c{c}r0s0`` of the middle
+to the transition vectors. :func:`arm_route` gives that route for a TG design as a
+:class:`~origami_cad.strings.route.RouteSpec` (written by
+:func:`~origami_cad.strings.route.dump_route` as the route file that ``route``,
+``simulate`` and ``sequence`` read): the TSA rides on the base panel ``c{c}r0s0`` of the middle
 copy ``c``, at the main crease's side of that panel, and one string per panel
 row of that copy threads the panels ``s1 .. sn`` of its row, in order, through
 their automatic holes (placed as ``fabricate`` places them). Every hole-to-hole
@@ -17,9 +18,9 @@ range the arm was designed for.
 
 >>> from origami_cad.pattern.tg import TGDesign
 >>> tg = TGDesign([60.0, 50.0, 40.0], [70.0, 110.0], 1, 36.0, 3)
->>> text = arm_route_toml(tg)
->>> 'anchor_panel = "c1r0s0"' in text and 'holes = ["c1r0s1", "c1r0s2"]' in text
-True
+>>> route = arm_route(tg)
+>>> [list(s.names) for s in route.strings], route.tsa.model
+([['c1r0s1', 'c1r0s2'], ['c1r1s1', 'c1r1s2']], 'onboard')
 """
 
 from __future__ import annotations
@@ -30,18 +31,18 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._names import toml_string
 from origami_cad.errors import DesignError, OrigamiCadError
 from origami_cad.kinematics.limits import bias_for_theta_max
 from origami_cad.pattern.tg import TGDesign, tg_pattern
+from origami_cad.strings.route import RouteSpec, dump_route, route_from_tables
 
-__all__ = ["ARM_TSA_LENGTHS", "ArmStrings", "arm_chain_path", "arm_route_toml", "choose_arm_tsa"]
+__all__ = ["ARM_TSA_LENGTHS", "ArmStrings", "arm_chain_path", "arm_route", "choose_arm_tsa"]
 
 #: Strand lengths (mm) tried for the arm's onboard TSA, shortest first.
 ARM_TSA_LENGTHS = (150.0, 225.0, 340.0, 500.0, 750.0)
 
 
-def arm_route_toml(
+def arm_route(
     tg: TGDesign,
     *,
     bias: float | None = 3.0,
@@ -53,9 +54,8 @@ def arm_route_toml(
     mount_height: float = 10.0,
     max_turns: float | None = None,
     take_up: float = 0.1,
-    header: str = "",
-) -> str:
-    """The route file (TOML text) of an arm folded by one onboard TSA on its base panel.
+) -> RouteSpec:
+    """The string route of an arm folded by one onboard TSA on its base panel.
 
     Parameters
     ----------
@@ -75,13 +75,12 @@ def arm_route_toml(
         angle reaches ``max_helix_angle``, rounded up).
     take_up : float
         String (mm) the TSA takes up per quasi-static step.
-    header : str
-        Comment lines put first (each starting with ``#``).
 
     Returns
     -------
-    str
-        A route file; the strings' holes are panel labels (automatic holes).
+    RouteSpec
+        The route on ``tg``'s pattern; its holes are the panels' automatic holes, its
+        sides the DCQC rule's.
     """
     n = len(tg.lengths) - 1
     if n < 1:
@@ -93,20 +92,22 @@ def arm_route_toml(
     if max_turns is None:
         twist = tsa_length * np.sin(np.radians(max_helix_angle)) / tsa_radius
         max_turns = float(np.ceil(twist / (2 * np.pi)))
-    lines = [header.rstrip("\n")] if header else []
-    lines += _tsa_lines(tsa_length, tsa_radius, max_helix_angle)
+    tsa = {"model": "onboard", "length": tsa_length, "radius": tsa_radius}
+    data: dict[str, Any] = {"tsa": {**tsa, "max_helix_angle": max_helix_angle}}
     if bias is not None:
-        lines += _fabrication_lines(bias, height, thickness)
-    lines += [
-        "[route]",
-        f"thickness = {height:g}              # mm: hole exits sit half of it off the sheet",
-        f"take_up = {take_up:g}",
-        f"max_turns = {max_turns:g}",
-        "",
+        data["fabrication"] = {"bias": bias, "height": height, "thickness": thickness}
+    strings = [
+        {
+            "anchor_panel": base,
+            "anchor": [float(f"{x:.4f}"), float(f"{y:.4f}"), mount_height],  # 0.1 um
+            "holes": [f"c{copy}r{row}s{k}" for k in range(1, n + 1)],
+            "sides": "auto",
+        }
+        for row in (0, 1)
     ]
-    for row in (0, 1):
-        lines += _string_lines(copy, row, n, base, (x, y, mount_height))
-    return "\n".join(lines)
+    settings = {"thickness": height, "take_up": take_up, "max_turns": max_turns}
+    data["route"] = {**settings, "strings": strings}
+    return route_from_tables(data, cp, "route.toml")
 
 
 def _tsa_position(cp, tg: TGDesign, base: str) -> tuple[float, float]:
@@ -125,45 +126,6 @@ def _tsa_position(cp, tg: TGDesign, base: str) -> tuple[float, float]:
     if cp.face_of_point(x, y) != cp.face_index(base):
         x, y = (float(v) for v in corners.mean(axis=0))
     return x, y
-
-
-def _tsa_lines(tsa_length: float, tsa_radius: float, max_helix_angle: float) -> list[str]:
-    """The route file's ``[tsa]`` table: an onboard TSA (mm, degrees)."""
-    return [
-        "[tsa]",
-        'model = "onboard"',
-        f"length = {tsa_length:g}          # mm, twisted strands",
-        f"radius = {tsa_radius:g}           # mm",
-        f"max_helix_angle = {max_helix_angle:g}   # deg",
-        "",
-    ]
-
-
-def _fabrication_lines(bias: float, height: float, thickness: float) -> list[str]:
-    """The route file's ``[fabrication]`` table: b, h, t of eq. 6, mm."""
-    return [
-        "[fabrication]                # the printed arm: eq. 6 stops its creases",
-        f"bias = {bias:.6g}",
-        f"height = {height:g}",
-        f"thickness = {thickness:g}",
-        "",
-    ]
-
-
-def _string_lines(
-    copy: int, row: int, n: int, base: str, anchor: tuple[float, float, float]
-) -> list[str]:
-    """One ``[[route.strings]]`` table: from the TSA through panels ``s1 .. sn`` of a row."""
-    x, y, mount_height = anchor
-    holes = ", ".join(f'"c{copy}r{row}s{k}"' for k in range(1, n + 1))
-    return [
-        f"[[route.strings]]            # along panel row r{row} of copy {copy}",
-        f"anchor_panel = {toml_string(base)}     # the onboard TSA on the base panel",
-        f"anchor = [{x:.4f}, {y:.4f}, {mount_height:g}]",
-        f"holes = [{holes}]",
-        'sides = "auto"               # DCQC: above valleys, below mountains',
-        "",
-    ]
 
 
 def _rigid_fit(src: np.ndarray, dst: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -225,8 +187,11 @@ class ArmStrings:
 
     Attributes
     ----------
+    route : RouteSpec or None
+        The route (``None`` when it cannot be built).
     text : str
-        The route file (TOML), its header first.
+        The route file (TOML, :func:`~origami_cad.strings.route.dump_route`), its
+        header first ("" when the route cannot be built).
     tsa_length : float
         The onboard TSA's strand length, mm.
     result : DCQCResult or None
@@ -236,6 +201,7 @@ class ArmStrings:
         Why not (e.g. a panel too small for its hole), naming the route ``route.toml``.
     """
 
+    route: RouteSpec | None
     text: str
     tsa_length: float
     result: Any = None
@@ -258,7 +224,7 @@ def choose_arm_tsa(
     """The shortest onboard TSA whose strings fold a designed arm over its whole range.
 
     Each strand length of ``lengths`` is tried, shortest first: the arm's route
-    (:func:`arm_route_toml`, on the design's tessellation at the task's unit width) is
+    (:func:`arm_route`, on the design's tessellation at the task's unit width) is
     folded by the DCQC model until a length whose strings are not stopped by the
     strands' twist (``helix_limit``, ``turn_limit``); the longest is kept otherwise.
     Nothing is written.
@@ -295,19 +261,22 @@ def choose_arm_tsa(
     """
     from origami_cad.pattern.design import Design
     from origami_cad.strings import simulate_dcqc
-    from origami_cad.strings.route import parse_route
 
     tg = design.tg(task, task.unit_width or 36.0)
     loaded = Design(tg_pattern(tg), tg, "transition-graph")
     fab = {"bias": _arm_bias(design, task), "height": task.height, "thickness": task.thickness}
     chosen = None
     for length in lengths:
-        text = arm_route_toml(tg, **fab, tsa_length=length, header=header)
         try:
-            result = simulate_dcqc(loaded, parse_route(text, loaded.pattern, "route.toml"))
+            route = arm_route(tg, **fab, tsa_length=length)
         except OrigamiCadError as exc:
-            return ArmStrings(text, length, error=exc)
-        chosen = ArmStrings(text, length, result)
+            return ArmStrings(None, "", length, error=exc)
+        text = dump_route(route, loaded.pattern, header=header)
+        try:
+            result = simulate_dcqc(loaded, route)
+        except OrigamiCadError as exc:
+            return ArmStrings(route, text, length, error=exc)
+        chosen = ArmStrings(route, text, length, result)
         if str(result.stop) not in ("helix_limit", "turn_limit"):
             break
     return chosen

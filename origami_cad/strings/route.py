@@ -75,6 +75,7 @@ __all__ = [
     "parse_route",
     "rigid_fit",
     "route_from_pattern",
+    "route_from_tables",
     "route_sheet",
     "side_rule",
     "string_lengths",
@@ -198,6 +199,16 @@ def parse_route(text: str, cp: CreasePattern, name: str = "route.toml") -> Route
     return _route_from_data(data, name, cp)
 
 
+def route_from_tables(data: dict, cp: CreasePattern, where: str = "route") -> RouteSpec:
+    """A route from its tables as plain data: ``{"tsa": {...}, "fabrication": {...},
+    "route": {..., "strings": [...]}}``, the keys and units of a route file (mm, deg).
+
+    Checked as a route file is (automatic holes by panel label, ``sides = "auto"``, ...);
+    errors (``StringsError``) name ``where``. :func:`dump_route` writes the result.
+    """
+    return _route_from_data(data, where, cp)
+
+
 def _route_from_data(data: dict, where: str, cp: CreasePattern) -> RouteSpec:
     """The route of a parsed route file; ``where`` names it in errors."""
     p = where
@@ -263,7 +274,8 @@ def route_from_pattern(cp: CreasePattern, tsa: dict | None = None, **settings) -
 
 
 def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
-    """A route file (TOML text) of ``spec`` on pattern ``cp`` that :func:`load_route` reads back.
+    """A route file (TOML text) of ``spec`` on pattern ``cp`` that :func:`load_route` reads back:
+    the route format's one writer.
 
     Every value is written as the spec holds it (lengths mm, angles deg): the holes as
     their points (with their names in a comment: an automatic hole keeps its place,
