@@ -13,7 +13,7 @@ The rules, documented for users in ``docs/outputs.md``:
   untouched; a new folder that ends up unused is removed again.
 * No output may resolve to one of the command's inputs
   (:func:`check_outputs`, and again when the files are put in place).
-* An interrupt (Ctrl-C, SIGTERM) noted within :func:`handle_signals` is
+* An interrupt (Ctrl-C, SIGTERM) noted within ``_signals.handle_signals`` is
   honoured when the output would be put in place, even where a library swallowed
   the ``KeyboardInterrupt``: nothing is written and the temporary files go.
 """
@@ -27,137 +27,30 @@ import json
 import os
 import re
 import shutil
-import signal
 import socket
 import stat
-import sys
 import tempfile
-import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
 from origami_cad._inputs import check_outputs, protected_files, protection, referenced_files
+from origami_cad._signals import Interrupted, note_written, raise_if_interrupted, signals_held
 from origami_cad.errors import OutputError
 
 __all__ = [
     "WRITE_ERRORS",
     "GrowingFile",
-    "Interrupted",
     "WriteRefused",
     "atomic_directory",
     "atomic_path",
     "atomic_write",
     "check_outputs",
     "clean_stale",
-    "finishing",
-    "handle_signals",
-    "interrupted",
     "referenced_files",
-    "written",
 ]
 
 PathLike = str | os.PathLike[str]
-
-
-class Interrupted(KeyboardInterrupt):
-    """Raised by the signal handlers for SIGINT and SIGTERM; ``signum`` says which."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
-
-
-_received: list[int] = []
-_written: list[str] = []
-
-
-def interrupted() -> int | None:
-    """The number of the first interrupting signal received since the handlers were installed."""
-    return _received[0] if _received else None
-
-
-def written() -> list[str]:
-    """The outputs put in place, whole, since the handlers were installed (the paths as
-    given): what an interrupted command still wrote."""
-    return list(_written)
-
-
-def _in_import(frame) -> bool:
-    while frame is not None:
-        if frame.f_code.co_filename.startswith("<frozen importlib"):
-            return True
-        frame = frame.f_back
-    return False
-
-
-def _on_signal(signum: int, frame) -> None:
-    if _in_import(frame):
-        # an exception inside a module's import can crash an extension module's
-        # initialisation (VTK segfaults): deliver the signal again once it is done
-        threading.Timer(0.05, os.kill, (os.getpid(), signum)).start()
-        return
-    first = not _received
-    _received.append(signum)
-    if first:  # a second signal must not cut short the clean-up the first one started
-        sys.unraisablehook = _quiet_unraisable
-        raise Interrupted(signum)
-
-
-def _quiet_unraisable(unraisable) -> None:
-    """After an interrupt, say nothing of errors in ``__del__`` (no traceback on stderr).
-
-    The interrupt may have cut an object short in its constructor (a pyvista
-    ``Renderer`` during a render), whose ``__del__`` then fails when the process
-    exits; the command has already said it was interrupted and wrote nothing.
-    """
-
-
-@contextlib.contextmanager
-def handle_signals(exiting: bool = False) -> Iterator[None]:
-    """Within the block, SIGINT and SIGTERM raise :class:`Interrupted` and are remembered.
-
-    Used by the command-line tool (main thread only). The remembered signal
-    makes every pending atomic output refuse to complete, so an interrupt that a
-    library swallowed (a VTK callback, a worker loop) still leaves nothing behind.
-    The previous handlers are restored and the memory cleared on leaving; with
-    ``exiting`` (the process ends after the block), further signals are ignored
-    instead: the command has finished (or been interrupted), and a Ctrl-C while the
-    interpreter shuts down must not replace its exit code by a death by SIGINT.
-    The handlers are installed whatever the process inherited (a background job starts
-    with SIGINT ignored), so a command stops cleanly on either signal.
-    """
-    _received.clear()
-    _written.clear()
-    previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for sig, handler in previous.items():
-            # None: a handler installed from C, which Python cannot put back
-            restored = signal.SIG_DFL if handler is None else handler
-            signal.signal(sig, signal.SIG_IGN if exiting else restored)
-        _received.clear()
-        _written.clear()
-
-
-@contextlib.contextmanager
-def finishing() -> Iterator[None]:
-    """Within the block, outputs complete although an interrupt came, and further
-    SIGINT and SIGTERM wait (main thread): for what a stopped run still owes its
-    user (``drive``'s plot of the readings its log kept). The interrupt stays noted."""
-    saved = list(_received)
-    _received.clear()
-    try:
-        with _signals_held() as held:
-            yield
-    finally:
-        _received[:] = saved + [s for s in held if s not in saved]
-
-
-def _raise_if_interrupted() -> None:
-    if _received:
-        raise Interrupted(_received[0])
 
 
 def _umask() -> int:
@@ -425,11 +318,11 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     )
     try:
         yield tmp
-        _raise_if_interrupted()
-        with _signals_held() as held:  # a signal now: the file is the old one or the new
+        raise_if_interrupted()
+        with signals_held() as held:  # a signal now: the file is the old one or the new
             _install(tmp, dest, st)
             if not any(_STALE.match(p.name) for p in dest.parents):  # not in a staging folder
-                _written.append(str(path))
+                note_written(str(path))
         if held:
             raise Interrupted(held[0])
     except BaseException as exc:
@@ -597,11 +490,11 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
     try:
         stage.mkdir()
         yield stage
-        _raise_if_interrupted()
+        raise_if_interrupted()
         plan = _plan_install(stage, folder, shown, inputs)
         _commit(root, stage, plan, shown)
     except BaseException as exc:
-        with _signals_held():
+        with signals_held():
             shutil.rmtree(root, ignore_errors=True)
             _remove_created(created)
         fix = _user_paths(exc, stage, shown)
@@ -609,7 +502,7 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
         if refused is not exc:
             raise refused from None
         raise
-    with _signals_held() as held:
+    with signals_held() as held:
         shutil.rmtree(root, ignore_errors=True)
     if held:
         raise Interrupted(held[0])
@@ -632,48 +525,6 @@ def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[P
             raise OutputError(f"{shown}: the output {rel.as_posix()} {why}")
         plan.append((rel, dest, st))
     return plan
-
-
-@contextlib.contextmanager
-def _signals_held() -> Iterator[list[int]]:
-    """Within the block, SIGINT and SIGTERM are noted, not raised (main thread only).
-
-    The list yielded holds the signals that came; the caller decides what they undo.
-    A signal the process ignores stays ignored, and every handler found is restored.
-    Inside another such block, the signals are passed on to it on leaving, and the
-    list emptied: the outer block decides.
-    """
-    held: list[int] = []
-    if threading.current_thread() is not threading.main_thread():
-        yield held
-        return
-
-    def hold(signum, frame):
-        held.append(signum)
-
-    hold.holds = True
-    # a signal the process ignores (SIGINT of a background job, or under `nohup ... &`)
-    # stays ignored; one whose handler Python cannot restore (None: installed from C) is
-    # left alone
-    previous = {
-        sig: handler
-        for sig in (signal.SIGINT, signal.SIGTERM)
-        if (handler := signal.getsignal(sig)) not in (signal.SIG_IGN, None)
-    }
-    for sig in previous:
-        signal.signal(sig, hold)
-    try:
-        yield held
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
-        outer = previous[held[0]] if held else None
-        if outer is _on_signal:  # the command reports it
-            _received.extend(held)
-        elif getattr(outer, "holds", False):
-            for signum in held:
-                outer(signum, None)
-            held.clear()
 
 
 def _same_device(a: Path, b: Path) -> bool:
@@ -736,12 +587,12 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
     SIGTERM are held from the first step to the last. If a rename fails, or a signal
     came before the last rename, every target is given back its old file (or removed if
     it had none) and the error or :class:`Interrupted` raised. A signal after it leaves
-    the whole new set (noted in :func:`written`) and raises :class:`Interrupted`. A
+    the whole new set (noted in ``_signals.written``) and raises :class:`Interrupted`. A
     process killed meanwhile leaves the journal, which the next run rolls back.
     """
     entries: list[dict] = []
     complete = False
-    with _signals_held() as held:
+    with signals_held() as held:
         try:
             streams = _prepare_commit(root, stage, plan, entries)
             try:
@@ -756,7 +607,7 @@ def _commit(root: Path, stage: Path, plan, shown: PathLike) -> None:
                 _roll_back(entries)
             else:
                 complete = True
-                _written.append(str(shown))
+                note_written(str(shown))
                 for folder in {str(Path(e["dest"]).parent) for e in entries}:
                     _sync(folder, folder=True)
                 _write_journal(root, {"pid": os.getpid(), "state": "done", "entries": entries})

@@ -24,8 +24,8 @@ from collections.abc import Sequence
 from typing import Any, NoReturn
 
 from origami_cad import __version__, demo  # noqa: F401  (demo registers its command)
-from origami_cad._fileio import Interrupted, handle_signals, interrupted, written
 from origami_cad._names import one_line
+from origami_cad._signals import Interrupted, handle_signals, interrupted, written
 from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
 from origami_cad.errors import OrigamiCadError
 

@@ -22,14 +22,8 @@ from pathlib import Path
 
 import pytest
 
-from origami_cad._fileio import (
-    Interrupted,
-    atomic_directory,
-    check_outputs,
-    clean_stale,
-    handle_signals,
-    referenced_files,
-)
+from origami_cad._fileio import atomic_directory, check_outputs, clean_stale, referenced_files
+from origami_cad._signals import Interrupted, handle_signals
 from origami_cad.cli import main
 from origami_cad.errors import OutputError
 

@@ -19,7 +19,8 @@ from pathlib import Path
 import pytest
 from conftest import ink
 
-from origami_cad._fileio import Interrupted, atomic_directory, atomic_path, handle_signals
+from origami_cad._fileio import atomic_directory, atomic_path
+from origami_cad._signals import Interrupted, handle_signals
 from origami_cad.cli import main
 from origami_cad.errors import OutputError
 
@@ -291,7 +292,7 @@ def test_after_an_interrupt_a_failing_destructor_prints_no_traceback():
     ``__del__`` fails at exit: silent after the signal, reported without one."""
     code = """
 import os, signal, sys
-from origami_cad._fileio import Interrupted, handle_signals
+from origami_cad._signals import Interrupted, handle_signals
 
 class Half:
     def __del__(self):

@@ -15,7 +15,7 @@ from origami_cad.pattern.design import load_pattern_source
 from origami_cad.simulation import SimulationParams
 from origami_cad.simulation.verify import verify_route
 from origami_cad.strings import TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.plan import (
     DEFAULT_CREASE_STIFFNESS,
     PlanSettings,

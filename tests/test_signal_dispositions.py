@@ -9,7 +9,7 @@ import signal
 
 import pytest
 
-from origami_cad._fileio import Interrupted, finishing, handle_signals, interrupted
+from origami_cad._signals import Interrupted, finishing, handle_signals, interrupted
 from origami_cad.drive.errors import hold_ctrl_c
 
 

@@ -21,7 +21,7 @@ from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.simulation import SimulationParams, fold_angles, hinge_gradients, simulate
 from origami_cad.simulation.cables import StringSet, string_derivatives, string_length
 from origami_cad.strings import TOP, TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.route import RouteSpec, StringRoute, auto_holes
 from origami_cad.strings.tsa import onboard_contraction, onboard_transmission
 

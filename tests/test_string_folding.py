@@ -19,7 +19,8 @@ from origami_cad.pattern.design import Design, load_design
 from origami_cad.pattern.tg import TGDesign, tg_pattern
 from origami_cad.simulation import SimulationParams, simulate
 from origami_cad.strings import TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.dcqc import StopReason, fold_limit, segment_names
+from origami_cad.strings.dcqc import fold_limit, segment_names
+from origami_cad.strings.dcqc_result import StopReason
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

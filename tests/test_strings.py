@@ -26,7 +26,8 @@ from origami_cad.strings import (
     ring_length,
     simulate_dcqc,
 )
-from origami_cad.strings.dcqc import StopReason, segment_names
+from origami_cad.strings.dcqc import segment_names
+from origami_cad.strings.dcqc_result import StopReason
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 

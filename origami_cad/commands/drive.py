@@ -6,7 +6,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from origami_cad._fileio import finishing
+from origami_cad._signals import finishing
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.errors import DriveError
 

@@ -34,7 +34,7 @@ from origami_cad.simulation.cables import SimString, StringSet, string_length
 from origami_cad.simulation.mechanics import fold_angles
 from origami_cad.simulation.model import SimulationParams, build_structure
 from origami_cad.simulation.solver import Ground, solve_equilibrium
-from origami_cad.strings.dcqc import StopReason
+from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,

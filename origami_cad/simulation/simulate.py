@@ -4,7 +4,7 @@ The TSA turns in steps of string taken up (``route.take_up`` mm for the string
 that takes most, at most ``route.step`` of rotation), so the slow start of
 eq. 8 costs few steps and its fast end stays accurate. After each step the
 bar-and-hinge equilibrium is found. The folding ends only for a physical
-reason (:class:`~origami_cad.strings.dcqc.StopReason`), named in the result:
+reason (:class:`~origami_cad.strings.dcqc_result.StopReason`), named in the result:
 
 - the TSA reached its turn limit or, onboard, its maximum helix angle;
 - a fold limit (eq. 6 or a blocker) is active while the strings stretch
@@ -50,14 +50,12 @@ from origami_cad.simulation.model import SimulationParams, Structure, build_stru
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
 from origami_cad.strings.dcqc import (
     MAX_STRING_STRAIN,
-    Jam,
-    StopReason,
-    TurnStates,
     segment_names,
     torque_limit_reason,
     tsa_step,
     turn_limit_stop,
 )
+from origami_cad.strings.dcqc_result import Jam, StopReason, TurnStates
 from origami_cad.strings.route import (
     RouteSpec,
     frame_orientation,

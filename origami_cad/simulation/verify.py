@@ -15,7 +15,8 @@ import numpy as np
 from origami_cad.pattern.design import Design
 from origami_cad.simulation.model import SimulationParams
 from origami_cad.simulation.simulate import simulate
-from origami_cad.strings.dcqc import StopReason, fold_limit
+from origami_cad.strings.dcqc import fold_limit
+from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.route import RouteSpec
 
 __all__ = ["verify_planned", "verify_route"]

@@ -1,13 +1,7 @@
 """Strings: twisted string actuators, routing through panel holes, DCQC folding (section IV-B)."""
 
-from origami_cad.strings.dcqc import (
-    DCQCResult,
-    FoldLimit,
-    Jam,
-    StopReason,
-    fold_limit,
-    simulate_dcqc,
-)
+from origami_cad.strings.dcqc import fold_limit, simulate_dcqc
+from origami_cad.strings.dcqc_result import DCQCResult, FoldLimit, Jam, StopReason
 from origami_cad.strings.route import (
     BOTTOM,
     TOP,

@@ -284,7 +284,8 @@ def _check_best(design, geom, settings, planned: list[PlannedRoute], check: int)
 
 def _full_dcqc(design, geom, settings, route: PlannedRoute) -> dict[str, Any]:
     """The full DCQC model's figures for a planned route (its route file's settings)."""
-    from origami_cad.strings.dcqc import StopReason, simulate_dcqc
+    from origami_cad.strings.dcqc import simulate_dcqc
+    from origami_cad.strings.dcqc_result import StopReason
 
     res = simulate_dcqc(
         design,

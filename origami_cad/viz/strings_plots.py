@@ -10,7 +10,7 @@ from matplotlib.patches import Circle
 
 from origami_cad._fileio import atomic_path
 from origami_cad.pattern.model import CreasePattern
-from origami_cad.strings.dcqc import DCQCResult
+from origami_cad.strings.dcqc_result import DCQCResult
 from origami_cad.strings.route import TOP, RouteSpec
 from origami_cad.viz.figure import png_subplots
 from origami_cad.viz.pattern_plot import plot_pattern
