@@ -418,8 +418,8 @@ def robot_mass_report(
 
     ``source`` names the robot file; ``bought``: its bought parts, (name, g).
     """
-    from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, slicer_settings
     from origami_cad.fabrication.printmass import sheet_print_mass
+    from origami_cad.fabrication.slicer import PRINT_SETTINGS, slicer_settings
 
     settings = slicer_settings(fab.params)
     sheet = sum(sheet_print_mass(fab, settings).values())

@@ -23,13 +23,8 @@ import numpy as np
 import pytest
 
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.exports.threemf import (
-    EXTRUDERS,
-    SLICERS,
-    export_3mf,
-    layer_height,
-    slicer_settings,
-)
+from origami_cad.fabrication.exports.threemf import export_3mf
+from origami_cad.fabrication.slicer import EXTRUDERS, SLICERS, layer_height, slicer_settings
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.design import miura_design
 

@@ -35,7 +35,8 @@ import pytest
 
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
-from origami_cad.fabrication.exports.threemf import EXTRUDERS, export_3mf
+from origami_cad.fabrication.exports.threemf import export_3mf
+from origami_cad.fabrication.slicer import EXTRUDERS
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.design import miura_design
 

@@ -289,7 +289,7 @@ def test_robot_mass_estimate_against_the_paper(printed):
     assert budget["paper_g"] == 361.45
     assert budget["difference_percent"] == pytest.approx(100 * (budget["total_g"] / 361.45 - 1))
     assert budget["printed_g"] == pytest.approx(budget["sheet_g"] + budget["printed_parts_g"])
-    from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS
+    from origami_cad.fabrication.slicer import PRINT_SETTINGS
 
     assert data["print_settings"] == PRINT_SETTINGS
     # printed with walls, skins and sparse infill: never more than solid, the shells less

@@ -1,6 +1,6 @@
 """Issue 30: the panels' solids meshed straight from the faces they were assembled from.
 
-:func:`~origami_cad.fabrication.exports.polymesh.facets_mesh` must give, on every
+:func:`~origami_cad.fabrication.polymesh.facets_mesh` must give, on every
 distinct panel of several sheets (the examples, vanished edges, no hole, two holes in a
 panel), a closed mesh, outward, whose vertices are OCC's mesh's (every B-rep vertex
 among them, each hole's circle OCC's polygon) and whose volume is OCC's mesh's and
@@ -27,14 +27,9 @@ from OCP.TopoDS import TopoDS
 
 from origami_cad.fabrication import FabricationParams, largest_bias, plan_panels
 from origami_cad.fabrication.congruent import congruent_panels
-from origami_cad.fabrication.exports.polymesh import circle_segments, facets_mesh
-from origami_cad.fabrication.exports.stl import (
-    ANGULAR_TOLERANCE,
-    TOLERANCE,
-    part_meshes,
-    solid_mesh,
-)
+from origami_cad.fabrication.meshing import ANGULAR_TOLERANCE, TOLERANCE, part_meshes, solid_mesh
 from origami_cad.fabrication.polyhedra import Cap, Facets, frustum
+from origami_cad.fabrication.polymesh import circle_segments, facets_mesh
 from origami_cad.fabrication.solids import PART_NAMES, build_parts, panel_build
 from origami_cad.pattern.design import load_design, miura_design
 from origami_cad.pattern.model import Hole

@@ -18,11 +18,11 @@ from conftest import closed_mesh, mesh_volume
 from origami_cad.fabrication import fabricate, write_fabrication
 from origami_cad.fabrication.assembly import moved_tree
 from origami_cad.fabrication.congruent import congruent_panels
-from origami_cad.fabrication.exports.stl import (
+from origami_cad.fabrication.exports.stl import read_binary_stl
+from origami_cad.fabrication.meshing import (
     ANGULAR_TOLERANCE,
     TOLERANCE,
     part_meshes,
-    read_binary_stl,
     solid_mesh,
     stack_meshes,
     weld,
@@ -239,7 +239,7 @@ def test_a_parts_volume_counts_each_copy_as_its_own_solids(fab):
 
 
 def test_the_crease_sheet_is_meshed_from_its_polygon_as_occ_meshes_it(fab):
-    from origami_cad.fabrication.exports.stl import prism_mesh
+    from origami_cad.fabrication.meshing import prism_mesh
 
     (v, t), sheet = part_meshes(fab.parts, "creases")[0], fab.parts.solids["creases"][0]
     assert fab.parts.prism("creases", 0) is not None

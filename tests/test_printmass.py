@@ -18,13 +18,14 @@ import pytest
 
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication import FabricationParams, fabricate
-from origami_cad.fabrication.exports.threemf import PRINT_SETTINGS, export_3mf, slicer_settings
+from origami_cad.fabrication.exports.threemf import export_3mf
 from origami_cad.fabrication.printmass import (
     mesh_print_areas,
     print_volume,
     printed_mass,
     sheet_print_mass,
 )
+from origami_cad.fabrication.slicer import PRINT_SETTINGS, slicer_settings
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 from origami_cad.pattern.design import miura_design
 
@@ -85,7 +86,7 @@ def test_print_volume_follows_the_settings():
 
 
 def test_printed_mass_is_grams_per_material(fab):
-    from origami_cad.fabrication.exports.stl import part_meshes
+    from origami_cad.fabrication.meshing import part_meshes
     from origami_cad.fabrication.params import DENSITY_G_CM3
 
     s = slicer_settings(fab.params, {"fill_density": 1.0})

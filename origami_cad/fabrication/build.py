@@ -115,9 +115,9 @@ class Fabrication:
     def printed_mass(self) -> dict[str, float]:
         """Mass of each part as printed with the settings ``print.3mf`` carries (perimeters,
         top and bottom layers, infill: :mod:`~origami_cad.fabrication.printmass`), g."""
-        from origami_cad.fabrication.exports.stl import part_meshes
-        from origami_cad.fabrication.exports.threemf import slicer_settings
+        from origami_cad.fabrication.meshing import part_meshes
         from origami_cad.fabrication.printmass import printed_mass
+        from origami_cad.fabrication.slicer import slicer_settings
 
         s = slicer_settings(self.params)
         return {
@@ -234,7 +234,7 @@ def write_fabrication(
     workers that were not copied with it).
     """
     from origami_cad.fabrication.exports import WRITERS
-    from origami_cad.fabrication.exports.threemf import SLICERS
+    from origami_cad.fabrication.slicer import SLICERS
     from origami_cad.pattern.formats.fold import write_fold
 
     if slicer is not None:

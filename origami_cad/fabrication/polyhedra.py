@@ -10,7 +10,7 @@ same faces a boolean chain leaves (planes, one cylinder per hole with its seam).
 :func:`fast_panel_solids` returns ``None`` when that does not hold, and the caller
 builds with booleans. Each solid's faces are kept as plain data too (:class:`Facets`,
 from :func:`fast_panel_build`): the exports mesh the solid from them
-(:func:`origami_cad.fabrication.exports.polymesh.facets_mesh`), not through OCC.
+(:func:`origami_cad.fabrication.polymesh.facets_mesh`), not through OCC.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ sides), solid skins (``top_solid_layers`` and ``bottom_solid_layers`` layers of
 its volume and surface areas, :func:`mesh_print_areas` measures those on a triangle mesh,
 and :func:`printed_mass` adds up the grams per material with
 :data:`~origami_cad.fabrication.params.DENSITY_G_CM3`. The settings are
-:func:`~origami_cad.fabrication.exports.threemf.slicer_settings`, the ones ``print.3mf``
+:func:`~origami_cad.fabrication.slicer.slicer_settings`, the ones ``print.3mf``
 carries, so the estimate and the 3MF cannot disagree (docs/fabrication.md, "Printed mass").
 """
 
@@ -19,9 +19,9 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.fabrication.exports.stl import solid_mesh
-from origami_cad.fabrication.exports.threemf import slicer_settings
+from origami_cad.fabrication.meshing import solid_mesh
 from origami_cad.fabrication.params import DENSITY_G_CM3
+from origami_cad.fabrication.slicer import slicer_settings
 
 __all__ = ["mesh_print_areas", "print_volume", "printed_mass", "sheet_print_mass"]
 
@@ -89,7 +89,7 @@ def print_volume(
         Its area seen from the side, and its upward and downward footprints, mm^2
         (:func:`mesh_print_areas`).
     settings : dict, optional
-        The print settings (:func:`~origami_cad.fabrication.exports.threemf.slicer_settings`,
+        The print settings (:func:`~origami_cad.fabrication.slicer.slicer_settings`,
         default those of the default parameters): ``perimeters``, ``extrusion_width``
         (mm), ``layer_height`` (mm), ``top_solid_layers``, ``bottom_solid_layers``,
         ``fill_density`` (a fraction in [0, 1]).
@@ -139,7 +139,7 @@ def printed_mass(
         materials).
     settings : dict, optional
         The print settings (:func:`print_volume`); default
-        :func:`~origami_cad.fabrication.exports.threemf.slicer_settings` ``()``.
+        :func:`~origami_cad.fabrication.slicer.slicer_settings` ``()``.
 
     Returns
     -------
@@ -178,7 +178,7 @@ def sheet_print_mass(fab: Any, settings: Mapping[str, Any] | None = None) -> dic
     as ``print.3mf`` meshes them (shared with the exports); ``settings`` default to
     ``slicer_settings(fab.params)``, those ``write_fabrication``'s 3MF carries.
     """
-    from origami_cad.fabrication.exports.stl import part_meshes
+    from origami_cad.fabrication.meshing import part_meshes
     from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES
 
     s = slicer_settings(fab.params) if settings is None else settings

@@ -81,15 +81,15 @@ class Parts:
     #: the solids as added, position by position (what ``copy_of`` describes)
     built: dict[str, list[Solid]] = field(default_factory=lambda: {n: [] for n in PART_NAMES})
     #: per solid of each part, as built: ``(polygon, z0, z1)`` when it is that polygon's
-    #: :func:`planar_prism` (meshed from the polygon: ``exports.stl.prism_mesh``), else ``None``
+    #: :func:`planar_prism` (meshed from the polygon: ``meshing.prism_mesh``), else ``None``
     prisms: dict[str, list[tuple[shapely.Polygon, float, float] | None]] = field(
         default_factory=dict
     )
     #: per solid of each part, as built: its faces as data when it was assembled from
     #: them (:mod:`~origami_cad.fabrication.polyhedra`; meshed from them:
-    #: ``exports.polymesh.facets_mesh``), else ``None``
+    #: ``polymesh.facets_mesh``), else ``None``
     facets: dict[str, list[Facets | None]] = field(default_factory=dict)
-    #: the meshes of each part's solids, once tessellated (``exports.stl.part_meshes``)
+    #: the meshes of each part's solids, once tessellated (``meshing.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
     def add(

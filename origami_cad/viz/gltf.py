@@ -288,7 +288,7 @@ def write_parts_glb(folder, path: str | os.PathLike[str]) -> Path:
     """Write the four printed parts as one glb, coloured by material (``path``, atomic).
 
     ``folder`` is a :class:`~origami_cad.fabrication.build.Fabrication`: its shared
-    meshes (``fabrication.exports.stl.parts_tessellation``, the STLs' triangles; no file
+    meshes (``fabrication.meshing.parts_tessellation``, the STLs' triangles; no file
     read), or a fabrication folder (path-like): its ``infills.stl``, ``midlayers.stl``,
     ``shells.stl`` and ``creases.stl`` as
     :func:`~origami_cad.fabrication.write_fabrication` writes them, in assembly position.
@@ -300,7 +300,7 @@ def write_parts_glb(folder, path: str | os.PathLike[str]) -> Path:
 
         meshes = {n: read_binary_stl(Path(folder) / f"{n}.stl") for n in PART_NAMES}
     else:  # a Fabrication: the meshes in memory
-        from origami_cad.fabrication.exports.stl import parts_tessellation
+        from origami_cad.fabrication.meshing import parts_tessellation
 
         meshes = parts_tessellation(folder.parts)
     return write_glb(path, parts_meshes(meshes))

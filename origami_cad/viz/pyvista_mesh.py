@@ -100,7 +100,7 @@ def _parts_blocks(fab):
     pv = import_pyvista()
 
     from origami_cad.fabrication.assembly import MATERIAL_COLORS
-    from origami_cad.fabrication.exports.stl import parts_tessellation
+    from origami_cad.fabrication.meshing import parts_tessellation
     from origami_cad.fabrication.solids import PART_MATERIALS
 
     blocks = pv.MultiBlock()
@@ -127,7 +127,7 @@ def _shape_blocks(shape):
     pv = import_pyvista()
 
     from origami_cad.fabrication.assembly import leaf_part
-    from origami_cad.fabrication.exports.stl import solid_mesh
+    from origami_cad.fabrication.meshing import solid_mesh
     from origami_cad.fabrication.solids import PART_MATERIALS
 
     blocks = pv.MultiBlock()

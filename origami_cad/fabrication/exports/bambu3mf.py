@@ -73,7 +73,7 @@ def project_settings_config(settings: dict[str, object], version: str) -> str:
     """``Metadata/project_settings.config`` (JSON): every value a string or strings.
 
     Filament 1 is PLA, filament 2 TPU (``settings`` from
-    :func:`~origami_cad.fabrication.exports.threemf.slicer_settings`); temperatures
+    :func:`~origami_cad.fabrication.slicer.slicer_settings`); temperatures
     deg C, heights mm, volumetric speeds mm^3/s. One 0.4 mm nozzle fed the two
     filaments (an AMS), as the Bambu printers and Orca's defaults have.
     """

@@ -7,7 +7,8 @@ a range of triangles, described both for PrusaSlicer
 ``extruder`` key) and for Bambu Studio / OrcaSlicer
 (``Metadata/model_settings.config``: parts with ``firstid``/``lastid`` and an
 ``extruder`` key), with display colours through ``<basematerials>`` and the
-print settings of :func:`slicer_settings` (``Metadata/Slic3r_PE.config``,
+print settings of :func:`~origami_cad.fabrication.slicer.slicer_settings`
+(``Metadata/Slic3r_PE.config``,
 ``Metadata/project_settings.config``). build123d's own 3MF writer gives each
 shape its own object and no extruder, so the package is written here from
 build123d's tessellation.
@@ -34,114 +35,12 @@ from origami_cad.fabrication.exports.bambu3mf import (
     model_settings_config,
     project_settings_config,
 )
-from origami_cad.fabrication.exports.stl import part_meshes, stack_meshes
-from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
+from origami_cad.fabrication.meshing import part_meshes, stack_meshes
+from origami_cad.fabrication.params import FabricationParams
+from origami_cad.fabrication.slicer import EXTRUDERS, SLICERS, slicer_settings
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts
 
-__all__ = [
-    "EXTRUDERS",
-    "MATERIAL_SETTINGS",
-    "PRINT_SETTINGS",
-    "SLICERS",
-    "WRITERS",
-    "export_3mf",
-    "layer_height",
-    "slicer_settings",
-]
-
-#: Extruder of each material (1-based, as slicers count).
-EXTRUDERS = {"PLA": 1, "TPU": 2}
-
-
-def layer_height(params: FabricationParams, largest: float = 0.2) -> float:
-    """The largest layer height (mm, at most ``largest``) that resolves every layer.
-
-    Each panel half ``(h - t) / 2``, the crease layer ``t`` and the shell ``s`` are a
-    whole number of layers, so no layer straddles two materials' boundary. Tries
-    ``largest``, then steps of 0.01 mm down to 0.05 mm; falls back to 0.05 mm.
-    """
-    targets = (params.half_height, params.thickness, params.shell)
-    for hundredths in range(round(largest * 100), 4, -1):
-        h = hundredths / 100
-        if all(abs(x / h - round(x / h)) < 1e-6 for x in targets):
-            return h
-    return 0.05
-
-
-#: Per-material slicer settings: nozzle and first-layer temperatures (deg C), bed (deg C),
-#: filament type as the slicers name it, and the largest volumetric speed (mm^3/s).
-MATERIAL_SETTINGS = {
-    "PLA": {
-        "temperature": 210,
-        "first_layer_temperature": 215,
-        "bed": 60,
-        "type": "PLA",
-        "max_volumetric_speed": 15.0,
-    },
-    "TPU": {
-        "temperature": 230,
-        "first_layer_temperature": 230,
-        "bed": 60,
-        "type": "FLEX",
-        "max_volumetric_speed": 3.6,
-    },
-}
-
-
-#: How the parts are printed (docs/fabrication.md, "Printed mass"): walls (perimeter
-#: loops) and solid skin layers, the sparse infill's fraction, the extrusion width (mm),
-#: solid layers between the two materials (``interface_shells``) and no small region
-#: filled solid (``solid_infill_below_area``, mm^2) other than by the rules above.
-PRINT_SETTINGS = {
-    "perimeters": 2,
-    "top_solid_layers": 3,
-    "bottom_solid_layers": 3,
-    "fill_density": 0.15,
-    "extrusion_width": 0.45,
-    "interface_shells": True,
-    "solid_infill_below_area": 0.0,
-}
-
-
-def slicer_settings(
-    params: FabricationParams | None = None, print_settings: dict[str, object] | None = None
-) -> dict[str, object]:
-    """The print settings carried by the 3MF, as plain data (see docs/fabrication.md).
-
-    Extruder 1 prints PLA, extruder 2 TPU (:data:`EXTRUDERS`); ``layer_height`` and
-    ``first_layer_height`` come from :func:`layer_height`; temperatures in deg C;
-    ``filament_density`` g/cm^3 (``DENSITY_G_CM3``); walls, skins and infill from
-    :data:`PRINT_SETTINGS`, each overridden by ``print_settings`` (the same keys; an
-    unknown key is a :class:`FabricationError`). ``printmass.printed_mass`` reads them.
-    """
-    params = params or FabricationParams()
-    unknown = set(print_settings or {}) - set(PRINT_SETTINGS)
-    if unknown:
-        raise FabricationError(
-            f"unknown print setting(s) {', '.join(sorted(unknown))}; "
-            f"known: {', '.join(PRINT_SETTINGS)}"
-        )
-    printing = {**PRINT_SETTINGS, **(print_settings or {})}
-    if not 0.0 <= float(printing["fill_density"]) <= 1.0:
-        raise FabricationError(
-            f"fill_density must be a fraction in [0, 1], got {printing['fill_density']!r}"
-        )
-    h = layer_height(params)
-    mats = sorted(EXTRUDERS, key=EXTRUDERS.get)
-    per = [MATERIAL_SETTINGS[m] for m in mats]
-    return {
-        **printing,
-        "filament_density": [DENSITY_G_CM3[m] for m in mats],
-        "layer_height": h,
-        "first_layer_height": h,
-        "materials": mats,
-        "filament_type": [p["type"] for p in per],
-        "temperature": [p["temperature"] for p in per],
-        "first_layer_temperature": [p["first_layer_temperature"] for p in per],
-        "bed_temperature": [p["bed"] for p in per],
-        "filament_max_volumetric_speed": [p["max_volumetric_speed"] for p in per],
-        "filament_colour": [MATERIAL_COLORS[m] for m in mats],
-    }
+__all__ = ["WRITERS", "export_3mf"]
 
 
 def _prusa_print_config(settings: dict[str, object]) -> str:
@@ -203,8 +102,6 @@ def _bambu_project_config(settings: dict[str, object]) -> str:
 #: (6) for a third of the time.
 ZIP_LEVEL = 1
 
-#: The 3MF flavours: the slicer each is laid out for (``export_3mf(..., slicer=)``).
-SLICERS = ("prusa", "bambu", "orca")
 
 _CONTENT_TYPES = (
     '<?xml version="1.0" encoding="UTF-8"?>\n'
