@@ -8,14 +8,18 @@ One class per stage, so that a handler catches the faults of one stage only::
 
     OrigamiCadError
     ├── PatternError       crease patterns and their files (.fold, .dxf, .svg)
-    ├── DesignError        design and arm-task files, the arm's design search
+    ├── DesignError        design and arm-task files, the arm's and the crawler's design search
     ├── FabricationError   fabrication parameters (eq. 6), panels, parts
     ├── StringsError       TSAs, string routes and route files, the route planner
-    ├── SimulationError    the bar-and-hinge simulation, robot files, crawling
+    ├── SimulationError    the bar-and-hinge simulation and the DCQC model's run
+    │                      parameters, robot files, crawling
     ├── DriveError         sequence files, servo buses, the emulator (drive/)
     ├── OptionsError       a command-line option or a keyword out of range
     ├── OutputError        an output path that cannot be written safely
     └── ExtraError         a feature whose optional dependencies (an extra) are missing
+
+Any stage may also raise ``PatternError`` (the pattern it was given), ``OptionsError``,
+``OutputError`` and ``ExtraError``; ``tests/test_stage_errors.py`` checks every stage.
 
 The finer driving faults (``StallError``, ``PortLostError``, ...) derive from
 :class:`DriveError` and live in :mod:`origami_cad.drive.errors`.
