@@ -61,7 +61,12 @@ CASES: dict[str, tuple[list[str], bool]] = {
     "part": (["part", "tsa-module", "-o", "{out}/part", "--pattern", "{ex}/data/boat.dxf",
               "--panel", "f0"], False),
     "part-list": (["part", "--list"], True),
+    "design-gait": (["design-gait", "{ex}/" + CR, "-o", "{out}/gait", "--popsize", "4",
+                     "--generations", "1", "--steps", "1", "--frictions", "0.6"], False),
 }  # fmt: skip
+#: Commands no case runs, and why: ``emulate`` serves servos on a pseudo-terminal until it
+#: is stopped (tests/test_drive.py runs it); ``demo`` chains the others (tests/test_demo.py).
+NOT_RECORDED = {"emulate", "demo"}
 
 _UNSTABLE = re.compile(r"seconds|_s$|time|version", re.IGNORECASE)
 

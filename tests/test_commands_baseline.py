@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
-from commands_baseline import BASELINE, CASES, run_case
+from commands_baseline import BASELINE, CASES, NOT_RECORDED, run_case
 
 ALL = os.environ.get("ORIGAMI_BASELINE_ALL") == "1"
 RECORDED = json.loads(BASELINE.read_text())
@@ -74,3 +74,13 @@ def test_a_command_writes_what_it_wrote(name, tmp_path):
         pytest.skip("slow: ORIGAMI_BASELINE_ALL=1 runs it")
     found = run_case(name, tmp_path / name)
     assert not differences(RECORDED[name], found, name)
+
+
+def test_every_command_of_the_command_line_has_a_recorded_case():
+    """A command added without a case would change its outputs unseen."""
+    from origami_cad.commands import COMMANDS
+
+    visible = {n for n, c in COMMANDS.items() if not getattr(c, "HIDDEN", False)}
+    covered = {argv[0] for argv, _ in CASES.values()}
+    assert visible - NOT_RECORDED <= covered, sorted(visible - NOT_RECORDED - covered)
+    assert set(CASES) <= set(RECORDED), sorted(set(CASES) - set(RECORDED))
