@@ -22,6 +22,7 @@ BASE = {
     "origami_cad",
     "origami_cad.errors",
     "origami_cad._fileio",
+    "origami_cad._lazy",
     "origami_cad._signals",
     "origami_cad._inputs",
     "origami_cad._libm",
@@ -126,7 +127,11 @@ def _imports(path: Path):
 
 
 def _sources(*folders: str) -> list[Path]:
-    return sorted(p for f in folders for p in (ROOT / f).rglob("*.py"))
+    """The modules of ``folders``, and the stubs of the lazy packages (``__init__.pyi``:
+    the imports :func:`origami_cad._lazy.attach_stub` makes on first use)."""
+    found = [p for f in folders for p in (ROOT / f).rglob("*.py")]
+    found += [p for f in folders for p in (ROOT / f).rglob("__init__.pyi")]
+    return sorted(found)
 
 
 def _canonical(module: str) -> str:
@@ -213,15 +218,17 @@ def _type_checking_lines(tree: ast.AST) -> set[int]:
 def module_graph() -> dict[str, set[str]]:
     """Every module of the package and the modules it imports at run time (at module
     level or inside a function; not in ``if TYPE_CHECKING:``), the top-level package's
-    lazy name table left out (it names the modules of the API, it imports none of them
-    until a name is used)."""
-    modules = {_module_name(p): p for p in _sources("origami_cad", "parts")}
+    lazy stub left out (it names the modules of the API, it imports none of them until a
+    name is used). A lazy package's ``__init__.pyi`` counts as its ``__init__.py``'s."""
+    paths = _sources("origami_cad", "parts")
+    modules = {_module_name(p) for p in paths}
     graph: dict[str, set[str]] = {}
-    for name, path in modules.items():
+    for path in paths:
+        name = _module_name(path)
         if name == "origami_cad":
             continue
         skip = _type_checking_lines(ast.parse(path.read_text(encoding="utf-8")))
-        targets: set[str] = set()
+        targets = graph.setdefault(name, set())
         for module, names, line in _imports(path):
             if line in skip:
                 continue
@@ -229,7 +236,6 @@ def module_graph() -> dict[str, set[str]]:
             for dotted in (module, *(f"{module}.{n}" for n in names)):
                 if dotted in modules and dotted not in (name, "origami_cad"):
                     targets.add(dotted)
-        graph[name] = targets
     return graph
 
 
@@ -283,7 +289,8 @@ def test_the_circle_finder_sees_every_circle():
 
 def test_the_base_imports_no_stage():
     for name in (
-        "errors.py", "_fileio.py", "_signals.py", "_inputs.py", "_libm.py", "_names.py", "_toml.py"
+        "errors.py", "_fileio.py", "_signals.py", "_lazy.py", "_inputs.py", "_libm.py",
+        "_names.py", "_toml.py",
     ):  # fmt: skip
         for module, _, line in _imports(ROOT / "origami_cad" / name):
             assert _stage(_canonical(module)) is None, f"{name}:{line} imports {module}"
@@ -327,11 +334,13 @@ def test_the_contract_sees_a_violation(tmp_path):
 
 
 def test_the_lazy_packages_are_seen_importing_their_modules():
-    """fabrication/ and viz/ import their names on first use (``__getattr__``, an
-    f-string module name): the checker reads that as an import of the package."""
-    for stage in ("fabrication", "viz"):
-        found = {m for m, _, _ in _imports(ROOT / "origami_cad" / stage / "__init__.py")}
-        assert f"origami_cad.{stage}" in found, found
+    """fabrication/ and viz/ import their names on first use, from the modules their
+    ``__init__.pyi`` names: the checker reads the stub's imports as the package's."""
+    for stage, module in (("fabrication", "build"), ("viz", "pyvista_mesh")):
+        stub = ROOT / "origami_cad" / stage / "__init__.pyi"
+        assert stub in _sources("origami_cad")
+        found = {m for m, _, _ in _imports(stub)}
+        assert f"origami_cad.{stage}.{module}" in found, found
 
 
 def test_the_page_parser_reads_arrows_and_empty_nodes():

@@ -42,12 +42,3 @@ __all__ = [
     "write_fold",
     "write_pattern",
 ]
-
-
-def __getattr__(name: str):
-    """``origami_cad.pattern.dxf`` (``.svg``, ``.fold``): the format modules' old paths."""
-    if name in ("dxf", "fold", "svg"):
-        import importlib
-
-        return importlib.import_module(f"origami_cad.pattern.{name}")  # warns: moved
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
