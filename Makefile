@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test fuzz corpus lint format bench docs clean
+.PHONY: demo test slow fuzz corpus lint format bench docs clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -19,6 +19,11 @@ test: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	$(PY) -m pytest -q -n auto --dist loadfile
+
+# the tests marked slow (make test leaves them out; each keeps a fast check there): the
+# paper task's ten recorded runs
+slow: $(STAMP)
+	$(PY) -m pytest -q -n auto --dist loadfile -m slow
 
 # a longer, random fuzz of the readers (the suite runs a small fixed budget of each test):
 # FUZZ_EXAMPLES inputs per test; `make fuzz FUZZ_EXAMPLES=5000` for a night

@@ -39,6 +39,21 @@ def _throughput(task: ArmTask, count: int = 1000, repeats: int = 15) -> tuple[fl
     return count / min(times), count / float(np.median(times)), count / min(cpu)
 
 
+def _one_at_a_time(task: ArmTask, count: int = 2000, repeats: int = 5) -> tuple[float, float]:
+    """Designs per second, one ``arm_fitness`` call each: best wall clock, best CPU time."""
+    x = np.random.default_rng(1).uniform(size=(count, task.dimension))
+    lengths, beta = decode(task, x)
+    arm_fitness(task, lengths[:1], beta[:1], [1])
+    times, cpu = [], []
+    for _ in range(repeats):
+        t0, c0 = time.perf_counter(), time.process_time()
+        for k in range(count):
+            arm_fitness(task, lengths[k : k + 1], beta[k : k + 1], [1])
+        times.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return count / min(times), count / min(cpu)
+
+
 def _cpu_seconds() -> float:
     """CPU time of this process and its finished children (the search's workers), s."""
     own = resource.getrusage(resource.RUSAGE_SELF)
@@ -61,6 +76,7 @@ def run() -> list[tuple[str, float, str]]:
     load = os.getloadavg()[0]
     best, median, cpu = _throughput(task)
     co_best, _, co_cpu = _throughput(dataclasses.replace(task, codesign=True))
+    one_wall, one_cpu = _one_at_a_time(task)
     out = [
         ("load average (1 min) at the start", load, "wall-clock figures need a quiet machine"),
         (
@@ -70,7 +86,10 @@ def run() -> list[tuple[str, float, str]]:
         ),
         ("  median of 15 timings, designs per second", median, "(shared machine)"),
         ("  by this process's CPU time, designs per second", cpu, "goal >= 100,000"),
-        ("fitness: microseconds per design", 1e6 / best, "target <= 50"),
+        ("fitness: microseconds per design (wall)", 1e6 / best, "target <= 10"),
+        ("  by this process's CPU time, microseconds per design", 1e6 / cpu, "goal <= 10"),
+        ("fitness one design per call: designs per second (wall)", one_wall, ""),
+        ("  by this process's CPU time, designs per second", one_cpu, "goal >= 20,000"),
         ("fitness with co-designed bias: designs per second", co_best, ">= 20,000"),
         ("  by this process's CPU time, designs per second", co_cpu, "(load-independent)"),
     ]
@@ -93,7 +112,7 @@ def run() -> list[tuple[str, float, str]]:
         (
             "  CPU s of the runs (all processes) / 2 cores, best",
             min(cpus) / 2,
-            "load-independent estimate",
+            "target < 10 s (load-independent estimate)",
         )
     )
     top = results[0]

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -15,9 +16,12 @@ TASK = HERE.parent / "examples" / "arm_task.toml"
 BASELINE = HERE / "data" / "arm_designs.json"
 
 
-def designs(executor=None) -> list[dict]:
-    """Every run's design of the paper task, ranked as design_arm ranks them."""
+def designs(executor=None, runs: int | None = None) -> list[dict]:
+    """Every run's design of the paper task, ranked as design_arm ranks them; with ``runs``,
+    only the first ``runs`` runs (run k is seeded and flagged as in the whole set)."""
     task, settings = load_task(TASK)
+    if runs is not None:
+        settings = dataclasses.replace(settings, runs=runs)
     out = []
     for d in design_arm(task, settings, executor=executor):
         out.append(

@@ -44,11 +44,9 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad.design.kernel import population_terms, reachable_ends, sampled_turns
-from origami_cad.design.limits import panel_bias_violations
+from origami_cad.design.kernel import population_fitness
 from origami_cad.design.predicates import area_edges
 from origami_cad.design.task import ArmTask
-from origami_cad.pattern.miura import leg_gaps
 
 __all__ = [
     "INFEASIBLE_COST",
@@ -209,46 +207,6 @@ def sample_angles(samples: int) -> np.ndarray:
     return np.linspace(0.0, math.pi, samples)
 
 
-def _distance(points: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """Euclidean distance of each point (D, 2) from ``target`` (2,), mm."""
-    dx, dy = points[:, 0] - target[0], points[:, 1] - target[1]
-    return np.sqrt(dx * dx + dy * dy)
-
-
-def _fold_ranges(
-    task: ArmTask, beta: np.ndarray, n_designs: int, bias: np.ndarray | None
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each design's bias (mm), crease limit and end of its reachable fold range (radians)."""
-    b = np.broadcast_to(np.asarray(task.bias if bias is None else bias, float), (n_designs,))
-    limit = np.broadcast_to(task.crease_limit(None if bias is None else b), (n_designs,))
-    return b, limit, reachable_ends(np.ascontiguousarray(beta), np.ascontiguousarray(limit))
-
-
-def _build_violations(
-    task: ArmTask, lengths: np.ndarray, beta: np.ndarray, b: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Per design: segments with legs closer than ``min_leg_gap``, panels too small for ``b``."""
-    n_designs = len(b)
-    if task.unit_width <= 0:
-        zero = np.zeros(n_designs, dtype=np.int64)
-        return zero, zero.copy()
-    half = task.unit_width / 2.0
-    gaps = leg_gaps(lengths, beta, half)
-    legs = (gaps < max(task.min_leg_gap, 1e-9)).sum(axis=1)
-    panels = panel_bias_violations(lengths, beta, half, b, task.min_panel_face)
-    return legs.astype(np.int64), panels.astype(np.int64)
-
-
-def _sampled_turns(
-    task: ArmTask, theta_end: np.ndarray, beta: np.ndarray, entry_flags: Any
-) -> tuple[np.ndarray, np.ndarray]:
-    """Eq. 2's half-turn tangents (D, S, n) and eq. 3's ``alpha_0`` (D, S) over each range."""
-    ramp = np.linspace(0.0, 1.0, task.samples)
-    ef0 = np.asarray(entry_flags, dtype=np.int64).reshape(-1)
-    ef0 = np.ascontiguousarray(np.broadcast_to(ef0, (beta.shape[0],)))
-    return sampled_turns(theta_end, np.ascontiguousarray(beta), ef0, ramp, bool(task.hypar_base))
-
-
 def arm_fitness(
     task: ArmTask,
     lengths: np.ndarray,
@@ -280,28 +238,20 @@ def arm_fitness(
     -------
     FitnessResult
     """
-    lengths = np.atleast_2d(np.asarray(lengths, dtype=float))
-    beta = np.atleast_2d(np.asarray(shape_angles, dtype=float))
+    lengths = np.asarray(lengths, dtype=float)
+    beta = np.asarray(shape_angles, dtype=float)
+    if lengths.ndim != 2 or beta.ndim != 2:
+        lengths, beta = np.atleast_2d(lengths), np.atleast_2d(beta)
     n_designs = max(lengths.shape[0], beta.shape[0])
-    lengths = np.ascontiguousarray(np.broadcast_to(lengths, (n_designs, lengths.shape[1])))
-    beta = np.broadcast_to(beta, (n_designs, beta.shape[1]))
-    b, limit, theta_end = _fold_ranges(task, beta, n_designs, bias)
-    legs, panels = _build_violations(task, lengths, beta, b)
-    t, a0 = _sampled_turns(task, theta_end, beta, entry_flags)
-    warn, pro = task.packed_areas
-    tips, d_mid, mid_index, n_improper, n_hits = population_terms(
-        t, a0, lengths, np.asarray(task.start, dtype=float), task.points[1:-1],
-        (legs > 0) | (panels > 0), warn.edges, warn.offsets, warn.boxes,
-        pro.edges, pro.offsets, pro.boxes,
-    )  # fmt: skip
-    d_start = _distance(tips[:, 0], task.points[0])
-    d_end = _distance(tips[:, -1], task.points[-1])
-    f = task.alpha / (10.0 + d_start) + (600.0 - task.alpha) / (10.0 + d_end)
-    for j in range(d_mid.shape[1]):
-        f = f + task.weights[j] / (10.0 + d_mid[:, j])
-    f = f - 4.0 * n_improper
-    f = np.where((n_hits > 0) | (legs > 0) | (panels > 0), -np.inf, f)
-    return FitnessResult(
-        f, d_start, d_end, d_mid, mid_index, n_improper, n_hits, legs, tips,
-        theta_end / math.pi, np.array(b, dtype=float), np.array(limit, dtype=float), panels,
-    )  # fmt: skip
+    if lengths.shape[0] != n_designs or not lengths.flags.c_contiguous:
+        lengths = np.ascontiguousarray(np.broadcast_to(lengths, (n_designs, lengths.shape[1])))
+    if beta.shape[0] != n_designs or not beta.flags.c_contiguous:
+        beta = np.ascontiguousarray(np.broadcast_to(beta, (n_designs, beta.shape[1])))
+    flags = np.asarray(entry_flags, dtype=np.int64).reshape(-1)
+    if flags.shape[0] != n_designs:
+        flags = np.ascontiguousarray(np.broadcast_to(flags, (n_designs,)))
+    b = np.asarray(task.bias if bias is None else bias, dtype=float).reshape(-1)
+    if b.shape[0] != n_designs:
+        b = np.ascontiguousarray(np.broadcast_to(b, (n_designs,)))
+    c = task.fitness_constants
+    return FitnessResult(*population_fitness(lengths, beta, flags, b, *c))

@@ -1,14 +1,24 @@
-"""The compiled core of eq. 5: one pass over each design's sampled chains.
+"""The compiled core of eq. 5: every term of a population's fitness in one pass.
 
-:func:`population_terms` takes the half-turn tangents of eq. 2
-(:func:`~origami_cad.kinematics.chain.half_turn_tangents`) and ``alpha_0`` of
-eq. 3 for every design and sample, builds each sampled chain (eq. 4, the same
-running product of turns as :func:`~origami_cad.kinematics.chain.chain_joints`,
-equal to rounding, but one design at a time in a small scratch buffer) and runs the
-predicates of :mod:`origami_cad.design.predicates` on it. Nothing of size
-designs x samples x joints is allocated, and a design already infeasible
-(a prohibited area touched, or ``skip`` set for it) is not tested for
-self-intersections, since its improper states do not enter its cost.
+:func:`population_fitness` runs, for each design in turn, everything
+:func:`~origami_cad.design.fitness.arm_fitness` needs: whether its crease pattern
+can be built (:func:`~origami_cad.pattern.miura.leg_gaps` and
+:func:`~origami_cad.design.limits.panel_bias_violations`, the same arithmetic), the
+crease limit of eq. 6 and the reachable end of the fold range
+(:func:`~origami_cad.kinematics.limits.reachable_fold_angle`), the half-turn
+tangents of eq. 2 and ``alpha_0`` of eq. 3 at every sample
+(:func:`~origami_cad.kinematics.chain.half_turn_tangents`,
+:func:`~origami_cad.kinematics.chain.hypar_alpha0`), the sampled chains of eq. 4
+(the same running product of turns as
+:func:`~origami_cad.kinematics.chain.chain_joints`, equal to rounding) in a small
+scratch buffer, the predicates of :mod:`origami_cad.design.predicates` on them,
+and eq. 5 itself. The trigonometry is libm's scalar functions (the same bits as
+:mod:`math`, whatever numpy's SIMD kernels), and no operation is contracted or
+reordered (no fast-math): the same bits on every CPU, and the same bits as the
+NumPy expressions the docstrings name. Nothing of size designs x samples x joints
+is allocated but the tips, and a design already infeasible (a prohibited area
+touched, or not buildable) is not tested for self-intersections, since its
+improper states do not enter its cost. Lengths are mm, angles radians.
 """
 
 from __future__ import annotations
@@ -24,66 +34,92 @@ from origami_cad.design.predicates import (
     state_touches_area,
 )
 
-__all__ = ["population_terms", "reachable_ends", "sampled_turns"]
+__all__ = ["population_fitness"]
 
 
-@njit(cache=True)
-def reachable_ends(beta, main):  # pragma: no cover - compiled
-    """Each design's end of the reachable fold range, radians (D,): the main crease's
-    limit ``main`` (D,) and every leg's, ``2 atan(|cos beta_i| tan(main / 2))``; the
-    same arithmetic as :func:`~origami_cad.kinematics.limits.reachable_fold_angle`
-    with ``leg_limit`` its default, libm's scalar functions for the trigonometry."""
-    n_designs, n = beta.shape
-    out = np.empty(n_designs)
-    for d in range(n_designs):
-        tan_half = math.tan(min(main[d], math.pi) / 2.0)
-        end = main[d]
-        for i in range(n):
-            leg = 2.0 * math.atan(abs(math.cos(beta[d, i])) * tan_half)
-            end = min(end, leg)
-        out[d] = end
-    return out
+@njit(cache=True, error_model="numpy")
+def _leg_violations(lengths, tanb, d, row_height, min_gap, off):
+    """Segments of design ``d`` whose neighbouring legs are closer than ``min_gap`` (mm);
+    ``tanb`` holds ``tan(beta_i)``."""
+    n = tanb.shape[0]
+    count = 0
+    if n == 0:
+        for k in range(lengths.shape[1]):
+            if lengths[d, k] < min_gap:
+                count += 1
+        return count
+    for i in range(n):
+        off[i] = row_height / tanb[i]
+    for k in range(n + 1):
+        right = off[min(k, n - 1)]
+        left = off[max(k - 1, 0)]
+        if lengths[d, k] + right - left < min_gap:
+            count += 1
+    return count
 
 
-@njit(cache=True)
-def sampled_turns(theta_end, beta, ef0, ramp, hypar):  # pragma: no cover - compiled
-    """Eq. 2's half-turn tangents (D, S, n) and eq. 3's ``alpha_0`` (D, S) at the samples
-    ``theta = theta_end[d] ramp[s]`` (radians), with the arithmetic of
-    :func:`~origami_cad.kinematics.chain.half_turn_tangents` and
-    :func:`~origami_cad.kinematics.chain.hypar_alpha0` (``alpha_0`` 0 unless ``hypar``)
-    and libm's scalar functions for the trigonometry: the same bits on every CPU."""
-    n_designs, n = beta.shape
-    n_samples = ramp.shape[0]
-    t = np.empty((n_designs, n_samples, n))
-    a0 = np.zeros((n_designs, n_samples))
-    tb = np.empty(n)
-    for d in range(n_designs):
-        for i in range(n):
-            sign = 1.0 - 2.0 * ((ef0[d] + i) % 2)
-            tb[i] = math.tan(beta[d, i]) * sign
-        for s in range(n_samples):
-            theta = theta_end[d] * ramp[s]
-            half = math.sin(theta / 2.0)
-            for i in range(n):
-                t[d, s, i] = half * tb[i]
-            if hypar:
-                c = min(max(math.cos(theta / 2.0), 0.0), 1.0)
-                r = min(max(math.sqrt(2.0 * c / (1.0 + c)), 0.0), 1.0)
-                a0[d, s] = math.acos(r)
-    return t, a0
+@njit(cache=True, error_model="numpy")
+def _panel_violations(lengths, beta, tanb, d, half_width, b, min_face, cot, inset):
+    """Panels of design ``d`` too small for the bias ``b`` (mm), as ``panel_bias_violations``."""
+    n1 = lengths.shape[1]
+    for k in range(n1 + 1):
+        cot[k], inset[k] = 0.0, 0.0
+    if n1 > 1:
+        for i in range(n1 - 1):
+            cot[i + 1] = 1.0 / tanb[i]
+            inset[i + 1] = b / abs(math.sin(beta[d, i]))
+        cot[0], cot[n1] = cot[1], cot[n1 - 1]
+    hi = half_width - b
+    bad = 0
+    for k in range(n1):
+        slope = cot[k + 1] - cot[k]
+        room = inset[k] + inset[k + 1] + min_face
+        low, high = lengths[d, k] + b * slope, lengths[d, k] + hi * slope
+        if low != low or high != high:  # NaN, as numpy's maximum keeps it: not counted
+            continue
+        if max(low, high) < room:
+            bad += 1
+    if half_width - 2.0 * b < min_face:
+        bad += n1
+    return bad
 
 
-@njit(cache=True)
-def _build_chains(t, a0, lengths, start, d, xs, ys, tips):
-    """Joints of design ``d``'s sampled chains into ``xs, ys`` (S, m); tips into ``tips[d]``."""
-    n_samples, n = t.shape[1], t.shape[2]
-    for s in range(n_samples):
-        hr, hi = math.cos(a0[d, s]), math.sin(a0[d, s])
+@njit(cache=True, error_model="numpy")
+def _reachable_end(beta, d, main):
+    """The end of design ``d``'s fold range, radians: ``reachable_fold_angle``'s arithmetic."""
+    tan_half = math.tan(min(main, math.pi) / 2.0)
+    end = main
+    for i in range(beta.shape[1]):
+        leg = 2.0 * math.atan(abs(math.cos(beta[d, i])) * tan_half)
+        end = min(end, leg)
+    return end
+
+
+@njit(cache=True, error_model="numpy")
+def _build_chains(tanb, lengths, d, ef0, theta_end, ramp, hypar, start, xs, ys, tips, tb):
+    """Joints of design ``d``'s sampled chains into ``xs, ys`` (S, m), mm; tips into ``tips[d]``.
+
+    The turns are eq. 2's half-turn tangents ``sin(theta / 2) tan(beta_i) (-1)^(EF_0 + i)``
+    at ``theta = theta_end ramp[s]``, and ``alpha_0`` eq. 3's (0 unless ``hypar``).
+    """
+    n = tanb.shape[0]
+    for i in range(n):
+        sign = 1.0 - 2.0 * ((ef0 + i) % 2)
+        tb[i] = tanb[i] * sign
+    for s in range(ramp.shape[0]):
+        theta = theta_end * ramp[s]
+        half = math.sin(theta / 2.0)
+        a0 = 0.0
+        if hypar:
+            c = min(max(math.cos(theta / 2.0), 0.0), 1.0)
+            r = min(max(math.sqrt(2.0 * c / (1.0 + c)), 0.0), 1.0)
+            a0 = math.acos(r)
+        hr, hi = math.cos(a0), math.sin(a0)
         sx, sy = 0.0, 0.0
         xs[s, 0], ys[s, 0] = start[0], start[1]
         for i in range(n + 1):
             if i > 0:
-                ti = t[d, s, i - 1]
+                ti = half * tb[i - 1]
                 inv = 1.0 / (1.0 + ti * ti)
                 tr, tim = 2.0 * inv - 1.0, 2.0 * ti * inv
                 hr, hi = hr * tr - hi * tim, hr * tim + hi * tr
@@ -93,7 +129,7 @@ def _build_chains(t, a0, lengths, start, d, xs, ys, tips):
         tips[d, s, 0], tips[d, s, 1] = xs[s, n + 1], ys[s, n + 1]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _match_points(tips, d, mids, d_mid, mid_index):
     """Greedy in-order match of each intermediate point to its closest later tip sample."""
     lowest = 0
@@ -107,19 +143,30 @@ def _match_points(tips, d, mids, d_mid, mid_index):
         lowest = k_best
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _count_hits(xs, ys, pro_edges, pro_offsets, pro_boxes) -> int:
     """Number of sampled states whose chain touches a prohibited area."""
     count = 0
+    m = xs.shape[1]
     for s in range(xs.shape[0]):
+        lox, hix, loy, hiy = xs[s, 0], xs[s, 0], ys[s, 0], ys[s, 0]
+        nan = False
+        for i in range(m):
+            px, py = xs[s, i], ys[s, i]
+            nan = nan or px != px or py != py
+            lox, hix = min(lox, px), max(hix, px)
+            loy, hiy = min(loy, py), max(hiy, py)
         for a in range(pro_boxes.shape[0]):
+            box = pro_boxes[a]
+            if not nan and (hix < box[0] or lox > box[2] or hiy < box[1] or loy > box[3]):
+                continue  # the test's own first rejection, from the chain's box
             if state_touches_area(xs, ys, s, pro_edges, pro_offsets, pro_boxes, a):
                 count += 1
                 break
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _count_improper(xs, ys, warn_edges, warn_offsets, warn_boxes) -> int:
     """``N`` of eq. 5: states with the tip in a warning area or two segments touching."""
     count = 0
@@ -137,52 +184,117 @@ def _count_improper(xs, ys, warn_edges, warn_offsets, warn_boxes) -> int:
     return count
 
 
-@njit(cache=True)
-def population_terms(
-    t, a0, lengths, start, mids, skip, warn_edges, warn_offsets, warn_boxes,
+@njit(cache=True, error_model="numpy")
+def _distance(tips, d, s, target):
+    """``|T_e(sample s) - target|`` of design ``d``, mm."""
+    dx, dy = tips[d, s, 0] - target[0], tips[d, s, 1] - target[1]
+    return math.sqrt(dx * dx + dy * dy)
+
+
+@njit(cache=True, error_model="numpy")
+def population_fitness(
+    lengths, beta, ef0, bias, fixed_limit, eq6_span, ramp, hypar, start, points, weights,
+    alpha, half_width, min_gap, min_face, warn_edges, warn_offsets, warn_boxes,
     pro_edges, pro_offsets, pro_boxes,
-):  # fmt: skip
-    """Tips, matched intermediate points, ``N`` and prohibited hits of every design.
+):  # fmt: skip  # pragma: no cover - compiled
+    """Eq. 5 and its terms for every design, in the order of ``FitnessResult``'s fields.
 
     Parameters
     ----------
-    t : ndarray, shape (D, S, n)
-        ``tan(Delta alpha_i / 2)`` of eq. 2 at every sample.
-    a0 : ndarray, shape (D, S)
-        ``alpha_0`` at every sample, radians.
     lengths : ndarray, shape (D, n + 1)
         ``l_0 .. l_n``, mm.
+    beta : ndarray, shape (D, n)
+        ``beta_1 .. beta_n``, radians.
+    ef0 : ndarray of int, shape (D,)
+        ``EF_0`` of each design.
+    bias : ndarray, shape (D,)
+        Inner bias of every crease of each design, mm.
+    fixed_limit : float
+        The fold limit of every crease, radians; NaN: eq. 6's
+        ``2 atan(2 b / eq6_span)`` at each design's bias.
+    eq6_span : float
+        ``h - t`` of eq. 6, mm.
+    ramp : ndarray, shape (S,)
+        The samples' fraction of the fold range, from 0 to 1.
+    hypar : bool
+        ``alpha_0`` by eq. 3 (else 0).
     start : ndarray, shape (2,)
         ``T_s``, mm.
-    mids : ndarray, shape (K, 2)
-        Intermediate points, mm.
-    skip : ndarray of bool, shape (D,)
-        Designs already infeasible: their ``N`` is not counted (left 0).
+    points : ndarray, shape (P, 2)
+        ``P_start``, the intermediate points and ``P_end``, mm.
+    weights : ndarray, shape (P - 2,)
+        The intermediate points' weights.
+    alpha : float
+        ``P_start``'s weight.
+    half_width : float
+        Height of a panel row, mm; 0: the build is not checked.
+    min_gap, min_face : float
+        The smallest leg gap and panel face, mm.
     warn_edges, warn_offsets, warn_boxes, pro_edges, pro_offsets, pro_boxes
         The warning and prohibited areas, packed by
         :func:`~origami_cad.design.predicates.pack_areas`.
 
     Returns
     -------
-    tips : ndarray, shape (D, S, 2)
-    d_mid : ndarray, shape (D, K)
-    mid_index : ndarray of int, shape (D, K)
-    improper : ndarray of int, shape (D,)
-    hits : ndarray of int, shape (D,)
+    tuple
+        ``fitness, d_start, d_end, d_mid (D, P - 2), mid_index (D, P - 2), improper,
+        prohibited_hits, leg_violations, tips (D, S, 2), fold_ratio_end, bias,
+        crease_limit`` (radians) ``, panel_violations``: (D,) unless noted.
     """
-    n_designs, n_samples, n = t.shape
-    m = n + 2
-    tips = np.empty((n_designs, n_samples, 2))
-    d_mid = np.zeros((n_designs, mids.shape[0]))
-    mid_index = np.zeros((n_designs, mids.shape[0]), dtype=np.int64)
+    n_designs, n = beta.shape
+    n_samples = ramp.shape[0]
+    n_mid = points.shape[0] - 2
+    mids = points[1 : n_mid + 1]
+    fitness = np.empty(n_designs)
+    d_start = np.empty(n_designs)
+    d_end = np.empty(n_designs)
+    d_mid = np.zeros((n_designs, n_mid))
+    mid_index = np.zeros((n_designs, n_mid), dtype=np.int64)
     improper = np.zeros(n_designs, dtype=np.int64)
     hits = np.zeros(n_designs, dtype=np.int64)
-    xs = np.empty((n_samples, m))
-    ys = np.empty((n_samples, m))
+    legs = np.zeros(n_designs, dtype=np.int64)
+    panels = np.zeros(n_designs, dtype=np.int64)
+    tips = np.empty((n_designs, n_samples, 2))
+    ratio_end = np.empty(n_designs)
+    b_out = np.empty(n_designs)
+    limits = np.empty(n_designs)
+    xs = np.empty((n_samples, n + 2))
+    ys = np.empty((n_samples, n + 2))
+    tb = np.empty(n)
+    tanb = np.empty(n)
+    off = np.empty(n)
+    cot = np.empty(n + 2)
+    inset = np.empty(n + 2)
+    p_start, p_end = points[0], points[n_mid + 1]
     for d in range(n_designs):
-        _build_chains(t, a0, lengths, start, d, xs, ys, tips)
+        b = bias[d]
+        for i in range(n):
+            tanb[i] = math.tan(beta[d, i])
+        b_out[d] = b
+        limit = fixed_limit if fixed_limit == fixed_limit else 2.0 * math.atan(2.0 * b / eq6_span)
+        limits[d] = limit
+        if half_width > 0:
+            legs[d] = _leg_violations(lengths, tanb, d, half_width, min_gap, off)
+            panels[d] = _panel_violations(
+                lengths, beta, tanb, d, half_width, b, min_face, cot, inset
+            )
+        theta_end = _reachable_end(beta, d, limit)
+        ratio_end[d] = theta_end / math.pi
+        _build_chains(tanb, lengths, d, ef0[d], theta_end, ramp, hypar, start, xs, ys, tips, tb)
         _match_points(tips, d, mids, d_mid, mid_index)
         hits[d] = _count_hits(xs, ys, pro_edges, pro_offsets, pro_boxes)
-        if hits[d] == 0 and not skip[d]:
+        if hits[d] == 0 and legs[d] == 0 and panels[d] == 0:
             improper[d] = _count_improper(xs, ys, warn_edges, warn_offsets, warn_boxes)
-    return tips, d_mid, mid_index, improper, hits
+        d_start[d] = _distance(tips, d, 0, p_start)
+        d_end[d] = _distance(tips, d, n_samples - 1, p_end)
+        f = alpha / (10.0 + d_start[d]) + (600.0 - alpha) / (10.0 + d_end[d])
+        for j in range(n_mid):
+            f = f + weights[j] / (10.0 + d_mid[d, j])
+        f = f - 4.0 * improper[d]
+        if hits[d] > 0 or legs[d] > 0 or panels[d] > 0:
+            f = -np.inf
+        fitness[d] = f
+    return (
+        fitness, d_start, d_end, d_mid, mid_index, improper, hits, legs, tips, ratio_end,
+        b_out, limits, panels,
+    )  # fmt: skip

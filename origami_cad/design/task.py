@@ -41,6 +41,7 @@ Without a ``[fabrication]`` table the paper's b = 3, h = 2.2, t = 0.4 mm apply;
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -205,6 +206,34 @@ class ArmTask:
     def packed_areas(self) -> tuple[PackedAreas, PackedAreas]:
         """The warning and prohibited areas packed for the compiled fitness (computed once)."""
         return pack_areas(self.warning), pack_areas(self.prohibited)
+
+    @cached_property
+    def fitness_constants(self) -> tuple:
+        """The task's numbers as the compiled fitness takes them (computed once).
+
+        ``fixed_limit`` (radians; NaN: eq. 6 at each design's bias), ``h - t`` (mm), the
+        samples' fractions of the fold range (S,), ``hypar_base``, ``T_s`` (2,) mm, the
+        points (P, 2) mm, their weights, ``alpha``, half the unit width (mm; 0: the build
+        is not checked), the smallest leg gap and panel face (mm), then the warning and
+        prohibited areas' packed arrays; the arguments of
+        :func:`origami_cad.design.kernel.population_fitness` after the designs' own.
+        """
+        warn, pro = self.packed_areas
+        fixed = math.nan if self.fold_limit is None else float(np.radians(self.fold_limit))
+        return (
+            fixed,
+            float(self.height - self.thickness),
+            np.linspace(0.0, 1.0, self.samples),
+            bool(self.hypar_base),
+            np.ascontiguousarray(self.start, dtype=float),
+            np.ascontiguousarray(self.points, dtype=float),
+            np.ascontiguousarray(self.weights, dtype=float),
+            float(self.alpha),
+            self.unit_width / 2.0 if self.unit_width > 0 else 0.0,
+            float(max(self.min_leg_gap, 1e-9)),
+            float(self.min_panel_face),
+            warn.edges, warn.offsets, warn.boxes, pro.edges, pro.offsets, pro.boxes,
+        )  # fmt: skip
 
     def crease_limit(self, bias: Any = None) -> Any:
         """The fold limit of every crease, radians: ``fold_limit``, else eq. 6 at ``bias`` (mm).
