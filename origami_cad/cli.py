@@ -72,12 +72,63 @@ class _DefaultsHelp(argparse.HelpFormatter):
     """Help that asks for an option's default (the library's, when the option has none)
     only when the help is shown: building the parser imports no stage."""
 
+    def _metavar_formatter(self, action: argparse.Action, default_metavar: str):
+        lazy = getattr(action, "lazy_choices", None)  # a registry's names, read when shown
+        if lazy is not None:
+            default_metavar = "{" + ",".join(map(str, lazy())) + "}"
+        return super()._metavar_formatter(action, default_metavar)
+
     def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help
+        lazy = getattr(action, "lazy_help", None)
+        if lazy is not None:
+            text = lazy()
         default = getattr(action, "shown_default", None)
         if default is None:
-            return action.help
-        value = default()
-        return action.help if value in (None, False, ()) else f"{action.help} (default {value})"
+            return text
+        shown = shown_value(default())
+        return f"{text} (default {shown})" if shown else text
+
+
+def shown_value(value: Any) -> str:
+    """A value as the user types it on the command line (``""``: nothing to show).
+
+    >>> shown_value((200.0, 200.0)), shown_value(1000 / 60), shown_value(True)
+    ('200 200', '16.67', '')
+    """
+    if isinstance(value, bool) or value is None:
+        return ""
+    if isinstance(value, tuple | list):
+        return " ".join(shown_value(v) for v in value)
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+#: The help of an input file, by its name (a command may say more in ``INPUT_HELP``).
+INPUT_HELP = {
+    "design": "design file (.toml) or crease pattern (.fold, .dxf, .svg, .opx, .json)",
+    "source": "crease pattern (.fold, .dxf, .svg, .opx, .json) or design file (.toml)",
+    "pattern": "crease pattern (.fold, .dxf, .svg, .opx, .json) or design file (.toml)",
+    "route": "route file (.toml): the strings' holes and the TSA",
+    "task": "arm task file (.toml): targets, areas and the search's settings",
+    "robot": "robot file (.toml), e.g. examples/crawler/crawler.toml",
+    "sequence": "sequence file (.toml) of TSA keyframes, as sequence or crawl write it",
+    "output": "output file (.fold, .dxf, .svg, .opx or .png: by its extension)",
+}
+
+
+def _metavar(opt: Option) -> Any:
+    """What the usage line shows for an option's value: its choices, or its metavar."""
+    if callable(opt.choices):
+        return None  # the formatter asks for them (lazy_choices)
+    if opt.choices is not None:
+        return "{" + ",".join(map(str, opt.choices)) + "}"
+    if opt.metavar is not None:
+        return opt.metavar
+    if opt.positional:
+        return opt.name.upper()
+    return {"mm": "MM", "deg": "DEG"}.get(opt.unit, opt.name.upper().replace("_", "-"))
 
 
 def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> str:
@@ -87,15 +138,17 @@ def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> 
     if opt.kind == "flag":
         kwargs["action"] = "store_false" if opt.dest_negated else "store_true"
     else:
-        kwargs |= {"action": "append"} if opt.repeat else {}
+        kwargs |= {"action": "append"} if opt.repeat or opt.shown == "--output" else {}
         kwargs |= {"nargs": opt.nargs} if opt.nargs is not None else {}
-        kwargs |= {"metavar": opt.metavar} if opt.metavar is not None else {}
+        kwargs |= {"metavar": _metavar(opt)} if _metavar(opt) is not None else {}
         kwargs |= {"required": True} if opt.required and not opt.positional else {}
     if opt.positional:
         action = p.add_argument(opt.name, **kwargs)
     else:
         flags = [*([opt.short] if opt.short else []), opt.shown]
         action = p.add_argument(*flags, dest=opt.name, **kwargs)
+    if callable(opt.choices):
+        action.lazy_choices = opt.choices
     if opt.kind != "flag":  # its default, from the library when None: asked for by --help
         action.shown_default = functools.partial(cls.default, opt.name)
     return opt.name
@@ -113,6 +166,69 @@ def plain_text(doc: str) -> str:
     return doc.replace("``", "")
 
 
+def command_words(text: str, cls: type[Command]) -> str:
+    """``text`` in the command's command-line words: an option's keyword as its flag
+    (``hole_diameter`` -> ``--hole-diameter``, ``holes = 'none'`` -> ``--holes none``)
+    and an input as its metavar (````design```` -> ``DESIGN``), where they are marked up
+    as literals or are snake_case.
+
+    >>> from origami_cad.commands import COMMANDS
+    >>> command_words("use a smaller hole_diameter or holes = 'none'", COMMANDS["fabricate"])
+    'use a smaller --hole-diameter or --holes none'
+    """
+    flags = {o.name: o.shown for o in cls.OPTIONS if o.flag != "" and not o.positional}
+    names = {o.name: o.name.upper() for o in cls.OPTIONS if o.positional}
+    names |= {n: n.upper() for n in cls.INPUTS}
+    if cls.OUTPUT:
+        flags[cls.OUTPUT] = "-o"
+
+    def assigned(m: re.Match) -> str:
+        return f"{flags[m[1]]} {m[2]}" if m[1] in flags else m[0]
+
+    def word(m: re.Match) -> str:
+        name, marked = m[2], bool(m[1])
+        if name in flags and (marked or "_" in name):
+            return flags[name]
+        if name in names and marked:
+            return names[name]
+        return m[0]
+
+    text = re.sub(r"(?<![\w-])([a-z]\w*) ?= ?['\"]?([\w.-]+)['\"]?", assigned, text)
+    return re.sub(r"(``)?(?<![\w.-])([a-z][a-z0-9_]*)(?![\w-])(?(1)``)", word, text)
+
+
+def _description(cls: type[Command]) -> dict[str, str]:
+    """A command's help (its docstring's first line) and description (the first two
+    paragraphs), in command-line words."""
+    doc = inspect.cleandoc(cls.__doc__ or "")
+    parts = plain_text(command_words(doc, cls)).split("\n\n")
+    return {"help": parts[0].splitlines()[0], "description": "\n\n".join(parts[:2])}
+
+
+def _add_output(p: argparse.ArgumentParser, cls: type[Command]) -> None:
+    """``-o``: a folder, or a file (several where the command writes one result in several
+    formats; the skeleton refuses a second ``-o`` of any other command)."""
+    folder = cls.OUTPUT == "folder"
+    action = p.add_argument(
+        "-o",
+        "--output",
+        action="append",
+        dest=cls.OUTPUT,
+        required=True,
+        metavar="FOLDER" if folder else "FILE",
+        help=FOLDER_HELP if folder else "output file",
+    )
+    if not folder:
+        action.lazy_help = functools.partial(_output_help, cls)
+
+
+def _output_help(cls: type[Command]) -> str:
+    """The help of a file ``-o``: the formats it is written in (imported when shown)."""
+    formats = cls().suffixes()
+    text = "output file" + (f" ({', '.join(formats)}: by its extension)" if formats else "")
+    return text + ("; repeat -o to write several" if cls.OUTPUT == "outputs" else "")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``origami-cad``: one subcommand per registered command."""
     parser = _Parser(
@@ -125,16 +241,13 @@ def build_parser() -> argparse.ArgumentParser:
     for name, cls in COMMANDS.items():
         if cls.HIDDEN:
             continue
-        doc = plain_text(inspect.cleandoc(cls.__doc__ or "")).split("\n\n")
-        text = {"help": doc[0].splitlines()[0], "description": "\n\n".join(doc[:2])}
-        p = sub.add_parser(name, formatter_class=_DefaultsHelp, **text)
+        p = sub.add_parser(name, formatter_class=_DefaultsHelp, **_description(cls))
         for arg in cls.INPUTS:
-            p.add_argument(arg)
+            text = getattr(cls, "INPUT_HELP", {}).get(arg, INPUT_HELP.get(arg))
+            p.add_argument(arg, metavar=arg.upper(), help=text)
         names = list(cls.INPUTS)
         if cls.OUTPUT:
-            many = {"action": "append"} if cls.OUTPUT == "outputs" else {}
-            what = FOLDER_HELP if cls.OUTPUT == "folder" else "output file (format by extension)"
-            p.add_argument("-o", "--output", dest=cls.OUTPUT, required=True, help=what, **many)
+            _add_output(p, cls)
             names.append(cls.OUTPUT)
         positional = [*names, *(o.name for o in cls.OPTIONS if o.positional)]
         names += [_add_option(p, cls, o) for o in cls.OPTIONS if o.flag != ""]
