@@ -14,6 +14,11 @@ light (it loads no build123d, NumPy or pyvista).
 from __future__ import annotations
 
 import importlib
+import logging
+
+# a library logs, the application shows: the "origami_cad" logger (and its children) is
+# silent unless a script configures logging; the command line prints it on stderr
+logging.getLogger("origami_cad").addHandler(logging.NullHandler())
 
 #: ``typing.TYPE_CHECKING`` without importing typing (true for type checkers only)
 TYPE_CHECKING = False

@@ -6,6 +6,13 @@ declared there; this module only parses the text and hands it to
 
 Exit codes (``docs/outputs.md``): 0 success; 1 a negative answer (``check``, ``route``); 2 bad
 input, one line ``origami-cad: error: ...``; 3 an internal error; 130 and 143 interrupted.
+
+Diagnostics go to stderr: warnings (the library's, through the ``origami_cad`` logger, and
+the command's) as ``origami-cad: warning: ...``, progress bars on a terminal only.
+``--quiet`` shows errors only, ``--verbose`` the library's info lines too, ``--debug``
+everything and the traceback of an internal error (exit 3); the environment variable
+``ORIGAMI_CAD_LOG`` (``quiet``, ``warning``, ``info`` or ``debug``) sets the same
+when no flag is given.
 """
 
 from __future__ import annotations
@@ -15,11 +22,14 @@ import contextlib
 import functools
 import importlib
 import inspect
+import logging
 import os
 import re
 import signal
 import sys
 import threading
+import traceback
+import warnings
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
@@ -27,7 +37,7 @@ from origami_cad import __version__, demo  # noqa: F401  (demo registers its com
 from origami_cad._fileio import Interrupted, handle_signals, interrupted, written
 from origami_cad._names import one_line
 from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
-from origami_cad.errors import OrigamiCadError
+from origami_cad.errors import OrigamiCadError, OrigamiCadWarning
 
 __all__ = ["build_parser", "main"]
 
@@ -45,9 +55,79 @@ def _display(name: str, *args):
     return getattr(importlib.import_module("origami_cad.viz.console"), name)(*args)
 
 
-def _progress(cls: type[Command]):
-    """The live display of a long command and the callable it reports to, or ``(None, None)``."""
-    if cls.PROGRESS is None:
+#: The environment variable that sets how much the command line says (``LEVELS``).
+LOG_ENV = "ORIGAMI_CAD_LOG"
+#: Its values and the flags', as logging levels (``quiet``: errors only).
+LEVELS = {"quiet": logging.ERROR, "warning": logging.WARNING, "info": logging.INFO,
+          "debug": logging.DEBUG}  # fmt: skip
+_DIAGNOSTICS = (
+    ("-q", "--quiet", "say nothing but errors (no summary, warnings or progress)"),
+    (None, "--verbose", "also say what the library does (its info lines)"),
+    (None, "--debug", "say everything, and show the traceback of an internal error"),
+)
+
+
+def _add_diagnostics(p: argparse.ArgumentParser, taken: set[str], top: bool) -> None:
+    """``--quiet``, ``--verbose``, ``--debug`` (those a command does not use itself),
+    before or after the command's name."""
+    for short, flag, text in _DIAGNOSTICS:
+        if flag in taken:
+            continue  # check's own --verbose (it also lists what was normalised)
+        names = [n for n in (short, flag) if n and n not in taken]
+        default = False if top else argparse.SUPPRESS  # a subcommand keeps the top's value
+        dest = "log_" + flag.lstrip("-")
+        p.add_argument(*names, dest=dest, action="store_true", default=default, help=text)
+
+
+def log_level(args: argparse.Namespace) -> int:
+    """The logging level of a run: ``--debug``, ``--verbose``, ``--quiet``, else
+    :data:`LOG_ENV`, else warnings."""
+    for flag, name in (("log_debug", "debug"), ("log_verbose", "info"), ("log_quiet", "quiet")):
+        if getattr(args, flag, False):
+            return LEVELS[name]
+    env = os.environ.get(LOG_ENV, "").strip().lower()
+    return LEVELS.get(env, logging.WARNING)
+
+
+class _Stderr(logging.Handler):
+    """The ``origami_cad`` logger's lines on stderr, in the command's words; remembers the
+    warnings said, so that a command's copy of one is not said twice."""
+
+    def __init__(self, cls: type[Command]) -> None:
+        super().__init__()
+        self.cls, self.said = cls, set()
+
+    def emit(self, record: logging.LogRecord) -> None:
+        text = record.getMessage()
+        self.said.add(text)
+        level = record.levelname.lower()
+        print(f"origami-cad: {level}: {one_line(command_words(text, self.cls))}", file=sys.stderr)
+
+
+@contextlib.contextmanager
+def _diagnostics(args: argparse.Namespace):
+    """The run's logging: the library's logger on stderr at the run's level; Python
+    warnings of the library shown through it (once, in the command's words)."""
+    logger = logging.getLogger("origami_cad")
+    handler = _Stderr(COMMANDS[args.command])
+    before = (logger.level, logger.propagate)
+    logger.setLevel(log_level(args))
+    logger.addHandler(handler)
+    logger.propagate = False
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", OrigamiCadWarning)  # the logger says them
+            yield handler
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(before[0])
+        logger.propagate = before[1]
+
+
+def _progress(cls: type[Command], level: int = logging.WARNING):
+    """The live display of a long command and the callable it reports to, or ``(None, None)``
+    (not on a terminal, nor with ``--quiet``: a pipe or a log file gets no bar)."""
+    if cls.PROGRESS is None or level > logging.WARNING or not _on_terminal():
         return None, None
     if cls.PROGRESS == "servo_table":
         return _display("servo_table")
@@ -61,7 +141,7 @@ def _call(args: argparse.Namespace) -> Outputs:
     # by keyword where the command orders its arguments itself (ARGS), else in order
     order = [] if cls.ARGS is not None else args.positional
     positional = [given.pop(n) for n in order if n in given]
-    display, progress = _progress(cls)
+    display, progress = _progress(cls, log_level(args))
     echo = {"echo": lambda line: print(line, flush=True)}
     extra = {"extra": args.extra} if cls.EXTRA else {}
     with display or contextlib.nullcontext():
@@ -237,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
         "Lengths are in millimetres and angles in degrees.",
     )
     parser.add_argument("--version", action="version", version=f"origami-cad {__version__}")
+    _add_diagnostics(parser, set(), top=True)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, cls in COMMANDS.items():
         if cls.HIDDEN:
@@ -245,6 +326,8 @@ def build_parser() -> argparse.ArgumentParser:
         for arg in cls.INPUTS:
             text = getattr(cls, "INPUT_HELP", {}).get(arg, INPUT_HELP.get(arg))
             p.add_argument(arg, metavar=arg.upper(), help=text)
+        taken = {f for o in cls.OPTIONS for f in (o.shown, o.short) if f}
+        _add_diagnostics(p, taken, top=False)
         names = list(cls.INPUTS)
         if cls.OUTPUT:
             _add_output(p, cls)
@@ -287,18 +370,34 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     """Run the job; every failure becomes one line on stderr and an exit code."""
+    with _diagnostics(args) as said:
+        return _said(args, said)
+
+
+def _show(outputs: Outputs, said: _Stderr) -> None:
+    """The summary on stdout (stderr when the output is stdout), the warnings on stderr:
+    the command's, and its lines starting ``warning:``, each once."""
+    level = logging.getLogger("origami_cad").level
+    shown = sys.stderr if _into_stdout(outputs.files) else sys.stdout
+    warned = [m.removeprefix("warning: ") for m in outputs.messages if m.startswith("warning: ")]
+    for line in outputs.messages if level <= logging.WARNING else ():
+        if not line.startswith("warning: "):
+            print(line, file=shown)
+    for line in dict.fromkeys([*warned, *outputs.warnings]):
+        if line not in said.said and level <= logging.WARNING:
+            said.emit(logging.makeLogRecord({"msg": line, "levelname": "WARNING"}))
+
+
+def _said(args: argparse.Namespace, said: _Stderr) -> int:
+    cls = COMMANDS[args.command]
     try:
         outputs = _call(args)
         if interrupted():  # an interrupt a library swallowed: the outputs were not written
             raise Interrupted(interrupted())
-        shown = sys.stderr if _into_stdout(outputs.files) else sys.stdout
-        for line in outputs.messages:
-            print(line, file=shown)
-        for line in outputs.warnings:
-            print(f"origami-cad: warning: {one_line(line)}", file=sys.stderr)
+        _show(outputs, said)
         return outputs.status
     except OrigamiCadError as exc:  # with its notes (a pattern's implausible size)
-        _error("; ".join([str(exc), *getattr(exc, "__notes__", ())]))
+        _error(command_words("; ".join([str(exc), *getattr(exc, "__notes__", ())]), cls))
         return 2
     except KeyboardInterrupt:
         return _interrupted()
@@ -315,11 +414,21 @@ def _run(args: argparse.Namespace) -> int:
     except Exception as exc:  # the last line of defence: one line, never a traceback
         if interrupted() or _caused_by_interrupt(exc):  # it surfaced as another error (import)
             return _interrupted()
+        if log_level(args) <= logging.DEBUG:
+            traceback.print_exc(file=sys.stderr)
         _error(
             f"internal error ({type(exc).__name__}: {exc}); this is a bug in origami-cad "
             f"{__version__}, please report it with the command and its input files"
         )
         return 3
+
+
+def _on_terminal() -> bool:
+    """Whether stderr, where progress goes, is a terminal."""
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
 
 
 def _into_stdout(files) -> bool:

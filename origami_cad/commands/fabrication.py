@@ -137,6 +137,7 @@ class Fabricate(Command):
     """
 
     NAME, INPUTS, OUTPUT, ARGS = "fabricate", ("design",), "folder", ("design", "folder", "params")
+    PROGRESS = "panels built"
     FILES = (*SHEET_FILES, "parts.glb", *RENDERS)
     OPTIONS = (
         *PARAM_OPTIONS,
@@ -168,7 +169,7 @@ class Fabricate(Command):
 
         params = _params(a)
         loaded, warned = self.load(a, a.design)
-        fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)))
+        fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)), progress=a.progress)
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
             write_fabrication(fab, stage, slicer=a.slicer)
