@@ -36,7 +36,15 @@ from typing import Any, NoReturn
 from origami_cad import __version__, demo  # noqa: F401  (demo registers its command)
 from origami_cad._fileio import Interrupted, handle_signals, interrupted, written
 from origami_cad._names import one_line
-from origami_cad.commands import COMMANDS, FOLDER_HELP, Command, Option, Outputs, execute
+from origami_cad.commands import (
+    COMMANDS,
+    FOLDER_HELP,
+    Command,
+    Option,
+    Outputs,
+    execute,
+    register,
+)
 from origami_cad.errors import OrigamiCadError, OrigamiCadWarning
 
 __all__ = ["build_parser", "main"]
@@ -336,6 +344,104 @@ def build_parser() -> argparse.ArgumentParser:
         names += [_add_option(p, cls, o) for o in cls.OPTIONS if o.flag != ""]
         p.set_defaults(names=names, positional=positional)
     return parser
+
+
+def _words(parser: argparse.ArgumentParser) -> dict[str, tuple[list[str], dict[str, list]]]:
+    """Each command's flags and the values of those with choices (``""``: the top level)."""
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    words = {}
+    for name, p in [("", parser), *subs.choices.items()]:
+        flags, values = [], {}
+        for action in p._actions:
+            flags += action.option_strings
+            lazy = getattr(action, "lazy_choices", None)
+            metavar = action.metavar if isinstance(action.metavar, str) else ""
+            choices = lazy() if lazy else metavar[1:-1].split(",") if metavar[:1] == "{" else []
+            if choices and action.option_strings:
+                values[action.option_strings[-1]] = [str(c) for c in choices]
+        words[name] = (flags, values)
+    return words
+
+
+def completion_script(shell: str, parser: argparse.ArgumentParser | None = None) -> str:
+    """The shell completion of ``origami-cad`` for ``shell`` (``bash``, ``zsh``, ``fish``):
+    commands, their flags and the values of flags with choices, files elsewhere."""
+    words = _words(parser or build_parser())
+    commands = [n for n in words if n]
+    if shell == "fish":
+        lines = ["complete -c origami-cad -f"]
+        for name in commands:
+            lines.append(f"complete -c origami-cad -n __fish_use_subcommand -a {name}")
+        for name, (flags, values) in words.items():
+            cond = f"__fish_seen_subcommand_from {name}" if name else "__fish_use_subcommand"
+            for flag in (f for f in flags if f.startswith("--")):
+                given = values.get(flag)
+                more = f" -x -a '{' '.join(given)}'" if given else ""
+                lines.append(f"complete -c origami-cad -n '{cond}' -l {flag[2:]}{more}")
+            lines.append(f"complete -c origami-cad -n '{cond}' -F")
+        return "\n".join(lines) + "\n"
+    cases, values = [], []
+    for name, (flags, choices) in words.items():
+        label, joined = name or '""', " ".join(flags)
+        cases.append(f'        {label}) opts="{joined}" ;;')
+        for flag, given in choices.items():
+            listed = " ".join(given)
+            values.append(f'        {name}:{flag}) values="{listed}" ;;')
+    script = _BASH.format(
+        commands=" ".join(commands), cases="\n".join(cases), values="\n".join(values)
+    )
+    zsh = "autoload -U +X compinit && compinit\nautoload -U +X bashcompinit && bashcompinit\n"
+    return (zsh if shell == "zsh" else "") + script
+
+
+_BASH = """# origami-cad completion: eval "$(origami-cad completion bash)"
+_origami_cad() {{
+    local cur prev cmd word opts values
+    cur="${{COMP_WORDS[COMP_CWORD]}}"
+    prev="${{COMP_WORDS[COMP_CWORD-1]}}"
+    cmd=""
+    for word in "${{COMP_WORDS[@]:1:COMP_CWORD-1}}"; do
+        case "$word" in -*) ;; *) cmd="$word"; break ;; esac
+    done
+    case "$cmd" in
+{cases}
+        *) opts="" ;;
+    esac
+    values=""
+    case "$cmd:$prev" in
+{values}
+    esac
+    if [[ -n "$values" ]]; then
+        COMPREPLY=($(compgen -W "$values" -- "$cur"))
+    elif [[ -z "$cmd" && "$cur" != -* ]]; then
+        COMPREPLY=($(compgen -W "{commands}" -- "$cur"))
+    elif [[ "$cur" == -* ]]; then
+        COMPREPLY=($(compgen -W "$opts" -- "$cur"))
+    else
+        COMPREPLY=($(compgen -f -- "$cur"))
+    fi
+}}
+complete -o filenames -o bashdefault -F _origami_cad origami-cad
+"""
+
+
+@register
+class Completion(Command):
+    """Print the shell completion script of origami-cad (bash, zsh or fish).
+
+    Install it with one command: ``eval "$(origami-cad completion bash)"`` in ~/.bashrc,
+    ``eval "$(origami-cad completion zsh)"`` in ~/.zshrc, or ``origami-cad completion
+    fish > ~/.config/fish/completions/origami-cad.fish``.
+    """
+
+    NAME = "completion"
+    OPTIONS = (
+        Option("shell", help="the shell", choices=("bash", "zsh", "fish"), positional=True,
+               required=True),
+    )  # fmt: skip
+
+    def run(self, a) -> Outputs:
+        return Outputs(messages=[completion_script(a.shell).rstrip("\n")])
 
 
 @functools.lru_cache(maxsize=4)
