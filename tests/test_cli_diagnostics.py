@@ -52,6 +52,14 @@ def test_fabricate_warns_a_script_through_warnings_and_logging(caplog):
     assert fab.warnings and set(fab.warnings) <= set(said)
     logged = [r.getMessage() for r in caplog.records if r.name.startswith("origami_cad")]
     assert set(fab.warnings) <= set(logged)
+    # a shipped example that warns at its defaults says why and what the user must do
+    comments = " ".join(
+        line.lstrip("#").strip()
+        for line in (EXAMPLES / "miura_6x4.toml").read_text().splitlines()
+        if line.startswith("#")
+    )
+    for line in fab.warnings:
+        assert " ".join(line.split()[:6]) in comments, line
 
 
 def test_warnings_go_to_stderr_and_quiet_silences_them(tiny, tmp_path, capsys, monkeypatch):
