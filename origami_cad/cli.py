@@ -267,8 +267,8 @@ def command_words(text: str, cls: type[Command]) -> str:
     flags = {o.name: o.shown for o in cls.OPTIONS if o.flag != "" and not o.positional}
     names = {o.name: o.name.upper() for o in cls.OPTIONS if o.positional}
     names |= {n: n.upper() for n in cls.INPUTS}
-    if cls.OUTPUT:
-        flags[cls.OUTPUT] = "-o"
+    if cls.OUTPUT:  # as the usage shows it: -o FOLDER, -o FILE
+        flags[cls.OUTPUT] = "FOLDER" if cls.OUTPUT == "folder" else "-o"
 
     def assigned(m: re.Match) -> str:
         return f"{flags[m[1]]} {m[2]}" if m[1] in flags else m[0]
@@ -290,7 +290,9 @@ def _description(cls: type[Command]) -> dict[str, str]:
     paragraphs), in command-line words."""
     doc = inspect.cleandoc(cls.__doc__ or "")
     parts = plain_text(command_words(doc, cls)).split("\n\n")
-    return {"help": parts[0].splitlines()[0], "description": "\n\n".join(parts[:2])}
+    first = re.split(r"(?<!\beq)(?<!\.\.)\. ", " ".join(parts[0].split()))[0]  # 1st sentence
+    first = first.removesuffix(".") if not first.endswith("...") else first
+    return {"help": first, "description": "\n\n".join(parts[:2])}
 
 
 def _add_output(p: argparse.ArgumentParser, cls: type[Command]) -> None:
