@@ -15,7 +15,13 @@ parts and ``show``. They are imported on first use, so ``import origami_cad`` st
 light (it loads no build123d, NumPy or pyvista).
 """
 
+import logging
+
 from origami_cad._lazy import attach_stub
+
+# a library logs, the application shows: the "origami_cad" logger (and its children) is
+# silent unless a script configures logging; the command line prints it on stderr
+logging.getLogger("origami_cad").addHandler(logging.NullHandler())
 
 __version__ = "0.1.0"
 

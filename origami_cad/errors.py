@@ -30,6 +30,9 @@ The finer driving faults (``StallError``, ``PortLostError``, ...) derive from
 
 from __future__ import annotations
 
+import logging
+import warnings
+
 __all__ = [
     "DesignError",
     "DesignWarning",
@@ -38,10 +41,12 @@ __all__ = [
     "FabricationError",
     "OptionsError",
     "OrigamiCadError",
+    "OrigamiCadWarning",
     "OutputError",
     "PatternError",
     "SimulationError",
     "StringsError",
+    "warn",
 ]
 
 
@@ -58,7 +63,23 @@ class DesignError(OrigamiCadError, ValueError):
     design search cannot run with it."""
 
 
-class DesignWarning(UserWarning):
+class OrigamiCadWarning(UserWarning):
+    """A result the library returned but that may print, fold or walk badly (a panel's
+    bias reduced, a sheet larger than the print bed...): the user should act on it."""
+
+
+def warn(message: str, category: type[Warning] = OrigamiCadWarning, stacklevel: int = 2) -> None:
+    """Say ``message`` where a script and a tool see it: ``warnings.warn`` (shown once
+    per place by Python's default filter) and the ``origami_cad`` logger at WARNING
+    (silent unless the script configures logging; the command line prints it on stderr).
+
+    ``stacklevel`` is ``warnings.warn``'s, counted from the caller of :func:`warn`.
+    """
+    logging.getLogger("origami_cad").warning(message, extra={"origami_cad_warning": True})
+    warnings.warn(message, category, stacklevel=stacklevel + 1)
+
+
+class DesignWarning(OrigamiCadWarning):
     """A design search found a result it could not fully confirm (for example, an arm
     whose strings cannot fold it over its whole fold range); the result is still returned."""
 

@@ -116,7 +116,7 @@ def test_without_the_viz_extra_only_3d_renders_refuse(tmp_path, small_miura_toml
     assert cp.read_bytes()[:4] == b"\x89PNG" and glb.read_bytes()[:4] == b"glTF"
     # the 3D render: one line naming the extra, exit 2, nothing written
     assert codes["fold"] == 2 and not folded.exists()
-    errors = [line for line in run.stderr.splitlines() if line.startswith("origami-cad:")]
+    errors = [line for line in run.stderr.splitlines() if line.startswith("origami-cad: error:")]
     assert len(errors) == 1 and "pip install 'origami-cad[viz]'" in errors[0], run.stderr
     assert "Traceback" not in run.stderr
     message, is_import_error = codes["library"]

@@ -195,11 +195,13 @@ def test_convert_warns_and_the_unit_option_fixes_it(tmp_path, capsys):
     path = ezdxf_default_file(tmp_path / "m.dxf")
     out = tmp_path / "out.fold"
     assert main(["convert", str(path), str(out)]) == 0
-    printed = capsys.readouterr().out
+    printed = capsys.readouterr()
+    assert "warning" not in printed.out  # the summary alone on stdout, the warning on stderr
+    printed = printed.err
     assert "warning:" in printed and "over 5 m" in printed and "--unit" in printed
     assert max(width_height(read_fold(out))) > 5000
     assert main(["convert", str(path), str(out), "--unit", "mm"]) == 0
-    assert "warning" not in capsys.readouterr().out
+    assert "warning" not in str(capsys.readouterr())
     w, h = width_height(read_fold(out))
     assert main(["convert", str(path), str(out), "--width", "240"]) == 0
     assert width_height(read_fold(out)) == pytest.approx((240.0, 240.0 * h / w))
@@ -212,7 +214,7 @@ def test_fold_reads_the_size_option(tmp_path, capsys):
     out = tmp_path / "f.fold"
     args = ["fold", str(path), "--ratio", "0.3", "--frames", "2", "-o", str(out)]
     assert main([*args, "--unit", "cm"]) == 0
-    assert "warning" not in capsys.readouterr().out
+    assert "warning" not in str(capsys.readouterr())
     cp = read_fold(out)
     assert width_height(cp) == pytest.approx(
         tuple(10 * v for v in width_height(miura_pattern(4, 6, 20.0, 30.0, 60.0)))
@@ -220,7 +222,7 @@ def test_fold_reads_the_size_option(tmp_path, capsys):
     folded = read_fold_frames(out)[-1]
     assert np.ptp(folded[:, 0]) > 600  # folded at 10x the size, not 1000x or 1x
     assert main(args) == 0  # declared metres: folds, and says so
-    assert "over 5 m" in capsys.readouterr().out
+    assert "over 5 m" in capsys.readouterr().err  # a warning: on stderr
 
 
 @pytest.mark.parametrize("command", ["fabricate", "route", "simulate", "plan-route"])

@@ -195,24 +195,30 @@ def test_a_toy_bus_drives_a_sequence_through_the_registry(tmp_path, toy_bus):
 
 
 KNOWN = "protocol must be one of dynamixel, serial, toy, got 'canbus'"
+OPTION = "--protocol: expected one of dynamixel, serial, toy, got 'canbus'"
 
 
 def test_an_unknown_protocol_names_the_known_ones(tmp_path, toy_bus, capsys):
     for call in (
         lambda: open_bus("canbus", "/dev/null"),
         lambda: open_emulator("canbus", [1]),
+    ):
+        with pytest.raises(DriveError, match=KNOWN):
+            call()
+    # the commands check their --protocol against the same registry, before any work
+    for call in (
         lambda: run_emulate([1], protocol="canbus", seconds=0.1, echo=lambda _: None),
         lambda: run_drive(EXAMPLES / "arm_fold.toml", tmp_path / "l.csv", dry_run=True,
                           protocol="canbus"),
     ):  # fmt: skip
-        with pytest.raises(DriveError, match=KNOWN):
+        with pytest.raises(OptionsError, match=OPTION):
             call()
     # before, the serial bus got it silently; now the drive refuses it (a run that never
     # began writes no log)
     assert not (tmp_path / "l.csv").exists()
     code = main(["emulate", "--protocol", "canbus", "--seconds", "0.1"])
     err = capsys.readouterr().err
-    assert code == 2 and KNOWN in err and err.count("\n") == 1
+    assert code == 2 and OPTION in err and err.count("\n") == 1
 
 
 # ---------------------------------------------------------------------------- errors

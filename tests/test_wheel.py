@@ -124,6 +124,13 @@ def test_the_wheel_ships_py_typed_and_the_licence(installed):
     meta = zipfile.ZipFile(wheel).read(licence.replace("licenses/LICENSE", "METADATA")).decode()
     assert "License-Expression: MIT" in meta and "License-File: LICENSE" in meta
     assert "Provides-Extra: viz" in meta and "Requires-Dist: pyvista" in meta
+    urls = dict(
+        line.removeprefix("Project-URL: ").split(", ", 1)
+        for line in meta.splitlines()
+        if line.startswith("Project-URL: ")
+    )
+    assert {"Homepage", "Documentation", "Source", "Issues", "Changelog"} <= set(urls)
+    assert all(u.startswith("https://") for u in urls.values()), urls
     base = [line for line in meta.splitlines() if line.startswith("Requires-Dist: pyvista")]
     assert all("extra ==" in line for line in base), base  # only through an extra
     assert (purelib / "origami_cad" / "py.typed").is_file()

@@ -36,6 +36,7 @@ from origami_cad.commands._outputs import (
     check_suffix,
     file_format,
     moved,
+    one_output,
     sources,
     staged,
     wrote,
@@ -240,6 +241,11 @@ def _bind(cls: type[Command], args: tuple, kwargs: dict) -> SimpleNamespace:
     for name in names:
         if name not in values and name not in options:
             raise TypeError(f"{cls.NAME}: missing {name}")
+    if cls.OUTPUT == "outputs" and isinstance(values.get("outputs"), str | os.PathLike):
+        values["outputs"] = [values["outputs"]]  # one file, from Python
+    for name in (cls.OUTPUT, *(o.name for o in cls.OPTIONS if o.flag == "--output")):
+        if name not in (None, "outputs") and isinstance(values.get(name), list):
+            values[name] = one_output(cls.NAME, cls.OUTPUT == "output", values[name])
     for opt in cls.OPTIONS:
         given = values.get(opt.name)
         if given is None and opt.required:

@@ -35,8 +35,9 @@ class Option:
         The value when the option is not given (``None``: the library's default).
     min, max : float, optional
         The range (inclusive; ``open_min`` excludes ``min``).
-    choices : tuple, optional
-        The allowed values.
+    choices : tuple or callable, optional
+        The allowed values, or a function returning them (a registry read when a value
+        is checked or the help is shown, not when the parser is built).
     nargs : int or str, optional
         Values per occurrence (2 for ``X Y``, ``"+"``...); each is checked.
     repeat : bool
@@ -63,7 +64,7 @@ class Option:
     min: float | None = None
     max: float | None = None
     open_min: bool = False
-    choices: tuple | None = None
+    choices: tuple | Callable[[], tuple] | None = None
     nargs: int | str | None = None
     repeat: bool = False
     parse: Callable[[str], Any] | None = None
@@ -73,6 +74,11 @@ class Option:
     dest_negated: str | None = None
     positional: bool = False
     required: bool = False
+
+    @property
+    def allowed(self) -> tuple | None:
+        """The allowed values (:attr:`choices`, called when it is a function), or ``None``."""
+        return tuple(self.choices()) if callable(self.choices) else self.choices
 
     @property
     def shown(self) -> str:
@@ -115,9 +121,10 @@ class Option:
         elif self.kind == "str" and not isinstance(value, (str, os.PathLike)):
             if self.parse is None:
                 raise OptionsError(f"{self.shown}: expected text, got {value!r}")
-        if self.choices is not None and value not in self.choices:
+        allowed = self.allowed
+        if allowed is not None and value not in allowed:
             raise OptionsError(
-                f"{self.shown}: expected one of {', '.join(map(str, self.choices))}, got {value!r}"
+                f"{self.shown}: expected one of {', '.join(map(str, allowed))}, got {value!r}"
             )
         return value
 
@@ -146,9 +153,10 @@ TOLERANCE = Option(
 #: ``unit``, ``scale``, ``width`` and ``tolerance``: how an imported pattern (.fold, .dxf,
 #: .svg, .opx) is sized and joined up.
 SIZING = (
-    Option("unit", help="unit of an imported file: mm, cm, m, in, ft, pt, px or MM"),
+    Option("unit", help="unit of an imported file's coordinates: mm, cm, m, in, ft, pt or "
+           "px, or its length in mm (default: the unit the file declares, else mm)"),
     Option("scale", "float", "multiply an imported pattern's size", min=0, open_min=True,
-           max=1e6),
+           max=1e6, metavar="FACTOR"),
     Option("width", "float", "scale an imported pattern to this width", "mm", min=0,
            open_min=True, max=1e6),
     TOLERANCE,

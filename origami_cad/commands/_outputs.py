@@ -16,6 +16,7 @@ __all__ = [
     "check_suffix",
     "file_format",
     "moved",
+    "one_output",
     "sources",
     "staged",
     "wrote",
@@ -100,6 +101,18 @@ def file_format(path: PathLike, allowed: Sequence[str]) -> str:
     if _is_stream(path):
         return allowed[0]
     return Path(os.path.realpath(path)).suffix.lower()
+
+
+def one_output(command: str, file: bool, given: list) -> Any:
+    """The one ``-o`` of a command that writes one file (``file``) or one folder: the
+    command line gives every ``-o`` as a list, and a second one is refused, never dropped."""
+    if len(given) == 1:
+        return given[0]
+    what, repeated = "one file" if file else "one folder", " -o ".join(map(str, given))
+    raise OptionsError(
+        f"-o: {command} writes {what}, got {len(given)} (-o {repeated}); "
+        "only pattern and fold write each -o given"
+    )
 
 
 def sources(*items: Any) -> list:

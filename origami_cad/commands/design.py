@@ -105,7 +105,7 @@ class DesignArm(Command):
     """CMA-ES arm design (eq. 5): results.json, best.toml and plots into ``folder``.
 
     The fitness is evaluated over the fold range the printed arm reaches (the
-    task's ``[fabrication]`` b, h, t of eq. 6 or ``fold_limit``); best.toml's
+    task's ``[fabrication]`` b, h, t of eq. 6, or its limit in degrees); best.toml's
     comments give that range and the ``fabricate`` command that builds the winner
     with its fabrication parameters. ``runs``, ``seed`` and ``max_generations``
     override the task's ``[search]`` table; ``scheduler`` runs the runs on a Dask
@@ -116,10 +116,35 @@ class DesignArm(Command):
     FILES = ("results.json", "best.toml", "trajectories.png", "convergence.png")
     FILES += ("best_pattern.png", "route.toml")
     OPTIONS = (
-        Option("runs", "int", "override the task's [search] runs", min=1, max=MAX_RUNS),
-        Option("seed", "int", "seed (overrides [search])", min=0, max=2**32 - 1),
-        Option("max_generations", "int", "override [search] value", min=1, max=MAX_GENERATIONS),
-        Option("scheduler", help="Dask scheduler", metavar="ADDR"),
+        Option(
+            "runs",
+            "int",
+            "independent CMA-ES runs (default: the task's [search] runs)",
+            min=1,
+            max=MAX_RUNS,
+            metavar="N",
+        ),
+        Option(
+            "seed",
+            "int",
+            "seed of the first run (default: the task's [search] seed)",
+            min=0,
+            max=2**32 - 1,
+            metavar="N",
+        ),
+        Option(
+            "max_generations",
+            "int",
+            "CMA-ES generations per run at most (default: the task's [search] value)",
+            min=1,
+            max=MAX_GENERATIONS,
+            metavar="N",
+        ),
+        Option(
+            "scheduler",
+            help="address of a Dask scheduler to run the runs on (default: a local process pool)",
+            metavar="ADDR",
+        ),
     )
 
     def run(self, a) -> Outputs:

@@ -10,7 +10,7 @@ from origami_cad._signals import finishing
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.errors import DriveError
 
-__all__ = ["parse_ids"]
+__all__ = ["parse_ids", "protocols"]
 
 
 def parse_ids(text: str) -> list[int]:
@@ -20,8 +20,16 @@ def parse_ids(text: str) -> list[int]:
     return [int(v) for v in text.split(",")]
 
 
-_PROTOCOL = Option("protocol", help="servo bus: a name of origami_cad.drive.BUSES",
-                   default="dynamixel")  # fmt: skip
+def protocols() -> tuple[str, ...]:
+    """The servo buses' names (:data:`origami_cad.drive.BUSES`, read when needed)."""
+    from origami_cad.drive import BUSES
+
+    return tuple(BUSES)
+
+
+_PROTOCOL = Option("protocol", help="servo bus (dynamixel: Dynamixel Protocol 2.0; serial: "
+                   "the small serial protocol)", default="dynamixel",
+                   choices=protocols)  # fmt: skip
 
 
 @register
@@ -30,10 +38,12 @@ class Emulate(Command):
 
     NAME, ARGS = "emulate", ("ids",)
     OPTIONS = (
-        _PROTOCOL,
-        Option("ids", "object", "servo IDs, e.g. 1,2", default=(1,), parse=parse_ids),
-        Option("seconds", "float", "0: until Ctrl-C", "s", 0.0, min=0, max=1e7),
-    )
+        Option("ids", "object", "servo IDs, comma-separated (default 1)", default=(1,),
+               parse=parse_ids, metavar="ID[,ID...]"),
+        Option("seconds", "float", "how long to run (0: until Ctrl-C)", "s", 0.0, min=0,
+               max=1e7),
+        _PROTOCOL,  # checked last: a test stops the checks of the others by a bad protocol
+    )  # fmt: skip
 
     def run(self, a) -> Outputs:
         from origami_cad.drive import open_emulator
@@ -107,23 +117,24 @@ class Drive(Command):
     """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
 
     ``speed`` is the time acceleration of a dry run; its emulated Dynamixel servos carry
-    each TSA's ``load`` (the torque a simulation predicts, N mm) times ``load_scale``, so
-    a load past a servo's stall torque or the sequence's ``current_limit`` stops that
-    servo by name. ``plot`` adds a PNG of the commanded and measured turns. Torque goes
+    each TSA's load (the torque a simulation predicts, N mm) times ``load_scale``, so
+    a load past a servo's stall torque or the sequence file's current limit (mA) stops
+    that servo by name. ``plot`` adds a PNG of the commanded and measured turns. Torque goes
     off on exit, error and Ctrl-C.
     """
 
     NAME, INPUTS, PROGRESS, ARGS = "drive", ("sequence",), "servo_table", ("sequence", "log")
     OPTIONS = (
-        Option("port", help="serial port of the servos"),
+        Option("port", help="serial port of the servos (e.g. /dev/ttyUSB0)"),
         _PROTOCOL,
         Option("baudrate", "int", "bits per second", default=57600, min=1, max=100_000_000),
         Option("dry_run", "flag", "start the emulator and drive it"),
-        Option("speed", "float", "dry-run time acceleration", default=8.0, min=0, open_min=True,
-               max=1000),
-        Option("load_scale", "float", "dry run: loads x this", default=1.0, min=0, max=1e6),
-        Option("log", help="CSV log, written as it runs (none unless given)"),
-        Option("plot", help="also a PNG of commanded and measured turns"),
+        Option("speed", "float", "dry run: times faster than real time", default=8.0, min=0,
+               open_min=True, max=1000),
+        Option("load_scale", "float", "dry run: the emulated loads times this", default=1.0,
+               min=0, max=1e6),
+        Option("log", help="CSV log, written as it runs (none unless given)", metavar="FILE"),
+        Option("plot", help="also a PNG of commanded and measured turns", metavar="FILE"),
     )  # fmt: skip
 
     def outputs(self, a):

@@ -24,16 +24,18 @@ _MM = {"kind": "float", "unit": "mm", "min": 0.0, "max": 1000.0}
 #: The options that are fields of ``FabricationParams`` (or give its bias, eq. 6).
 PARAM_OPTIONS = (
     Option("bias", help="inner bias b", **_MM),
-    Option("theta_max", "float", "theta_max (gives b, eq. 6)", "deg", min=0, open_min=True,
-           max=180),
-    Option("p_max", "float", "p_max in [0, 1] (gives b, eq. 6)", min=0, open_min=True, max=1),
+    Option("theta_max", "float", "largest fold angle of the creases (gives b, eq. 6)", "deg",
+           min=0, open_min=True, max=180),
+    Option("p_max", "float", "largest fold ratio in (0, 1] (gives b, eq. 6)", min=0,
+           open_min=True, max=1, metavar="P"),
     Option("height", help="panel height h", open_min=True, **_MM),
     Option("thickness", help="crease layer t", open_min=True, **_MM),
     Option("shell", help="shell wall s", **_MM),
     Option("midlayer_bias", help="mid-layer inset m", **_MM),
     Option("border_margin", help="border inset", **_MM),
     Option("hole_diameter", help="hole diameter", open_min=True, **_MM),
-    Option("holes", help="where holes go", choices=("auto", "pattern", "none")),
+    Option("holes", help="string holes: placed on every panel (auto), the pattern's own "
+           "(pattern) or none", choices=("auto", "pattern", "none")),
 )  # fmt: skip
 
 
@@ -122,18 +124,20 @@ RENDERS = ("assembled.png", "exploded.png", "section.png")
 class Fabricate(Command):
     """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
 
-    ``params`` is a ``FabricationParams`` (default: the paper's b = 3, h = 2.2,
-    t = 0.4 mm); instead, keywords of :func:`~origami_cad.fabrication.fabrication_params`
-    (``bias``, ``theta_max``, ``height``...) may be given. ``hole`` lists hole centres
-    (x, y in mm) that replace the automatic ones. ``renders`` adds assembled,
-    exploded and section pictures; ``name`` prefixes the key numbers (for
-    reports holding several structures).
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
-    ``slicer`` (prusa, bambu or orca) is the slicer print.3mf is laid out for;
-    ``bed`` (x, y in mm) the print bed: a larger sheet is refused before any work.
+    The paper's b = 3, h = 2.2, t = 0.4 mm by default; ``bias``, ``theta_max`` or
+    ``p_max`` (eq. 6), ``height``, ``thickness``... set them. ``hole`` gives hole
+    centres (x, y in mm) that replace the automatic ones. ``renders`` adds assembled,
+    exploded and section pictures. ``unit``, ``scale`` and ``width`` size an imported
+    pattern. ``slicer`` is the slicer print.3mf is laid out for; ``bed`` (x, y in mm)
+    the print bed: a larger sheet is refused before any work.
+
+    From Python, ``params`` is a whole ``FabricationParams`` instead of its keywords
+    (:func:`~origami_cad.fabrication.fabrication_params`), and ``name`` prefixes the
+    key numbers (for reports holding several structures).
     """
 
     NAME, INPUTS, OUTPUT, ARGS = "fabricate", ("design",), "folder", ("design", "folder", "params")
+    PROGRESS = "panels built"
     FILES = (*SHEET_FILES, "parts.glb", *RENDERS)
     OPTIONS = (
         *PARAM_OPTIONS,
@@ -165,7 +169,7 @@ class Fabricate(Command):
 
         params = _params(a)
         loaded, warned = self.load(a, a.design)
-        fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)))
+        fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)), progress=a.progress)
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
             write_fabrication(fab, stage, slicer=a.slicer)

@@ -127,7 +127,8 @@ class DesignGait(Command):
         Option("steps", "int", "quasi-static steps between keyframes", min=1, max=100),
         Option("design", "str", "search the crawler's design too: 'default' or "
                "gene=low:high,... (docs/crawler.md, design search)", metavar="BOUNDS"),
-        Option("scheduler", help="Dask scheduler", metavar="ADDR"),
+        Option("scheduler", help="address of a Dask scheduler to simulate on (default: a "
+               "local process pool)", metavar="ADDR"),
         Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
                max=1000, flag=""),
     )  # fmt: skip

@@ -10,22 +10,37 @@ __all__: list[str] = []
 
 @register
 class Part(Command):
-    """Build a parametric part (``origami_cad.parts``) and write NAME.step and NAME.stl.
+    """Build a parametric part and write NAME.step and NAME.stl.
 
-    ``params`` are the part's own parameters (mm, degrees), as values or as the
-    text of ``--name value`` options. With ``pattern``, a ``tsa-module`` is fitted
-    to ``panel`` and a ``blocker`` to ``crease``.
+    The part's own parameters (mm, degrees) are options of their own: ``--list``
+    shows them, e.g. ``part tsa-module --hub-thickness 5``. With ``pattern``, a
+    ``tsa-module`` is fitted to ``panel`` and a ``blocker`` to ``crease``.
+
+    From Python, ``params`` gives them as values; the parts are
+    :mod:`origami_cad.parts`.
     """
 
     NAME, EXTRA, ARGS = "part", True, ("name", "folder", "params")
     OPTIONS = (
-        Option("name", help="part name", nargs="?", positional=True),
+        Option(
+            "name",
+            help="the part: tsa-module, ring-rail, blocker or driver-adapter (--list)",
+            nargs="?",
+            positional=True,
+        ),
         Option("folder", help=FOLDER_HELP, flag="--output", short="-o"),
         Option("params", "object", "the part's own parameters", flag=""),
         Option("list", "flag", "list the parts and their parameters"),
         Option("pattern", help="design or pattern file the part is made for"),
-        Option("panel", help="panel label (tsa-module)"),
-        Option("crease", "int", "crease edge index (blocker)", min=0, max=10**9),
+        Option("panel", help="panel label the tsa-module is fitted to (e.g. c0r1s2)"),
+        Option(
+            "crease",
+            "int",
+            "crease (edge index) the blocker is fitted to",
+            min=0,
+            max=10**9,
+            metavar="EDGE",
+        ),
     )
 
     def inputs(self, a):

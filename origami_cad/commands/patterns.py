@@ -58,7 +58,7 @@ class Convert(Command):
     .png picture.
 
     ``unit``, ``scale`` and ``width`` size an imported pattern and ``tolerance`` joins it
-    up (``read_pattern``).
+    up.
     """
 
     NAME, INPUTS, WHAT = "convert", ("source", "output"), "a pattern"
@@ -90,7 +90,7 @@ class Convert(Command):
 
 @register
 class Check(Command):
-    """Validate a pattern or design (any input fold takes); ``status`` is 1 when it has
+    """Validate a pattern or design (any input fold takes); exit status 1 when it has
     errors. Writes nothing.
 
     It says what the import merged (vertices, vertices put on an edge, crossing points:
@@ -99,6 +99,7 @@ class Check(Command):
     were rounded; the defect is how far a vertex's even sectors miss 180 deg); a vertex
     that cannot fold flat is a warning, as it still folds in 3D.
     ``unit``, ``scale``, ``width`` and ``tolerance`` size and join up an imported pattern.
+    The result (``Outputs.result``) is the list of problems found.
     """
 
     NAME, INPUTS = "check", ("source",)
@@ -212,24 +213,25 @@ def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
 
 @register
 class Fold(Command):
-    """Fold from p = 0 to ``ratio``; write .fold frames, a .png of the end, .gif, .glb
-    or a .step of the printed structure folded at ``ratio`` (``Fabrication.assembly``; the
-    default fabrication parameters, with the pattern's own string holes; closed form only).
+    """Fold from p = 0 to ``ratio``; write each ``outputs`` file: .fold frames, a .png
+    of the end, .gif, .glb, or a .step of the printed structure folded at ``ratio`` (the
+    default fabrication parameters with the pattern's own string holes; closed form only).
 
     ``method``: ``auto`` folds in closed form where it applies, else by the general
-    solver (:mod:`origami_cad.simulation.folder`; its largest edge strain is reported and
-    a warning given over :data:`~origami_cad.simulation.folder.STRAIN_LIMIT` percent);
-    ``closed-form`` or ``general`` ask for one.
+    solver, whose largest edge strain is reported (a warning when large); ``closed-form``
+    or ``general`` ask for one. ``frames`` states are written (1: only ``ratio``; a .gif or
+    .glb of 1 frame gets 30), each lying on the table, centred on the flat sheet; a .glb
+    holds them as morph targets played by an animation. ``unit``, ``scale`` and
+    ``width`` size an imported pattern.
 
-    ``frames`` states are written (1: only ``ratio``; a .gif or .glb of 1 frame gets 30),
-    each lying on the table, centred on the flat sheet
-    (:mod:`origami_cad.kinematics.placement`); a .glb holds them as morph targets played
-    by an animation (:mod:`origami_cad.viz.gltf`).
-    ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a direction.
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    From Python, ``view`` is the camera of the renders: ``"iso"``, ``"xy"``... or a
+    direction. The .step is ``Fabrication.assembly``; the general solver is
+    :mod:`origami_cad.simulation.folder` (the strain limit:
+    :data:`~origami_cad.simulation.folder.STRAIN_LIMIT` percent); the placement
+    :mod:`origami_cad.kinematics.placement`, the .glb :mod:`origami_cad.viz.gltf`.
     """
 
-    NAME, INPUTS, OUTPUT = "fold", ("design",), "output"
+    NAME, INPUTS, OUTPUT = "fold", ("design",), "outputs"
     SUFFIXES, WHAT = FOLD_SUFFIXES, "the folded state"
     OPTIONS = (
         Option("ratio", "float", "fold ratio p in [0, 1]", default=0.5, min=0, max=1),
@@ -245,35 +247,34 @@ class Fold(Command):
     )
 
     def run(self, a) -> Outputs:
-        out, ratio = Path(a.output), a.ratio
-        loaded, warned = self.load(a, a.design)
-        animated = file_format(out, FOLD_SUFFIXES) in (".gif", ".glb")
-        frames = a.frames if a.frames > 1 or not animated else 30
-        states, strained = _placed_states(loaded, ratio, frames, a.method.replace("-", " "))
-        _write_folded(loaded, states, out, ratio, a.view)
-        still = file_format(out, FOLD_SUFFIXES) == ".png"
-        caption = f"Folded at p = {ratio:g}" if still else f"Folding from p = 0 to {ratio:g}"
-        plural = "s" if len(states) > 1 else ""
-        method, strain = states[-1].method, max(s.strain for s in states)
-        end = states[-1].fold_angles if ratio > 0 else None
         from origami_cad.simulation.folder import fold_notes
 
-        flat = fold_notes(loaded.pattern, end, method)
+        outs, ratio = [Path(o) for o in a.outputs], a.ratio
+        loaded, warned = self.load(a, a.design)
+        kinds = [file_format(out, FOLD_SUFFIXES) for out in outs]
+        animated = any(k in (".gif", ".glb") for k in kinds)
+        frames = a.frames if a.frames > 1 or not animated else 30
+        states, strained = _placed_states(loaded, ratio, frames, a.method.replace("-", " "))
+        method, strain = states[-1].method, max(s.strain for s in states)
         how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
-        return Outputs(
-            files=[out],
-            images=[]
-            if file_format(out, FOLD_SUFFIXES) in (".fold", ".step")
-            else [(out, caption)],
-            messages=[
-                *warned,
-                *strained,
-                *flat,
-                wrote(out, detail=f"{len(states)} state{plural}, p up to {ratio:g}; {how}"),
-            ],
+        end = states[-1].fold_angles if ratio > 0 else None
+        result = Outputs(
+            files=outs,
+            messages=[*warned, *strained, *fold_notes(loaded.pattern, end, method)],
             numbers=[("fold method", method), ("largest edge strain", f"{strain:.3g} %")],
             result=states,
         )
+        for out, kind in zip(outs, kinds, strict=True):
+            # one state asked for: a still picture or file holds only it, an animation 30
+            shown = states if a.frames > 1 or kind in (".gif", ".glb") else states[-1:]
+            _write_folded(loaded, shown, out, ratio, a.view)
+            plural = "s" if len(shown) > 1 else ""
+            detail = f"{len(shown)} state{plural}, p up to {ratio:g}; {how}"
+            result.messages.append(wrote(out, detail=detail))
+            if kind not in (".fold", ".step"):
+                still = f"Folded at p = {ratio:g}" if kind == ".png" else None
+                result.images.append((out, still or f"Folding from p = 0 to {ratio:g}"))
+        return result
 
 
 @register

@@ -59,29 +59,33 @@ class PlanRoute(Command):
     positions in the panels' operation regions, scored on the fast DCQC model and
     ranked by TSA turns, peak torque and load share; the best ``verify`` routes are
     folded by the bar-and-hinge simulator. ``--tsa ring`` puts the guides on a ring
-    of ``ring_radius`` mm, ``ring_height`` mm above the sheet; ``onboard:PANEL``
-    mounts the TSA on that panel. Without ``--strings``, the fewest strings whose best
+    (126 mm in radius, 10 mm above the sheet); ``onboard:PANEL`` mounts the TSA on
+    that panel. Without ``--strings``, the fewest strings whose best
     route reaches the target are planned (1, 2, ...), and the count is said.
     ``--budget TURNS[,NMM]``: the TSA's turns and peak torque (N mm) to stay within
     (default 40 turns). routes.json, routes.png and
     routes_turns.png go next to route.toml. ``--scheduler`` runs the search on a Dask
-    cluster. ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    cluster. ``unit``, ``scale`` and ``width`` size an imported pattern.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "plan-route", ("pattern",), "output", "candidates"
     SUFFIXES, WHAT = (".toml",), "the route"
     OPTIONS = (
-        Option("tsa", help="ring, or onboard:PANEL (the TSA on that panel)", default="ring",
-               parse=lambda t: _tsa_placement(t, 126.0, 10.0) and t),
+        Option("tsa", help="ring (the TSA on a ring above the sheet), or onboard:PANEL (on "
+               "that panel)", default="ring", parse=lambda t: _tsa_placement(t, 126.0, 10.0) and t,
+               metavar="ring|onboard:PANEL"),
         Option("strings", "int", "strings the TSA twists (default: the fewest that reach the "
-               "target)", min=1, max=16),
-        Option("target_p", "float", "fold ratio (default: eq. 6 limit)", min=0, open_min=True,
-               max=1),
-        Option("candidates", "int", "beam width of the search", default=128, min=1, max=4096),
-        Option("budget", help="turn [and torque] budget", metavar="TURNS[,NMM]",
-               parse=lambda t: _plan_budget(t) and t),
-        Option("seed", "int", "seed (overrides [search])", default=0, min=0, max=2**32 - 1),
-        Option("scheduler", help="Dask scheduler", metavar="ADDR"),
+               "target)", min=1, max=16, metavar="N"),
+        Option("target_p", "float", "fold ratio to reach (default: the eq. 6 limit)", min=0,
+               open_min=True, max=1, metavar="P"),
+        Option("candidates", "int", "beam width of the search", default=128, min=1, max=4096,
+               metavar="N"),
+        Option("budget", help="the TSA's turns, and peak torque in N mm, to stay within "
+               "(default 40 turns)", metavar="TURNS[,NMM]", parse=lambda t: _plan_budget(t) and t),
+        Option("seed", "int", "random seed of the search", default=0, min=0, max=2**32 - 1,
+               metavar="N"),
+        Option("scheduler", help="address of a Dask scheduler to search on (default: a "
+               "local process pool)", metavar="ADDR"),
         Option("ring_radius", "float", "radius of the ring TSA's guides", "mm", 126.0, min=0,
                open_min=True, max=1e4, flag=""),
         Option("ring_height", "float", "height of the ring above the sheet", "mm", 10.0,

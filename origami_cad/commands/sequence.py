@@ -102,14 +102,14 @@ class SequenceCommand(Command):
     """Fold-ratio keyframes to TSA turns through a string model: the sequence file ``drive`` runs.
 
     Each route (``route``, then ``more_routes``: one onboard TSA each, servo IDs
-    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model =
-    "dcqc"``) or the bar-and-hinge simulation (``"simulation"``); the fold ratio
+    ``ids``, default 1, 2, ...) folds ``design`` in the DCQC model (``model`` dcqc)
+    or the bar-and-hinge simulation (``model`` simulation); the fold ratio
     it reaches against the TSA's turns becomes that TSA's mapping (fold ratio to
     contraction of the onboard TSA model, every keyframe's fold ratio included),
     so ``drive`` commands the turns the model needed. ``keyframes`` are
     ``TIME:P`` or ``TIME:P1,P2,...`` (s, fold ratios, one per route). A pattern
     without a one-parameter folding is measured by its most folded crease
-    (``max |fold angle| / 180``). ``fixed_panel`` holds that panel in every route
+    (max |fold angle| / 180). ``fixed_panel`` holds that panel in every route
     (e.g. a robot's body while one leg folds), instead of each route's own setting.
 
     With a robot file as ``design`` (``[robot]``, legs with their routes), ``route`` is

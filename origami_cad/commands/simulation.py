@@ -76,15 +76,13 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
 class Simulate(Command):
     """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold, ...
 
-    ``route`` is the route file; a design that carries its tendons (a PyGamiX
-    description) needs none. ``params`` is a ``SimulationParams``, or give ``gravity``
-    (mm/s^2, along -z), ``ground`` (height of a ground plane, mm) and ``friction``
-    (Coulomb coefficient). ``blockers`` maps crease index to its limit in degrees;
-    ``free`` holds no panel (a robot lying on the ground); ``gif_frames`` is
-    the number of frames of the animation. ``pull`` (mm) pulls the strings' anchored
-    end as a test machine does, at ``rate`` mm/s, instead of the TSA: pull.csv
-    (``pull_mm,tension_N,...``), states.fold and simulation.json.
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``route`` is the route file; a design carrying its tendons (a PyGamiX description)
+    needs none. ``pull`` (mm) pulls the strings' anchored end as a test machine does, at
+    ``rate`` mm/s, instead of the TSA: pull.csv (pull in mm, tension in N...),
+    states.fold and simulation.json. ``unit``, ``scale``, ``width`` size an imported pattern.
+
+    From Python, ``params`` is a whole ``SimulationParams`` instead of its keywords,
+    and ``gif_frames`` the number of frames of the animation.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "simulate", ("pattern",), "folder", "simulating"
@@ -206,9 +204,11 @@ class ArmScene(Command):
     limits) folds ``design`` by ``route``; each state is placed by its base panels
     and its main crease read as the TG chain, so its tip path is compared with the
     designed one (at the same fold ratio), ``P_start``, ``P_end`` and the task's
-    areas. The simulation starts from creases pre-folded by 3 deg (see
-    :func:`~origami_cad.simulation.simulate`), not flat. ``steps`` turns the
-    TSA in that many equal steps (default: steps of string taken up).
+    areas. The simulation starts from creases pre-folded by 3 deg, not flat.
+    ``steps`` turns the TSA in that many equal steps (default: steps of string taken
+    up).
+
+    The pre-folding is :func:`~origami_cad.simulation.simulate`'s.
     """
 
     NAME, INPUTS, OUTPUT = "arm-scene", ("task", "design", "route"), "folder"

@@ -39,7 +39,7 @@ class Route(Command):
     """DCQC folding by a TSA: dcqc.json, dcqc.png, route.png, route_folded.png into ``folder``.
 
     ``status`` is 1 when the routing never folds the structure.
-    ``unit``, ``scale`` and ``width`` size an imported pattern (``read_pattern``).
+    ``unit``, ``scale`` and ``width`` size an imported pattern.
     """
 
     NAME, INPUTS, OUTPUT = "route", ("design", "route"), "folder"

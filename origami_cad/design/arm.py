@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import collections.abc
 import concurrent.futures as cf
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, overload
@@ -28,7 +27,7 @@ from typing import Any, overload
 from origami_cad.design.arm_route import ArmStrings, choose_arm_tsa
 from origami_cad.design.search import FITNESS_TIE, ArmDesign, rank_designs, run_one, ties
 from origami_cad.design.task import ArmTask, SearchSettings, task_to_dict
-from origami_cad.errors import DesignWarning
+from origami_cad.errors import DesignWarning, warn
 from origami_cad.parallel import local_pool, start_context
 
 __all__ = [
@@ -247,7 +246,7 @@ def choose_arm_winner(designs: collections.abc.Sequence[ArmDesign], task: ArmTas
     )
     line = search.shortfall()
     if line is not None:
-        warnings.warn(line, DesignWarning, stacklevel=2)
+        warn(line, DesignWarning, stacklevel=2)
     return search
 
 

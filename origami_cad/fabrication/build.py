@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import math
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -15,7 +17,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
-from origami_cad.errors import FabricationError, OutputError
+from origami_cad.errors import FabricationError, OutputError, warn
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import (
@@ -29,6 +31,8 @@ from origami_cad.fabrication.plan import (
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, Parts, build_parts
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "Fabrication",
@@ -174,19 +178,26 @@ class Fabrication:
         }
 
 
-def build_fabrication(plan: PanelPlan) -> Fabrication:
-    """Build the B-rep solids of the four parts of a plan (the second step of fabrication)."""
+def build_fabrication(
+    plan: PanelPlan, progress: Callable[[int, int], None] | None = None
+) -> Fabrication:
+    """Build the B-rep solids of the four parts of a plan (the second step of fabrication);
+    ``progress(panels built, panels)`` is called after each panel."""
     cp = plan.pattern
     t0 = time.perf_counter()
     sheet = shapely.union_all(cp.face_polygons())
-    parts = build_parts(list(plan.outlines), plan.holes, plan.hole_panels, plan.params, sheet)
-    return Fabrication(plan, parts, {**plan.timings, "solids": time.perf_counter() - t0})
+    outlines = list(plan.outlines)
+    parts = build_parts(outlines, plan.holes, plan.hole_panels, plan.params, sheet, progress)
+    seconds = time.perf_counter() - t0
+    log.info("built the solids of %d panels in %.1f s", len(outlines), seconds)
+    return Fabrication(plan, parts, {**plan.timings, "solids": seconds})
 
 
 def fabricate(
     source: CreasePattern | Design,
     params: FabricationParams | None = None,
     bed: tuple[float, float] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Fabrication:
     """Plan the panels of a crease pattern (or design) and build its printable solids.
 
@@ -194,7 +205,12 @@ def fabricate(
     alone when no solid is needed (plots, hole positions, part placement). With
     ``bed`` (x, y in mm), a sheet that does not lie flat on it is refused before any
     work (:func:`check_bed`); without, it is only warned about against
-    :data:`DEFAULT_BED`.
+    :data:`DEFAULT_BED`. ``progress(panels built, panels)`` is called after each panel.
+
+    What may print or fold badly (``Fabrication.warnings``: panels given a smaller bias,
+    a thin infill, creases that reach their limit first) is also said through
+    :func:`origami_cad.errors.warn`: a :class:`~origami_cad.errors.OrigamiCadWarning`
+    and the ``origami_cad`` logger.
 
     Raises
     ------
@@ -208,7 +224,9 @@ def fabricate(
     if bed is not None:
         check_bed(cp, bed)
     check_panel_count(cp)
-    fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED))
+    fab = build_fabrication(plan_panels(source, params, bed or DEFAULT_BED), progress)
+    for line in fab.warnings:
+        warn(line, stacklevel=2)
     if isinstance(source, Design):  # the printed panels: merged across facet creases
         merged = source.pattern is not fab.pattern
         fab.design = dataclasses.replace(source, pattern=fab.pattern) if merged else source

@@ -326,8 +326,8 @@ def _bias_warnings(cp: CreasePattern, params: FabricationParams, biases) -> tupl
         limit = math.degrees(float(crease_fold_limit(least, params.height, params.thickness)))
         out.append(
             f"{len(reduced)} of {len(cp.faces)} panels are too small for the inner bias "
-            f"{params.bias:g} mm and got the largest that fits (at least {MIN_BIAS:g} mm, "
-            f"MIN_BIAS): {_named(cp, reduced, lambda f: f' {biases.bias[f]:.2f} mm')}; a crease "
+            f"{params.bias:g} mm and got the largest that fits (at least {MIN_BIAS:g} mm): "
+            f"{_named(cp, reduced, lambda f: f' {biases.bias[f]:.2f} mm')}; a crease "
             f"between two panels of {least:.2f} mm folds to {limit:.1f} deg before their "
             f"chamfers meet (eq. 6; fabrication.json lists every panel's bias)"
         )
@@ -570,7 +570,7 @@ def _too_small(
         panel_outline(cp, fi, params, minimum)
     except PatternError as exc:
         return (
-            f"{exc} even at the smallest inner bias, {minimum:g} mm (MIN_BIAS): {larger} or "
+            f"{exc} even at the smallest inner bias, {minimum:g} mm: {larger} or "
             f"with a thinner shell (--shell, now {params.shell:g} mm)"
         )
     for x, y, d in holes:
@@ -578,11 +578,11 @@ def _too_small(
             return (
                 f"the hole at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
                 f"region of panel {label} even at the smallest inner bias, {minimum:g} mm "
-                f"(MIN_BIAS): move it toward the panel's middle, make it smaller, or {larger}"
+                f": move it toward the panel's middle, make it smaller, or {larger}"
             )
     return (
         f"panel {label}: no room for a {params.hole_diameter:g} mm hole even at the smallest "
-        f"inner bias, {minimum:g} mm (MIN_BIAS): use a smaller "
+        f"inner bias, {minimum:g} mm: use a smaller "
         f"--hole-diameter, --holes none, or {larger}"
     )
 
@@ -598,8 +598,8 @@ def _warnings(params: FabricationParams, limits: CreaseLimits) -> tuple[str, ...
         )
     if limits.creases_before_p_max:
         out.append(
-            f"{limits.creases_before_p_max} creases reach theta_max before the main crease "
-            f"(structure p_max {limits.p_max_kinematic:.3f} < eq. 6 p_max "
-            f"{params.p_max:.3f})"
+            f"{limits.creases_before_p_max} creases reach their fold limit (eq. 6) before the "
+            f"main crease: the structure folds to p = {limits.p_max_kinematic:.3f}, not eq. 6's "
+            f"{params.p_max:.3f}"
         )
     return tuple(out)

@@ -14,7 +14,7 @@ build123d objects never leave ``origami_cad.fabrication``.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -339,6 +339,7 @@ def build_parts(
     hole_panels: np.ndarray,
     params: FabricationParams,
     sheet_outline: shapely.Polygon | shapely.MultiPolygon,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Parts:
     """Build the four parts: infills, mid-layers, shells (per panel) and the crease sheet.
 
@@ -356,6 +357,8 @@ def build_parts(
         Heights and thicknesses, mm.
     sheet_outline : shapely geometry
         The whole sheet (union of the panels), for the crease sheet.
+    progress : callable, optional
+        Called as ``progress(panels built, panels)`` after each panel.
     """
     from origami_cad.fabrication.congruent import congruent_panels
 
@@ -376,6 +379,8 @@ def build_parts(
         starts.append({n: len(parts.solids[n]) for n in PART_NAMES})
         parts.halves.append(tuple(solids["halves"]))
         parts.panel_copies.append(same)
+        if progress is not None:
+            progress(len(built), len(outlines))
         for name in ("infills", "shells", "midlayers"):
             copies = None
             if same is not None:

@@ -29,12 +29,11 @@ at the edges, radians inside.
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
-from origami_cad.errors import PatternError
+from origami_cad.errors import OrigamiCadWarning, PatternError, warn
 from origami_cad.kinematics.folding import FoldedState, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
@@ -75,7 +74,7 @@ _TOL_STEP, _TOL_END = 1e-4, 1e-5
 _MAX_ITER = 200
 
 
-class StrainWarning(UserWarning):
+class StrainWarning(OrigamiCadWarning):
     """A general fold stretched an edge by more than :data:`STRAIN_LIMIT` percent."""
 
 
@@ -209,7 +208,7 @@ def fold_general(
     out = [states[p] for p in values]
     worst = max(s.strain for s in out)
     if worst > STRAIN_LIMIT:
-        warnings.warn(
+        warn(
             f"the general fold stretches an edge by {worst:.3g} %, over the {STRAIN_LIMIT:g} % "
             "limit: the pattern does not fold this far without bending or stretching its panels",
             StrainWarning,

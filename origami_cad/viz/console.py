@@ -13,10 +13,12 @@ __all__ = ["progress_bar", "servo_table"]
 
 
 def progress_bar(kind: str) -> tuple[Any, Callable[..., None]]:
-    """A transient progress bar labelled ``kind``, and its callback ``(done, total=None)``."""
+    """A transient progress bar labelled ``kind`` on stderr, and its callback
+    ``(done, total=None)``."""
+    from rich.console import Console
     from rich.progress import Progress
 
-    bar = Progress(transient=True)
+    bar = Progress(transient=True, console=Console(stderr=True))
     task = bar.add_task(kind, total=None)
     return bar, lambda k, n=None, *rest: bar.update(task, completed=k, total=n)
 
