@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._names import toml_string
+from origami_cad._toml import finite_toml
 from origami_cad.errors import DesignError, OrigamiCadError
 from origami_cad.kinematics.limits import bias_for_theta_max
 from origami_cad.pattern.tg import TGDesign, tg_pattern
@@ -106,7 +107,7 @@ def arm_route_toml(
     ]
     for row in (0, 1):
         lines += _string_lines(copy, row, n, base, (x, y, mount_height))
-    return "\n".join(lines)
+    return finite_toml("\n".join(lines), "the arm's route file", DesignError)
 
 
 def _tsa_position(cp, tg: TGDesign, base: str) -> tuple[float, float]:

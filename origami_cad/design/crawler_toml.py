@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from origami_cad._toml import finite_toml
+from origami_cad.errors import DesignError
+
 __all__ = ["gait_file_text", "robot_text"]
 
 _BODY = """# The crawling robot of the paper's Fig. 7 (340 x 320 x 122 mm, 361 g, 63 mm per 32 s cycle).
@@ -141,7 +144,8 @@ def gait_file_text(times, ratios, header: str = "") -> str:
     """A gait file (``[[keyframe]]`` tables of ``t`` s and ``p`` fold ratios per leg) that
     ``crawl --gait`` reads; fold ratios as the robot file writes them (6 digits)."""
     lines = [header.rstrip("\n")] if header else []
-    return "\n".join([*lines, *_keyframe_lines(times, ratios, "keyframe")]) + "\n"
+    text = "\n".join([*lines, *_keyframe_lines(times, ratios, "keyframe")]) + "\n"
+    return finite_toml(text, "the gait file", DesignError)
 
 
 def robot_text(cp, design, gait=None, header: str | None = None) -> str:
@@ -168,6 +172,5 @@ def robot_text(cp, design, gait=None, header: str | None = None) -> str:
         legs="".join(legs),
         servo_masses="".join(masses),
     )
-    if gait is None:
-        return text + _HAND_GAIT
-    return text + _gait_text(*gait, header)
+    text += _HAND_GAIT if gait is None else _gait_text(*gait, header)
+    return finite_toml(text, "the crawler's robot file", DesignError)

@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
 from origami_cad.kinematics.limits import crease_fold_limit
@@ -418,7 +418,7 @@ def dump_task(task: ArmTask, settings: SearchSettings | None = None, *, header: 
             "sigma0": float(settings.sigma0),
         }
         lines += ["", *toml_table("search", search)]
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the arm task file", DesignError)
 
 
 def task_to_dict(task: ArmTask, settings: SearchSettings | None = None) -> dict[str, Any]:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import os
 import time
@@ -15,6 +14,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.errors import FabricationError, OutputError
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
@@ -255,6 +255,7 @@ def write_fabrication(
     paths = {key: path for fmt in WRITERS for key, path in written[fmt].items()}
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"
+    text = json_text(fab.report(), str(paths["json"]), FabricationError, indent=1)
     with atomic_write(paths["json"], "w", encoding="utf-8") as fh:
-        json.dump(fab.report(), fh, indent=1)
+        fh.write(text)
     return paths

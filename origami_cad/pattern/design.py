@@ -32,7 +32,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from origami_cad._toml import Table, input_file, load_toml, printable, toml_table
+from origami_cad._toml import (
+    Table,
+    finite_toml,
+    input_file,
+    load_toml,
+    printable,
+    toml_table,
+)
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.formats import READERS
 from origami_cad.pattern.io import read_pattern
@@ -237,7 +244,8 @@ def dump_design(
     lines = [header.rstrip("\n")] if header else []
     if not isinstance(design, TGDesign):
         path = Path(design).as_posix()
-        return "\n".join([*lines, *toml_table("pattern", {"kind": "file", "path": path})]) + "\n"
+        text = "\n".join([*lines, *toml_table("pattern", {"kind": "file", "path": path})])
+        return finite_toml(text + "\n", "the design file", DesignError)
     table = {
         "kind": "transition-graph",
         "unit_width": float(design.unit_width),
@@ -250,7 +258,8 @@ def dump_design(
     }
     units = {"unit_width": "mm", "lengths": "mm", "shape_angles": "deg"}
     rounded = {} if digits is None else {"lengths": digits, "shape_angles": digits}
-    return "\n".join([*lines, *toml_table("pattern", table, comments=units, digits=rounded)]) + "\n"
+    text = "\n".join([*lines, *toml_table("pattern", table, comments=units, digits=rounded)])
+    return finite_toml(text + "\n", "the design file", DesignError)
 
 
 def _tg_design(table: Table) -> TGDesign:

@@ -249,7 +249,11 @@ def _check_routes(cp: CreasePattern, routes) -> None:
 
 
 def _v(values, scale: float = MJ) -> str:
-    return " ".join(f"{float(v) * scale:.9g}" for v in values)
+    """Numbers as an MJCF attribute (scaled: mm to m by default); NaN or infinity refused."""
+    out = [float(v) * scale for v in values]
+    if not all(math.isfinite(v) for v in out):
+        raise MjcfError(f"MJCF: a value is not finite ({' '.join(map(str, out))})")
+    return " ".join(f"{v:.9g}" for v in out)
 
 
 def _fabrication(source: MjcfSource) -> FabricationParams:

@@ -53,7 +53,7 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml, toml_table
+from origami_cad._toml import MAX_MAGNITUDE, Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
@@ -314,7 +314,7 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
         }
         panels = f"panels {', '.join(s.names)}"
         lines += ["", *toml_table("route.strings", table, array=True, comments={"holes": panels})]
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the route file", StringsError)
 
 
 def route_sheet(route: RouteSpec, **fields) -> FabricationParams:

@@ -437,8 +437,11 @@ def _rows(pieces: list[str], columns: np.ndarray, decimals: int) -> bytes:
 def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list:
     """``<mesh>`` of an object (lines; the vertices and the triangles each one ``bytes``).
 
-    With ``mat``, each triangle's base material index.
+    With ``mat``, each triangle's base material index. A NaN or infinite coordinate (which
+    the integer formatting would turn into a wrong number) is a :class:`FabricationError`.
     """
+    if not np.isfinite(verts).all():
+        raise FabricationError("3MF: a mesh vertex is NaN or infinite; 3MF holds finite mm")
     vertex = ['     <vertex x="', '" y="', '" z="', '"/>']
     lines = ["   <mesh>", "    <vertices>", _rows(vertex, verts.reshape(-1, 3), 6)]
     lines += ["    </vertices>", "    <triangles>"]
