@@ -80,14 +80,36 @@ class _DefaultsHelp(argparse.HelpFormatter):
         return action.help if value in (None, False, ()) else f"{action.help} (default {value})"
 
 
+class _Once(argparse.Action):
+    """Store an option's value(s), refusing the option given a second time: which of two
+    values was meant? (argparse keeps the last silently.)"""
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        if getattr(namespace, self.dest, None) is not None:
+            parser.error(f"{option_string or self.dest} is given twice; give it once")
+        setattr(namespace, self.dest, values)
+
+
+class _FlagOnce(argparse.Action):
+    """A flag (``store_true``, or ``store_false`` with ``const=False``) given once."""
+
+    def __init__(self, option_strings, dest, const=True, **kwargs) -> None:
+        super().__init__(option_strings, dest, nargs=0, const=const, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        if getattr(namespace, self.dest, None) is not None:
+            parser.error(f"{option_string or self.dest} is given twice; give it once")
+        setattr(namespace, self.dest, self.const)
+
+
 def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> str:
     """Add one option to a command's parser; its dest."""
     text = opt.help + (f", {opt.unit}" if opt.unit else "")
     kwargs: dict[str, Any] = {"help": text, "default": None}
     if opt.kind == "flag":
-        kwargs["action"] = "store_false" if opt.dest_negated else "store_true"
+        kwargs |= {"action": _FlagOnce, "const": not opt.dest_negated}
     else:
-        kwargs |= {"action": "append"} if opt.repeat else {}
+        kwargs["action"] = "append" if opt.repeat else _Once
         kwargs |= {"nargs": opt.nargs} if opt.nargs is not None else {}
         kwargs |= {"metavar": opt.metavar} if opt.metavar is not None else {}
         kwargs |= {"required": True} if opt.required and not opt.positional else {}
@@ -132,7 +154,7 @@ def build_parser() -> argparse.ArgumentParser:
             p.add_argument(arg)
         names = list(cls.INPUTS)
         if cls.OUTPUT:
-            many = {"action": "append"} if cls.OUTPUT == "outputs" else {}
+            many = {"action": "append" if cls.OUTPUT == "outputs" else _Once}
             what = FOLDER_HELP if cls.OUTPUT == "folder" else "output file (format by extension)"
             p.add_argument("-o", "--output", dest=cls.OUTPUT, required=True, help=what, **many)
             names.append(cls.OUTPUT)
