@@ -13,6 +13,7 @@ from typing import Any
 import shapely
 
 from origami_cad import __version__
+from origami_cad._args import Arg, checked
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import json_text
 from origami_cad.errors import FabricationError, OutputError
@@ -183,6 +184,12 @@ def build_fabrication(plan: PanelPlan) -> Fabrication:
     return Fabrication(plan, parts, {**plan.timings, "solids": time.perf_counter() - t0})
 
 
+@checked(
+    FabricationError,
+    source=Arg("object", types=(CreasePattern, Design), optional=False),
+    params=Arg("object", types=(FabricationParams,)),
+    bed=Arg("floats", length=2, min=0.0, open_min=True, max=1e5),
+)
 def fabricate(
     source: CreasePattern | Design,
     params: FabricationParams | None = None,

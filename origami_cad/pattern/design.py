@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from origami_cad._args import Arg, checked
 from origami_cad._toml import (
     Table,
     finite_toml,
@@ -83,6 +84,15 @@ class Design:
     source: Path | None = None
 
 
+@checked(
+    PatternError,
+    rows=Arg("int", min=1, max=100_000, optional=False),
+    columns=Arg("int", min=1, max=100_000, optional=False),
+    panel_length=Arg(min=0.0, open_min=True, max=1e9, optional=False),
+    panel_width=Arg(min=0.0, open_min=True, max=1e9, optional=False),
+    sector_angle=Arg(min=0.0, open_min=True, max=90.0, optional=False),
+    entry_flag=Arg("int", choices=(0, 1), optional=False),
+)
 def miura_design(
     rows: int,
     columns: int,
@@ -141,6 +151,13 @@ def _file_size(table: Table, size: dict[str, Any]) -> dict[str, Any]:
     return own
 
 
+@checked(
+    PatternError,
+    path=Arg("path", optional=False),
+    scale=Arg(min=0.0, open_min=True, max=1e9),
+    width=Arg(min=0.0, open_min=True, max=1e9),
+    tolerance=Arg(min=0.0, max=1e6),
+)
 def load_design(
     path: str | os.PathLike[str],
     *,

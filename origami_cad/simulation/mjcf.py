@@ -97,6 +97,12 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     ``routes`` are route files or :class:`RouteSpec` (a robot brings its legs' own).
     """
     robot = None
+    if isinstance(routes, str | bytes | os.PathLike) or not hasattr(routes, "__iter__"):
+        raise MjcfError(f"routes must be a list of route files or RouteSpecs, got {routes!r:.60}")
+    routes = list(routes)
+    bad = next((r for r in routes if not isinstance(r, RouteSpec | str | os.PathLike)), None)
+    if bad is not None:
+        raise MjcfError(f"routes: expected route files or RouteSpecs, got {bad!r:.60}")
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.is_file():
@@ -402,6 +408,9 @@ def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
 
 @checked(
     SimulationError,
+    source=Arg("object", types=(str, os.PathLike, Design, CreasePattern, Robot, MjcfSource)),
+    params=Arg("object", types=(SimulationParams,)),
+    contact=Arg("object", types=(Contact,)),
     gravity=Arg(min=-1e9, max=1e9, optional=False),
     friction=Arg(min=0.0, max=100.0),
     crease_damping=Arg(min=0.0, max=1e9, optional=False),

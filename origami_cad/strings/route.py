@@ -53,6 +53,7 @@ from pathlib import Path
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad._toml import MAX_MAGNITUDE, Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
@@ -157,6 +158,11 @@ def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float
     return {label: (hs[0].x, hs[0].y) for label, hs in plan.holes_by_label().items()}
 
 
+@checked(
+    StringsError,
+    path=Arg("path", optional=False),
+    cp=Arg("object", types=(CreasePattern,), optional=False),
+)
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     """Read a route file for the pattern ``cp``; errors name the file, key and string."""
     p = Path(path)
