@@ -29,9 +29,11 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
+import numpy as np
+
 from origami_cad.errors import OptionsError, OrigamiCadError
 
-__all__ = ["Arg", "check_fields", "check_number", "checked", "describe_range"]
+__all__ = ["Arg", "check_fields", "check_number", "check_numbers", "checked", "describe_range"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -49,6 +51,13 @@ def describe_range(kind: str, low: float | None, high: float | None, open_min: b
     lo = "-inf" if low is None else f"{low:g}"
     hi = "inf" if high is None else f"{high:g}"
     return f"{text} in {left}{lo}, {hi}{')' if high is None else ']'}"
+
+
+def _brief(value: Any) -> str:
+    """``value`` in a message: its type, and its text when short."""
+    text = repr(value)
+    kind = type(value).__name__
+    return f"{kind} {text}" if len(text) <= 40 else kind
 
 
 def _shown(value: Any) -> str:
@@ -95,11 +104,49 @@ def check_number(
     return number
 
 
+def check_numbers(
+    shown: str,
+    value: Any,
+    *,
+    length: int | None = None,
+    error: type[OrigamiCadError] = OptionsError,
+) -> tuple[float, ...]:
+    """``value``, a sequence of finite numbers (``length`` of them when given), as a tuple
+    of floats; else ``error`` naming ``shown`` and the value (text, a mapping, a scalar,
+    a nested list, NaN...).
+
+    >>> check_numbers("start", [0, 1.5], length=2)
+    (0.0, 1.5)
+    """
+    text = repr(value)
+    text = text if len(text) <= 60 else text[:60] + "..."
+    count = f"{length} " if length is not None else ""
+    expected = f"{shown}: expected a list of {count}finite numbers, got {text}"
+    if isinstance(value, str | bytes | Mapping) or not hasattr(value, "__iter__"):
+        raise error(expected)
+    out = []
+    for item in value:
+        if isinstance(item, bool | str | bytes):
+            raise error(expected)
+        try:
+            number = float(item)
+        except (TypeError, ValueError, OverflowError):
+            raise error(expected) from None
+        if not math.isfinite(number):
+            raise error(expected)
+        out.append(number)
+    if length is not None and len(out) != length:
+        raise error(expected)
+    return tuple(out)
+
+
 @dataclass(frozen=True)
 class Arg:
-    """What a library argument must be: ``kind`` (``"float"``, ``"int"``, ``"str"``,
-    ``"path"``), an inclusive range (``open_min`` excludes ``min``), ``choices``; ``None``
-    passes when ``optional``. Units are the argument's documented ones (mm, deg, N...)."""
+    """What a library argument must be: ``kind`` (``"float"``, ``"int"``, ``"bool"``,
+    ``"str"``, ``"path"``; ``"floats"``, a sequence of ``length`` finite numbers, each in
+    range; ``"object"``, an instance of one of ``types``), an inclusive range
+    (``open_min`` excludes ``min``), ``choices``; ``None`` passes when ``optional``. Units
+    are the argument's documented ones (mm, deg, N...)."""
 
     kind: str = "float"
     min: float | None = None
@@ -109,6 +156,10 @@ class Arg:
     optional: bool = True
     #: ``+inf`` passes: the argument's "never" (a stop rule that is off)
     inf_ok: bool = False
+    #: ``"object"``: the classes an argument may be an instance of
+    types: tuple = ()
+    #: ``"floats"``: how many numbers (None: any number of them)
+    length: int | None = None
 
     def check(self, shown: str, value: Any, error: type[OrigamiCadError]) -> Any:
         """The value, converted; ``error`` naming ``shown`` and the value if it is bad."""
@@ -130,10 +181,27 @@ class Arg:
                 open_min=self.open_min,
                 error=error,
             )
+        elif self.kind == "floats":
+            value = check_numbers(shown, value, length=self.length, error=error)
+            for v in value:
+                check_number(shown, v, low=self.min, high=self.max, open_min=self.open_min,
+                             error=error)  # fmt: skip
+        elif self.kind == "object":
+            if not isinstance(value, self.types):
+                names = " or ".join(t.__name__ for t in self.types)
+                raise error(f"{shown}: expected a {names}, got {_brief(value)}")
+        elif self.kind == "bool":
+            if not isinstance(value, bool | np.bool_):
+                raise error(f"{shown}: expected True or False, got {value!r}")
+            value = bool(value)
         elif self.kind == "str" and not isinstance(value, str):
             raise error(f"{shown}: expected text, got {value!r}")
-        elif self.kind == "path" and not isinstance(value, str | os.PathLike):
-            raise error(f"{shown}: expected a file path, got {value!r}")
+        elif self.kind == "path":
+            if not isinstance(value, str | os.PathLike):
+                raise error(f"{shown}: expected a file path, got {_brief(value)}")
+            text = os.fspath(value)
+            if not isinstance(text, str) or not text or "\0" in text:
+                raise error(f"{shown}: expected a file path, got {value!r}")
         if self.choices is not None and value not in self.choices:
             raise error(
                 f"{shown}: expected one of {', '.join(map(str, self.choices))}, got {value!r}"

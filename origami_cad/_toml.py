@@ -25,7 +25,9 @@ __all__ = [
     "MAX_INTEGER",
     "MAX_MAGNITUDE",
     "Table",
+    "finite_toml",
     "input_file",
+    "json_text",
     "load_toml",
     "parse_file",
     "printable",
@@ -309,6 +311,78 @@ class Table:
             )
 
 
+def _non_finite(value: Any, path: str = "") -> tuple[str, float] | None:
+    """``(key path, number)`` of the first NaN or infinity in ``value`` (``a.b[2]``), else None."""
+    if hasattr(value, "tolist") and not isinstance(value, str | bytes):
+        value = value.tolist()  # a NumPy array or scalar
+    if isinstance(value, float):
+        return None if math.isfinite(value) else (path, value)
+    items = (
+        ((f"{path}.{k}" if path else str(k), v) for k, v in value.items())
+        if isinstance(value, Mapping)
+        else ((f"{path}[{k}]", v) for k, v in enumerate(value))
+        if isinstance(value, list | tuple)
+        else ()
+    )
+    for here, item in items:
+        found = _non_finite(item, here)
+        if found is not None:
+            return found
+    return None
+
+
+def _plain(value: Any) -> Any:
+    """A NumPy array or scalar as plain Python (``json.dumps``'s ``default``)."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    raise TypeError(f"Object of type {type(value).__name__} is not JSON serializable")
+
+
+def json_text(data: Any, where: str, error: type[Exception] = DesignError, **options: Any) -> str:
+    """``data`` as strict JSON text (``options`` of ``json.dumps``: ``indent``...).
+
+    JSON has no NaN or infinity, and no strict reader (a browser, ``jq``, the package's
+    own) accepts them: one in ``data`` is ``error`` naming ``where`` and its key path;
+    so is a value JSON cannot hold.
+
+    >>> json_text({"a": [1.5, 2]}, "x.json")
+    '{"a": [1.5, 2]}'
+    >>> json_text({"a": [1.5, float("nan")]}, "x.json")
+    Traceback (most recent call last):
+    ...
+    origami_cad.errors.DesignError: x.json: a[1] is nan; JSON holds finite numbers only
+    """
+    bad = _non_finite(data)
+    if bad is not None:
+        raise error(f"{where}: {bad[0] or 'the value'} is {bad[1]}; JSON holds finite numbers only")
+    try:
+        return json.dumps(data, allow_nan=False, default=_plain, **options)
+    except (TypeError, ValueError) as exc:
+        raise error(f"{where}: a value JSON cannot hold ({exc})") from None
+
+
+def finite_toml(text: str, where: str, error: type[Exception] = DesignError) -> str:
+    r"""``text``, a TOML file a writer made, once read back holding finite numbers only.
+
+    TOML spells ``nan`` and ``inf``, which the package's readers refuse: a writer that
+    met one (a NaN fold limit, an infinite length) is ``error`` naming ``where`` and the
+    key path, before anything is written.
+
+    >>> finite_toml("[a]\nb = [1.0, nan]\n", "x.toml")
+    Traceback (most recent call last):
+    ...
+    origami_cad.errors.DesignError: x.toml: a.b[1] is nan; the file holds finite numbers only
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:  # a writer's bug, named rather than written
+        raise error(f"{where}: the text written is not valid TOML ({exc})") from None
+    bad = _non_finite(data)
+    if bad is not None:
+        raise error(f"{where}: {bad[0]} is {bad[1]}; the file holds finite numbers only")
+    return text
+
+
 def toml_value(value: Any, digits: int | None = None) -> str:
     """``value`` as TOML: a boolean, integer, float, string or (nested) list of them.
 
@@ -325,8 +399,8 @@ def toml_value(value: Any, digits: int | None = None) -> str:
     if isinstance(value, int):
         return str(value)
     if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"TOML files of the package hold finite numbers, got {value}")
+        if not math.isfinite(value):  # TOML's spelling; finite_toml refuses the file
+            return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
         return repr(value) if digits is None else f"{value:.{digits}f}"
     if isinstance(value, str):
         # a TOML basic string: JSON's escapes are TOML's, and DEL must be escaped too
@@ -346,6 +420,9 @@ def toml_table(
 ) -> list[str]:
     """The lines of one TOML table ``[name]`` (``[[name]]`` with ``array``); None values
     are left out, ``comments`` follow their key's value, ``digits`` rounds a key's floats.
+
+    A NaN or infinity is spelled as TOML spells it (``nan``, ``inf``): the writer ends in
+    :func:`finite_toml`, which refuses the file naming the key, with its stage's error.
 
     >>> toml_table("route", {"max_turns": 20.0, "p_max": None}, comments={"max_turns": "turns"})
     ['[route]', 'max_turns = 20.0   # turns']

@@ -219,14 +219,36 @@ def _metavar(opt: Option) -> Any:
     return {"mm": "MM", "deg": "DEG"}.get(opt.unit, opt.name.upper().replace("_", "-"))
 
 
+class _Once(argparse.Action):
+    """Store an option's value(s), refusing the option given a second time: which of two
+    values was meant? (argparse keeps the last silently.)"""
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        if getattr(namespace, self.dest, None) is not None:
+            parser.error(f"{option_string or self.dest} is given twice; give it once")
+        setattr(namespace, self.dest, values)
+
+
+class _FlagOnce(argparse.Action):
+    """A flag (``store_true``, or ``store_false`` with ``const=False``) given once."""
+
+    def __init__(self, option_strings, dest, const=True, **kwargs) -> None:
+        super().__init__(option_strings, dest, nargs=0, const=const, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None) -> None:
+        if getattr(namespace, self.dest, None) is not None:
+            parser.error(f"{option_string or self.dest} is given twice; give it once")
+        setattr(namespace, self.dest, self.const)
+
+
 def _add_option(p: argparse.ArgumentParser, cls: type[Command], opt: Option) -> str:
     """Add one option to a command's parser; its dest."""
     text = opt.help + (f", {opt.unit}" if opt.unit else "")
     kwargs: dict[str, Any] = {"help": text, "default": None}
     if opt.kind == "flag":
-        kwargs["action"] = "store_false" if opt.dest_negated else "store_true"
+        kwargs |= {"action": _FlagOnce, "const": not opt.dest_negated}
     else:
-        kwargs |= {"action": "append"} if opt.repeat or opt.shown == "--output" else {}
+        kwargs["action"] = "append" if opt.repeat or opt.shown == "--output" else _Once
         kwargs |= {"nargs": opt.nargs} if opt.nargs is not None else {}
         kwargs |= {"metavar": _metavar(opt)} if _metavar(opt) is not None else {}
         kwargs |= {"required": True} if opt.required and not opt.positional else {}

@@ -113,7 +113,7 @@ PARTS: dict[str, PartSpec] = {
 
 
 def _spec(name: str) -> PartSpec:
-    if name not in PARTS:
+    if not isinstance(name, str) or name not in PARTS:
         raise FabricationError(f"unknown part {name!r} (known: {', '.join(PARTS)})")
     return PARTS[name]
 
@@ -121,7 +121,11 @@ def _spec(name: str) -> PartSpec:
 def parse_part_options(tokens: Sequence[str]) -> dict[str, str]:
     """``["--horn-offset", "12", ...]`` to ``{"horn_offset": "12", ...}`` (values unconverted)."""
     out = {}
+    if isinstance(tokens, str | bytes) or not hasattr(tokens, "__iter__"):
+        raise FabricationError(f"expected a list of --name value tokens, got {tokens!r:.60}")
     items = list(tokens)
+    if not all(isinstance(t, str) for t in items):
+        raise FabricationError(f"expected --name value pairs as text, got {items!r:.60}")
     while items:
         key = items.pop(0)
         if not key.startswith("--") or not items:
@@ -167,6 +171,12 @@ def build_part(
         Naming the part or parameter that is unknown or wrong, or the missing placement.
     """
     spec = _spec(name)
+    if values is not None and not isinstance(values, Mapping):
+        raise FabricationError(f"part {name}: values must be a dict of parameters, got {values!r}")
+    if pattern is not None and not isinstance(
+        pattern, PanelPlan | Design | CreasePattern | str | os.PathLike
+    ):
+        raise FabricationError(f"part {name}: pattern must be a plan, design, pattern or file")
     try:
         params = resolve_params(
             spec.params, None, {k.replace("-", "_"): v for k, v in (values or {}).items()}

@@ -195,5 +195,5 @@ def test_a_fold_sequence_is_each_state_folded_alone():
         assert state.p == p
         np.testing.assert_allclose(state.coords, alone.coords, atol=1e-12)
         np.testing.assert_allclose(state.fold_angles, alone.fold_angles, atol=1e-9)
-    with pytest.raises(PatternError, match=r"fold ratio must lie in \[0, 1\], got 1.5"):
+    with pytest.raises(PatternError, match=r"in \[0, 1\], got 1.5"):
         fold_sequence(design, [0.2, 1.5])

@@ -96,8 +96,8 @@ def test_scale_width_and_unit_combine_as_documented(tmp_path):
         with pytest.raises(PatternError, match="not both"):
             read_pattern(path, **bad)
     for bad, message in (
-        ({"scale": 0.0}, "scale must be a number > 0"),
-        ({"width": -3.0}, "width must be a number > 0"),
+        ({"scale": 0.0}, r"scale: expected a finite number in \(0"),
+        ({"width": -3.0}, r"width: expected a finite number in \(0"),
         ({"unit": "furlong"}, "'furlong' is not one of mm, cm, m, in"),
         ({"unit": -2.0}, "a unit must be a length > 0 mm"),
     ):

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import Command, Option, Outputs, moved, register, wrote
 from origami_cad.errors import DesignError
 from origami_cad.parallel import open_executor
@@ -64,7 +64,9 @@ def _write_arm_files(search, task, settings, seconds: float, stage: Path) -> lis
         with atomic_write(files[-1], "w", encoding="utf-8") as fh:
             fh.write(search.strings.text)
     with atomic_write(files[0], "w", encoding="utf-8") as fh:
-        json.dump(search.to_dict(task, settings, seconds), fh, indent=1)
+        fh.write(
+            json_text(search.to_dict(task, settings, seconds), files[0].name, DesignError, indent=1)
+        )
     with atomic_write(files[1], "w", encoding="utf-8") as fh:
         fh.write(_best_design_toml(search.winner, task))
     designs = list(search)

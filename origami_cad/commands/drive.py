@@ -8,7 +8,7 @@ from pathlib import Path
 
 from origami_cad._signals import finishing
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
-from origami_cad.errors import DriveError
+from origami_cad.errors import DriveError, OptionsError
 
 __all__ = ["parse_ids", "protocols"]
 
@@ -112,6 +112,24 @@ def _drive_numbers(seq, done, loads, names) -> list[tuple[str, str]]:
     ]
 
 
+#: ``drive``'s dry-run options when not given: time acceleration, loads' factor
+DRY_RUN_DEFAULTS = {"speed": 8.0, "load_scale": 1.0}
+
+
+def _check_options(a) -> None:
+    """Refuse a run with no servos, or options the run would ignore (a port on a dry run,
+    a dry run's options on servos), in one line naming them; then fill in the defaults."""
+    if not a.dry_run and not a.port:
+        raise DriveError("give the servos' port, or use a dry run on the emulator")
+    if a.dry_run and a.port:
+        raise OptionsError(f"--port {a.port}: a dry run drives the emulator; give one of the two")
+    ignored = [f"--{n.replace('_', '-')}" for n in DRY_RUN_DEFAULTS if getattr(a, n) is not None]
+    if ignored and not a.dry_run:
+        raise OptionsError(f"{', '.join(ignored)}: used only by a dry run (--dry-run)")
+    for name, value in DRY_RUN_DEFAULTS.items():
+        setattr(a, name, value if getattr(a, name) is None else getattr(a, name))
+
+
 @register
 class Drive(Command):
     """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
@@ -129,13 +147,18 @@ class Drive(Command):
         _PROTOCOL,
         Option("baudrate", "int", "bits per second", default=57600, min=1, max=100_000_000),
         Option("dry_run", "flag", "start the emulator and drive it"),
-        Option("speed", "float", "dry run: times faster than real time", default=8.0, min=0,
+        Option("speed", "float", "dry run: times faster than real time", min=0,
                open_min=True, max=1000),
-        Option("load_scale", "float", "dry run: the emulated loads times this", default=1.0,
-               min=0, max=1e6),
+        Option("load_scale", "float", "dry run: the emulated loads times this", min=0,
+               max=1e6),
         Option("log", help="CSV log, written as it runs (none unless given)", metavar="FILE"),
         Option("plot", help="also a PNG of commanded and measured turns", metavar="FILE"),
     )  # fmt: skip
+
+    @classmethod
+    def library_defaults(cls) -> dict:
+        """A dry run's defaults (given only with ``dry_run``)."""
+        return DRY_RUN_DEFAULTS
 
     def outputs(self, a):
         return [p for p in (a.log, a.plot) if p], []
@@ -152,8 +175,7 @@ class Drive(Command):
         from origami_cad.viz.drive_plots import save_drive_png
 
         seq = load_sequence(a.sequence)
-        if not a.dry_run and not a.port:
-            raise DriveError("give the servos' port, or use a dry run on the emulator")
+        _check_options(a)
         emulate = {"time_scale": a.speed, "load_scale": a.load_scale} if a.dry_run else None
         scale = a.speed if a.dry_run else 1.0
         names, done = {t.dxl_id: t.name for t in seq.tsas}, None

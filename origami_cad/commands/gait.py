@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.commands.simulation import GIF_FRAMES, gif_states
+from origami_cad.errors import DesignError
 from origami_cad.parallel import open_executor
 
 __all__: list[str] = []
@@ -57,7 +58,7 @@ def _write(stage: Path, robot, design, walked, report: dict, gif_frames: int) ->
         fh.write(dump_sequence(gait_sequence(best_robot, result=result), header=header,
                                layout="gait"))  # fmt: skip
     with atomic_write(stage / FILES[1], "w", encoding="utf-8") as fh:
-        json.dump(report, fh, indent=1)
+        fh.write(json_text(report, FILES[1], DesignError, indent=1))
     cands = design.candidates
     plots.save_gait_convergence_png(
         np.array([c.generation for c in cands]), np.array([c.score for c in cands]),

@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
 from origami_cad._names import one_line
+from origami_cad._toml import json_text
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.errors import StringsError
 from origami_cad.parallel import open_executor
 
 __all__: list[str] = []
@@ -146,7 +147,7 @@ class PlanRoute(Command):
         (stage / names[0]).write_text(text, encoding="utf-8")
         planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
         with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
-            json.dump(plan_data(geom, planned, seconds), fh, indent=1)
+            fh.write(json_text(plan_data(geom, planned, seconds), names[1], StringsError, indent=1))
         save_planned_routes_png(loaded.pattern, planned, stage / names[2])
         save_planned_turns_png(planned, stage / names[3])
         return planned

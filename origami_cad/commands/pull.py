@@ -3,13 +3,13 @@ test-machine pull (``--pull``): pull.csv, states.fold, simulation.json."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from types import SimpleNamespace
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import Command, Option, Outputs, wrote
-from origami_cad.errors import OptionsError, StringsError
+from origami_cad.errors import OptionsError, SimulationError, StringsError
 
 __all__ = ["MATERIALS", "materials_of", "robot_materials", "simulation_setup", "write_pull"]
 
@@ -99,7 +99,7 @@ def write_pull(cmd: Command, a: SimpleNamespace, loaded, spec, params, warned) -
             fh.write(run.to_csv())
         write_fold(cp, stage / names[1], frames=frames)
         with atomic_write(stage / names[2], "w", encoding="utf-8") as fh:
-            json.dump(run.to_dict(), fh, indent=1)
+            fh.write(json_text(run.to_dict(), names[2], SimulationError, indent=1))
     peak = int(run.tension.argmax())
     return Outputs(
         files=[Path(a.folder) / n for n in names],

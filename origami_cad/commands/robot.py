@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import Command, Option, Outputs, moved, register, staged, wrote
 from origami_cad.commands.fabrication import SHEET_FILES
 from origami_cad.commands.simulation import GIF_FRAMES, MATERIALS, gif_states, robot_materials
+from origami_cad.errors import FabricationError, SimulationError
 
 __all__: list[str] = []
 
@@ -42,7 +43,7 @@ def _write_crawl(stage: Path, names, spec, result, info: dict, gif_frames: int) 
     data.update({k: v for k, v in info.items() if k != "command"})
     data["legs"] = legs
     with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
-        json.dump(data, fh, indent=1)
+        fh.write(json_text(data, names[0], SimulationError, indent=1))
     reference = -PAPER_CRAWL_MM if info["reverse"] else PAPER_CRAWL_MM
     save_crawl_position_png(
         result.t, result.body, result.cycle_starts, stage / names[1],
@@ -152,7 +153,7 @@ def _write_robot(stage: Path, robot, fab, assembly, data: dict, renders: bool) -
     stls = write_robot_stls(assembly, stage)
     write_robot_step(assembly, stage / "robot.step", label=Path(robot).stem)
     with atomic_write(stage / "robot.json", "w", encoding="utf-8") as fh:
-        json.dump(data, fh, indent=1)
+        fh.write(json_text(data, "robot.json", FabricationError, indent=1))
     images = [(stage / "panels.png", "The robot's sheet: panels, regions and string holes")]
     if renders:
         every = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}

@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.commands.pull import MATERIALS, materials_of, robot_materials
-from origami_cad.errors import DesignError, OptionsError
+from origami_cad.errors import DesignError, OptionsError, SimulationError
 
 __all__ = ["GIF_FRAMES", "MATERIALS", "gif_states", "robot_materials"]
 
@@ -61,7 +61,7 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
     ]
     write_fold(cp, stage / names[0], frames=frames)
     with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
-        json.dump(result.to_dict(), fh, indent=1)
+        fh.write(json_text(result.to_dict(), names[1], SimulationError, indent=1))
     picked = gif_states(len(result.states), gif_frames)
     shown = [result.states[k] for k in picked]
     captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
@@ -241,7 +241,7 @@ class ArmScene(Command):
             title += f"peak torque {peak:.3g} N mm"
             save_arm_scene_png(arm_task, designed, simulated, stage / self.FILES[0], title)
             with atomic_write(stage / self.FILES[1], "w", encoding="utf-8") as fh:
-                json.dump(summary, fh, indent=1)
+                fh.write(json_text(summary, self.FILES[1], SimulationError, indent=1))
         files = [Path(a.folder) / n for n in self.FILES]
         return Outputs(
             files=files,

@@ -3,12 +3,13 @@ string models from one route); the route search ``plan-route`` is in :mod:`.plan
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import SIZING, Command, Outputs, register, wrote
 from origami_cad.commands.pull import MATERIALS, materials_of
+from origami_cad.errors import SimulationError, StringsError
 
 __all__: list[str] = []
 
@@ -61,7 +62,7 @@ class Route(Command):
         p, turns = float(result.p[-1]), float(result.turns[-1])
         with self.stage(a, loaded) as stage:
             with atomic_write(stage / names[0], "w", encoding="utf-8") as fh:
-                json.dump(result.to_dict(), fh, indent=1)
+                fh.write(json_text(result.to_dict(), names[0], StringsError, indent=1))
             save_route_png(cp, spec, stage / names[1])
             save_dcqc_png(result, stage / names[2])
             title = f"final p = {p:.3f}"
@@ -114,7 +115,7 @@ class StringModels(Command):
         with self.stage(a, loaded) as stage:
             save_fig5_png(loaded.pattern, dcqc, sim, stage / names[0])
             with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
-                json.dump(sim.to_dict(), fh)
+                fh.write(json_text(sim.to_dict(), names[1], SimulationError))
         files = [Path(a.folder) / n for n in names]
         peak = f"{sim.tensions.max():.1f} N / {sim.torque.max():.2f} N mm"
         end = f"{sim.p[-1]:.3f} after {sim.turns[-1]:.2f} turns"

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from origami_cad._toml import finite_toml
 from origami_cad.crawler.design_toml import robot_text
 from origami_cad.errors import DesignError
 from origami_cad.pattern import CreasePattern
@@ -306,7 +307,7 @@ def route_text(cp: CreasePattern, design: CrawlerDesign, leg: tuple) -> str:
             'sides = ["top", "bottom"]',
             "",
         ]
-    return "\n".join(lines)
+    return finite_toml("\n".join(lines), f"the {label} route file", DesignError)
 
 
 @dataclass(frozen=True)

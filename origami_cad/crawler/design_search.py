@@ -119,19 +119,25 @@ def parse_design_bounds(spec: str | dict | None) -> dict[str, tuple[float, float
 
     ``spec`` is ``"default"``, or ``"name=low:high,..."`` (names of ``DESIGN_GENES``; mm,
     the blocker in deg), or a dict of ``name: (low, high)``. Raises :class:`DesignError`
-    in one line naming the gene and what is wrong (unknown, low > high, outside
-    ``HARD_BOUNDS``).
+    in one line naming the gene and what is wrong (unknown, given twice, low > high,
+    outside ``HARD_BOUNDS``), or for an empty ``spec``.
     """
     out = dict(DESIGN_BOUNDS)
     given: dict[str, Any] = {}
     if isinstance(spec, dict):
         given = dict(spec)
+    elif isinstance(spec, str) and not spec.strip():
+        raise DesignError("design bounds: empty; give 'default' or name=low:high,...")
+    elif spec is not None and not isinstance(spec, str):
+        raise DesignError(f"design bounds: expected text or a dict, got {spec!r}")
     elif spec and spec.strip() != "default":
         for part in spec.split(","):
             name, sep, rng = part.partition("=")
             low, colon, high = rng.partition(":")
             if not sep or not colon:
                 raise DesignError(f"design bounds {part.strip()!r}: expected name=low:high")
+            if name.strip() in given:
+                raise DesignError(f"design bounds: gene {name.strip()!r} is given twice")
             given[name.strip()] = (low, high)
     for name, pair in given.items():
         if name not in DESIGN_BOUNDS:

@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from origami_cad._toml import finite_toml
+from origami_cad.errors import DesignError
+
 __all__ = ["robot_text"]
 
 _BODY = """# The crawling robot of the paper's Fig. 7 (340 x 320 x 122 mm, 361 g, 63 mm per 32 s cycle).
@@ -160,6 +163,5 @@ def robot_text(design, servos, module_xy, gait=None, header: str | None = None) 
         legs="".join(legs),
         servo_masses="".join(masses),
     )
-    if gait is None:
-        return text + _HAND_GAIT
-    return text + _gait_text(*gait, header)
+    text += _HAND_GAIT if gait is None else _gait_text(*gait, header)
+    return finite_toml(text, "the crawler's robot file", DesignError)

@@ -75,7 +75,7 @@ from origami_cad.crawler.walk import (
     turn_rates,
 )
 from origami_cad.design.search import UnitBox
-from origami_cad.errors import SimulationError
+from origami_cad.errors import DesignError, SimulationError
 from origami_cad.parallel import local_pool
 
 __all__ = [
@@ -167,8 +167,9 @@ class GaitSettings:
     targets : tuple of float or None
         The ``"shortfall"`` mix's target per friction, mm per cycle, one per friction;
         ``None``: ``DEFAULT_TARGETS``' value at each friction (45 / 63 / 45 mm at 0.4 / 0.6
-        / 0.8). Raises ``ValueError`` (one line) when its count differs from the
-        frictions', or when ``None`` and a friction has no default target.
+        / 0.8). Raises :class:`DesignError` (one line) when its count differs from the
+        frictions', when given with another mix (it would be ignored), or when ``None``
+        and a friction has no default target.
     cycle : float
         Gait cycle, s.
     runs, popsize, generations, seed : int
@@ -202,10 +203,17 @@ class GaitSettings:
     limits: GaitLimits = field(default_factory=GaitLimits)
 
     def __post_init__(self) -> None:
+        if self.mix not in MIXES:
+            raise DesignError(f"mix {self.mix!r} is not one of {', '.join(MIXES)}")
         if self.targets is not None and len(self.targets) != len(self.frictions):
-            raise ValueError(
+            raise DesignError(
                 f"{len(self.targets)} targets for {len(self.frictions)} frictions: "
                 "give one target (mm per cycle) per friction"
+            )
+        if self.targets is not None and self.mix != "shortfall":
+            raise DesignError(
+                f"targets are scored by the 'shortfall' mix only, and the mix is {self.mix!r}:"
+                " give mix 'shortfall' with them, or no targets"
             )
         if self.mix == "shortfall":
             self.target_values()  # refuse a friction without a target now, not mid-search
@@ -216,7 +224,7 @@ class GaitSettings:
             return tuple(float(t) for t in self.targets)
         missing = [f for f in self.frictions if round(f, 6) not in DEFAULT_TARGETS]
         if missing:
-            raise ValueError(
+            raise DesignError(
                 f"no target at friction {missing[0]:g} (the default targets are at "
                 f"{', '.join(f'{f:g}' for f in DEFAULT_TARGETS)}): give targets"
             )

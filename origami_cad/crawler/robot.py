@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._names import path_component
-from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import PatternError, SimulationError, StringsError
 from origami_cad.pattern.io import read_pattern
 from origami_cad.pattern.model import CreasePattern
@@ -415,7 +415,7 @@ def dump_robot(
     for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
         frame = {"t": float(t), "p": [float(v) for v in p]}
         lines += toml_table("gait.keyframe", frame, array=True)
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the robot file", SimulationError)
 
 
 #: The servo of every leg module (the paper's TSA modules use Dynamixel XL330 servos).

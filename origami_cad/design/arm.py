@@ -24,10 +24,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, overload
 
+from origami_cad._args import Arg, checked
 from origami_cad.design.arm_route import ArmStrings, choose_arm_tsa
 from origami_cad.design.search import FITNESS_TIE, ArmDesign, rank_designs, run_one, ties
 from origami_cad.design.task import ArmTask, SearchSettings, task_to_dict
-from origami_cad.errors import DesignWarning, warn
+from origami_cad.errors import DesignError, DesignWarning, warn
 from origami_cad.parallel import local_pool, start_context
 
 __all__ = [
@@ -250,6 +251,14 @@ def choose_arm_winner(designs: collections.abc.Sequence[ArmDesign], task: ArmTas
     return search
 
 
+@checked(
+    DesignError,
+    task=Arg("object", types=(ArmTask,), optional=False),
+    settings=Arg("object", types=(SearchSettings,), optional=False),
+    executor=Arg("object", types=(cf.Executor,)),
+    progress=Arg("object", types=(Callable,)),
+    check_strings=Arg("bool", optional=False),
+)
 def design_arm(
     task: ArmTask,
     settings: SearchSettings,

@@ -51,7 +51,8 @@ from typing import Any
 import numpy as np
 import shapely
 
-from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad._args import Arg, check_fields, checked
+from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
 from origami_cad.kinematics.limits import crease_fold_limit
@@ -67,6 +68,28 @@ MAX_POPSIZE = 100_000
 MAX_GENERATIONS = 1_000_000
 #: Most vertices of all warning and prohibited polygons together.
 MAX_AREA_VERTICES = 100_000
+
+
+#: The types of an :class:`ArmTask`'s fields (its ranges and finer rules follow); mm, deg.
+_TASK_FIELDS = {
+    "start": Arg("floats", length=2, optional=False),
+    "alpha": Arg(optional=False),
+    "vectors": Arg("int", max=1000, optional=False),
+    "length_range": Arg("floats", length=2, optional=False),
+    "shape_angle_range": Arg("floats", length=2, optional=False),
+    "entry_flag": Arg("int"),
+    "hypar_base": Arg("bool", optional=False),
+    "samples": Arg("int", max=100_000, optional=False),
+    "unit_width": Arg(optional=False),
+    "min_leg_gap": Arg(optional=False),
+    "bias": Arg(optional=False),
+    "height": Arg(optional=False),
+    "thickness": Arg(optional=False),
+    "fold_limit": Arg(),
+    "codesign": Arg("bool", optional=False),
+    "max_bias": Arg(optional=False),
+    "min_panel_face": Arg(optional=False),
+}
 
 
 @dataclass(frozen=True)
@@ -144,9 +167,17 @@ class ArmTask:
     min_panel_face: float = 5.0
 
     def __post_init__(self) -> None:
-        pts = np.asarray(self.points, dtype=float).reshape(-1, 2)
+        check_fields(self, DesignError, _TASK_FIELDS)
+        try:
+            pts = np.asarray(self.points, dtype=float)
+            w = np.asarray(self.weights, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise DesignError("an arm task's points and weights must be numbers (mm)") from None
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise DesignError(
+                f"an arm task's points must be (x, y) pairs, mm, got {self.points!r:.60}"
+            )
         object.__setattr__(self, "points", pts)
-        w = np.asarray(self.weights, dtype=float).reshape(-1)
         if w.size == 0:
             w = np.zeros(max(len(pts) - 2, 0))
         object.__setattr__(self, "weights", w)
@@ -245,6 +276,16 @@ class ArmTask:
         return crease_fold_limit(self.bias if bias is None else bias, self.height, self.thickness)
 
 
+#: The types and finite ranges of a :class:`SearchSettings` (its finer rules follow).
+_SEARCH_FIELDS = {
+    "runs": Arg("int", optional=False),
+    "seed": Arg("int", optional=False),
+    "popsize": Arg("int", optional=False),
+    "max_generations": Arg("int", max=1e9, optional=False),
+    "sigma0": Arg(optional=False),
+}
+
+
 @dataclass(frozen=True)
 class SearchSettings:
     """CMA-ES settings: ``runs`` independent runs seeded ``seed + run``."""
@@ -256,6 +297,7 @@ class SearchSettings:
     sigma0: float = 0.25
 
     def __post_init__(self) -> None:
+        check_fields(self, DesignError, _SEARCH_FIELDS)
         if self.runs < 1:
             raise DesignError(f"runs must be >= 1, got {self.runs}")
         if not 0 <= self.seed <= 2**32 - 1 - self.runs:
@@ -314,6 +356,7 @@ def _fabrication_fields(fab: Table) -> dict[str, Any]:
     return out
 
 
+@checked(DesignError, path=Arg("path", optional=False))
 def load_task(path: str | os.PathLike[str]) -> tuple[ArmTask, SearchSettings]:
     """Read an arm task file (TOML); errors name the file, table and key."""
     p = Path(path)
@@ -447,7 +490,7 @@ def dump_task(task: ArmTask, settings: SearchSettings | None = None, *, header: 
             "sigma0": float(settings.sigma0),
         }
         lines += ["", *toml_table("search", search)]
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the arm task file", DesignError)
 
 
 def task_to_dict(task: ArmTask, settings: SearchSettings | None = None) -> dict[str, Any]:

@@ -47,7 +47,7 @@ import numpy as np
 
 from origami_cad._fileio import GrowingFile
 from origami_cad._names import one_line, toml_string, visible
-from origami_cad._toml import Table, load_toml
+from origami_cad._toml import Table, finite_toml, load_toml
 from origami_cad.drive.errors import DriveError, describe_exit, hold_ctrl_c
 from origami_cad.drive.load import LoadCurve
 from origami_cad.errors import OutputError, StringsError
@@ -764,4 +764,4 @@ def dump_sequence(seq: Sequence, *, header: str = "", layout: str = "exact") -> 
         lines += [""] if look.keyframe_gap or k == 0 else []
         lines += ["[[keyframe]]", f"t = {_number(frame.t, look.time_format)}"]
         lines.append(f"{frame.kind} = [{values}]")
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the sequence file", DriveError)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import logging
 import math
 import os
@@ -16,7 +15,9 @@ from typing import Any
 import shapely
 
 from origami_cad import __version__
+from origami_cad._args import Arg, checked
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.errors import FabricationError, OutputError, warn
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
@@ -193,6 +194,12 @@ def build_fabrication(
     return Fabrication(plan, parts, {**plan.timings, "solids": seconds})
 
 
+@checked(
+    FabricationError,
+    source=Arg("object", types=(CreasePattern, Design), optional=False),
+    params=Arg("object", types=(FabricationParams,)),
+    bed=Arg("floats", length=2, min=0.0, open_min=True, max=1e5),
+)
 def fabricate(
     source: CreasePattern | Design,
     params: FabricationParams | None = None,
@@ -273,6 +280,7 @@ def write_fabrication(
     paths = {key: path for fmt in WRITERS for key, path in written[fmt].items()}
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"
+    text = json_text(fab.report(), str(paths["json"]), FabricationError, indent=1)
     with atomic_write(paths["json"], "w", encoding="utf-8") as fh:
-        json.dump(fab.report(), fh, indent=1)
+        fh.write(text)
     return paths

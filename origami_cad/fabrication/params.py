@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from origami_cad._args import check_numbers
 from origami_cad.errors import FabricationError
 from origami_cad.kinematics.limits import bias_for_theta_max, crease_fold_limit
 
@@ -114,11 +115,15 @@ class FabricationParams:
                     f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
                 )
         else:
-            pts = list(self.holes)
-            for i, p in enumerate(pts):
-                if len(p) != 2 or not all(math.isfinite(float(v)) for v in p):
-                    raise FabricationError(f"holes[{i}] must be a point [x, y] in mm, got {p!r}")
-            object.__setattr__(self, "holes", tuple((float(p[0]), float(p[1])) for p in pts))
+            if isinstance(self.holes, bytes | dict) or not hasattr(self.holes, "__iter__"):
+                raise FabricationError(
+                    f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
+                )
+            pts = [
+                check_numbers(f"holes[{i}]", p, length=2, error=FabricationError)
+                for i, p in enumerate(self.holes)
+            ]
+            object.__setattr__(self, "holes", tuple(pts))
 
     @property
     def half_height(self) -> float:

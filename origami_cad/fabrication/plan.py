@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import FabricationError, PatternError
 from origami_cad.fabrication.panels import (
     PanelOutline,
@@ -258,6 +259,12 @@ class PanelPlan:
         return {labels[i]: self.holes_of(i) for i in dict.fromkeys(self.hole_panels.tolist())}
 
 
+@checked(
+    FabricationError,
+    source=Arg("object", types=(CreasePattern, Design), optional=False),
+    params=Arg("object", types=(FabricationParams,)),
+    bed=Arg("floats", length=2, min=0.0, open_min=True, max=1e5, optional=False),
+)
 def plan_panels(
     source: CreasePattern | Design,
     params: FabricationParams | None = None,

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import PatternError
 from origami_cad.kinematics.fold3d import fold_tessellation, fold_tessellation_many
 from origami_cad.pattern.design import Design
@@ -41,6 +42,11 @@ class FoldedState:
     strain: float = 0.0
 
 
+@checked(
+    PatternError,
+    design=Arg("object", types=(Design,), optional=False),
+    p=Arg(min=0.0, max=1.0, optional=False),
+)
 def fold_design(design: Design, p: float) -> FoldedState:
     """Fold ``design`` rigidly to fold ratio ``p`` in [0, 1].
 
@@ -61,6 +67,11 @@ def fold_design(design: Design, p: float) -> FoldedState:
     return FoldedState(float(p), coords, angles)
 
 
+@checked(
+    PatternError,
+    design=Arg("object", types=(Design,), optional=False),
+    ratios=Arg("floats", min=0.0, max=1.0, optional=False),
+)
 def fold_sequence(design: Design, ratios: Sequence[float]) -> list[FoldedState]:
     """Fold ``design`` to each fold ratio of ``ratios`` (a TG tessellation: all at once)."""
     if design.tg is None or not len(ratios):

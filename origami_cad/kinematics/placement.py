@@ -34,6 +34,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
+from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["place_on_table", "place_sequence", "vector_area"]
@@ -84,6 +86,7 @@ def _placed(cp: CreasePattern, coords: np.ndarray, turn: np.ndarray) -> np.ndarr
     return out
 
 
+@checked(PatternError, cp=Arg("object", types=(CreasePattern,), optional=False))
 def place_on_table(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
     """A folded state lying on the table (min z = 0), centred on the flat sheet, mm.
 
@@ -100,7 +103,15 @@ def place_on_table(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
         The same state moved rigidly: mean normal up, vertex centroid above the
         flat pattern's (x, y), lowest vertex at z = 0 (see the module notes).
     """
-    coords = np.asarray(coords, dtype=float)
+    try:
+        coords = np.asarray(coords, dtype=float)
+    except (TypeError, ValueError):
+        raise PatternError("place_on_table: coords must be an (n, 3) array of mm") from None
+    if coords.shape != (cp.n_vertices, 3) or not np.isfinite(coords).all():
+        raise PatternError(
+            f"place_on_table: coords must be {cp.n_vertices} finite (x, y, z) points, mm, "
+            f"got an array of shape {coords.shape}"
+        )
     return _placed(cp, coords, _rotation(cp, coords, np.eye(3)))
 
 

@@ -32,7 +32,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from origami_cad._toml import Table, input_file, load_toml, printable, toml_table
+from origami_cad._args import Arg, checked
+from origami_cad._toml import (
+    Table,
+    finite_toml,
+    input_file,
+    load_toml,
+    printable,
+    toml_table,
+)
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.formats import READERS
 from origami_cad.pattern.io import read_pattern
@@ -76,6 +84,15 @@ class Design:
     source: Path | None = None
 
 
+@checked(
+    PatternError,
+    rows=Arg("int", min=1, max=100_000, optional=False),
+    columns=Arg("int", min=1, max=100_000, optional=False),
+    panel_length=Arg(min=0.0, open_min=True, max=1e9, optional=False),
+    panel_width=Arg(min=0.0, open_min=True, max=1e9, optional=False),
+    sector_angle=Arg(min=0.0, open_min=True, max=90.0, optional=False),
+    entry_flag=Arg("int", choices=(0, 1), optional=False),
+)
 def miura_design(
     rows: int,
     columns: int,
@@ -134,6 +151,13 @@ def _file_size(table: Table, size: dict[str, Any]) -> dict[str, Any]:
     return own
 
 
+@checked(
+    PatternError,
+    path=Arg("path", optional=False),
+    scale=Arg(min=0.0, open_min=True, max=1e9),
+    width=Arg(min=0.0, open_min=True, max=1e9),
+    tolerance=Arg(min=0.0, max=1e6),
+)
 def load_design(
     path: str | os.PathLike[str],
     *,
@@ -237,7 +261,8 @@ def dump_design(
     lines = [header.rstrip("\n")] if header else []
     if not isinstance(design, TGDesign):
         path = Path(design).as_posix()
-        return "\n".join([*lines, *toml_table("pattern", {"kind": "file", "path": path})]) + "\n"
+        text = "\n".join([*lines, *toml_table("pattern", {"kind": "file", "path": path})])
+        return finite_toml(text + "\n", "the design file", DesignError)
     table = {
         "kind": "transition-graph",
         "unit_width": float(design.unit_width),
@@ -250,7 +275,8 @@ def dump_design(
     }
     units = {"unit_width": "mm", "lengths": "mm", "shape_angles": "deg"}
     rounded = {} if digits is None else {"lengths": digits, "shape_angles": digits}
-    return "\n".join([*lines, *toml_table("pattern", table, comments=units, digits=rounded)]) + "\n"
+    text = "\n".join([*lines, *toml_table("pattern", table, comments=units, digits=rounded)])
+    return finite_toml(text + "\n", "the design file", DesignError)
 
 
 def _tg_design(table: Table) -> TGDesign:

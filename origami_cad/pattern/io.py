@@ -14,6 +14,7 @@ import math
 import os
 from pathlib import Path
 
+from origami_cad._args import Arg, checked
 from origami_cad._toml import input_file, printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.formats import READERS, WRITERS, reader, writer
@@ -69,6 +70,13 @@ def mm_per_unit(unit: str | float) -> float:
     return value
 
 
+@checked(
+    PatternError,
+    path=Arg("path", optional=False),
+    scale=Arg(min=0.0, open_min=True, max=1e9),
+    width=Arg(min=0.0, open_min=True, max=1e9),
+    tolerance=Arg(min=0.0, max=1e6),
+)
 def read_pattern(
     path: str | os.PathLike[str],
     *,
@@ -183,6 +191,12 @@ def size_warnings(cp: CreasePattern) -> list[str]:
     return [n.message for n in cp.notes if n.code == "size" and n.severity == Severity.WARNING]
 
 
+@checked(
+    PatternError,
+    cp=Arg("object", types=(CreasePattern,), optional=False),
+    path=Arg("path", optional=False),
+    fmt=Arg("str"),
+)
 def write_pattern(
     cp: CreasePattern, path: str | os.PathLike[str], *, fmt: str | None = None
 ) -> Path:

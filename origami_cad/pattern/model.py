@@ -37,7 +37,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
@@ -129,6 +129,12 @@ class Hole:
 
 
 def _as_assignments(assignments: str | Iterable[str], n: int) -> np.ndarray:
+    if not isinstance(assignments, str) and (
+        isinstance(assignments, bytes | Mapping) or not isinstance(assignments, Iterable)
+    ):
+        raise PatternError(
+            f"assignments must be letters (M V B F U C J), one per edge, got {assignments!r:.60}"
+        )
     if isinstance(assignments, str) and len(assignments) == 1:  # one letter for every edge
         arr = np.full(n, assignments.upper(), dtype="<U1")
     elif isinstance(assignments, str):  # one letter per edge, "BBBBV"
@@ -239,6 +245,9 @@ class CreasePattern:
             raise PatternError("the pattern has no edges")
         if faces is not None:
             _check_face_indices(faces, len(verts))
+        if metadata is not None and not isinstance(metadata, Mapping):
+            raise PatternError(f"metadata must be a dict, got {metadata!r:.60}")
+        holes = _as_holes(holes)
         self.tolerance = _resolve_tolerance(tolerance, verts[np.unique(edge_arr)])
         self.metadata = dict(metadata or {})
         self.metadata.setdefault("unit", "mm")
@@ -561,6 +570,8 @@ def _as_edges(edges: Any) -> np.ndarray:
         raise PatternError("edges must be an array of [v1, v2] vertex indices") from None
     if raw.size == 0:
         return np.zeros((0, 2), dtype=np.int64)
+    if raw.ndim != 2 or raw.shape[1] != 2:
+        raise PatternError(f"edges must have shape (m, 2), got {raw.shape}")
     if raw.dtype.kind == "f":
         whole = np.isfinite(raw) & (raw == np.round(raw)) & (np.abs(raw) < 2**62)
         if not whole.all():
@@ -633,9 +644,22 @@ def _as_fold_angles(fold_angles: Any, assign: np.ndarray) -> np.ndarray:
     return given.copy()
 
 
+def _as_holes(holes: Any) -> tuple[Hole, ...]:
+    """``holes`` as a tuple of :class:`Hole`; anything else is a PatternError."""
+    if isinstance(holes, str | bytes | Mapping) or not isinstance(holes, Iterable):
+        raise PatternError(f"holes must be a list of Hole, got {holes!r:.60}")
+    out = tuple(holes)
+    bad = next((h for h in out if not isinstance(h, Hole)), None)
+    if bad is not None:
+        raise PatternError(f"holes must be a list of Hole, got an item {bad!r:.60}")
+    return out
+
+
 def _check_face_indices(faces: Sequence[Sequence[int]], n: int) -> None:
     """PatternError naming the first given face with fewer than 3 vertices, or with an
     index that is not a whole number naming a vertex."""
+    if isinstance(faces, str | bytes | Mapping) or not isinstance(faces, Iterable):
+        raise PatternError(f"faces must be a list of vertex index lists, got {faces!r:.60}")
     for fi, face in enumerate(faces):
         try:
             ring = np.asarray(face)

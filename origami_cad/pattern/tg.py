@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from origami_cad._args import Arg, checked
+from origami_cad._args import Arg, check_fields, check_numbers, checked
 from origami_cad.errors import PatternError
 from origami_cad.pattern.miura import miura_tessellation
 from origami_cad.pattern.model import CreasePattern
@@ -77,6 +77,15 @@ def shape_angles_eq1(delta_alpha: np.ndarray, flags_before: np.ndarray, p: float
     return np.where(first, base, math.pi - base)
 
 
+#: What a :class:`TGDesign`'s scalar fields must be (its lists: finite numbers).
+_TG_FIELDS = {
+    "entry_flag": Arg("int", choices=(0, 1), optional=False),
+    "unit_width": Arg(min=0.0, open_min=True, max=1e5, optional=False),
+    "copies": Arg("int", min=1, max=1000, optional=False),
+    "hypar_base": Arg("bool", optional=False),
+}
+
+
 @dataclass(frozen=True)
 class TGDesign:
     """The design variables of a TG tessellation (what the arm optimiser produces).
@@ -111,9 +120,12 @@ class TGDesign:
     notes: tuple[str, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "lengths", tuple(float(v) for v in self.lengths))
-        object.__setattr__(self, "shape_angles", tuple(float(v) for v in self.shape_angles))
-        object.__setattr__(self, "start", (float(self.start[0]), float(self.start[1])))
+        for name, length in (("lengths", None), ("shape_angles", None), ("start", 2)):
+            value = check_numbers(
+                f"TGDesign: {name}", getattr(self, name), length=length, error=PatternError
+            )
+            object.__setattr__(self, name, value)
+        check_fields(self, PatternError, _TG_FIELDS)
         if len(self.lengths) < 1:
             raise PatternError("a TG needs at least one transition vector")
         if len(self.shape_angles) != len(self.lengths) - 1:

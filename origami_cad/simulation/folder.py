@@ -33,6 +33,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad.errors import OrigamiCadWarning, PatternError, warn
 from origami_cad.kinematics.folding import FoldedState, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
@@ -95,6 +96,13 @@ def closed_form_applies(design: Design) -> bool:
     return bool(creases.any() and np.all(np.abs(probe[creases]) > 1e-6))
 
 
+@checked(
+    PatternError,
+    design=Arg("object", types=(Design, CreasePattern), optional=False),
+    p=Arg(min=0.0, max=1.0, optional=False),
+    method=Arg("str", optional=False),
+    params=Arg("object", types=(SimulationParams,)),
+)
 def fold(
     design: Design | CreasePattern,
     p: float,
@@ -113,6 +121,13 @@ def fold(
     return fold_states(design, [p], method=method, params=params)[-1]
 
 
+@checked(
+    PatternError,
+    design=Arg("object", types=(Design, CreasePattern), optional=False),
+    ratios=Arg("floats", min=0.0, max=1.0, optional=False),
+    method=Arg("str", optional=False),
+    params=Arg("object", types=(SimulationParams,)),
+)
 def fold_states(
     design: Design | CreasePattern,
     ratios: Sequence[float],

@@ -41,7 +41,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from origami_cad._toml import Table, load_toml, toml_table
+from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.simulation.model import SimulationParams
@@ -174,4 +174,4 @@ def dump_materials(m: Materials, *, header: str = "") -> str:
         items = {key: getattr(m, field) for key, field in keys.items()}
         comments = {k: units[k] for k in items}
         lines += [*([""] if lines else []), *toml_table(name, items, comments=comments)]
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the materials file", SimulationError)

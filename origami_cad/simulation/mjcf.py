@@ -110,6 +110,12 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     ``routes`` are route files or :class:`RouteSpec`. A robot file is refused
     (:class:`MjcfError`): its model is ``origami_cad.crawler.mujoco.robot_mjcf``'s.
     """
+    if isinstance(routes, str | bytes | os.PathLike) or not hasattr(routes, "__iter__"):
+        raise MjcfError(f"routes must be a list of route files or RouteSpecs, got {routes!r:.60}")
+    routes = list(routes)
+    bad = next((r for r in routes if not isinstance(r, RouteSpec | str | os.PathLike)), None)
+    if bad is not None:
+        raise MjcfError(f"routes: expected route files or RouteSpecs, got {bad!r:.60}")
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.is_file():
@@ -257,7 +263,11 @@ def _check_routes(cp: CreasePattern, routes) -> None:
 
 
 def _v(values, scale: float = MJ) -> str:
-    return " ".join(f"{float(v) * scale:.9g}" for v in values)
+    """Numbers as an MJCF attribute (scaled: mm to m by default); NaN or infinity refused."""
+    out = [float(v) * scale for v in values]
+    if not all(math.isfinite(v) for v in out):
+        raise MjcfError(f"MJCF: a value is not finite ({' '.join(map(str, out))})")
+    return " ".join(f"{v:.9g}" for v in out)
 
 
 def _fabrication(source: MjcfSource) -> FabricationParams:
@@ -404,6 +414,9 @@ def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
 
 @checked(
     SimulationError,
+    source=Arg("object", types=(str, os.PathLike, Design, CreasePattern, MjcfSource)),
+    params=Arg("object", types=(SimulationParams,)),
+    contact=Arg("object", types=(Contact,)),
     gravity=Arg(min=-1e9, max=1e9, optional=False),
     friction=Arg(min=0.0, max=100.0),
     crease_damping=Arg(min=0.0, max=1e9, optional=False),

@@ -203,6 +203,9 @@ def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:
 
 @checked(
     SimulationError,
+    design=Arg("object", types=(Design,), optional=False),
+    route=Arg("object", types=(RouteSpec,), optional=False),
+    hole_friction=Arg(min=0.0, max=10.0, optional=False),
     grid=Arg("int", min=2, max=100_000),
     crease_stiffness=Arg(min=0.0, max=1e9),
     max_dp=Arg(min=MIN_DP, max=1.0),

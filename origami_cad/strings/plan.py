@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._names import one_line, toml_string
+from origami_cad._toml import finite_toml
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.design import Design
@@ -338,7 +339,7 @@ def route_toml(geom: PlanGeometry, planned: PlannedRoute, header: str = "") -> s
         lines.append(f"holes = [{holes}]  # panels {one_line(', '.join(s.names))}")
         sides = ", ".join('"top"' if v == TOP else '"bottom"' for v in s.sides)
         lines.append(f"sides = [{sides}]  # DCQC: above valleys, below mountains")
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the planned route file", StringsError)
 
 
 def plan_numbers(planned, geom: PlanGeometry, seconds: float, cpu: float) -> list[tuple[str, str]]:

@@ -53,7 +53,8 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._toml import MAX_MAGNITUDE, Table, load_toml, toml_table
+from origami_cad._args import Arg, checked
+from origami_cad._toml import MAX_MAGNITUDE, Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern
@@ -158,6 +159,11 @@ def auto_holes(cp: CreasePattern, hole_diameter: float) -> dict[str, tuple[float
     return {label: (hs[0].x, hs[0].y) for label, hs in plan.holes_by_label().items()}
 
 
+@checked(
+    StringsError,
+    path=Arg("path", optional=False),
+    cp=Arg("object", types=(CreasePattern,), optional=False),
+)
 def load_route(path: str | os.PathLike[str], cp: CreasePattern) -> RouteSpec:
     """Read a route file for the pattern ``cp``; errors name the file, key and string."""
     p = Path(path)
@@ -326,7 +332,7 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
         }
         panels = f"panels {', '.join(s.names)}"
         lines += ["", *toml_table("route.strings", table, array=True, comments={"holes": panels})]
-    return "\n".join(lines) + "\n"
+    return finite_toml("\n".join(lines) + "\n", "the route file", StringsError)
 
 
 def route_sheet(route: RouteSpec, **fields) -> FabricationParams:

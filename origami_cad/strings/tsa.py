@@ -212,9 +212,13 @@ class TSAParams:
                 raise StringsError(f"[tsa] {name} must be a number of mm, got {value!r}")
             if not (value > 0 and math.isfinite(value)):
                 raise StringsError(f"[tsa] {name} must be > 0 mm and finite, got {value!r}")
+        check_fields(
+            self,
+            StringsError,
+            {"x_dis": Arg(min=0.0, max=1e5), "max_helix_angle": Arg(optional=False)},
+        )
         if not 0 < self.max_helix_angle < 90:
             raise StringsError("[tsa] max_helix_angle must lie in (0, 90) deg")
-        check_fields(self, StringsError, {"x_dis": Arg(min=0.0, max=1e5)})
 
     def consumed(self, theta_s: Any, x_dis: Any) -> np.ndarray:
         """Length of string between the TSA and the first hole after twisting ``theta_s``, mm.

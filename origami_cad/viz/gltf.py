@@ -16,7 +16,6 @@ requires; :func:`srgb_to_linear`).
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import struct
@@ -27,6 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
+from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.triangles import panel_triangles
 
@@ -193,7 +194,7 @@ def glb_bytes(meshes: Sequence[GlbMesh], times: Sequence[float] | None = None) -
         doc["animations"] = [_animation(buf, meshes, animated, times)]
     doc |= {"accessors": buf.accessors, "bufferViews": buf.views}
     doc["buffers"] = [{"byteLength": len(buf.data)}]
-    text = json.dumps(doc, separators=(",", ":")).encode()
+    text = json_text(doc, "glTF", SimulationError, separators=(",", ":")).encode()
     text += b" " * (-len(text) % 4)
     body = bytes(buf.data)
     total = 12 + 8 + len(text) + 8 + len(body)

@@ -165,8 +165,36 @@ def export_3mf(
         zf.writestr("[Content_Types].xml", _CONTENT_TYPES)
         zf.writestr("_rels/.rels", _RELS)
         for entry, text in entries.items():
-            zf.writestr(entry, text)
+            if isinstance(text, list):  # the model: its lines streamed into the archive
+                rows = sum(len(v) + len(t) for v, t in meshes.values())
+                _write_lines(zf, entry, text, large=rows * _ROW_BYTES > zipfile.ZIP64_LIMIT)
+            else:
+                zf.writestr(entry, text)
     return Path(path)
+
+
+#: Most bytes a vertex or triangle line of the model takes (whether a member needs ZIP64)
+_ROW_BYTES = 128
+
+
+def _write_lines(zf: zipfile.ZipFile, entry: str, lines: list, large: bool = False) -> None:
+    """Lines (``str``, ``bytes``, or iterables of ``bytes`` blocks of whole lines) joined
+    by newlines into archive member ``entry``, written as they are made: the text of a
+    large mesh is never held whole (a 30 x 30 sheet's model is hundreds of MB). ``large``:
+    the member may pass 2 GiB (ZIP64 headers; the archive is otherwise as before)."""
+    with zf.open(entry, "w", force_zip64=large) as fh:
+        first = True
+        for line in lines:
+            blocks = [line] if isinstance(line, str | bytes) else line
+            for block in blocks:
+                if block == b"":
+                    continue
+                fh.write(_bytes(block) if first else b"\n" + _bytes(block))
+                first = False
+
+
+def _bytes(text: str | bytes) -> bytes:
+    return text if isinstance(text, bytes) else text.encode()
 
 
 def _part_mesh(parts: Parts, part: str) -> tuple[np.ndarray, np.ndarray]:
@@ -195,7 +223,7 @@ def _prusa_entries(meshes, name: str, settings) -> dict[str, str | bytes]:
     ]
     prusa, bambu = _slicer_configs(ranges, name)
     return {
-        "3D/3dmodel.model": _join_lines(model),
+        "3D/3dmodel.model": model,
         "Metadata/Slic3r_PE_model.config": "\n".join(prusa),
         "Metadata/model_settings.config": "\n".join(bambu),
         "Metadata/Slic3r_PE.config": _prusa_print_config(settings),
@@ -224,7 +252,7 @@ def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str | 
     model += ["   </components>", "  </object>", *_model_tail(assembly)]
     version = application.split("-", 1)[1]
     return {
-        "3D/3dmodel.model": _join_lines(model),
+        "3D/3dmodel.model": model,
         "Metadata/model_settings.config": "\n".join(model_settings_config(assembly, parts, name)),
         "Metadata/project_settings.config": project_settings_config(settings, version),
     }
@@ -334,23 +362,33 @@ def _rows(pieces: list[str], columns: np.ndarray, decimals: int) -> bytes:
 def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list:
     """``<mesh>`` of an object (lines; the vertices and the triangles each one ``bytes``).
 
-    With ``mat``, each triangle's base material index.
+    With ``mat``, each triangle's base material index. A NaN or infinite coordinate (which
+    the integer formatting would turn into a wrong number) is a :class:`FabricationError`.
     """
+    if not np.isfinite(verts).all():
+        raise FabricationError("3MF: a mesh vertex is NaN or infinite; 3MF holds finite mm")
     vertex = ['     <vertex x="', '" y="', '" z="', '"/>']
-    lines = ["   <mesh>", "    <vertices>", _rows(vertex, verts.reshape(-1, 3), 6)]
+    lines = ["   <mesh>", "    <vertices>", _row_blocks(vertex, verts.reshape(-1, 3), 6)]
     lines += ["    </vertices>", "    <triangles>"]
     if mat is None:
         triangle = ['     <triangle v1="', '" v2="', '" v3="', '"/>']
-        lines.append(_rows(triangle, tris.reshape(-1, 3), 0))
+        lines.append(_row_blocks(triangle, tris.reshape(-1, 3), 0))
     else:
         triangle = ['     <triangle v1="', '" v2="', '" v3="', '" pid="1" p1="', '"/>']
-        lines.append(_rows(triangle, np.column_stack([tris, mat]).astype(np.int64), 0))
+        columns = np.column_stack([tris, np.asarray(mat).reshape(-1, 1)]).astype(np.int64)
+        lines.append(_row_blocks(triangle, columns, 0))
     return [*lines, "    </triangles>", "   </mesh>"]
 
 
-def _join_lines(lines: list) -> bytes:
-    """Lines (``str`` or ``bytes``; an empty ``bytes`` is no line) joined by newlines."""
-    return b"\n".join(x if isinstance(x, bytes) else x.encode() for x in lines if x != b"")
+#: Rows formatted at once by :func:`_row_blocks` (bounds the formatting's memory)
+ROW_BLOCK = 65_536
+
+
+def _row_blocks(pieces: list[str], columns: np.ndarray, decimals: int):
+    """:func:`_rows` of ``columns``, :data:`ROW_BLOCK` rows at a time (a generator of
+    ``bytes`` blocks of whole lines, made as the archive takes them)."""
+    for start in range(0, len(columns), ROW_BLOCK):
+        yield _rows(pieces, columns[start : start + ROW_BLOCK], decimals)
 
 
 def _slicer_configs(ranges: list[tuple[int, int]], name: str) -> tuple[list[str], list[str]]:

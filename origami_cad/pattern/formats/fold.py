@@ -20,12 +20,13 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import input_file, parse_file
 from origami_cad.errors import PatternError
@@ -129,11 +130,21 @@ def fold_dict(cp: CreasePattern, frames: Sequence[dict[str, Any]] = ()) -> dict[
                 raise PatternError(f"hole at ({h.x:g}, {h.y:g}) mm is not on any panel")
             per_face[f].append([h.x, h.y, h.diameter])
         data[_HOLES] = per_face
+    if isinstance(frames, str | bytes | Mapping) or not hasattr(frames, "__iter__"):
+        raise PatternError(f"frames must be a list of dicts (FOLD frames), got {frames!r:.60}")
+    frames = list(frames)
+    if not all(isinstance(f, Mapping) for f in frames):
+        raise PatternError("frames must be a list of dicts (FOLD frames)")
     if frames:
         data["file_frames"] = [dict(f) for f in frames]
     return data
 
 
+@checked(
+    PatternError,
+    cp=Arg("object", types=(CreasePattern,), optional=False),
+    path=Arg("path", optional=False),
+)
 def write_fold(
     cp: CreasePattern, path: str | os.PathLike[str], frames: Sequence[dict[str, Any]] = ()
 ) -> Path:
