@@ -285,6 +285,8 @@ def command_words(text: str, cls: type[Command]) -> str:
     >>> from origami_cad.commands import COMMANDS
     >>> command_words("use a smaller hole_diameter or holes = 'none'", COMMANDS["fabricate"])
     'use a smaller --hole-diameter or --holes none'
+    >>> command_words("in/a.svg: <svg>: width = 'x' is not a length", COMMANDS["fabricate"])
+    "in/a.svg: <svg>: width = 'x' is not a length"
     """
     flags = {o.name: o.shown for o in cls.OPTIONS if o.flag != "" and not o.positional}
     names = {o.name: o.name.upper() for o in cls.OPTIONS if o.positional}
@@ -303,8 +305,17 @@ def command_words(text: str, cls: type[Command]) -> str:
             return names[name]
         return m[0]
 
-    text = re.sub(r"(?<![\w-])([a-z]\w*) ?= ?['\"]?([\w.-]+)['\"]?", assigned, text)
-    return re.sub(r"(``)?(?<![\w.-])([a-z][a-z0-9_]*)(?![\w-])(?(1)``)", word, text)
+    def rewritten(part: str) -> str:
+        if _ABOUT_A_FILE.match(part):  # a file's own keys and attributes keep their names
+            return part
+        part = re.sub(r"(?<![\w-])([a-z]\w*) ?= ?['\"]?([\w.-]+)['\"]?", assigned, part)
+        return re.sub(r"(``)?(?<![\w.-])([a-z][a-z0-9_]*)(?![\w-])(?(1)``)", word, part)
+
+    return "; ".join(rewritten(part) for part in text.split("; "))
+
+
+#: A message (or a part of one) about a file's contents: it begins with the file's path.
+_ABOUT_A_FILE = re.compile(r"[^\s:;]*[/\\][^:;]*: |[^\s:;/]+\.[A-Za-z0-9]{1,5}: ")
 
 
 def _description(cls: type[Command]) -> dict[str, str]:

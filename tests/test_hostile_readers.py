@@ -292,11 +292,11 @@ def test_a_tg_of_9000_copies_is_refused_naming_the_copies(tmp_path, capsys):
 
 
 def test_a_tg_too_tall_for_its_smallest_feature_is_refused_not_repaired(tmp_path, capsys):
-    # a 0.05 mm segment: 2,000 copies make the pattern 40 m tall, its tolerance 0.04 mm
-    p = tg_design(tmp_path, 2000, "lengths = [10, 0.05, 10]\nshape_angles = [90, 90]")
+    # a 0.01 mm segment: 1,000 copies (the most a TG takes) make the pattern 20 m tall
+    p = tg_design(tmp_path, 1000, "lengths = [10, 0.01, 10]\nshape_angles = [90, 90]")
     msg = refused(
         capsys, tmp_path, ["pattern", p, "-o", tmp_path / "o.fold"], "tg.toml", "rows",
-        "smallest feature is 0.05 mm",
+        "smallest feature is 0.01 mm",
     )  # fmt: skip
     assert "needed repair" not in msg and "internal" not in msg
 

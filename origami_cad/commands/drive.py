@@ -116,20 +116,6 @@ def _drive_numbers(seq, done, loads, names) -> list[tuple[str, str]]:
 DRY_RUN_DEFAULTS = {"speed": 8.0, "load_scale": 1.0}
 
 
-def _check_options(a) -> None:
-    """Refuse a run with no servos, or options the run would ignore (a port on a dry run,
-    a dry run's options on servos), in one line naming them; then fill in the defaults."""
-    if not a.dry_run and not a.port:
-        raise DriveError("give the servos' port, or use a dry run on the emulator")
-    if a.dry_run and a.port:
-        raise OptionsError(f"--port {a.port}: a dry run drives the emulator; give one of the two")
-    ignored = [f"--{n.replace('_', '-')}" for n in DRY_RUN_DEFAULTS if getattr(a, n) is not None]
-    if ignored and not a.dry_run:
-        raise OptionsError(f"{', '.join(ignored)}: used only by a dry run (--dry-run)")
-    for name, value in DRY_RUN_DEFAULTS.items():
-        setattr(a, name, value if getattr(a, name) is None else getattr(a, name))
-
-
 @register
 class Drive(Command):
     """Run a TSA sequence on servos at ``port`` (or an emulator: ``dry_run``), CSV ``log``.
@@ -160,6 +146,24 @@ class Drive(Command):
         """A dry run's defaults (given only with ``dry_run``)."""
         return DRY_RUN_DEFAULTS
 
+    def prepare(self, a) -> None:
+        """Refuse a run with no servos, or options the run would ignore (a port on a dry
+        run, a dry run's options on servos), in one line naming them; then fill in the
+        defaults and check the outputs."""
+        if not a.dry_run and not a.port:
+            raise DriveError("give the servos' port, or use a dry run on the emulator")
+        if a.dry_run and a.port:
+            raise OptionsError(
+                f"--port {a.port}: a dry run drives the emulator; give one of the two"
+            )
+        given = [n for n in DRY_RUN_DEFAULTS if getattr(a, n) is not None]
+        if given and not a.dry_run:
+            flags = ", ".join(f"--{n.replace('_', '-')}" for n in given)
+            raise OptionsError(f"{flags}: used only by a dry run (--dry-run)")
+        for name, value in DRY_RUN_DEFAULTS.items():
+            setattr(a, name, value if getattr(a, name) is None else getattr(a, name))
+        super().prepare(a)
+
     def outputs(self, a):
         return [p for p in (a.log, a.plot) if p], []
 
@@ -175,7 +179,6 @@ class Drive(Command):
         from origami_cad.viz.drive_plots import save_drive_png
 
         seq = load_sequence(a.sequence)
-        _check_options(a)
         emulate = {"time_scale": a.speed, "load_scale": a.load_scale} if a.dry_run else None
         scale = a.speed if a.dry_run else 1.0
         names, done = {t.dxl_id: t.name for t in seq.tsas}, None
