@@ -91,7 +91,8 @@ def test_the_default_tolerance_is_relative_and_documented(tmp_path):
     assert errors(cp) == [] and len(cp.faces) == 2
     assert cp.cleanup.tolerance == pytest.approx(IMPORT_RELATIVE_TOLERANCE * 100 * math.sqrt(2))
     # a gap near the tolerance is closed with a warning: it may be a feature
-    near = read_pattern(gapped_square_svg(tmp_path / "near.svg", gap=0.009))
+    tol = IMPORT_RELATIVE_TOLERANCE * 100 * math.sqrt(2)
+    near = read_pattern(gapped_square_svg(tmp_path / "near.svg", gap=0.9 * tol / math.sqrt(2)))
     merged = [n for n in near.notes if n.code == "merged"]
     assert merged and merged[0].severity == "warning" and "--tolerance" in merged[0].message
 
