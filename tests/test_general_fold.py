@@ -149,10 +149,15 @@ def test_an_unassigned_crease_is_a_free_hinge_a_facet_crease_is_not():
     assert free.fold_angles[u] < -5.0
     assert np.all(free.fold_angles[valleys] > 5.0)
     assert free.strain < 0.01
-    # a facet crease there leaves a rigid degree-3 vertex: the valleys barely fold (only
-    # as far as the stiff panels bend)
-    stiff = fold_general(_vertex("F"), [0.3])[0]
-    assert np.abs(stiff.fold_angles[valleys]).sum() < 0.1 * free.fold_angles[valleys].sum()
+    # a facet crease there leaves a degree-3 vertex, rigid unless its panels bend: the
+    # stiffened drive bends them (as Origami Simulator bends its facets), and the facet
+    # crease bends as a panel does, far less than the free hinge turned, with no stretch
+    cp = _vertex("F")
+    stiff = fold_general(cp, [0.3])[0]
+    facet = int(np.flatnonzero(cp.edge_mask("F"))[0])
+    assert abs(stiff.fold_angles[facet]) < 0.7 * abs(free.fold_angles[u])
+    assert np.all(stiff.fold_angles[valleys] > 5.0)
+    assert stiff.strain < 0.1
 
 
 def test_a_strain_over_the_limit_warns_and_says_by_how_much():
