@@ -56,6 +56,7 @@ __all__ = [
     "DRIVE_LENGTH",
     "DRIVE_REACH",
     "DRIVE_RELAXATIONS",
+    "DRIVE_STEP",
     "DRIVE_STRAIN",
     "FREE_HINGE_STIFFNESS",
     "MAX_TARGET_DEG",
@@ -85,6 +86,9 @@ DRIVE_LENGTH = 0.3
 #: The drive is stiffened while the creases reach on average less than this fraction of
 #: their targets.
 DRIVE_REACH = 0.5
+#: The factor by which the drive is stiffened each time (from the printed creases' to
+#: the strongest, about 2,500 times, in two steps).
+DRIVE_STEP = 100.0
 #: Largest stretch of a panel's edge (percent) the drive may cause before it is relaxed.
 DRIVE_STRAIN = 3.0
 #: How many times the drive is relaxed (each time to a third) at most.
@@ -97,6 +101,9 @@ _FACET = ("F", "J")
 # residual force (N) at which a solve counts as converged: between steps, at the end
 _TOL_STEP, _TOL_END = 1e-4, 1e-5
 _MAX_ITER = 200
+# Newton iterations at most of a solve between steps: a point on the path need not be
+# exact (the next solve starts from it); from flat, the slowest converge in 100 and more
+_MAX_ITER_STEP = 30
 
 
 class StrainWarning(UserWarning):
@@ -206,7 +213,10 @@ def fold_general(
         raise PatternError("the pattern has no mountain or valley crease to fold")
     params = params or SimulationParams()
     st, target, free, driven = _driven_structure(cp, params)
-    strongest = _strongest_drive(cp, st, params, driven)
+    drive = {
+        "strongest": _strongest_drive(cp, st, params, driven),
+        "relaxations": DRIVE_RELAXATIONS,
+    }
     asm = HessianAssembly(st)
     cap = math.radians(MAX_TARGET_DEG)
     largest = float(np.degrees(np.max(np.abs(target)))) if len(target) else 0.0
@@ -223,16 +233,14 @@ def fold_general(
             previous, q_previous, q_x = x, q_x, q
             st.hinge_rest = np.clip(target * q, -cap, cap)
             st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-            x, _ = solve_equilibrium(
-                guess,
-                st,
-                assembly=asm,
-                tol=_TOL_END if k == n else _TOL_STEP,
-                max_iter=_MAX_ITER,
-            )
-        x, settled = _settle(st, x, asm, driven, free, strongest)
-        if settled:
-            previous, q_previous = x, q_x  # no extrapolation across a change of drive
+            tol, most = (_TOL_END, _MAX_ITER) if k == n else (_TOL_STEP, _MAX_ITER_STEP)
+            x, _ = solve_equilibrium(guess, st, assembly=asm, tol=tol, max_iter=most)
+            # the drive is stiffened at the first step where the panels hold the creases
+            # back, relaxed at the first where it stretches them: the rest of the path is
+            # followed with it
+            x, settled = _settle(st, x, asm, driven, free, drive, tol)
+            if settled:
+                previous, q_previous = x, q_x  # no extrapolation across a change of drive
         done = goal
         states[goal] = _state(cp, st, x, goal)
     out = [states[p] for p in values]
@@ -256,28 +264,30 @@ def _ramp(start: float, goal: float, largest: float, step_deg: float) -> list[fl
     return [start + (goal - start) * k / n for k in range(1, n + 1)]
 
 
-def _settle(st, x, asm, driven, free, strongest) -> tuple[np.ndarray, bool]:
+def _settle(st, x, asm, driven, free, drive: dict, tol) -> tuple[np.ndarray, bool]:
     """Stiffen the drive where the panels hold the creases back, relax it where it
     stretches them: ``(nodes (n, 3) mm, whether the drive changed)``.
 
     While the driven creases reach on average less than :data:`DRIVE_REACH` of their
-    targets, the drive is stiffened tenfold (up to ``strongest`` (H,) N mm/rad) and the
-    state solved again from where it is; then, while a bar is stretched by more than
-    :data:`DRIVE_STRAIN` percent, it is relaxed to a third (at most
-    :data:`DRIVE_RELAXATIONS` times)."""
+    targets, the drive is stiffened tenfold (up to ``drive["strongest"]`` (H,)
+    N mm/rad) and the state solved again from where it is (to a residual of ``tol``
+    N); then, while a bar is stretched by more than :data:`DRIVE_STRAIN` percent, it is
+    relaxed to a third (``drive["relaxations"]`` times at most in all), and never
+    stiffened again."""
     changed = False
 
     def solve(x):
         st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-        return solve_equilibrium(x, st, assembly=asm, tol=_TOL_END, max_iter=_MAX_ITER)[0]
+        return solve_equilibrium(x, st, assembly=asm, tol=tol, max_iter=_MAX_ITER)[0]
 
+    strongest = drive["strongest"]
     while _reach(st, x, driven) < DRIVE_REACH and np.any(st.hinge_k[driven] < strongest):
-        st.hinge_k[driven] = np.minimum(st.hinge_k[driven] * 10.0, strongest)
+        st.hinge_k[driven] = np.minimum(st.hinge_k[driven] * DRIVE_STEP, strongest)
         x, changed = solve(x), True
-    for _ in range(DRIVE_RELAXATIONS):
-        if _bar_strain(st, x) <= DRIVE_STRAIN / 100.0:
-            break
+    while drive["relaxations"] > 0 and _bar_strain(st, x) > DRIVE_STRAIN / 100.0:
         st.hinge_k[driven] /= 3.0
+        drive["strongest"] = st.hinge_k[driven].copy()
+        drive["relaxations"] -= 1
         x, changed = solve(x), True
     return x, changed
 
