@@ -376,7 +376,9 @@ def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
                 continue
             if cmd.upper() in "CSQTA":
                 raise PatternError(
-                    f"{where} uses the curved path command {cmd!r}; crease lines must be straight"
+                    f"{where} uses the curved path command {cmd!r}; crease lines must be "
+                    "straight: draw the curve as straight segments (as Origami Simulator "
+                    "cuts it into when it imports one)"
                 )
             if cmd.upper() not in _PATH_ARGS:
                 raise PatternError(f"{where}: {cmd!r} is not a path command")
