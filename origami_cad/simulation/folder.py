@@ -401,8 +401,9 @@ def fold_notes(cp: CreasePattern, fold_angles, method: str = "closed form") -> l
             return []
         return [
             f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
-            "with panels as stiff as printed ones this pattern hardly folds from flat (it does "
-            "not fold rigidly; its panels would have to bend)"
+            "even driven hard enough to bend its panels this pattern hardly folds from flat "
+            "(cut edges stay joined in the model: a kirigami pattern whose cuts must open "
+            "does not fold; a pattern whose panels must stretch stops short)"
         ]
     flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
     if not flat.any():
