@@ -16,7 +16,7 @@ in equilibrium by :func:`~origami_cad.simulation.solver.solve_equilibrium`:
   printed crease's spring first, so a pattern that folds rigidly folds rigidly. Where
   the panels hold the creases back (they reach on average less than
   :data:`DRIVE_REACH` of their targets: bases, pop-ups, twists, whose panels must bend
-  to fold), the drive is stiffened tenfold at a time, up to a strip of panel
+  to fold), the drive is stiffened :data:`DRIVE_STEP` times at a time, up to a strip of panel
   :data:`DRIVE_LENGTH` times the pattern's size long bending (``E h^3 / 12`` over that
   length, per mm of crease): the role of the actuators or hands that fold a sheet, as
   Origami Simulator's creases are as stiff as its facets. Where the drive then
@@ -269,7 +269,7 @@ def _settle(st, x, asm, driven, free, drive: dict, tol) -> tuple[np.ndarray, boo
     stretches them: ``(nodes (n, 3) mm, whether the drive changed)``.
 
     While the driven creases reach on average less than :data:`DRIVE_REACH` of their
-    targets, the drive is stiffened tenfold (up to ``drive["strongest"]`` (H,)
+    targets, the drive is stiffened :data:`DRIVE_STEP` times (up to ``drive["strongest"]`` (H,)
     N mm/rad) and the state solved again from where it is (to a residual of ``tol``
     N); then, while a bar is stretched by more than :data:`DRIVE_STRAIN` percent, it is
     relaxed to a third (``drive["relaxations"]`` times at most in all), and never
