@@ -5,8 +5,9 @@ the four STLs, ``assembly.step``, ``print.3mf``, the FOLD and JSON
 (``write_fabrication``), ``parts.glb`` and ``panels.png``. Times are wall-clock and
 CPU (``time.process_time``: this process and its threads; on a shared machine the CPU
 time is the steadier figure). The cost against the panel count is fitted as
-``t = c * panels ** k`` over 5 x 5 ... 30 x 30 (CPU times). Peak memory is the process's
-peak RSS (``resource``), reached on the 30 x 30, the last and largest: it counts OCC's
+``t = c * panels ** k`` over 5 x 5 ... 32 x 32 (CPU times; the 32 x 32, 1,024 panels, is the
+issue's 1,000-panel sheet). Peak memory is the process's
+peak RSS (``resource``), reached on the 32 x 32, the last and largest: it counts OCC's
 C++ allocations, which ``tracemalloc`` does not see (and tracing would slow the run
 being timed). Benchmarks, never tests.
 """
@@ -29,7 +30,7 @@ from origami_cad.viz.gltf import write_parts_glb
 #: (rows, columns, panel length mm, panel width mm) of the sheets measured
 SHEETS = ((4, 6, 20.0, 30.0), (5, 5, 15.0, 15.0), (10, 10, 15.0, 15.0), (20, 20, 15.0, 15.0))
 #: the largest sheet, measured for its peak memory too
-LARGEST = (30, 30, 15.0, 15.0)
+LARGEST = (32, 32, 15.0, 15.0)
 
 
 def _one(rows: int, columns: int, length: float, width: float) -> tuple[float, float, dict, int]:
@@ -72,9 +73,9 @@ def run() -> list[tuple[str, float, str]]:
     cpus.append(cpu)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
     out += [
-        (f"{LARGEST[0]} x {LARGEST[1]} Miura ({count} panels): all, wall s", total, ""),
-        ("  CPU s", cpu, ""),
+        (f"{LARGEST[0]} x {LARGEST[1]} Miura ({count} panels): all, wall s", total, "< 15 s"),
+        ("  CPU s", cpu, "< 15 s"),
         ("  peak RSS of the process (resource), MB", rss, "target < 2048"),
-        ("cost ~ panels ** k, k (CPU, 25 ... 900 panels)", _exponent(panels, cpus), "<= 1.1"),
+        ("cost ~ panels ** k, k (CPU, 25 ... 1,024 panels)", _exponent(panels, cpus), "<= 1.1"),
     ]
     return out

@@ -11,6 +11,7 @@ from __future__ import annotations
 import html.parser
 import xml.etree.ElementTree as ET
 
+import numpy as np
 import pytest
 from conftest import refused as refused_by
 
@@ -51,8 +52,8 @@ def valley(body_attrs):
         ("M 0 0 L 5e9 5", "out of range"),
         ("M 0 0 Z 5 5", "a number after 'Z'"),
         ("10 10 L 0 0", "must start with a command"),
-        ("M 0 0 c 5 5 10 10 20 20", "curved path command 'c'"),
-        ("M 0 0 L 10 10 A 5 5 0 0 1 20 20", "curved path command 'A'"),
+        ("M 0 0 c 5 5 10 10", "'c' needs 6 numbers"),
+        ("M 0 0 L 10 10 A 5 5 0 0 1 20", "'A' needs 7 numbers"),
     ],
 )
 def test_malformed_path_data_is_refused(tmp_path, d, fragment):
@@ -317,3 +318,68 @@ def test_use_that_multiplies_elements_is_refused_before_it_explodes(tmp_path):
     # 10 million lines: the first of the two bounds that is reached stops the walk
     msg = refused(svg(tmp_path, f"<defs>{body}</defs><use href='#l7'/>"), "more than")
     assert "1,000,000 elements" in msg or "100,000 line segments (MAX_EDGES)" in msg
+
+
+def _curve_sheet(tmp_path, d: str):
+    """A 100 x 100 sheet whose valley crease is the path ``d`` from (0, 50) to (100, 50)."""
+    body = (
+        '<rect x="0" y="0" width="100" height="100" fill="none" stroke="#000000"/>'
+        f'<path d="{d}" fill="none" stroke="#0000ff"/>'
+    )
+    path = tmp_path / "curve.svg"
+    path.write_text(
+        '<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" '
+        f'viewBox="0 0 100 100">{body}</svg>'
+    )
+    return read_svg(path)
+
+
+def _cubic(t):
+    return (
+        3 * (1 - t) ** 2 * t * 25 + 3 * (1 - t) * t**2 * 75 + t**3 * 100,
+        (1 - t) ** 3 * 50 + 3 * (1 - t) ** 2 * t * 20 + 3 * (1 - t) * t**2 * 80 + t**3 * 50,
+    )
+
+
+def _quadratic(t):
+    return 100 * t, (1 - t) ** 2 * 50 + 2 * (1 - t) * t * 10 + t**2 * 50
+
+
+def _half_circle(t):
+    return 50 - 50 * np.cos(np.pi * t), 50 - 50 * np.sin(np.pi * t)
+
+
+@pytest.mark.parametrize(
+    "d, on_curve",
+    [
+        ("M 0 50 C 25 20 75 80 100 50", _cubic),
+        ("M 0 50 Q 50 10 100 50", _quadratic),
+        ("M 0 50 A 50 50 0 0 1 100 50", _half_circle),
+    ],
+)
+def test_curved_creases_are_cut_into_straight_segments(tmp_path, d, on_curve):
+    # a cubic, a quadratic and a half circle (arc): every vertex of the polyline on the
+    # exact curve, and the polyline as long as the curve within 0.5 %
+    cp = _curve_sheet(tmp_path, d)
+    valleys = cp.edge_mask("V")
+    assert valleys.sum() >= 4  # a polyline of several straight creases
+    assert not [p for p in cp.check() if p.severity == "error"]
+    ends = cp.vertices[cp.edges[valleys]].reshape(-1, 2)
+    # every vertex of the polyline lies on the curve (SVG's y is the pattern's -y)
+    exact = np.array([on_curve(t) for t in np.linspace(0, 1, 2001)])
+    exact[:, 1] = -exact[:, 1]
+    gap = np.min(np.linalg.norm(ends[:, None, :] - exact[None, :, :], axis=2), axis=1)
+    assert gap.max() < 0.1
+    # and the polyline's length is the curve's within 0.5 %
+    arc = float(np.sum(np.linalg.norm(np.diff(exact, axis=0), axis=1)))
+    assert cp.edge_lengths()[valleys].sum() == pytest.approx(arc, rel=5e-3)
+
+
+def test_a_smooth_curve_continues_its_last_control_point(tmp_path):
+    # S reflects the previous C's second control point: the wave is symmetric about x = 50
+    cp = _curve_sheet(tmp_path, "M 0 50 C 10 20 40 20 50 50 S 90 80 100 50")
+    valleys = cp.vertices[np.unique(cp.edges[cp.edge_mask("V")])]
+    top = valleys[valleys[:, 0] < 50]
+    bottom = valleys[valleys[:, 0] > 50]
+    assert np.min(-top[:, 1]) < 35  # the first half bows toward its control points (y 20)
+    assert np.max(-bottom[:, 1]) > 50 + 15  # the reflected half bows the other way

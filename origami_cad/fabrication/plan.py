@@ -576,6 +576,12 @@ def _too_small(
     try:
         panel_outline(cp, fi, params, minimum)
     except PatternError as exc:
+        factor = _scale_that_fits(cp, fi, params, minimum)
+        if factor is not None:
+            larger = (
+                f"print the pattern at least {math.ceil((x1 - x0) * factor):g} mm wide "
+                f"(it is {x1 - x0:.1f} mm: --width)"
+            )
         return (
             f"{exc} even at the smallest inner bias, {minimum:g} mm: {larger} or "
             f"with a thinner shell (--shell, now {params.shell:g} mm)"
@@ -592,6 +598,30 @@ def _too_small(
         f"inner bias, {minimum:g} mm: use a smaller "
         f"--hole-diameter, --holes none, or {larger}"
     )
+
+
+def _scale_that_fits(
+    cp: CreasePattern, fi: int, params: FabricationParams, minimum: float
+) -> float | None:
+    """The least factor (to 1 %) by which ``cp`` scaled keeps panel ``fi``'s footprints at
+    inner bias ``minimum`` mm, or ``None`` beyond 64 times."""
+
+    def fits(factor: float) -> bool:
+        try:
+            panel_outline(cp.scaled(factor), fi, params, minimum)
+        except PatternError:
+            return False
+        return True
+
+    lo, hi = 1.0, 2.0
+    while not fits(hi):
+        lo, hi = hi, 2.0 * hi
+        if hi > 64.0:
+            return None
+    while hi / lo > 1.01:
+        mid = math.sqrt(lo * hi)
+        lo, hi = (lo, mid) if fits(mid) else (mid, hi)
+    return hi
 
 
 def _warnings(params: FabricationParams, limits: CreaseLimits) -> tuple[str, ...]:

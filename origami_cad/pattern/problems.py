@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
-from origami_cad.pattern.planar import Cleanup
+from origami_cad.pattern.planar import SNAP_FRACTION, Cleanup
 
 __all__ = ["CLEANUP_CODES", "NEAR_TOLERANCE", "Problem", "Severity", "cleanup_notes"]
 
@@ -73,12 +73,23 @@ def cleanup_notes(c: Cleanup) -> list[Problem]:
     of different letters are warnings."""
     notes: list[Problem] = []
     tol = f"tolerance {c.tolerance:.2g} mm"
-    for count, gap, text in (
-        (c.merged, c.merged_gap, "vertices merged with a neighbour closer than the tolerance"),
-        (c.snapped, c.snapped_gap, "vertices off an edge by less than the tolerance put on it"),
-        (c.crossings_merged, c.crossing_gap, "crossing points merged with a vertex"),
+    snap = SNAP_FRACTION * c.tolerance
+    for count, gap, within, text in (
+        (
+            c.merged,
+            c.merged_gap,
+            c.tolerance,
+            "vertices merged with a neighbour closer than the tolerance",
+        ),
+        (
+            c.snapped,
+            c.snapped_gap,
+            snap,
+            f"vertices off an edge by less than {_gap(snap)} put on it",
+        ),
+        (c.crossings_merged, c.crossing_gap, c.tolerance, "crossing points merged with a vertex"),
     ):
-        near = gap > NEAR_TOLERANCE * c.tolerance
+        near = gap > NEAR_TOLERANCE * within
         if count:
             notes.append(
                 Problem(

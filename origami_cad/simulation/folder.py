@@ -12,7 +12,17 @@ in equilibrium by :func:`~origami_cad.simulation.solver.solve_equilibrium`:
 
 - mountain and valley creases: the file's fold angle where it has one (FOLD's
   ``edges_foldAngle``, an SVG's stroke opacity), else -180 / +180 deg, times the fold
-  ratio ``p`` (at most :data:`MAX_TARGET_DEG` in magnitude);
+  ratio ``p`` (at most :data:`MAX_TARGET_DEG` in magnitude). Each is driven by its
+  printed crease's spring first, so a pattern that folds rigidly folds rigidly. Where
+  the panels hold the creases back (they reach on average less than
+  :data:`DRIVE_REACH` of their targets: bases, pop-ups, twists, whose panels must bend
+  to fold), the drive is stiffened :data:`DRIVE_STEP` times at a time, up to a strip of panel
+  :data:`DRIVE_LENGTH` times the pattern's size long bending (``E h^3 / 12`` over that
+  length, per mm of crease): the role of the actuators or hands that fold a sheet, as
+  Origami Simulator's creases are as stiff as its facets. Where the drive then
+  stretches the panels by more than :data:`DRIVE_STRAIN` percent, it is relaxed (a
+  third each time, at most :data:`DRIVE_RELAXATIONS` times), so that the creases go as
+  far as the panels allow without stretching;
 - facet (``F``) and join (``J``) creases: 0, as stiff as the panels' facet hinges;
 - unassigned (``U``) creases: free hinges with no target (a spring of
   :data:`FREE_HINGE_STIFFNESS` times a crease's, toward the angle they had at the start
@@ -43,6 +53,11 @@ from origami_cad.simulation.model import SimulationParams, Structure, build_stru
 from origami_cad.simulation.solver import HessianAssembly, solve_equilibrium
 
 __all__ = [
+    "DRIVE_LENGTH",
+    "DRIVE_REACH",
+    "DRIVE_RELAXATIONS",
+    "DRIVE_STEP",
+    "DRIVE_STRAIN",
     "FREE_HINGE_STIFFNESS",
     "MAX_TARGET_DEG",
     "METHODS",
@@ -65,6 +80,19 @@ STEP_DEG = 10.0
 MAX_TARGET_DEG = 179.0
 #: A free (``U``) hinge's spring, as a fraction of a crease's stiffness.
 FREE_HINGE_STIFFNESS = 1e-3
+#: The length (a fraction of the pattern's size, the diagonal of its bounding box) of
+#: the strip of panel whose bending stiffness drives each crease toward its target.
+DRIVE_LENGTH = 0.3
+#: The drive is stiffened while the creases reach on average less than this fraction of
+#: their targets.
+DRIVE_REACH = 0.5
+#: The factor by which the drive is stiffened each time (from the printed creases' to
+#: the strongest, about 2,500 times, in two steps).
+DRIVE_STEP = 100.0
+#: Largest stretch of a panel's edge (percent) the drive may cause before it is relaxed.
+DRIVE_STRAIN = 3.0
+#: How many times the drive is relaxed (each time to a third) at most.
+DRIVE_RELAXATIONS = 4
 #: The methods :func:`fold` and :func:`fold_states` take.
 METHODS = ("auto", "closed form", "general")
 
@@ -73,6 +101,9 @@ _FACET = ("F", "J")
 # residual force (N) at which a solve counts as converged: between steps, at the end
 _TOL_STEP, _TOL_END = 1e-4, 1e-5
 _MAX_ITER = 200
+# Newton iterations at most of a solve between steps: a point on the path need not be
+# exact (the next solve starts from it); from flat, the slowest converge in 100 and more
+_MAX_ITER_STEP = 30
 
 
 class StrainWarning(OrigamiCadWarning):
@@ -194,7 +225,12 @@ def fold_general(
         return []
     if not cp.edge_mask(*_FOLDING).any():
         raise PatternError("the pattern has no mountain or valley crease to fold")
-    st, target, free = _driven_structure(cp, params or SimulationParams())
+    params = params or SimulationParams()
+    st, target, free, driven = _driven_structure(cp, params)
+    drive = {
+        "strongest": _strongest_drive(cp, st, params, driven),
+        "relaxations": DRIVE_RELAXATIONS,
+    }
     asm = HessianAssembly(st)
     cap = math.radians(MAX_TARGET_DEG)
     largest = float(np.degrees(np.max(np.abs(target)))) if len(target) else 0.0
@@ -211,13 +247,14 @@ def fold_general(
             previous, q_previous, q_x = x, q_x, q
             st.hinge_rest = np.clip(target * q, -cap, cap)
             st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-            x, _ = solve_equilibrium(
-                guess,
-                st,
-                assembly=asm,
-                tol=_TOL_END if k == n else _TOL_STEP,
-                max_iter=_MAX_ITER,
-            )
+            tol, most = (_TOL_END, _MAX_ITER) if k == n else (_TOL_STEP, _MAX_ITER_STEP)
+            x, _ = solve_equilibrium(guess, st, assembly=asm, tol=tol, max_iter=most)
+            # the drive is stiffened at the first step where the panels hold the creases
+            # back, relaxed at the first where it stretches them: the rest of the path is
+            # followed with it
+            x, settled = _settle(st, x, asm, driven, free, drive, tol)
+            if settled:
+                previous, q_previous = x, q_x  # no extrapolation across a change of drive
         done = goal
         states[goal] = _state(cp, st, x, goal)
     out = [states[p] for p in values]
@@ -241,9 +278,62 @@ def _ramp(start: float, goal: float, largest: float, step_deg: float) -> list[fl
     return [start + (goal - start) * k / n for k in range(1, n + 1)]
 
 
+def _settle(st, x, asm, driven, free, drive: dict, tol) -> tuple[np.ndarray, bool]:
+    """Stiffen the drive where the panels hold the creases back, relax it where it
+    stretches them: ``(nodes (n, 3) mm, whether the drive changed)``.
+
+    While the driven creases reach on average less than :data:`DRIVE_REACH` of their
+    targets, the drive is stiffened :data:`DRIVE_STEP` times (up to ``drive["strongest"]`` (H,)
+    N mm/rad) and the state solved again from where it is (to a residual of ``tol``
+    N); then, while a bar is stretched by more than :data:`DRIVE_STRAIN` percent, it is
+    relaxed to a third (``drive["relaxations"]`` times at most in all), and never
+    stiffened again."""
+    changed = False
+
+    def solve(x):
+        st.hinge_rest[free] = fold_angles(x, st.hinges[free])
+        return solve_equilibrium(x, st, assembly=asm, tol=tol, max_iter=_MAX_ITER)[0]
+
+    strongest = drive["strongest"]
+    while _reach(st, x, driven) < DRIVE_REACH and np.any(st.hinge_k[driven] < strongest):
+        st.hinge_k[driven] = np.minimum(st.hinge_k[driven] * DRIVE_STEP, strongest)
+        x, changed = solve(x), True
+    while drive["relaxations"] > 0 and _bar_strain(st, x) > DRIVE_STRAIN / 100.0:
+        st.hinge_k[driven] /= 3.0
+        drive["strongest"] = st.hinge_k[driven].copy()
+        drive["relaxations"] -= 1
+        x, changed = solve(x), True
+    return x, changed
+
+
+def _reach(st: Structure, x: np.ndarray, driven: np.ndarray) -> float:
+    """How far the driven creases are folded toward their targets, on average: the sum
+    of their fold angles' magnitudes over the sum of their targets' (1: there)."""
+    goal = float(np.sum(np.abs(st.hinge_rest[driven])))
+    if goal <= 0:
+        return 1.0
+    angle = fold_angles(x, st.hinges[driven])
+    return float(np.sum(np.minimum(np.abs(angle), np.abs(st.hinge_rest[driven])))) / goal
+
+
+def _strongest_drive(cp, st, params, driven) -> np.ndarray:
+    """The stiffest drive of each driven hinge, N mm/rad: a strip of panel
+    :data:`DRIVE_LENGTH` times the pattern's size long bending, per mm of crease."""
+    i, j = st.hinges[driven, 0], st.hinges[driven, 1]
+    length = np.linalg.norm(st.x0[j] - st.x0[i], axis=1)
+    return np.maximum(params.panel_bending / (DRIVE_LENGTH * cp.size) * length, st.hinge_k[driven])
+
+
+def _bar_strain(st: Structure, x: np.ndarray) -> float:
+    """The largest relative change of a bar's length at nodes ``x`` (n, 3) mm."""
+    length, _ = bar_lengths(x, st.bars)
+    return float(np.max(np.abs(length - st.bar_rest) / st.bar_rest))
+
+
 def _driven_structure(cp: CreasePattern, params: SimulationParams):
     """The bar-and-hinge model with every hinge's stiffness set for folding: ``(structure,
-    target (H,) rad at p = 1, free (H,) bool: the unassigned creases)``."""
+    target (H,) rad at p = 1, free (H,) bool: the unassigned creases, driven (H,) bool:
+    the mountain and valley creases)``."""
     st: Structure = build_structure(cp, params)
     st.hinge_limit = np.full(len(st.hinges), math.inf)
     edge = st.hinge_edge
@@ -257,7 +347,7 @@ def _driven_structure(cp: CreasePattern, params: SimulationParams):
     st.hinge_k[facet] = _facet_stiffness(st, params)[facet]
     free = assigned == "U"
     st.hinge_k[free] *= FREE_HINGE_STIFFNESS
-    return st, target, free
+    return st, target, free, driven
 
 
 def _facet_stiffness(st: Structure, params: SimulationParams) -> np.ndarray:
@@ -325,8 +415,9 @@ def fold_notes(cp: CreasePattern, fold_angles, method: str = "closed form") -> l
             return []
         return [
             f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
-            "with panels as stiff as printed ones this pattern hardly folds from flat (it does "
-            "not fold rigidly; its panels would have to bend)"
+            "even driven hard enough to bend its panels this pattern hardly folds from flat "
+            "(cut edges stay joined in the model: a kirigami pattern whose cuts must open "
+            "does not fold; a pattern whose panels must stretch stops short)"
         ]
     flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
     if not flat.any():

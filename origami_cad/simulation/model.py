@@ -291,37 +291,60 @@ def _hinges(cp, x0, tris, params: SimulationParams, fold_limits):
     """Hinges ``(i, j, k, l)`` (h, 4) on every interior triangle edge, their stiffness
     (h,) N mm/rad, pattern edge (h,) (-1: a diagonal inside a panel, a stiff facet
     hinge) and fold limit (h,) rad (``fold_limits`` ``{edge: degrees}`` first).
+
+    Vectorised: each triangle's directed sides ``i -> j`` (its third vertex ``k`` on the
+    left), in triangle order; a hinge where the reverse side ``j -> i`` (third vertex
+    ``l``) exists, listed at its side with ``i < j``.
     """
-    directed = {}  # directed edges i -> j with their triangle on the left
-    for t_idx, (a, b, c) in enumerate(tris):
-        for i, j, k in ((a, b, c), (b, c, a), (c, a, b)):
-            directed[(int(i), int(j))] = (int(k), t_idx)
-    edge_index = {tuple(sorted(map(int, ed))): n for n, ed in enumerate(cp.edges)}
-    hinges, hk, hedge, hlimit = [], [], [], []
+    n = len(x0)
+    tris = np.asarray(tris, dtype=np.int64).reshape(-1, 3)
+    a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
+    # directed sides in the order (a, b), (b, c), (c, a) per triangle
+    side_i = np.stack([a, b, c], axis=1).ravel()
+    side_j = np.stack([b, c, a], axis=1).ravel()
+    third = np.stack([c, a, b], axis=1).ravel()
+    key = side_i * n + side_j
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    # the last side of each key wins, as a dict would keep it
+    last = np.r_[sorted_key[1:] != sorted_key[:-1], True]
+    uniq_key, uniq_pos = sorted_key[last], order[last]
+    first = np.sort(order[np.r_[True, sorted_key[1:] != sorted_key[:-1]]])  # insertion order
+    pick = uniq_pos[np.searchsorted(uniq_key, key[first])]
+    i, j, k = side_i[first], side_j[first], third[pick]
+    reverse = j * n + i
+    at = np.minimum(np.searchsorted(uniq_key, reverse), max(len(uniq_key) - 1, 0))
+    has = (i < j) & (len(uniq_key) > 0) & (uniq_key[at] == reverse)
+    i, j, k = i[has], j[has], k[has]
+    l = third[uniq_pos[at[has]]]
+    # the pattern edge along each hinge (a pattern's edges are unique once normalised)
+    lo, hi = np.minimum(cp.edges[:, 0], cp.edges[:, 1]), np.maximum(cp.edges[:, 0], cp.edges[:, 1])
+    ekey = lo * n + hi
+    eorder = np.argsort(ekey, kind="stable")
+    hkey = np.minimum(i, j) * n + np.maximum(i, j)
+    pe = np.full(len(i), -1, dtype=np.int64)
+    if len(ekey):
+        pos = np.minimum(np.searchsorted(ekey[eorder], hkey), len(ekey) - 1)
+        found = ekey[eorder][pos] == hkey
+        pe[found] = eorder[pos[found]]
+    crease = (pe >= 0) & np.isin(cp.assignments[np.maximum(pe, 0)], ("M", "V", "U", "F", "J"))
+    axis = x0[j] - x0[i]
+    length = np.linalg.norm(axis, axis=1)
+    h1 = np.abs(np.cross(axis, x0[k] - x0[i])[:, 2]) / length
+    h2 = np.abs(np.cross(axis, x0[l] - x0[i])[:, 2]) / length
+    facet_k = params.panel_bending * length / np.maximum(0.5 * (h1 + h2), 1e-6)
+    hk = np.where(crease, params.crease_stiffness * length, facet_k)
     default_limit = math.radians(params.fold_limit)
-    limits = {int(k): math.radians(v) for k, v in (fold_limits or {}).items()}
-    for (i, j), (k, _) in directed.items():
-        if i > j or (j, i) not in directed:
-            continue
-        l = directed[(j, i)][0]
-        length = float(np.linalg.norm(x0[j] - x0[i]))
-        pe = edge_index.get((min(i, j), max(i, j)), -1)
-        hinges.append((i, j, k, l))
-        if pe >= 0 and cp.assignments[pe] in ("M", "V", "U", "F", "J"):
-            hk.append(params.crease_stiffness * length)
-            hedge.append(pe)
-            hlimit.append(limits.get(pe, default_limit))
-        else:  # a diagonal inside a panel: stiff facet hinge
-            h1 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[k] - x0[i])[2]) / length
-            h2 = 2 * 0.5 * abs(np.cross(x0[j] - x0[i], x0[l] - x0[i])[2]) / length
-            hk.append(params.panel_bending * length / max(0.5 * (h1 + h2), 1e-6))
-            hedge.append(-1)
-            hlimit.append(math.inf)
+    limits = {int(e): math.radians(v) for e, v in (fold_limits or {}).items()}
+    hlimit = np.full(len(i), default_limit)
+    for e, v in limits.items():
+        hlimit[crease & (pe == e)] = v
+    hlimit[~crease] = math.inf
     return (
-        np.array(hinges, dtype=np.int64).reshape(-1, 4),
-        np.array(hk),
-        np.array(hedge, dtype=np.int64),
-        np.array(hlimit),
+        np.stack([i, j, k, l], axis=1).astype(np.int64).reshape(-1, 4),
+        hk.astype(float),
+        np.where(crease, pe, -1).astype(np.int64),
+        hlimit,
     )
 
 

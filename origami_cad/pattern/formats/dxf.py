@@ -132,7 +132,7 @@ _CURVED = ("ARC", "CIRCLE", "ELLIPSE", "SPLINE")
 _FLATTEN_MM = 0.01
 #: chord tolerance relative to the drawing's size: a curve never becomes more than a
 #: few thousand chords, however large the drawing (the pattern merges vertices closer
-#: than 1e-4 of its size anyway: IMPORT_RELATIVE_TOLERANCE)
+#: than 5e-4 of its size anyway: IMPORT_RELATIVE_TOLERANCE)
 _FLATTEN_RELATIVE = 1e-6
 #: block nesting deeper than this is taken as a cycle
 _MAX_DEPTH = 32

@@ -6,10 +6,11 @@ magenta ``#ff00ff`` undriven hinge (``U``). Stroke opacity scales the target fol
 angle: a mountain folds to ``-opacity x 180`` degrees, a valley to ``+opacity x 180``.
 
 Reading takes ``line``, ``polyline``, ``polygon``, ``rect`` and ``path`` elements
-(commands M, L, H, V, Z, absolute and relative), with every ``transform`` of the
-element and its groups applied and colours and opacities inherited from groups
-(``style`` wins over attributes). A curved path command or a stroke colour that is
-not one of the six is an error naming the element. Circles with a fill and no
+(every path command, absolute and relative: curves are cut into straight segments, as
+Origami Simulator cuts them, :mod:`~origami_cad.pattern.formats.svgpath`), with every
+``transform`` of the element and its groups applied and colours and opacities inherited
+from groups (``style`` wins over attributes). A stroke colour that is not one of the six
+is an error naming the element. Circles with a fill and no
 stroke are holes. Every number, transform, colour and opacity is checked: junk in
 path data, a transform with the wrong number of arguments, an opacity outside
 [0, 1] (it would scale a fold past 180 degrees) or a non-finite or huge
@@ -43,6 +44,8 @@ from origami_cad._fileio import atomic_write
 from origami_cad._names import xml_text
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats.svgpath import NUMBER as _NUMBER
+from origami_cad.pattern.formats.svgpath import path_points, svg_number
 from origami_cad.pattern.formats.xmlparse import parse_bounded
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
@@ -100,7 +103,6 @@ _UNIT_MM = {
     "px": 25.4 / 96,
     "": None,
 }
-_NUMBER = r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?"
 
 
 #: characters XML 1.0 cannot hold, even escaped (control characters, lone surrogates)
@@ -216,14 +218,7 @@ def _style(el: ET.Element) -> dict[str, str]:
     return out
 
 
-def _num(text: str, where: str, what: str) -> float:
-    """A finite SVG number (no unit), else a :class:`PatternError` naming ``what``."""
-    if not re.fullmatch(r"\s*" + _NUMBER + r"\s*", text):
-        raise PatternError(f"{where}: {what} = {printable(text)!r} is not a number")
-    value = float(text)
-    if not math.isfinite(value) or abs(value) > MAX_COORDINATE:
-        raise PatternError(f"{where}: {what} = {printable(text)!r} is out of range")
-    return value
+_num = svg_number
 
 
 def _numbers(text: str, where: str, what: str) -> list[float]:
@@ -330,94 +325,6 @@ def _transform(text: str, where: str = "") -> np.ndarray:
     return m
 
 
-#: numbers each path command takes
-_PATH_ARGS = {"M": 2, "L": 2, "H": 1, "V": 1, "Z": 0}
-_PATH_TOKEN = re.compile(r"[\s,]*(?:([A-Za-z])|(" + _NUMBER + r"))")
-
-
-def _path_tokens(d: str, where: str) -> list[str]:
-    """Tokens of path data; anything that is neither a command nor a number is an error."""
-    tokens = []
-    pos = 0
-    while pos < len(d):
-        m = _PATH_TOKEN.match(d, pos)
-        if m is None:
-            rest = d[pos:]
-            if rest.strip(" \t\r\n\f,"):
-                raise PatternError(
-                    f"{where}: path data has {printable(rest.lstrip()[:12])!r} at character "
-                    f"{pos}, neither a command nor a number"
-                )
-            break
-        tokens.append(m.group(1) or m.group(2))
-        pos = m.end()
-    return tokens
-
-
-def _path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
-    tokens = _path_tokens(d, where)
-    subpaths: list[list[tuple[float, float]]] = []
-    current: list[tuple[float, float]] = []
-    x = y = 0.0
-    start = (0.0, 0.0)
-    cmd = None
-    i = 0
-    while i < len(tokens):
-        tok = tokens[i]
-        if tok.isalpha():
-            cmd = tok
-            i += 1
-            if cmd in "Zz":
-                if current:
-                    current.append(start)
-                    subpaths.append(current)
-                    current = []
-                x, y = start
-                continue
-            if cmd.upper() in "CSQTA":
-                raise PatternError(
-                    f"{where} uses the curved path command {cmd!r}; crease lines must be straight"
-                )
-            if cmd.upper() not in _PATH_ARGS:
-                raise PatternError(f"{where}: {cmd!r} is not a path command")
-            if i >= len(tokens) or tokens[i].isalpha():
-                raise PatternError(f"{where}: path command {cmd!r} has no coordinates")
-            continue
-        if cmd is None:
-            raise PatternError(f"{where}: path data must start with a command")
-        if cmd in "Zz":
-            raise PatternError(f"{where}: path data has a number after {cmd!r}")
-        need = _PATH_ARGS[cmd.upper()]
-        args = tokens[i : i + need]
-        if len(args) < need or any(a.isalpha() for a in args):
-            raise PatternError(f"{where}: path command {cmd!r} needs {need} numbers")
-        vals = [_num(a, where, "path data") for a in args]
-        i += need
-        if cmd in "Mm":
-            nx = vals[0] + (x if cmd == "m" else 0.0)
-            ny = vals[1] + (y if cmd == "m" else 0.0)
-            if current:
-                subpaths.append(current)
-            current = [(nx, ny)]
-            x, y = start = nx, ny
-            cmd = "l" if cmd == "m" else "L"  # implicit lineto after a moveto
-            continue
-        if cmd in "Ll":
-            nx = vals[0] + (x if cmd == "l" else 0.0)
-            ny = vals[1] + (y if cmd == "l" else 0.0)
-        elif cmd in "Hh":
-            nx, ny = vals[0] + (x if cmd == "h" else 0.0), y
-        else:
-            nx, ny = x, vals[0] + (y if cmd == "v" else 0.0)
-        if not current:
-            current = [(x, y)]
-        current.append((nx, ny))
-        x, y = nx, ny
-    if current:
-        subpaths.append(current)
-    return subpaths
-
-
 def _scale(root: ET.Element, name: str) -> tuple[float, float]:
     """mm per user unit in x and y, from the root's ``viewBox`` and ``width``/``height``.
 
@@ -479,7 +386,7 @@ def _polylines(el: ET.Element, tag: str, where: str) -> list[list[tuple[float, f
             raise PatternError(f"{where}: a rect's width and height must be >= 0")
         return [[(x, y), (x + w, y), (x + w, y + h), (x, y + h), (x, y)]]
     if tag == "path":
-        return _path_points(el.attrib.get("d", ""), where)
+        return path_points(el.attrib.get("d", ""), where)
     return []
 
 
