@@ -176,7 +176,7 @@ def test_a_strain_over_the_limit_warns_and_says_by_how_much():
 
 def test_bad_ratios_and_methods_are_refused():
     cp = _one_crease(None)
-    with pytest.raises(PatternError, match="fold ratio must lie in"):
+    with pytest.raises(PatternError, match=r"p: expected a finite number in \[0, 1\], got 1.5"):
         fold(cp, 1.5)
     with pytest.raises(PatternError, match="fold method must be one of"):
         fold_states(cp, [0.5], method="rigid")
