@@ -38,6 +38,7 @@ _API = {
     "fold_sequence": "origami_cad.kinematics.folding",
     "fold": "origami_cad.simulation.folder",
     "fold_states": "origami_cad.simulation.folder",
+    "with_fold_path": "origami_cad.simulation.paths",
     "place_on_table": "origami_cad.kinematics.placement",
     # arm design (eq. 5, CMA-ES)
     "ArmTask": "origami_cad.design",
@@ -110,6 +111,7 @@ __all__ = [
     "tg_design",
     "to_mjcf",
     "to_pyvista",
+    "with_fold_path",
     "write_fabrication",
     "write_fold",
     "write_pattern",
@@ -136,6 +138,7 @@ if TYPE_CHECKING:  # for type checkers and the docs' name check; at run time: __
     from origami_cad.simulation import SimulationParams, simulate
     from origami_cad.simulation.folder import fold, fold_states
     from origami_cad.simulation.mjcf import to_mjcf
+    from origami_cad.simulation.paths import with_fold_path
     from origami_cad.strings import RouteSpec, TSAParams, load_route, simulate_dcqc
     from origami_cad.strings.plan import plan_routes
     from origami_cad.viz.pyvista_mesh import display_mode, show, to_pyvista
