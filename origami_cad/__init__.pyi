@@ -20,6 +20,7 @@ from origami_cad.pattern.tg import TGDesign
 from origami_cad.simulation import SimulationParams, simulate
 from origami_cad.simulation.folder import fold, fold_states
 from origami_cad.simulation.mjcf import to_mjcf
+from origami_cad.simulation.paths import with_fold_path
 from origami_cad.strings import RouteSpec, TSAParams, load_route, simulate_dcqc
 from origami_cad.strings.plan import plan_routes
 from origami_cad.viz.pyvista_mesh import display_mode, show, to_pyvista

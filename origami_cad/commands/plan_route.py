@@ -102,6 +102,7 @@ class PlanRoute(Command):
         return [folder / n for n in (Path(a.output).name, *self.NAMES)], []
 
     def run(self, a) -> Outputs:
+        from origami_cad.simulation.paths import with_fold_path
         from origami_cad.strings.plan import (
             PlanSettings,
             plan_geometry,
@@ -113,6 +114,7 @@ class PlanRoute(Command):
         placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
         loaded, warned = self.load(a, a.pattern)
         t0, cpu0 = time.perf_counter(), time.process_time()
+        loaded = with_fold_path(loaded)
         settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
         geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
         with open_executor(a.scheduler) as executor:
@@ -130,7 +132,7 @@ class PlanRoute(Command):
             images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
             numbers=plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
             messages=[
-                *warned, *plan_messages(planned, geom, fewest=a.strings is None),
+                *warned, *plan_messages(planned, geom, fewest=a.strings is None, design=loaded),
                 wrote(files[0].parent, files),
             ],
             result=planned,

@@ -45,6 +45,7 @@ def simulation_setup(cmd: Command, a: SimpleNamespace):
     route's sheet) with the options' loads.
     """
     from origami_cad.simulation import SimulationParams
+    from origami_cad.simulation.paths import with_fold_path
     from origami_cad.strings import load_route
     from origami_cad.strings.route import route_from_pattern
 
@@ -60,6 +61,7 @@ def simulation_setup(cmd: Command, a: SimpleNamespace):
             )
     if a.fixed_panel is not None and a.fixed_panel not in cp.face_labels:
         raise OptionsError(f"--fixed-panel: no panel labelled {a.fixed_panel!r} in {a.pattern}")
+    loaded = with_fold_path(loaded)  # the fold ratio p of each state, and the route's p_max
     given = {k: getattr(a, k) for k in ("gravity", "ground", "friction")}
     loads = {k: v for k, v in given.items() if v is not None}
     if a.params is not None:

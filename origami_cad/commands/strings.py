@@ -51,6 +51,7 @@ class Route(Command):
         return [a.design, a.route, *([a.materials] if a.materials else [])]
 
     def run(self, a) -> Outputs:
+        from origami_cad.simulation.paths import with_fold_path
         from origami_cad.strings import load_route, simulate_dcqc
         from origami_cad.viz.render3d import render_folded
         from origami_cad.viz.strings_plots import save_dcqc_png, save_route_png
@@ -58,6 +59,7 @@ class Route(Command):
         loaded, warned = self.load(a, a.design)
         cp, names = loaded.pattern, self.FILES
         spec = load_route(a.route, cp)
+        loaded = with_fold_path(loaded)
         result = simulate_dcqc(loaded, spec, **_sim_params(spec, a).dcqc_stiffness())
         p, turns = float(result.p[-1]), float(result.turns[-1])
         with self.stage(a, loaded) as stage:
@@ -102,10 +104,12 @@ class StringModels(Command):
         import numpy as np
 
         from origami_cad.simulation import simulate
+        from origami_cad.simulation.paths import with_fold_path
         from origami_cad.strings import load_route, simulate_dcqc
         from origami_cad.viz.strings_plots import save_fig5_png
 
         loaded, _ = self.load(a, a.design, sized=False)
+        loaded = with_fold_path(loaded)
         spec = load_route(a.route, loaded.pattern)
         params = _sim_params(spec)
         dcqc = simulate_dcqc(loaded, spec, **params.dcqc_stiffness())

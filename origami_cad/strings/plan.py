@@ -52,6 +52,7 @@ from origami_cad._names import one_line, toml_string
 from origami_cad._toml import finite_toml
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
+from origami_cad.kinematics.folding import PathDesign, fold_design
 from origami_cad.pattern.design import Design
 from origami_cad.strings.plan_geometry import plan_geometry, target_ratio
 from origami_cad.strings.plan_model import (
@@ -362,9 +363,13 @@ def plan_numbers(planned, geom: PlanGeometry, seconds: float, cpu: float) -> lis
     ]
 
 
-def plan_messages(planned, geom: PlanGeometry, fewest: bool = False) -> list[str]:
+def plan_messages(
+    planned, geom: PlanGeometry, fewest: bool = False, design: Design | None = None
+) -> list[str]:
     """What a plan tells its user: the best route, how many strings (``fewest``: chosen as
-    the fewest that reach the target), and the routes the simulator stops short."""
+    the fewest that reach the target), the routes the simulator stops short, and, for a
+    ``design`` folded along a general folder's path, that path's largest strain (percent)
+    at the target."""
     best = planned[0]
     n = len(best.strings)
     strings = f"{n} string{'s' if n != 1 else ''}"
@@ -380,6 +385,12 @@ def plan_messages(planned, geom: PlanGeometry, fewest: bool = False) -> list[str
                 f"warning: route {r.rank}: the bar-and-hinge simulation stops at p = "
                 f"{sim['p']:.3f} ({sim['reason']})"
             )
+    if isinstance(design, PathDesign) and design.path is not None:
+        strain = fold_design(design, geom.target_p).strain
+        lines.append(
+            f"note: the pattern was folded by the general solver (the closed form does not "
+            f"fold it); its largest edge strain at p = {geom.target_p:.3f} is {strain:.2g} %"
+        )
     return lines
 
 

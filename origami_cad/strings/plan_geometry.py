@@ -15,7 +15,7 @@ from origami_cad.errors import PatternError, StringsError
 from origami_cad.fabrication.panels import panel_outline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
-from origami_cad.kinematics.folding import fold_coords, fold_design, fold_sequence
+from origami_cad.kinematics.folding import PathDesign, fold_coords, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.strings.dcqc import fold_limit
 from origami_cad.strings.plan_model import PlanGeometry, PlanSettings, TSAPlacement
@@ -235,7 +235,14 @@ def plan_geometry(
     for label in [*free_panels, *([placement.panel] if placement.panel else [])]:
         if label not in cp.face_labels:
             raise StringsError(f"no panel labelled {label!r} in the pattern")
-    limit = fold_limit(design, RouteSpec(placement.tsa, (), fabrication=fab)).p
+    try:
+        limit = fold_limit(design, RouteSpec(placement.tsa, (), fabrication=fab)).p
+    except PatternError as exc:
+        if design.tg is not None or isinstance(design, PathDesign):
+            raise
+        raise PatternError(
+            f"{exc}; plan on the general folder's path: origami_cad.with_fold_path(design)"
+        ) from exc
     p_end = target_ratio(design, limit, target_p, target_angles)
     ratios = p_end * np.linspace(0.0, 1.0, settings.grid) ** 1.5  # denser near flat
     held = cp.face_index(placement.panel) if placement.kind == "onboard" else -1
