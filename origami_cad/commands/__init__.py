@@ -15,6 +15,7 @@ options (types, units, ranges, help). :mod:`origami_cad.cli` is generated from
 from __future__ import annotations
 
 from origami_cad.commands import (  # noqa: F401  (each module registers its commands)
+    calibrate,
     design,
     drive,
     fabrication,
@@ -46,8 +47,8 @@ from origami_cad.commands._base import (
 #: The order of ``origami-cad --help`` (a command not named here follows, as registered).
 ORDER = (
     "convert", "check", "pattern", "fold", "tg", "design-arm", "fabricate", "route",
-    "plan-route", "simulate", "sequence", "arm-scene", "robot", "crawl", "mjcf", "emulate",
-    "drive", "part", "demo",
+    "plan-route", "simulate", "calibrate", "sequence", "arm-scene", "robot", "crawl", "mjcf",
+    "emulate", "drive", "part", "demo",
 )  # fmt: skip
 for _name in sorted(COMMANDS, key=lambda n: ORDER.index(n) if n in ORDER else len(ORDER)):
     COMMANDS[_name] = COMMANDS.pop(_name)

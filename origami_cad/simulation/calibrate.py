@@ -12,7 +12,12 @@ Measurement files:
 
 - PyGamiX's format: no header, 4 columns ``t - 0.1 (s), t (s), pull (mm), force (N)``,
   values quoted or not;
-- a CSV with a header naming ``pull_mm`` and ``tension_N`` (or ``force_N``) columns.
+- a CSV with a header naming ``pull_mm`` and ``tension_N`` (or ``force_N``) columns;
+- ``drive``'s CSV log (``t_s,id,target_turns,measured_turns,current_mA``): the servo's
+  current becomes its torque (``(I - I_idle) stall_torque / stall_current``, N mm), the
+  turns its TSA's twist, and eq. 8 (the ring TSA, :func:`~origami_cad.strings.tsa.
+  ring_length`) turns both into pull (the string taken up, mm) and tension
+  (torque / (dl/dtheta), N): :func:`drive_log_curve`.
 
 A missing or non-numeric column, a pull that decreases, or too few rows is a
 :class:`SimulationError` naming the file and the row.
@@ -34,8 +39,19 @@ from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.materials import Materials
 from origami_cad.simulation.pull import simulate_pull
 from origami_cad.strings.route import RouteSpec
+from origami_cad.strings.tsa import TSAParams, ring_length, ring_length_derivatives
 
-__all__ = ["FITTED", "Calibration", "calibrate", "nrmse", "read_force_curve"]
+__all__ = [
+    "FITTED",
+    "Calibration",
+    "ServoModel",
+    "calibrate",
+    "drive_log_curve",
+    "load_runs",
+    "nrmse",
+    "read_force_curve",
+    "tendons_x_dis",
+]
 
 #: The parameters :func:`calibrate` fits, with their bounds (stiffness N mm/rad per mm).
 FITTED = {"crease_stiffness": (1e-5, 10.0), "hole_friction": (0.0, 1.0)}
@@ -89,6 +105,112 @@ def read_force_curve(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarr
     if len(pull) < 2 or pull[-1] <= pull[0]:
         raise SimulationError(f"{where}: fewer than two rows of increasing pull")
     return np.array(pull), np.array(force)
+
+
+@dataclass(frozen=True)
+class ServoModel:
+    """A servo as a torque source: ``stall_torque`` N mm at ``stall_current`` mA, drawing
+    ``idle_current`` mA unloaded (the default: a Dynamixel XL330-M288, ROBOTIS e-manual)."""
+
+    stall_torque: float = 520.0
+    stall_current: float = 1500.0
+    idle_current: float = 5.0
+
+    def torque(self, current_ma: np.ndarray) -> np.ndarray:
+        """Shaft torque at ``current_ma`` mA, N mm (linear torque-current, >= 0)."""
+        held = np.asarray(current_ma, dtype=float) - self.idle_current
+        return np.clip(held, 0.0, None) * self.stall_torque / self.stall_current
+
+
+def drive_log_curve(
+    path: str | os.PathLike[str],
+    tsa: TSAParams,
+    x_dis: float,
+    servo: ServoModel | None = None,
+    *,
+    servo_id: int | None = None,
+    min_rate: float = 0.05,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A ``drive`` log as a force-against-pull curve: ``(pull (N,) mm, tension (N,) N)``.
+
+    The twist is ``2 pi (measured_turns - first)`` rad; the pull is eq. 8's string taken
+    up, ``l(theta) - l(0)`` mm at ``x_dis`` mm (the TSA to its first hole); the tension
+    is the servo's torque over ``dl/dtheta`` (mm/rad), N. Rows where ``dl/dtheta`` is
+    below ``min_rate`` of its largest value (the first few degrees, where the torque
+    says nothing of the tension) are left out. ``servo_id`` picks one servo of the log
+    (default: the only one). Errors name the file and the row.
+    """
+    where = str(path)
+    try:
+        rows = list(csv.reader(Path(path).read_text(encoding="utf-8-sig").splitlines()))
+    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        raise SimulationError(f"{where}: cannot read: {exc}") from None
+    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
+    need = ("id", "measured_turns", "current_mA")
+    head = [c.strip() for c in rows[0]] if rows else []
+    for name in need:
+        if name not in head:
+            raise SimulationError(f"{where}: the drive log's header has no {name} column")
+    col = {n: head.index(n) for n in need}
+    turns, current, ids = [], [], []
+    for i, row in enumerate(rows[1:], start=2):
+        if len(row) <= max(col.values()):
+            raise SimulationError(f"{where}: row {i}: fewer columns than the header")
+        ids.append(int(_number(row[col["id"]], where, i, "id")))
+        turns.append(_number(row[col["measured_turns"]], where, i, "measured_turns"))
+        current.append(_number(row[col["current_mA"]], where, i, "current_mA"))
+    known = sorted(set(ids))
+    if servo_id is None and len(known) > 1:
+        raise SimulationError(f"{where}: servos {known} in the log; name one (servo_id)")
+    pick = known[0] if servo_id is None and known else servo_id
+    keep = [k for k, i in enumerate(ids) if i == pick]
+    if len(keep) < 2:
+        raise SimulationError(f"{where}: fewer than two rows of servo {pick}")
+    t = np.array(turns)[keep]
+    if np.any(np.diff(t) < -1e-9):
+        k = int(np.argmax(np.diff(t) < -1e-9))
+        raise SimulationError(f"{where}: servo {pick}'s turns decrease after its row {k + 2}")
+    theta = 2.0 * math.pi * (t - t[0])
+    length, rate, _, _ = ring_length_derivatives(theta, x_dis, tsa.d1, tsa.d2, tsa.string_width)
+    pull = length - float(ring_length(0.0, x_dis, tsa.d1, tsa.d2, tsa.string_width))
+    good = rate >= min_rate * float(np.max(rate, initial=0.0))
+    if np.count_nonzero(good) < 2:
+        raise SimulationError(f"{where}: the TSA turned too little to measure a tension")
+    torque = (servo or ServoModel()).torque(np.array(current)[keep])
+    return pull[good], torque[good] / rate[good]
+
+
+def tendons_x_dis(route: RouteSpec) -> float:
+    """The first tendon's anchor to its first hole in the flat sheet, mm (a drive log's
+    default ``x_dis``)."""
+    s = route.strings[0]
+    return float(np.hypot(s.points[0][0] - s.anchor[0], s.points[0][1] - s.anchor[1]))
+
+
+def load_runs(
+    paths: list[str | os.PathLike[str]],
+    *,
+    tsa: TSAParams | None = None,
+    x_dis: float | None = None,
+    servo: ServoModel | None = None,
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Measured runs from files: force-against-pull curves (:func:`read_force_curve`), or
+    ``drive`` logs (a header with ``current_mA``) through ``tsa`` and ``x_dis`` mm
+    (:func:`drive_log_curve`)."""
+    runs = []
+    for path in paths:
+        try:
+            with Path(path).open(encoding="utf-8-sig") as fh:
+                first = fh.readline()
+        except (OSError, UnicodeDecodeError) as exc:
+            raise SimulationError(f"{path}: cannot read: {exc}") from None
+        if "current_mA" in first:
+            if tsa is None or x_dis is None:
+                raise SimulationError(f"{path}: a drive log needs the TSA and its x_dis")
+            runs.append(drive_log_curve(path, tsa, x_dis, servo))
+        else:
+            runs.append(read_force_curve(path))
+    return runs
 
 
 def nrmse(simulated: np.ndarray, measured: np.ndarray) -> float:
@@ -182,8 +304,23 @@ def calibrate(
                 values[name] = float(v)
         return start.replace(**values)
 
+    seen: dict[bytes, np.ndarray] = {}
+
     def residual(x: np.ndarray) -> np.ndarray:
-        return (_curve(cp, route, materials_of(x), grid, step) - mean) / peak
+        key = np.asarray(x, dtype=float).tobytes()
+        if key not in seen:
+            seen[key] = (_curve(cp, route, materials_of(x), grid, step) - mean) / peak
+        return seen[key]
+
+    def jacobian(x: np.ndarray) -> np.ndarray:
+        """Forward differences with a step of 0.03 in each variable (log10 of the
+        stiffness, the friction): large beside the solver's tolerance, small beside
+        the bounds."""
+        r0, cols = residual(x), []
+        for i in range(len(x)):
+            h = 0.03 if x[i] + 0.03 <= hi[i] else -0.03
+            cols.append((residual(x + h * np.eye(len(x))[i]) - r0) / h)
+        return np.array(cols).T
 
     x0 = np.array([
         math.log10(start.crease_stiffness()) if n == "crease_stiffness" else start.hole_friction
@@ -194,7 +331,14 @@ def calibrate(
     hi = np.array([f(FITTED[n][1]) for f, n in zip(scale, fit, strict=True)])
     x0 = np.clip(x0, lo, hi)
     before = residual(x0) * peak + mean
-    out = least_squares(residual, x0, bounds=(lo, hi), max_nfev=max_evaluations, diff_step=0.05)
+    best, _ = _coarse_start(
+        residual, x0, lo, hi, fit, float(np.sum((before - mean) ** 2)) / peak**2
+    )
+    out = least_squares(
+        residual, best, jac=jacobian, bounds=(lo, hi), max_nfev=max_evaluations,
+        x_scale=np.full(len(fit), 0.1),
+    )  # fmt: skip
+    evaluations = len(seen)
     fitted = materials_of(out.x)
     simulated = out.fun * peak + mean
     sigma_x = _standard_errors(out)
@@ -208,9 +352,31 @@ def calibrate(
     return Calibration(
         values, sigma, fitted, grid, measured, simulated, before,
         nrmse(simulated, mean), nrmse(before, mean),
-        [nrmse(simulated, m) for m in measured], int(out.nfev),
+        [nrmse(simulated, m) for m in measured], evaluations,
         names or [f"run {i + 1}" for i in range(len(runs))],
     )  # fmt: skip
+
+
+def _coarse_start(residual, x0, lo, hi, fit, cost0: float) -> np.ndarray:
+    """The best start of a grid around ``x0`` (crease stiffness / 4, x 1, x 4 on its log
+    scale; hole friction 0, 0.1, 0.25 and 0.5): least squares then starts in the right
+    valley, not in the one the starting materials happen to lie in."""
+    axes = [
+        x + np.log10([0.25, 1.0, 4.0])
+        if n == "crease_stiffness"
+        else np.array([0.0, 0.1, 0.25, 0.5])
+        for n, x in zip(fit, x0, strict=True)
+    ]
+    best, cost, tried = x0, cost0, 1
+    for point in np.array(np.meshgrid(*axes, indexing="ij")).reshape(len(fit), -1).T:
+        point = np.clip(point, lo, hi)
+        if np.allclose(point, x0):
+            continue
+        c = float(np.sum(residual(point) ** 2))
+        tried += 1
+        if c < cost:
+            best, cost = point, c
+    return best, tried
 
 
 def _standard_errors(out) -> np.ndarray:

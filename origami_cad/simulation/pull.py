@@ -91,8 +91,18 @@ class PullResult:
             "pull_mm": self.pull.tolist(),
             "tension_N": self.tension.tolist(),
             "peak_tension_N": float(self.tension.max(initial=0.0)),
-            "simulation": self.result.to_dict(),
+            "simulation": _pull_states(self.result.to_dict(), self.pull),
         }
+
+
+def _pull_states(sim: dict[str, Any], pull: np.ndarray) -> dict[str, Any]:
+    """The simulation's JSON with its states labelled by the pull (mm), not by a TSA's
+    turns, twist or torque (the machine has none)."""
+    states = sim["states"]
+    for key in ("turns", "theta_s_deg", "tsa_torque_Nmm"):
+        states.pop(key, None)
+    sim["states"] = {"pull_mm": pull.tolist(), **states}
+    return sim
 
 
 def simulate_pull(

@@ -1,0 +1,88 @@
+"""``calibrate``: the model's crease stiffness and hole friction fitted to measured
+force-against-pull curves (a test machine's runs, or ``drive``'s logs)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from origami_cad._fileio import atomic_write
+from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
+from origami_cad.commands.pull import MATERIALS, materials_of
+from origami_cad.errors import StringsError
+
+__all__ = ["Calibrate"]
+
+_FIT = ("crease_stiffness", "hole_friction")
+
+
+@register
+class Calibrate(Command):
+    """Fit the materials to measured force-pull runs: materials.toml, calibration.json, fit.png.
+
+    ``runs`` are PyGamiX's 4-column bench files (``t - 0.1, t, pull mm, force N``), CSV
+    files with ``pull_mm`` and ``tension_N`` columns, or ``drive`` logs (the servo's
+    current through its torque and the ring TSA's eq. 8, ``x_dis`` mm from the TSA to
+    the first hole; default: the first tendon's anchor to its first hole). The design
+    carries its tendons (a PyGamiX description). ``fit`` names the parameters fitted
+    (crease_stiffness, N mm/rad per mm; hole_friction); ``materials`` the starting values.
+    """
+
+    NAME, INPUTS, OUTPUT, PROGRESS = "calibrate", ("design",), "folder", "calibrating"
+    ARGS = ("design", "runs", "folder")
+    FILES = ("materials.toml", "calibration.json", "fit.png")
+    OPTIONS = (
+        Option("runs", help="measured runs (CSV)", nargs="+", positional=True, metavar="RUN"),
+        Option("fit", help="parameters fitted", nargs="+", choices=_FIT, default=_FIT),
+        Option("step", "float", "the grid of pulls compared", "mm", default=2.0, min=0.1,
+               max=100.0),
+        Option("evaluations", "int", "simulations at most", default=40, min=3, max=1000),
+        Option("x_dis", "float", "a drive log's TSA to its first hole", "mm", min=0,
+               max=1e4, open_min=True),
+        MATERIALS,
+        *SIZING,
+    )  # fmt: skip
+
+    def inputs(self, a):
+        return [a.design, *a.runs, *([a.materials] if a.materials else [])]
+
+    def run(self, a) -> Outputs:
+        from origami_cad.simulation.calibrate import calibrate, load_runs, tendons_x_dis
+        from origami_cad.simulation.materials import dump_materials
+        from origami_cad.strings.route import route_from_pattern
+        from origami_cad.viz.calibration_plots import save_fit_png
+
+        loaded, warned = self.load(a, a.design)
+        route = route_from_pattern(loaded.pattern)
+        if route is None:
+            raise StringsError(f"{a.design}: the design carries no tendons to pull")
+        x_dis = a.x_dis if a.x_dis is not None else tendons_x_dis(route)
+        runs = load_runs(a.runs, tsa=route.tsa, x_dis=x_dis)
+        fit = calibrate(loaded.pattern, route, runs, materials_of(a), fit=tuple(a.fit),
+                        step=a.step, max_evaluations=a.evaluations,
+                        names=[Path(r).name for r in a.runs])  # fmt: skip
+        header = f"# calibrated by origami-cad calibrate on {len(runs)} runs of {a.design}"
+        with self.stage(a, loaded) as stage:
+            with atomic_write(stage / self.FILES[0], "w", encoding="utf-8") as fh:
+                fh.write(dump_materials(fit.materials, header=header))
+            with atomic_write(stage / self.FILES[1], "w", encoding="utf-8") as fh:
+                json.dump(fit.to_dict(), fh, indent=1)
+            save_fit_png(fit, stage / self.FILES[2], title=f"{Path(a.design).name}")
+        files = [Path(a.folder) / n for n in self.FILES]
+        values = ", ".join(f"{k} = {v:.4g} +- {fit.sigma[k]:.2g}" for k, v in fit.values.items())
+        return Outputs(
+            files=files,
+            images=[(files[2], "Measured force against pull, simulated before and after")],
+            numbers=[
+                *((k, f"{v:.4g} +- {fit.sigma[k]:.2g}") for k, v in fit.values.items()),
+                ("NRMSE against the runs' mean", f"{fit.error:.3f} (start {fit.error_before:.3f})"),
+                ("simulations", str(fit.evaluations)),
+            ],
+            messages=[
+                *warned,
+                f"fitted {values}; NRMSE {fit.error:.3f} (start {fit.error_before:.3f}) after "
+                f"{fit.evaluations} simulations",
+                wrote(a.folder, self.FILES),
+            ],
+            result=fit,
+        )
