@@ -274,6 +274,9 @@ def plan_panels(
 ) -> PanelPlan:
     """Plan the printable panels of a crease pattern (or design): footprints, holes, limits.
 
+    A panel too small for ``params.bias`` gets the largest bias that fits it, down to
+    :data:`MIN_BIAS` (:func:`panel_biases`; ``biases`` and ``warnings`` say which).
+
     Parameters
     ----------
     source : CreasePattern or Design
@@ -284,9 +287,6 @@ def plan_panels(
         Default ``FabricationParams()``.
     bed : (float, float)
         The print bed, mm: a sheet larger than it is warned about (``warnings``).
-
-    A panel too small for ``params.bias`` gets the largest bias that fits it, down to
-    :data:`MIN_BIAS` (:func:`panel_biases`; ``biases`` and ``warnings`` say which).
 
     Raises
     ------
