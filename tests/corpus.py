@@ -304,6 +304,11 @@ def update_docs(page: Path, rows: list[Row], entries: list[dict] | None = None) 
         f"Last run: origami_cad {__version__}, {time.strftime('%Y-%m-%d')}, "
         f"{len(rows)} patterns run then (`make corpus` runs all of them)."
     )
+    if not rows:
+        stamp = (
+            f"Rewritten with no pattern run (origami_cad {__version__}, "
+            f"{time.strftime('%Y-%m-%d')}): `make corpus` fills in the results."
+        )
     head, rest = text.split(DOCS_BEGIN, 1)
     tail = rest.split(DOCS_END, 1)[1]
     block = docs_block(entries or load_manifest(), kept, stamp)
