@@ -36,7 +36,7 @@ fuzz: $(STAMP)
 # tests/data/corpus.toml, as a table (docs/patterns.md shows the last one)
 corpus: $(STAMP)
 	mkdir -p out
-	$(PY) tests/corpus.py --markdown out/corpus.md
+	$(PY) tests/corpus.py --markdown out/corpus.md --docs docs/patterns.md
 
 format: $(STAMP)
 	$(VENV)/bin/ruff format .

@@ -21,7 +21,19 @@ from origami_cad.commands import Command, Option, Outputs, execute, register
 from origami_cad.errors import OrigamiCadError, OutputError
 from origami_cad.viz.report import StepReport, write_report
 
-__all__ = ["STEPS", "Demo", "Step", "examples_dir", "mujoco_frame", "run_demo", "run_step"]
+__all__ = [
+    "GALLERY",
+    "GALLERY_RATIOS",
+    "GALLERY_WIDTH",
+    "STEPS",
+    "Demo",
+    "Step",
+    "examples_dir",
+    "gallery",
+    "mujoco_frame",
+    "run_demo",
+    "run_step",
+]
 
 
 def examples_dir() -> Path:
@@ -180,6 +192,48 @@ def fig8(out: Path, quick: bool) -> list[Outputs]:
     return chained
 
 
+#: The gallery's patterns: (file under ``examples/gallery/``, the tool that wrote it, title).
+GALLERY = (
+    ("origami_simulator/miura-ori.svg", "Origami Simulator", "Miura-ori"),
+    ("origami_simulator/waterbombBase.svg", "Origami Simulator", "waterbomb base"),
+    ("fold/squaretwist.fold", "FOLD's examples", "square twist"),
+    ("fold/simple.fold", "FOLD's examples", "simple"),
+    ("pygamix/waterbomb.json", "PyGamiX", "waterbomb tessellation"),
+    ("pygamix/resch-50.json", "PyGamiX", "Resch tessellation"),
+)
+#: The fold ratios the gallery shows each pattern at.
+GALLERY_RATIOS = (0.3, 0.7)
+#: The width every gallery pattern is scaled to, mm.
+GALLERY_WIDTH = 150.0
+
+
+def gallery(out: Path, quick: bool) -> list[Outputs]:
+    """Patterns of other tools: each crease pattern beside ``oc.fold`` at two ratios.
+
+    Six files from Origami Simulator, FOLD's examples and PyGamiX
+    (``examples/gallery/``, :data:`GALLERY`), each scaled to :data:`GALLERY_WIDTH` mm and
+    folded by ``fold`` (the closed form where it applies, else the general solver) at
+    :data:`GALLERY_RATIOS`; the images come three to a row: pattern, then each ratio.
+    """
+    chained = []
+    for name, tool, title in GALLERY:
+        src, stem = examples_dir() / "gallery" / name, Path(name).stem
+        drawn = execute("pattern", src, [out / f"{stem}.png"])
+        drawn.images = [(p, f"{title} ({tool}): crease pattern") for p, _ in drawn.images]
+        drawn.numbers, folds = [], []
+        chained.append(drawn)
+        for p in GALLERY_RATIOS:
+            png = out / f"{stem}_p{round(p * 100):02d}.png"
+            done = execute("fold", src, png, ratio=p, width=GALLERY_WIDTH)
+            state = done.result[-1]
+            how = f"{state.method}, largest strain {state.strain:.2g} %"
+            done.images, done.numbers = [(png, f"{title} folded to p = {p:g} ({how})")], []
+            folds.append(f"p = {p:g}: {how}")
+            chained.append(done)
+        drawn.numbers = [(f"{title} ({tool})", "; ".join(folds))]
+    return chained
+
+
 class Step(NamedTuple):
     """A section of the report: its key (the sub-folder), title, text and the commands it chains."""
 
@@ -187,6 +241,7 @@ class Step(NamedTuple):
     title: str
     summary: str
     run: Callable[[Path, bool], list[Outputs]]
+    columns: int = 0  # images per row in the report (0: as many as fit)
 
 
 STEPS: list[Step] = [
@@ -250,6 +305,14 @@ STEPS: list[Step] = [
          "base panels, gives the arm's tip, drawn against the designed tip path, P_start, "
          "P_end and the areas. The sequence file that drives it is made from the DCQC model.",
          fig8),
+    Step("gallery", "Gallery - patterns from other tools, folded",
+         "Six crease patterns as Origami Simulator, the FOLD format's examples and PyGamiX "
+         "wrote them (examples/gallery/, MIT), each scaled to 150 mm wide and folded by "
+         "oc.fold at p = 0.3 and 0.7: in closed form where every interior vertex is a "
+         "degree-4 vertex of a one-parameter folding, else by the general solver, which "
+         "drives every mountain and valley crease toward its target on the bar-and-hinge "
+         "model with stiff panels. Each row: the crease pattern, then the two folds.",
+         gallery, columns=3),
 ]  # fmt: skip
 
 
@@ -270,6 +333,7 @@ def run_step(step: Step, root: Path, quick: bool = False) -> StepReport:
         for out in step.run(root / step.key, quick):
             done.extend(out)
         rep = StepReport(step.key, step.title, summary=step.summary, numbers=done.numbers)
+        rep.columns = step.columns
         shown = [(p.relative_to(root).as_posix(), caption) for p, caption in done.images]
         rep.images = [(p, c) for p, c in shown if not p.endswith(".glb")]
         rep.views = [(p, c) for p, c in shown if p.endswith(".glb")]

@@ -217,6 +217,106 @@ def table(rows: list[Row]) -> str:
     return "\n".join(out)
 
 
+#: The tool that wrote each source repository's files.
+TOOLS = {
+    "amandaghassaei/OrigamiSimulator": "Origami Simulator",
+    "edemaine/fold": "FOLD's examples",
+    "Sepkimmy-YPW/PyGamix-V3.0-release": "PyGamiX",
+}
+#: The lines that hold the corpus table in a docs page (``--docs PAGE`` rewrites it).
+DOCS_BEGIN = "<!-- corpus table: begin (tests/corpus.py --docs) -->"
+DOCS_END = "<!-- corpus table: end -->"
+NOT_RUN = "not run"
+
+
+def tool_of(entry: dict) -> str:
+    """The tool that wrote a corpus entry's file (its ``source`` repository)."""
+    return TOOLS.get(entry.get("source", ""), entry.get("source", "unknown"))
+
+
+def licence_of(entry: dict) -> str:
+    """The licence of a corpus entry's file: the ``LICENSE`` of its folder under ``data/``."""
+    path = DATA / Path(entry["file"]).parts[0] / "LICENSE"
+    first = path.read_text(encoding="utf-8").strip().splitlines()[0] if path.exists() else ""
+    return "MIT" if first.startswith("MIT License") else (first or "unknown")
+
+
+def _cells(row: Row) -> list[str]:
+    cells = []
+    for s in row.stages:
+        mark = "pass" if s.ok else ("**exit 3**" if s.code == 3 else "no")
+        note = f" ({s.message})" if s.message and (not s.ok or s.name == "fold") else ""
+        cells.append(f"{mark}{note}".replace("|", "/"))
+    return cells
+
+
+def _page_rows(text: str) -> dict[str, list[str]]:
+    """The stage cells of each pattern in a page's corpus table (by its ``file``)."""
+    if DOCS_BEGIN not in text:
+        return {}
+    block = text.split(DOCS_BEGIN, 1)[1].split(DOCS_END, 1)[0]
+    rows = {}
+    for line in block.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 4 + len(STAGES) and cells[0].startswith("`"):
+            rows[cells[0].strip("`")] = cells[4:]
+    return rows
+
+
+def docs_block(entries: list[dict], rows: dict[str, list[str]], stamp: str) -> str:
+    """The page's corpus table: every entry with its tool, licence and kind, and each
+    stage's result from ``rows`` (by file; ``not run`` where it has none)."""
+    out = [
+        DOCS_BEGIN,
+        "",
+        stamp,
+        "",
+        "| pattern | tool | licence | kind | " + " | ".join(STAGES) + " |",
+        "|---|---|---|---|" + "---|" * len(STAGES),
+    ]
+    passed = [0] * len(STAGES)
+    for e in entries:
+        cells = rows.get(e["file"], [NOT_RUN] * len(STAGES))
+        passed = [n + c.startswith("pass") for n, c in zip(passed, cells, strict=True)]
+        out.append(
+            f"| `{e['file']}` | {tool_of(e)} | {licence_of(e)} | {e.get('kind', '')} | "
+            + " | ".join(cells)
+            + " |"
+        )
+    n = len(entries)
+    out.append(
+        f"| **{n} patterns** | | | | " + " | ".join(f"**{k} of {n}**" for k in passed) + " |"
+    )
+    return "\n".join([*out, "", DOCS_END])
+
+
+def update_docs(page: Path, rows: list[Row], entries: list[dict] | None = None) -> None:
+    """Rewrite the corpus table of ``page`` (between :data:`DOCS_BEGIN` and
+    :data:`DOCS_END`): the patterns just run get their results, the others keep theirs."""
+    text = page.read_text(encoding="utf-8")
+    if DOCS_BEGIN not in text or DOCS_END not in text:
+        raise SystemExit(f"{page}: no corpus table ({DOCS_BEGIN!r} ... {DOCS_END!r})")
+    kept = _page_rows(text)
+    kept.update({r.file: _cells(r) for r in rows})
+    from origami_cad import __version__
+
+    stamp = (
+        f"Last run: origami_cad {__version__}, {time.strftime('%Y-%m-%d')}, "
+        f"{len(rows)} patterns run then (`make corpus` runs all of them)."
+    )
+    if not rows:
+        stamp = (
+            f"Rewritten with no pattern run (origami_cad {__version__}, "
+            f"{time.strftime('%Y-%m-%d')}): `make corpus` fills in the results."
+        )
+    head, rest = text.split(DOCS_BEGIN, 1)
+    tail = rest.split(DOCS_END, 1)[1]
+    block = docs_block(entries or load_manifest(), kept, stamp)
+    tmp = page.with_suffix(page.suffix + ".tmp")
+    tmp.write_text(head + block + tail, encoding="utf-8")
+    tmp.replace(page)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fast", action="store_true", help="only the patterns marked fast")
@@ -225,6 +325,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=TIMEOUT_S, help="seconds per command")
     ap.add_argument("--markdown", type=Path, help="also write the table to this file")
     ap.add_argument("--keep", type=Path, help="keep every output in this folder")
+    ap.add_argument("--docs", type=Path, help="rewrite this page's corpus table (docs/patterns.md)")
     args = ap.parse_args(argv)
     entries = load_manifest(args.fast)
     if args.only:
@@ -240,6 +341,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"exit code 3: {exit3}")
     if args.markdown:
         args.markdown.write_text(text + "\n")
+    if args.docs:
+        update_docs(args.docs, rows)
     return 0
 
 

@@ -29,6 +29,7 @@ BASE = {
     "origami_cad._names",
     "origami_cad._toml",
     "origami_cad._args",
+    "origami_cad._display",
 }
 PAGE = ROOT / "docs" / "architecture.md"
 ARROW = re.compile(r"^(\w+)\s*→\s*(.*)$")
@@ -285,6 +286,19 @@ def test_the_circle_finder_sees_every_circle():
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": {"f"}, "f": {"e"}}
     assert import_circles(graph) == [["a", "b", "c"], ["e", "f"]]
     assert import_circles({"a": {"b"}, "b": set()}) == []
+
+
+def test_the_notebook_hooks_reach_the_viz_only_on_display():
+    """``_display.py`` is the base's one way into a stage: the module that draws, named for
+    importlib and imported inside a function (when an object is displayed), never at import."""
+    path = ROOT / "origami_cad" / "_display.py"
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
+    assert all(
+        _stage(_canonical(m.module or "")) is None for m in top if isinstance(m, ast.ImportFrom)
+    )
+    staged = {m for m, _, _ in _imports(path) if _stage(_canonical(m)) is not None}
+    assert staged == {"origami_cad.viz.notebook"}
 
 
 def test_the_base_imports_no_stage():

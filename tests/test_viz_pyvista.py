@@ -50,8 +50,11 @@ def test_a_folded_state_and_a_frame_of_coordinates_give_their_bounds(design):
         assert np.isclose(panels.triangulate().area, design.pattern.face_areas().sum())
     with pytest.raises(ValueError, match="vertices"):
         to_pyvista(state.coords[:-1], design)
+    # a state knows the pattern it folds; bare coordinates do not
+    alone = to_pyvista(state)["panels"]
+    np.testing.assert_allclose(alone.points, state.coords)
     with pytest.raises(TypeError, match="crease pattern"):
-        to_pyvista(state)
+        to_pyvista(state.coords)
 
 
 def test_the_printed_parts_are_coloured_by_material(small_miura_toml):

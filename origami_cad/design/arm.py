@@ -109,6 +109,17 @@ class ArmSearch(collections.abc.Sequence):
     def __len__(self) -> int:
         return len(self.designs)
 
+    def __repr__(self) -> str:
+        """One line: the designs, the winner's fitness and run, how far its strings fold."""
+        if not self.designs:
+            return f"<ArmSearch: no feasible design, {len(self.refused)} refused>"
+        best = self.designs[0]
+        folded = "" if self.folded_to is None else f", its strings fold to p = {self.folded_to:.3g}"
+        return (
+            f"<ArmSearch: {len(self.designs)} designs, winner fitness {best.fitness:.4g} "
+            f"(run {best.run}){folded}, {len(self.refused)} refused>"
+        )
+
     @property
     def winner(self) -> ArmDesign | None:
         """The winning design (``None`` when no run found a feasible one)."""

@@ -16,6 +16,7 @@ import shapely
 
 from origami_cad import __version__
 from origami_cad._args import Arg, checked
+from origami_cad._display import View3DDisplay
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import json_text
 from origami_cad.errors import FabricationError, OutputError, warn
@@ -43,13 +44,17 @@ __all__ = [
 ]
 
 
-@dataclass
-class Fabrication:
+@dataclass(repr=False)
+class Fabrication(View3DDisplay):
     """A fabricated structure: its :class:`PanelPlan`, the solids built from it, timings.
 
     ``parts`` holds build123d solids and stays inside the fabrication stage;
     everything else is plain data. The plan's fields are readable here too
     (``fab.holes`` is ``fab.plan.holes``).
+
+    In a notebook it shows the printed parts in an interactive 3D view (and a PNG);
+    :attr:`part` is the flat sheet's assembly, which ocp_vscode's ``show(fab)`` draws
+    (it takes the object as it takes a build123d ``BuildPart``: ``_obj``, ``_obj_name``).
     """
 
     plan: PanelPlan
@@ -59,6 +64,36 @@ class Fabrication:
     design: Design | None = None
     #: the slicer ``print.3mf`` is laid out for (``export_3mf``'s ``slicer``)
     slicer: str = "prusa"
+    #: the flat sheet's assembly, made on first use of :attr:`part`
+    _sheet: Any = field(default=None, init=False, compare=False)
+
+    #: what a build123d builder declares, so that ocp_vscode's ``show`` takes :attr:`part`
+    _obj_name = "part"
+    _tag = "Fabrication"
+
+    def __repr__(self) -> str:
+        """One line: the pattern's title, panels, holes, the parameters (mm), solids, warnings."""
+        p, plan = self.params, self.plan
+        title = f" {self.pattern.title!r}" if self.pattern.title else ""
+        solids = sum(len(v) for v in self.parts.solids.values())
+        return (
+            f"<Fabrication{title}: {len(plan.outlines)} panels, {len(plan.holes)} holes, "
+            f"bias {p.bias:g} mm, height {p.height:g} mm, crease {p.thickness:g} mm, "
+            f"{solids} solids, {len(plan.warnings)} warnings>"
+        )
+
+    @property
+    def part(self) -> Any:
+        """The flat printed sheet as a build123d ``Compound`` tree, :meth:`assembly` at
+        ratio 0 (made once, then kept); what ``ocp_vscode.show(fab)`` draws."""
+        if self._sheet is None:
+            self._sheet = self.assembly(0.0)
+        return self._sheet
+
+    @property
+    def _obj(self) -> Any:
+        """The shape a viewer of build123d builders draws (ocp_vscode): :attr:`part`."""
+        return self.part
 
     def assembly(self, ratio: float = 0.0, design: Design | None = None) -> Any:
         """The printed sheet as a build123d ``Compound`` tree with joints, folded to ``ratio``.

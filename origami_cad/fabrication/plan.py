@@ -235,6 +235,15 @@ class PanelPlan:
     timings: dict[str, float] = field(default_factory=dict)
     biases: np.ndarray | None = None
 
+    def __repr__(self) -> str:
+        """One line: the pattern, the panels, the holes, the smallest bias (mm), warnings."""
+        least = self.params.bias if self.biases is None else float(np.min(self.biases))
+        return (
+            f"<PanelPlan of {self.pattern!r}: {len(self.outlines)} panels, "
+            f"{len(self.holes)} holes, bias {least:g} to {self.params.bias:g} mm, "
+            f"{len(self.warnings)} warnings>"
+        )
+
     def bias_of(self, panel: int) -> float:
         """The inner bias of panel (face) index ``panel``, mm (``params.bias`` unless the
         panel was too small for it: :func:`panel_biases`)."""
@@ -272,6 +281,9 @@ def plan_panels(
 ) -> PanelPlan:
     """Plan the printable panels of a crease pattern (or design): footprints, holes, limits.
 
+    A panel too small for ``params.bias`` gets the largest bias that fits it, down to
+    :data:`MIN_BIAS` (:func:`panel_biases`; ``biases`` and ``warnings`` say which).
+
     Parameters
     ----------
     source : CreasePattern or Design
@@ -282,9 +294,6 @@ def plan_panels(
         Default ``FabricationParams()``.
     bed : (float, float)
         The print bed, mm: a sheet larger than it is warned about (``warnings``).
-
-    A panel too small for ``params.bias`` gets the largest bias that fits it, down to
-    :data:`MIN_BIAS` (:func:`panel_biases`; ``biases`` and ``warnings`` say which).
 
     Raises
     ------

@@ -92,6 +92,11 @@ class Parts:
     #: the meshes of each part's solids, once tessellated (``meshing.part_meshes``)
     mesh_cache: dict[str, Any] = field(default_factory=dict, repr=False)
 
+    def __repr__(self) -> str:
+        """One line: the number of solids of each part."""
+        counts = ", ".join(f"{name} {len(solids)}" for name, solids in self.solids.items())
+        return f"<Parts: solids {counts}>"
+
     def add(
         self,
         name: str,

@@ -16,15 +16,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from origami_cad._args import Arg, checked
+from origami_cad._display import View3DDisplay
 from origami_cad.errors import PatternError
 from origami_cad.kinematics.fold3d import fold_tessellation, fold_tessellation_many
 from origami_cad.pattern.design import Design
+from origami_cad.pattern.model import CreasePattern
 
 __all__ = ["FoldPath", "FoldedState", "PathDesign", "fold_coords", "fold_design", "fold_sequence"]
 
 
 @dataclass(frozen=True)
-class FoldedState:
+class FoldedState(View3DDisplay):
     """One rigidly folded state.
 
     Attributes
@@ -41,6 +43,9 @@ class FoldedState:
     strain : float
         Largest change of an edge's length (the panels' triangulation's too), percent
         of its flat length: 0 for the closed form.
+    pattern : CreasePattern or None
+        The crease pattern folded (set by :func:`fold_design`, :func:`fold_sequence` and
+        ``oc.fold``), so that ``oc.show(state)`` and a notebook draw the state alone.
     """
 
     p: float
@@ -48,6 +53,17 @@ class FoldedState:
     fold_angles: np.ndarray
     method: str = "closed form"
     strain: float = 0.0
+    pattern: CreasePattern | None = field(default=None, repr=False, compare=False)
+
+    def __repr__(self) -> str:
+        """One line: the fold ratio, the method, the vertices, the fold angles' range
+        (degrees) and the largest strain (percent)."""
+        angles = np.asarray(self.fold_angles, float)
+        span = f"{angles.min():.1f} to {angles.max():.1f} deg" if angles.size else "none"
+        return (
+            f"<FoldedState p={self.p:g} ({self.method}): {len(self.coords)} vertices, "
+            f"fold angles {span}, strain {self.strain:.2g} %>"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,7 +190,7 @@ def fold_design(design: Design, p: float) -> FoldedState:
         from origami_cad.kinematics.generic import fold_degree4
 
         coords, angles = fold_degree4(design.pattern, p)
-    return FoldedState(float(p), coords, angles)
+    return FoldedState(float(p), coords, angles, pattern=design.pattern)
 
 
 @checked(
@@ -193,7 +209,10 @@ def fold_sequence(design: Design, ratios: Sequence[float]) -> list[FoldedState]:
         if not 0.0 <= p <= 1.0:
             raise PatternError(f"fold ratio must lie in [0, 1], got {p}")
     coords, angles = fold_tessellation_many(design.tg, design.pattern, np.array(values))
-    return [FoldedState(p, c, a) for p, c, a in zip(values, coords, angles, strict=True)]
+    return [
+        FoldedState(p, c, a, pattern=design.pattern)
+        for p, c, a in zip(values, coords, angles, strict=True)
+    ]
 
 
 def fold_coords(design: Design, ratios: Sequence[float]) -> np.ndarray:

@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from origami_cad._args import Arg, checked
+from origami_cad._display import PatternDisplay
 from origami_cad._toml import (
     Table,
     finite_toml,
@@ -63,7 +64,7 @@ KINDS = ("transition-graph", "miura", "file")
 
 
 @dataclass(frozen=True)
-class Design:
+class Design(PatternDisplay):
     """A loaded design: its crease pattern and, for TG-based kinds, the TG design.
 
     Attributes
@@ -82,6 +83,14 @@ class Design:
     tg: TGDesign | None
     kind: str
     source: Path | None = None
+
+    def __repr__(self) -> str:
+        """One line: the kind, the pattern's counts, the TG's size and the source file."""
+        tg = ""
+        if self.tg is not None:
+            tg = f", TG of {len(self.tg.lengths)} vectors x {self.tg.copies} copies"
+        source = f", from {self.source.name!r}" if self.source is not None else ""
+        return f"<Design {self.kind}: {self.pattern!r}{tg}{source}>"
 
 
 @checked(

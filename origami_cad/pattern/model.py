@@ -48,6 +48,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from origami_cad._display import PatternDisplay
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.planar import (
@@ -164,7 +165,7 @@ def default_fold_angles(assignments: np.ndarray) -> np.ndarray:
     return out
 
 
-class CreasePattern:
+class CreasePattern(PatternDisplay):
     """A crease pattern: vertices (mm), assigned edges and the faces they bound.
 
     Parameters

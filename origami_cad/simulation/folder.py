@@ -378,7 +378,7 @@ def _state(cp: CreasePattern, st: Structure, x: np.ndarray, p: float) -> FoldedS
     angles = np.zeros(cp.n_edges)
     folds = st.hinge_edge >= 0
     angles[st.hinge_edge[folds]] = np.degrees(fold_angles(x, st.hinges[folds]))
-    return FoldedState(float(p), x, angles, method="general", strain=100.0 * strain)
+    return FoldedState(float(p), x, angles, method="general", strain=100.0 * strain, pattern=cp)
 
 
 def _carry_loose(cp: CreasePattern, st: Structure, x: np.ndarray) -> np.ndarray:

@@ -69,7 +69,7 @@ __all__ = ["SimulationResult", "StopRules", "fold_ratio_fit", "rigid_table", "si
 POSE_ROUNDS = 6  # re-placements of the anchors per step at most (mean pose)
 
 
-@dataclass
+@dataclass(repr=False)
 class SimulationResult(TurnStates):
     """Equilibrium states as the TSA turns (NumPy columns, one row per state) and the stop.
 

@@ -108,8 +108,21 @@ class TurnStates:
     def __len__(self) -> int:
         return len(self.theta)
 
+    def __repr__(self) -> str:
+        """One line: the states, the fold ratio's range, the TSA's turns and why it stopped."""
+        p = np.asarray(getattr(self, "p", ()), float)
+        span = "p not fitted"
+        if np.isfinite(p).any():
+            span = f"p {np.nanmin(p):.3g} to {np.nanmax(p):.3g}"
+        turns = float(self.turns[-1]) if len(self.theta) else 0.0
+        stop = getattr(self, "stop", "")
+        return (
+            f"<{type(self).__name__}: {len(self.theta)} states, {span}, "
+            f"{turns:.3g} turns, stop {str(stop) or 'none'}>"
+        )
 
-@dataclass
+
+@dataclass(repr=False)
 class DCQCResult(TurnStates):
     """The quasi-static states (one row per state, NumPy columns) and why they end.
 

@@ -15,6 +15,10 @@
 (function () {
   "use strict";
   var root = document.documentElement;
+  if (window.ocGlbViewer) {
+    window.ocGlbViewer();  // loaded before (a notebook's earlier output): start new figures
+    return;
+  }
   var errors = 0;
   function noteError() {
     errors += 1;
@@ -401,6 +405,9 @@
   function start() {
     var figures = document.querySelectorAll("figure.oc-view");
     for (var i = 0; i < figures.length; i++) {
+      // a notebook runs this script once per output: each figure is started once
+      if (figures[i].hasAttribute("data-oc-started")) continue;
+      figures[i].setAttribute("data-oc-started", "");
       try {
         new View(figures[i]);
       } catch (err) {
@@ -411,6 +418,7 @@
     root.setAttribute("data-views", String(figures.length));
   }
 
+  window.ocGlbViewer = start;
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start);
   else start();
 })();

@@ -171,8 +171,8 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
 
         - a ``CreasePattern`` or ``Design``: the flat sheet (z = 0), or the state
           ``coords`` when given;
-        - a ``FoldedState`` (rigid folding) or an array (n, 3) of vertex
-          coordinates, mm (a simulation frame): that state of ``pattern``;
+        - a ``FoldedState`` (its own pattern, or ``pattern``) or an array (n, 3) of
+          vertex coordinates, mm (a simulation frame): that state of ``pattern``;
         - a ``SimulationResult`` or ``DCQCResult``: state ``frame`` of ``pattern``
           (default the last; a DCQC result also draws its final strings);
         - a ``RouteSpec``: ``pattern`` flat (or at ``coords``) with the strings;
@@ -202,6 +202,8 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
         return _shape_blocks(obj)
     if isinstance(obj, CreasePattern) or hasattr(obj, "tg"):  # a pattern or a Design
         return _state_blocks(_pattern_of(obj), coords)
+    if pattern is None and isinstance(getattr(obj, "pattern", None), CreasePattern):
+        pattern = obj.pattern  # a FoldedState knows the pattern it folds
     cp = _pattern_of(pattern)
     if hasattr(obj, "strings") and hasattr(obj, "tsa"):  # a RouteSpec
         from origami_cad.strings.route import string_path

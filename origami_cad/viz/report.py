@@ -40,6 +40,7 @@ class StepReport:
     views: list[tuple[str, str]] = field(default_factory=list)  # (glb path, caption)
     seconds: float = 0.0
     error: str = ""
+    columns: int = 0  # images per row (a gallery: 3); 0: as many as fit
 
 
 #: characters an HTML page cannot hold (C0 controls but tab/newline/return, DEL, lone
@@ -77,6 +78,7 @@ figure.oc-view canvas{width:100%;aspect-ratio:4/3;border:1px solid #ddd;border-r
 background:#fff;touch-action:none;cursor:grab}
 .oc-controls{display:flex;gap:8px;align-items:center;font-size:13px}
 .oc-controls input{flex:1}
+.imgs.grid{display:grid;gap:12px} .imgs.grid figure{max-width:none}
 """
 
 
@@ -148,7 +150,8 @@ def write_report(
             parts += [f"<tr><td>{e(k)}</td><td class='v'>{e(v)}</td></tr>" for k, v in s.numbers]
             parts.append("</table>")
         if s.images or s.views:
-            parts.append("<div class='imgs'>")
+            grid = f" grid' style='grid-template-columns:repeat({int(s.columns)},1fr)"
+            parts.append(f"<div class='imgs{grid if s.columns > 0 else ''}'>")
             parts += _views(Path(path).parent, s, budget)
             for src, cap in s.images:
                 parts.append(
