@@ -62,7 +62,7 @@ def view_glb(obj: Any) -> tuple[bytes, str] | None:
     ``Fabrication`` (its four printed parts), and a caption; ``None`` for a state made
     without its pattern."""
     if _is_fabrication(obj):
-        from origami_cad.fabrication.exports.stl import parts_tessellation
+        from origami_cad.fabrication.meshing import parts_tessellation
         from origami_cad.viz.gltf import parts_meshes
 
         title = obj.pattern.title or "fabrication"
@@ -121,7 +121,7 @@ def _matplotlib_png(obj: Any) -> bytes:
     ax = fig.add_subplot(projection="3d")
     if _is_fabrication(obj):
         from origami_cad.fabrication.assembly import MATERIAL_COLORS
-        from origami_cad.fabrication.exports.stl import parts_tessellation
+        from origami_cad.fabrication.meshing import parts_tessellation
         from origami_cad.fabrication.solids import PART_MATERIALS
 
         points = []
