@@ -33,7 +33,15 @@ import numpy as np
 
 from origami_cad.errors import OptionsError, OrigamiCadError
 
-__all__ = ["Arg", "check_fields", "check_number", "check_numbers", "checked", "describe_range"]
+__all__ = [
+    "Arg",
+    "check_fields",
+    "check_number",
+    "check_numbers",
+    "checked",
+    "describe_range",
+    "one_line",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -55,13 +63,27 @@ def describe_range(kind: str, low: float | None, high: float | None, open_min: b
 
 def _brief(value: Any) -> str:
     """``value`` in a message: its type, and its text when short."""
-    text = repr(value)
+    text = one_line(value)
     kind = type(value).__name__
     return f"{kind} {text}" if len(text) <= 40 else kind
 
 
+def one_line(value: Any, limit: int = 60) -> str:
+    """``repr(value)`` on one line (an array's rows joined, control characters escaped),
+    cut to about ``limit`` characters: a bad value as an error message shows it.
+
+    >>> import numpy as np
+    >>> one_line(np.zeros((2, 2)))
+    'array([[0., 0.], [0., 0.]])'
+    """
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
 def _shown(value: Any) -> str:
-    return value if isinstance(value, str) else repr(value)
+    if isinstance(value, str) and value.isprintable():
+        return value
+    return one_line(value)
 
 
 def _integer(value: Any) -> int:
@@ -118,8 +140,7 @@ def check_numbers(
     >>> check_numbers("start", [0, 1.5], length=2)
     (0.0, 1.5)
     """
-    text = repr(value)
-    text = text if len(text) <= 60 else text[:60] + "..."
+    text = one_line(value)
     count = f"{length} " if length is not None else ""
     expected = f"{shown}: expected a list of {count}finite numbers, got {text}"
     if isinstance(value, str | bytes | Mapping) or not hasattr(value, "__iter__"):
@@ -171,7 +192,7 @@ class Arg:
             if self.inf_ok and isinstance(value, float) and value == math.inf:
                 return value
             if isinstance(value, str | bytes):  # text is the command line's, parsed there
-                raise error(f"{shown}: expected a number, not text, got {value!r}")
+                raise error(f"{shown}: expected a number, not text, got {one_line(value)}")
             value = check_number(
                 shown,
                 value,
@@ -192,20 +213,19 @@ class Arg:
                 raise error(f"{shown}: expected a {names}, got {_brief(value)}")
         elif self.kind == "bool":
             if not isinstance(value, bool | np.bool_):
-                raise error(f"{shown}: expected True or False, got {value!r}")
+                raise error(f"{shown}: expected True or False, got {one_line(value)}")
             value = bool(value)
         elif self.kind == "str" and not isinstance(value, str):
-            raise error(f"{shown}: expected text, got {value!r}")
+            raise error(f"{shown}: expected text, got {one_line(value)}")
         elif self.kind == "path":
             if not isinstance(value, str | os.PathLike):
                 raise error(f"{shown}: expected a file path, got {_brief(value)}")
             text = os.fspath(value)
             if not isinstance(text, str) or not text or "\0" in text:
-                raise error(f"{shown}: expected a file path, got {value!r}")
+                raise error(f"{shown}: expected a file path, got {one_line(value)}")
         if self.choices is not None and value not in self.choices:
-            raise error(
-                f"{shown}: expected one of {', '.join(map(str, self.choices))}, got {value!r}"
-            )
+            known = ", ".join(map(str, self.choices))
+            raise error(f"{shown}: expected one of {known}, got {one_line(value)}")
         return value
 
 

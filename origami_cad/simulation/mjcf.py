@@ -54,7 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._args import Arg, checked
+from origami_cad._args import Arg, checked, one_line
 from origami_cad._names import xml_text
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import FabricationParams
@@ -111,11 +111,13 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     (:class:`MjcfError`): its model is ``origami_cad.crawler.mujoco.robot_mjcf``'s.
     """
     if isinstance(routes, str | bytes | os.PathLike) or not hasattr(routes, "__iter__"):
-        raise MjcfError(f"routes must be a list of route files or RouteSpecs, got {routes!r:.60}")
+        raise MjcfError(
+            f"routes must be a list of route files or RouteSpecs, got {one_line(routes)}"
+        )
     routes = list(routes)
     bad = next((r for r in routes if not isinstance(r, RouteSpec | str | os.PathLike)), None)
     if bad is not None:
-        raise MjcfError(f"routes: expected route files or RouteSpecs, got {bad!r:.60}")
+        raise MjcfError(f"routes: expected route files or RouteSpecs, got {one_line(bad)}")
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.is_file():
@@ -414,7 +416,9 @@ def _masses(source: MjcfSource, fab: FabricationParams) -> dict[int, list]:
 
 @checked(
     SimulationError,
-    source=Arg("object", types=(str, os.PathLike, Design, CreasePattern, MjcfSource)),
+    source=Arg(
+        "object", types=(str, os.PathLike, Design, CreasePattern, MjcfSource), optional=False
+    ),
     params=Arg("object", types=(SimulationParams,)),
     contact=Arg("object", types=(Contact,)),
     gravity=Arg(min=-1e9, max=1e9, optional=False),
@@ -474,8 +478,9 @@ def to_mjcf(
         A hole not on its panel, a crease not between two panels, a TSA model
         without an MJCF construction.
     """
+    no_routes = routes is None or (isinstance(routes, tuple | list) and not routes)
     src = source if isinstance(source, MjcfSource) else load_mjcf_source(source, routes)
-    if routes and isinstance(source, MjcfSource):
+    if not no_routes and isinstance(source, MjcfSource):
         raise MjcfError(
             "the source names its own routes (a robot file: its legs'): give no route files"
         )

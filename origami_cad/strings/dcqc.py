@@ -208,7 +208,7 @@ def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:
     hole_friction=Arg(min=0.0, max=10.0, optional=False),
     grid=Arg("int", min=2, max=100_000),
     crease_stiffness=Arg(min=0.0, max=1e9),
-    max_dp=Arg(min=MIN_DP, max=1.0),
+    max_dp=Arg(min=MIN_DP, max=1.0, optional=False),
     string_stiffness=Arg(min=0.0, open_min=True, max=1e12),
 )
 def simulate_dcqc(
