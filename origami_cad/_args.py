@@ -35,12 +35,12 @@ from origami_cad.errors import OptionsError, OrigamiCadError
 
 __all__ = [
     "Arg",
+    "brief_value",
     "check_fields",
     "check_number",
     "check_numbers",
     "checked",
     "describe_range",
-    "one_line",
 ]
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -63,17 +63,17 @@ def describe_range(kind: str, low: float | None, high: float | None, open_min: b
 
 def _brief(value: Any) -> str:
     """``value`` in a message: its type, and its text when short."""
-    text = one_line(value)
+    text = brief_value(value)
     kind = type(value).__name__
     return f"{kind} {text}" if len(text) <= 40 else kind
 
 
-def one_line(value: Any, limit: int = 60) -> str:
+def brief_value(value: Any, limit: int = 60) -> str:
     """``repr(value)`` on one line (an array's rows joined, control characters escaped),
     cut to about ``limit`` characters: a bad value as an error message shows it.
 
     >>> import numpy as np
-    >>> one_line(np.zeros((2, 2)))
+    >>> brief_value(np.zeros((2, 2)))
     'array([[0., 0.], [0., 0.]])'
     """
     text = " ".join(repr(value).split())
@@ -83,7 +83,7 @@ def one_line(value: Any, limit: int = 60) -> str:
 def _shown(value: Any) -> str:
     if isinstance(value, str) and value.isprintable():
         return value
-    return one_line(value)
+    return brief_value(value)
 
 
 def _integer(value: Any) -> int:
@@ -140,7 +140,7 @@ def check_numbers(
     >>> check_numbers("start", [0, 1.5], length=2)
     (0.0, 1.5)
     """
-    text = one_line(value)
+    text = brief_value(value)
     count = f"{length} " if length is not None else ""
     expected = f"{shown}: expected a list of {count}finite numbers, got {text}"
     if isinstance(value, str | bytes | Mapping) or not hasattr(value, "__iter__"):
@@ -165,7 +165,8 @@ def check_numbers(
 class Arg:
     """What a library argument must be: ``kind`` (``"float"``, ``"int"``, ``"bool"``,
     ``"str"``, ``"path"``; ``"floats"``, a sequence of ``length`` finite numbers, each in
-    range; ``"object"``, an instance of one of ``types``), an inclusive range
+    range; ``"object"``, an instance of one of ``types``; ``"callable"``, a function such
+    as a progress callback), an inclusive range
     (``open_min`` excludes ``min``), ``choices``; ``None`` passes when ``optional``. Units
     are the argument's documented ones (mm, deg, N...)."""
 
@@ -192,7 +193,7 @@ class Arg:
             if self.inf_ok and isinstance(value, float) and value == math.inf:
                 return value
             if isinstance(value, str | bytes):  # text is the command line's, parsed there
-                raise error(f"{shown}: expected a number, not text, got {one_line(value)}")
+                raise error(f"{shown}: expected a number, not text, got {brief_value(value)}")
             value = check_number(
                 shown,
                 value,
@@ -211,21 +212,24 @@ class Arg:
             if not isinstance(value, self.types):
                 names = " or ".join(t.__name__ for t in self.types)
                 raise error(f"{shown}: expected a {names}, got {_brief(value)}")
+        elif self.kind == "callable":
+            if not callable(value):
+                raise error(f"{shown}: expected a function, got {_brief(value)}")
         elif self.kind == "bool":
             if not isinstance(value, bool | np.bool_):
-                raise error(f"{shown}: expected True or False, got {one_line(value)}")
+                raise error(f"{shown}: expected True or False, got {brief_value(value)}")
             value = bool(value)
         elif self.kind == "str" and not isinstance(value, str):
-            raise error(f"{shown}: expected text, got {one_line(value)}")
+            raise error(f"{shown}: expected text, got {brief_value(value)}")
         elif self.kind == "path":
             if not isinstance(value, str | os.PathLike):
                 raise error(f"{shown}: expected a file path, got {_brief(value)}")
             text = os.fspath(value)
             if not isinstance(text, str) or not text or "\0" in text:
-                raise error(f"{shown}: expected a file path, got {one_line(value)}")
+                raise error(f"{shown}: expected a file path, got {brief_value(value)}")
         if self.choices is not None and value not in self.choices:
             known = ", ".join(map(str, self.choices))
-            raise error(f"{shown}: expected one of {known}, got {one_line(value)}")
+            raise error(f"{shown}: expected one of {known}, got {brief_value(value)}")
         return value
 
 

@@ -19,7 +19,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from origami_cad._args import one_line
+from origami_cad._args import brief_value
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan, plan_panels
 from origami_cad.pattern.design import Design, load_pattern_source
@@ -115,7 +115,7 @@ PARTS: dict[str, PartSpec] = {
 
 def _spec(name: str) -> PartSpec:
     if not isinstance(name, str) or name not in PARTS:
-        raise FabricationError(f"unknown part {one_line(name)} (known: {', '.join(PARTS)})")
+        raise FabricationError(f"unknown part {brief_value(name)} (known: {', '.join(PARTS)})")
     return PARTS[name]
 
 
@@ -123,10 +123,10 @@ def parse_part_options(tokens: Sequence[str]) -> dict[str, str]:
     """``["--horn-offset", "12", ...]`` to ``{"horn_offset": "12", ...}`` (values unconverted)."""
     out = {}
     if isinstance(tokens, str | bytes) or not hasattr(tokens, "__iter__"):
-        raise FabricationError(f"expected a list of --name value tokens, got {one_line(tokens)}")
+        raise FabricationError(f"expected a list of --name value tokens, got {brief_value(tokens)}")
     items = list(tokens)
     if not all(isinstance(t, str) for t in items):
-        raise FabricationError(f"expected --name value pairs as text, got {one_line(items)}")
+        raise FabricationError(f"expected --name value pairs as text, got {brief_value(items)}")
     while items:
         key = items.pop(0)
         if not key.startswith("--") or not items:
@@ -174,7 +174,7 @@ def build_part(
     spec = _spec(name)
     if values is not None and not isinstance(values, Mapping):
         raise FabricationError(
-            f"part {name}: values must be a dict of parameters, got {one_line(values)}"
+            f"part {name}: values must be a dict of parameters, got {brief_value(values)}"
         )
     if pattern is not None and not isinstance(
         pattern, PanelPlan | Design | CreasePattern | str | os.PathLike

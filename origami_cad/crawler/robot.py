@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
 from origami_cad._names import path_component
 from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import PatternError, SimulationError, StringsError
@@ -237,6 +238,7 @@ def _read_gait(p: Path, gait: Table, legs: int, blocker: float) -> tuple[np.ndar
     return np.asarray(times), np.asarray(ratios)
 
 
+@checked(SimulationError, path=Arg("path", optional=False))
 def load_robot(path: str | os.PathLike[str]) -> Robot:
     """Read a robot file; errors name the file, table and key (:class:`SimulationError`)."""
     p = Path(path)
@@ -337,6 +339,11 @@ def is_robot_file(path: str | os.PathLike[str]) -> bool:
     return isinstance(data.get("robot"), dict)
 
 
+@checked(
+    SimulationError,
+    path=Arg("path", optional=False),
+    robot=Arg("object", types=(Robot,), optional=False),
+)
 def load_gait(path: str | os.PathLike[str], robot: Robot) -> Robot:
     """``robot`` with the gait of a gait file (``design-gait``'s ``gait.toml``, or any
     sequence file for ``drive`` whose ``[[tsa]]`` ids are the robot's servos in leg order).

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._names import one_line
 from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
@@ -153,6 +154,10 @@ def gait_turns(robot: Robot, ratios: np.ndarray | None = None) -> np.ndarray:
         ) / (2 * math.pi)
     return out
 
+
+#: The most quasi-static states :func:`simulate_gait` solves in one call (cycles x steps x
+#: keyframe gaps): each is one equilibrium, about 0.1 s, so this is a day's run at most.
+MAX_GAIT_STATES = 1_000_000
 
 #: No-load speed of a leg's servo, rev/min: the XL330-M288 at 5 V (ROBOTIS e-manual).
 SERVO_SPEED_RPM = 103.0
@@ -638,6 +643,16 @@ def robot_params(robot: Robot, **overrides) -> SimulationParams:
     return SimulationParams.from_fabrication(fab, **values)
 
 
+@checked(
+    SimulationError,
+    cycles=Arg("int", min=1, max=10_000, optional=False),
+    steps=Arg("int", min=1, max=1000, optional=False),
+    reverse=Arg("bool", optional=False),
+    params=Arg("object", types=(SimulationParams,)),
+    friction=Arg(min=0.0, max=100.0),
+    prefold=Arg(min=0.0, max=90.0),
+    progress=Arg("callable"),
+)
 def simulate_gait(
     robot: Robot,
     *,
@@ -678,6 +693,16 @@ def simulate_gait(
         Its ``notes`` name each leg that stayed folded more than ``STUCK_DEG`` past the
         gait's command (a foot that cannot slide: at high friction the gait jams).
     """
+    from origami_cad.crawler.robot import Robot
+
+    if not isinstance(robot, Robot):
+        raise SimulationError(f"simulate_gait: robot: expected a Robot, got {brief_value(robot)}")
+    states = cycles * steps * (len(robot.gait_t) - 1)
+    if states > MAX_GAIT_STATES:
+        raise SimulationError(
+            f"simulate_gait: {cycles} cycles x {steps} steps x {len(robot.gait_t) - 1} keyframe "
+            f"gaps make {states} states, more than {MAX_GAIT_STATES}"
+        )
     mu = robot.friction if friction is None else friction
     if params is None:
         params = robot_params(robot, friction=mu)

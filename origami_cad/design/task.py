@@ -51,7 +51,7 @@ from typing import Any
 import numpy as np
 import shapely
 
-from origami_cad._args import Arg, check_fields, checked, one_line
+from origami_cad._args import Arg, brief_value, check_fields, checked
 from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.design.predicates import PackedAreas, pack_areas
 from origami_cad.errors import DesignError
@@ -175,7 +175,7 @@ class ArmTask:
             raise DesignError("an arm task's points and weights must be numbers (mm)") from None
         if pts.ndim != 2 or pts.shape[1] != 2:
             raise DesignError(
-                f"an arm task's points must be (x, y) pairs, mm, got {one_line(self.points)}"
+                f"an arm task's points must be (x, y) pairs, mm, got {brief_value(self.points)}"
             )
         object.__setattr__(self, "points", pts)
         if w.size == 0:

@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._fileio import GrowingFile
 from origami_cad._names import one_line, toml_string, visible
 from origami_cad._toml import Table, finite_toml, load_toml
@@ -274,10 +275,11 @@ def check_time_scale(time_scale: Any, what: str = "time_scale") -> float:
         or not math.isfinite(time_scale)
         or not 0 < time_scale <= 1000
     ):
-        raise DriveError(f"{what} must be a number in (0, 1000], got {time_scale!r}")
+        raise DriveError(f"{what} must be a number in (0, 1000], got {brief_value(time_scale)}")
     return float(time_scale)
 
 
+@checked(DriveError, path=Arg("path", optional=False))
 def load_sequence(path: str | os.PathLike[str]) -> Sequence:
     """Read a sequence file; errors name the file, table and key."""
     p = Path(path)
@@ -552,6 +554,12 @@ def _csv_rows(rows: list[dict[str, Any]], header: bool = False) -> str:
     return text.getvalue()
 
 
+@checked(
+    DriveError,
+    sequence=Arg("object", types=(Sequence,), optional=False),
+    log=Arg("path"),
+    progress=Arg("callable"),
+)
 def run_sequence(
     sequence: Sequence,
     bus: Any,

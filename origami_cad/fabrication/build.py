@@ -234,6 +234,7 @@ def build_fabrication(
     source=Arg("object", types=(CreasePattern, Design), optional=False),
     params=Arg("object", types=(FabricationParams,)),
     bed=Arg("floats", length=2, min=0.0, open_min=True, max=1e5),
+    progress=Arg("callable"),
 )
 def fabricate(
     source: CreasePattern | Design,
@@ -281,6 +282,12 @@ def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], f
     return write(fab, out), time.perf_counter() - t0
 
 
+@checked(
+    FabricationError,
+    fab=Arg("object", types=(Fabrication,), optional=False),
+    folder=Arg("path", optional=False),
+    slicer=Arg("str"),
+)
 def write_fabrication(
     fab: Fabrication, folder: str | os.PathLike[str], slicer: str | None = None
 ) -> dict[str, Path]:

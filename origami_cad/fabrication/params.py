@@ -19,7 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from origami_cad._args import check_numbers, one_line
+from origami_cad._args import brief_value, check_numbers
 from origami_cad.errors import FabricationError
 from origami_cad.kinematics.limits import bias_for_theta_max, crease_fold_limit
 
@@ -94,11 +94,11 @@ class FabricationParams:
         for name in ("bias", "height", "thickness", "shell", "hole_diameter"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise FabricationError(f"{name} must be a number > 0 mm, got {one_line(value)}")
+                raise FabricationError(f"{name} must be a number > 0 mm, got {brief_value(value)}")
         for name in ("midlayer_bias", "border_margin"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise FabricationError(f"{name} must be a number >= 0 mm, got {one_line(value)}")
+                raise FabricationError(f"{name} must be a number >= 0 mm, got {brief_value(value)}")
         if self.height <= self.thickness:
             raise FabricationError(
                 f"height h = {self.height:g} mm must exceed the crease thickness "

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from origami_cad._args import Arg, checked, one_line
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._display import PatternDisplay
 from origami_cad._toml import (
     Table,
@@ -384,6 +384,6 @@ def tg_design(
     design as a ``kind = "transition-graph"`` file with these keys.
     """
     if not isinstance(title, str):
-        raise PatternError(f"tg_design: title: expected text, got {one_line(title)}")
+        raise PatternError(f"tg_design: title: expected text, got {brief_value(title)}")
     tg = design_from_vectors(vectors, fold_ratio, entry_flag, **options)
     return Design(tg_pattern(tg, title=title), tg, "transition-graph")

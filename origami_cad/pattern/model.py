@@ -48,7 +48,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from origami_cad._args import one_line
+from origami_cad._args import brief_value
 from origami_cad._display import PatternDisplay
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
@@ -248,7 +248,7 @@ class CreasePattern(PatternDisplay):
         if faces is not None:
             _check_face_indices(faces, len(verts))
         if metadata is not None and not isinstance(metadata, Mapping):
-            raise PatternError(f"metadata must be a dict, got {one_line(metadata)}")
+            raise PatternError(f"metadata must be a dict, got {brief_value(metadata)}")
         holes = _as_holes(holes)
         self.tolerance = _resolve_tolerance(tolerance, verts[np.unique(edge_arr)])
         self.metadata = dict(metadata or {})
@@ -649,11 +649,11 @@ def _as_fold_angles(fold_angles: Any, assign: np.ndarray) -> np.ndarray:
 def _as_holes(holes: Any) -> tuple[Hole, ...]:
     """``holes`` as a tuple of :class:`Hole`; anything else is a PatternError."""
     if isinstance(holes, str | bytes | Mapping) or not isinstance(holes, Iterable):
-        raise PatternError(f"holes must be a list of Hole, got {one_line(holes)}")
+        raise PatternError(f"holes must be a list of Hole, got {brief_value(holes)}")
     out = tuple(holes)
     bad = next((h for h in out if not isinstance(h, Hole)), None)
     if bad is not None:
-        raise PatternError(f"holes must be a list of Hole, got an item {one_line(bad)}")
+        raise PatternError(f"holes must be a list of Hole, got an item {brief_value(bad)}")
     return out
 
 
@@ -693,7 +693,9 @@ def _resolve_tolerance(
     try:
         value = float(tolerance)
     except (TypeError, ValueError):
-        raise PatternError(f"tolerance must be a length in mm, got {one_line(tolerance)}") from None
+        raise PatternError(
+            f"tolerance must be a length in mm, got {brief_value(tolerance)}"
+        ) from None
     if not (math.isfinite(value) and value > 0):
         raise PatternError(f"tolerance must be a finite length > 0 mm, got {value:g}")
     return value

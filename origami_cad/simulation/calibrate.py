@@ -34,6 +34,8 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, brief_value, check_numbers, checked
+from origami_cad._toml import input_file
 from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.materials import Materials
@@ -73,8 +75,7 @@ def read_force_curve(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarr
     PyGamiX's 4-column files (no header) and CSV files with ``pull_mm`` and
     ``tension_N`` (or ``force_N``) columns; errors name the file, the row and the column.
     """
-    p = Path(path)
-    where = str(p)
+    p, where = input_file(path, SimulationError)  # a device or a FIFO never ends
     try:
         rows = [r for r in csv.reader(p.read_text(encoding="utf-8-sig").splitlines()) if r]
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
@@ -140,9 +141,9 @@ def drive_log_curve(
     says nothing of the tension) are left out. ``servo_id`` picks one servo of the log
     (default: the only one). Errors name the file and the row.
     """
-    where = str(path)
+    p, where = input_file(path, SimulationError)
     try:
-        rows = list(csv.reader(Path(path).read_text(encoding="utf-8-sig").splitlines()))
+        rows = list(csv.reader(p.read_text(encoding="utf-8-sig").splitlines()))
     except (OSError, UnicodeDecodeError, csv.Error) as exc:
         raise SimulationError(f"{where}: cannot read: {exc}") from None
     rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
@@ -187,6 +188,12 @@ def tendons_x_dis(route: RouteSpec) -> float:
     return float(np.hypot(s.points[0][0] - s.anchor[0], s.points[0][1] - s.anchor[1]))
 
 
+@checked(
+    SimulationError,
+    tsa=Arg("object", types=(TSAParams,)),
+    x_dis=Arg(min=0.0, open_min=True, max=1e5),
+    servo=Arg("object", types=(ServoModel,)),
+)
 def load_runs(
     paths: list[str | os.PathLike[str]],
     *,
@@ -197,6 +204,13 @@ def load_runs(
     """Measured runs from files: force-against-pull curves (:func:`read_force_curve`), or
     ``drive`` logs (a header with ``current_mA``) through ``tsa`` and ``x_dis`` mm
     (:func:`drive_log_curve`)."""
+    if isinstance(paths, str | bytes | os.PathLike) or not isinstance(paths, list | tuple):
+        raise SimulationError(
+            f"load_runs: paths: expected a list of files, got {brief_value(paths)}"
+        )
+    for path in paths:
+        Arg("path", optional=False).check("load_runs: paths", path, SimulationError)
+        input_file(path, SimulationError)
     runs = []
     for path in paths:
         try:
@@ -262,6 +276,26 @@ def _curve(cp, route, materials: Materials, grid: np.ndarray, step: float) -> np
     return np.interp(grid, run.pull, run.tension)
 
 
+def _run_arrays(i: int, run: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Run ``i`` of :func:`calibrate` as (pull mm, force N): two equal-length lists of at
+    least two finite numbers."""
+    where = f"calibrate: runs[{i}]"
+    if not isinstance(run, list | tuple) or len(run) != 2:
+        raise SimulationError(f"{where}: expected (pull mm, force N), got {brief_value(run)}")
+    pull, force = (check_numbers(where, x, error=SimulationError) for x in run)
+    if len(pull) != len(force) or len(pull) < 2:
+        raise SimulationError(f"{where}: expected two lists of the same length >= 2")
+    return np.array(pull), np.array(force)
+
+
+@checked(
+    SimulationError,
+    cp=Arg("object", types=(CreasePattern,), optional=False),
+    route=Arg("object", types=(RouteSpec,), optional=False),
+    materials=Arg("object", types=(Materials,)),
+    step=Arg(min=0.01, max=1e4, optional=False),
+    max_evaluations=Arg("int", min=1, max=1000, optional=False),
+)
 def calibrate(
     cp: CreasePattern,
     route: RouteSpec,
@@ -282,9 +316,12 @@ def calibrate(
     """
     from scipy.optimize import least_squares
 
-    if not runs:
-        raise SimulationError("calibrate: no measured run")
-    unknown = [n for n in fit if n not in FITTED]
+    if not isinstance(runs, list | tuple) or not runs:
+        raise SimulationError(f"calibrate: runs: expected measured runs, got {brief_value(runs)}")
+    if isinstance(fit, str) or not isinstance(fit, list | tuple):
+        raise SimulationError(f"calibrate: fit: expected a list of names, got {brief_value(fit)}")
+    runs = [_run_arrays(i, run) for i, run in enumerate(runs)]
+    unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
     if unknown or not fit:
         known = ", ".join(FITTED)
         raise SimulationError(f"calibrate: cannot fit {unknown or fit} (known: {known})")

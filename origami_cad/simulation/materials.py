@@ -41,6 +41,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from origami_cad._args import Arg, checked
 from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
@@ -143,6 +144,7 @@ def _from_data(data: dict, where: str) -> Materials:
     return _checked(Materials(**values), where)
 
 
+@checked(SimulationError, path=Arg("path", optional=False))
 def load_materials(path: str | os.PathLike[str]) -> Materials:
     """Read a materials file; errors (:class:`SimulationError`) name the file and the key."""
     p = Path(path)

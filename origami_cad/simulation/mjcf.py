@@ -54,7 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._args import Arg, checked, one_line
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._names import xml_text
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import FabricationParams
@@ -112,12 +112,12 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     """
     if isinstance(routes, str | bytes | os.PathLike) or not hasattr(routes, "__iter__"):
         raise MjcfError(
-            f"routes must be a list of route files or RouteSpecs, got {one_line(routes)}"
+            f"routes must be a list of route files or RouteSpecs, got {brief_value(routes)}"
         )
     routes = list(routes)
     bad = next((r for r in routes if not isinstance(r, RouteSpec | str | os.PathLike)), None)
     if bad is not None:
-        raise MjcfError(f"routes: expected route files or RouteSpecs, got {one_line(bad)}")
+        raise MjcfError(f"routes: expected route files or RouteSpecs, got {brief_value(bad)}")
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         if not path.is_file():

@@ -15,6 +15,8 @@ import warnings
 
 import numpy as np
 
+from origami_cad._args import Arg, checked
+from origami_cad.errors import SimulationError
 from origami_cad.kinematics.folding import FoldPath, PathDesign
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
@@ -28,6 +30,12 @@ __all__ = ["PATH_SAMPLES", "fold_path", "with_fold_path"]
 PATH_SAMPLES = 41
 
 
+@checked(
+    SimulationError,
+    design=Arg("object", types=(Design, CreasePattern), optional=False),
+    params=Arg("object", types=(SimulationParams,)),
+    samples=Arg("int", min=2, max=100_000, optional=False),
+)
 def fold_path(
     design: Design | CreasePattern,
     *,
@@ -41,14 +49,18 @@ def fold_path(
     (percent, per sample) says how far each state stretches its panels.
     """
     cp = design if isinstance(design, CreasePattern) else design.pattern
-    if samples < 2:
-        raise ValueError(f"a fold path needs at least 2 samples, got {samples}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", StrainWarning)
         states = fold_general(cp, np.linspace(0.0, 1.0, samples), params=params)
     return FoldPath.from_states(states)
 
 
+@checked(
+    SimulationError,
+    design=Arg("object", types=(Design, CreasePattern), optional=False),
+    params=Arg("object", types=(SimulationParams,)),
+    samples=Arg("int", min=2, max=100_000, optional=False),
+)
 def with_fold_path(
     design: Design | CreasePattern,
     *,

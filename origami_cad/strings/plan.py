@@ -42,12 +42,13 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, brief_value, check_number, check_numbers, checked
 from origami_cad._names import one_line, toml_string
 from origami_cad._toml import finite_toml
 from origami_cad.errors import StringsError
@@ -101,6 +102,53 @@ __all__ = [
 MAX_STRINGS = 16
 
 
+def _check_plan_lists(free_panels: Any, existing_holes: Any, target_angles: Any) -> None:
+    """plan_routes' list arguments: panel labels, [x, y] mm holes, {edge: degrees}."""
+    if isinstance(free_panels, str) or not isinstance(free_panels, list | tuple):
+        raise StringsError(
+            "plan_routes: free_panels: expected a list of panel labels, got "
+            f"{brief_value(free_panels)}"
+        )
+    if not all(isinstance(label, str) for label in free_panels):
+        raise StringsError(
+            "plan_routes: free_panels: expected panel labels (text), got "
+            f"{brief_value(free_panels)}"
+        )
+    if not isinstance(existing_holes, list | tuple | np.ndarray):
+        raise StringsError(
+            "plan_routes: existing_holes: expected a list of [x, y] mm, got "
+            f"{brief_value(existing_holes)}"
+        )
+    for hole in existing_holes:
+        check_numbers("plan_routes: existing_holes", hole, length=2, error=StringsError)
+    if target_angles is None:
+        return
+    if not isinstance(target_angles, Mapping):
+        raise StringsError(
+            "plan_routes: target_angles: expected {edge: degrees}, got "
+            f"{brief_value(target_angles)}"
+        )
+    for edge, angle in target_angles.items():
+        check_number("plan_routes: target_angles edge", edge, kind="int", low=0,
+                     error=StringsError)  # fmt: skip
+        check_number("plan_routes: target_angles degrees", angle, low=-180.0, high=180.0,
+                     error=StringsError)  # fmt: skip
+
+
+@checked(
+    StringsError,
+    design=Arg("object", types=(Design,), optional=False),
+    tsa=Arg("object", types=(TSAPlacement,), optional=False),
+    n_strings=Arg("int", min=1, max=MAX_STRINGS),
+    target_p=Arg(min=0.0, open_min=True, max=1.0),
+    candidates=Arg("int", min=1, max=100_000, optional=False),
+    seed=Arg("int", min=0, max=2**32 - 1, optional=False),
+    progress=Arg("callable"),
+    fabrication=Arg("object", types=(FabricationParams,)),
+    settings=Arg("object", types=(PlanSettings,)),
+    check=Arg("int", min=0, max=1000, optional=False),
+    geometry=Arg("object", types=(PlanGeometry,)),
+)
 def plan_routes(
     design: Design,
     tsa: TSAPlacement,
@@ -156,10 +204,12 @@ def plan_routes(
     list of PlannedRoute
         Valid routes, best first (at most ``settings.keep``).
     """
-    if n_strings is not None and n_strings < 1:
-        raise StringsError(f"--strings must be >= 1, got {n_strings}")
-    if candidates < 1:
-        raise StringsError(f"--candidates must be >= 1, got {candidates}")
+    _check_plan_lists(free_panels, existing_holes, target_angles)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise StringsError(
+            "plan_routes: executor: expected a concurrent.futures.Executor, got "
+            f"{brief_value(executor)}"
+        )
     settings = replace(settings or PlanSettings(), candidates=int(candidates))
     geom = geometry or plan_geometry(
         design,

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._args import Arg, check_fields, one_line
+from origami_cad._args import Arg, brief_value, check_fields
 from origami_cad.errors import StringsError
 
 __all__ = [
@@ -206,12 +206,12 @@ class TSAParams:
     def __post_init__(self) -> None:
         if not isinstance(self.model, str) or self.model not in ("ring", "onboard"):
             raise StringsError(
-                f"[tsa] model must be 'ring' or 'onboard', got {one_line(self.model)}"
+                f"[tsa] model must be 'ring' or 'onboard', got {brief_value(self.model)}"
             )
         for name in ("d1", "d2", "string_width", "length", "radius"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-                raise StringsError(f"[tsa] {name} must be a number of mm, got {one_line(value)}")
+                raise StringsError(f"[tsa] {name} must be a number of mm, got {brief_value(value)}")
             if not (value > 0 and math.isfinite(value)):
                 raise StringsError(f"[tsa] {name} must be > 0 mm and finite, got {value!r}")
         check_fields(

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._args import Arg, checked, one_line
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import input_file, parse_file
 from origami_cad.errors import PatternError
@@ -160,7 +160,9 @@ def write_fold(
         Extra frames for ``file_frames`` (e.g. from :func:`folded_frame`).
     """
     if not isinstance(frames, list | tuple) or not all(isinstance(f, dict) for f in frames):
-        raise PatternError(f"write_fold: frames: expected a list of dicts, got {one_line(frames)}")
+        raise PatternError(
+            f"write_fold: frames: expected a list of dicts, got {brief_value(frames)}"
+        )
     data = fold_dict(cp, frames)
     try:  # FOLD is JSON: no NaN or infinity, which no reader (ours included) accepts
         text = json.dumps(data, indent=1, allow_nan=False)
