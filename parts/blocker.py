@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from build123d import Align, Compound, Location, Mode, Part, Plane, Polyline, extrude, make_face
 
+from origami_cad._args import Arg
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication.params import FabricationParams, theta_max
 from origami_cad.fabrication.plan import PanelPlan
@@ -119,6 +120,10 @@ class Blocker(OrigamiPart):
         mode: Mode = Mode.ADD,
         **values: Any,
     ):
+        Arg("object", types=(PanelPlan,)).check("Blocker: plan", plan, FabricationError)
+        mountain = Arg("bool", optional=False).check(
+            "Blocker: mountain", mountain, FabricationError
+        )
         p = resolve_params(BlockerParams, params, values)
         if plan is not None:
             fp = plan.params

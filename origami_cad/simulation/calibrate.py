@@ -321,6 +321,14 @@ def calibrate(
     if isinstance(fit, str) or not isinstance(fit, list | tuple):
         raise SimulationError(f"calibrate: fit: expected a list of names, got {brief_value(fit)}")
     runs = [_run_arrays(i, run) for i, run in enumerate(runs)]
+    if names is not None and (
+        not isinstance(names, list | tuple)
+        or len(names) != len(runs)
+        or not all(isinstance(n, str) for n in names)
+    ):
+        raise SimulationError(
+            f"calibrate: names: expected {len(runs)} run names (text), got {brief_value(names)}"
+        )
     unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
     if unknown or not fit:
         known = ", ".join(FITTED)

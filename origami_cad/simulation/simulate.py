@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._args import Arg, check_number, checked
+from origami_cad._args import Arg, brief_value, check_number, checked
 from origami_cad.errors import PatternError, SimulationError
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
@@ -393,7 +393,7 @@ def _checked_limits(cp: CreasePattern, fold_limits: Any) -> dict[int, float] | N
         return None
     if not isinstance(fold_limits, dict):
         raise SimulationError(
-            f"simulate: fold_limits: expected {{edge: degrees}}, got {fold_limits!r}"
+            f"simulate: fold_limits: expected {{edge: degrees}}, got {brief_value(fold_limits)}"
         )
     out = {}
     for key, value in fold_limits.items():

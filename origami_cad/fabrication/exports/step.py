@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from build123d import Location, export_step
+from build123d import Location, Shape, export_step
 from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
 from OCP.BRep import BRep_Tool
 from OCP.BRepAdaptor import BRepAdaptor_Surface
@@ -40,7 +40,9 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_ColorGen, XCAFDoc_DocumentTool
 from OCP.XSControl import XSControl_WorkSession
 
+from origami_cad._args import Arg, checked
 from origami_cad._fileio import atomic_path
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import material_color, moved_tree
 from origami_cad.fabrication.solids import (
     PART_MATERIALS,
@@ -58,6 +60,11 @@ __all__ = ["WRITERS", "export_step_assembly", "export_step_tree", "lay_on_bed"]
 WRITE_PCURVES = False
 
 
+@checked(
+    FabricationError,
+    shape=Arg("object", types=(Shape,), optional=False),
+    path=Arg("path", optional=False),
+)
 def export_step_tree(shape, path: str | os.PathLike[str]) -> Path:
     """Write a shape or labelled tree as one STEP (atomic), labels and colours kept.
 
