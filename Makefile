@@ -30,7 +30,8 @@ slow: $(STAMP)
 FUZZ_EXAMPLES ?= 1000
 fuzz: $(STAMP)
 	ORIGAMI_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(PY) -m pytest -q -n 0 \
-		tests/test_fuzz_readers.py tests/test_hostile_readers.py tests/test_api_hostile_all.py
+		tests/test_fuzz_readers.py tests/test_hostile_readers.py tests/test_api_hostile_all.py \
+		tests/test_api_probe.py
 
 # the whole chain (check, fold, fabricate, plan-route, simulate) on every public pattern of
 # tests/data/corpus.toml, as a table (docs/patterns.md shows the last one)

@@ -188,6 +188,7 @@ def test_the_table_covers_the_curated_api_and_the_parts():
         "tsa_module": "the TSAModuleParams row checks its values",
         "blocker_frame": "needs a crease of a folded plan (test_parts)",
         "parts_listing": "no arguments",
+        "with_fold_path": "test_api_probe.py: the stages' entry points",
     }
     public = {
         n
