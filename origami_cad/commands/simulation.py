@@ -74,7 +74,8 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
 
 @register
 class Simulate(Command):
-    """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold, ...
+    """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold,
+    simulation.json, fold.gif.
 
     ``route`` is the route file; a design carrying its tendons (a PyGamiX description)
     needs none. ``pull`` (mm) pulls the strings' anchored end as a test machine does, at
