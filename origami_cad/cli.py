@@ -323,7 +323,9 @@ def _description(cls: type[Command]) -> dict[str, str]:
     paragraphs), in command-line words."""
     doc = inspect.cleandoc(cls.__doc__ or "")
     parts = plain_text(command_words(doc, cls)).split("\n\n")
-    first = re.split(r"(?<!\beq)(?<!\.\.)\. ", " ".join(parts[0].split()))[0]  # 1st sentence
+    # the 1st sentence: a dot ends it, but not that of "eq.", "Fig." or "Figs." or an ellipsis
+    sentence_end = r"(?<!\beq)(?<!\bFig)(?<!\bFigs)(?<!\.\.)\. "
+    first = re.split(sentence_end, " ".join(parts[0].split()))[0]
     first = first.removesuffix(".") if not first.endswith("...") else first
     return {"help": first, "description": "\n\n".join(parts[:2])}
 

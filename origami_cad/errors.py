@@ -31,6 +31,8 @@ The finer driving faults (``StallError``, ``PortLostError``, ...) derive from
 from __future__ import annotations
 
 import logging
+import os
+import sys
 import warnings
 
 __all__ = [
@@ -73,10 +75,25 @@ def warn(message: str, category: type[Warning] = OrigamiCadWarning, stacklevel: 
     per place by Python's default filter) and the ``origami_cad`` logger at WARNING
     (silent unless the script configures logging; the command line prints it on stderr).
 
-    ``stacklevel`` is ``warnings.warn``'s, counted from the caller of :func:`warn`.
+    ``stacklevel`` is ``warnings.warn``'s, counted from the caller of :func:`warn`; the
+    warning is shown at the first line outside the package at or above it (the user's
+    call, never the package's argument checks), wherever ``warn`` is called from.
     """
     logging.getLogger("origami_cad").warning(message, extra={"origami_cad_warning": True})
-    warnings.warn(message, category, stacklevel=stacklevel + 1)
+    warnings.warn(message, category, stacklevel=_outside_level(stacklevel + 1))
+
+
+def _outside_level(stacklevel: int) -> int:
+    """``stacklevel`` (counted from :func:`warn`'s caller's caller), raised past the
+    package's own frames, so that ``warnings.warn`` names the script's line."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    inside = (package + os.sep, os.path.join(os.path.dirname(package), "parts") + os.sep)
+    frame = sys._getframe(1)  # warn's frame is level 1 of warnings.warn's count
+    level = 1
+    while frame is not None and (level < stacklevel or frame.f_code.co_filename.startswith(inside)):
+        frame = frame.f_back
+        level += 1
+    return level if frame is not None else stacklevel
 
 
 class DesignWarning(OrigamiCadWarning):

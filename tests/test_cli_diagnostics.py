@@ -50,6 +50,8 @@ def test_fabricate_warns_a_script_through_warnings_and_logging(caplog):
             fab = oc.fabricate(design)
     said = [str(w.message) for w in caught]
     assert fab.warnings and set(fab.warnings) <= set(said)
+    # Python shows each warning at the script's line, not at the package's argument checks
+    assert {w.filename for w in caught} == {__file__}
     logged = [r.getMessage() for r in caplog.records if r.name.startswith("origami_cad")]
     assert set(fab.warnings) <= set(logged)
     # a shipped example that warns at its defaults says why and what the user must do

@@ -102,3 +102,14 @@ def test_a_library_hint_names_the_options_on_the_command_line():
     assert "c0r1s2" in shown  # other words are left alone
     # a word that is an option's name but not marked up, nor snake_case, stays a word
     assert command_words("the holes of the panel", fabricate) == "the holes of the panel"
+
+
+def test_each_command_summary_is_a_whole_sentence():
+    """The one-line summaries of ``origami-cad --help`` stop at a sentence's end, not at
+    an abbreviation's dot ("Fig. 8") or at an ellipsis standing for the outputs."""
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for action in subs._choices_actions:
+        text = action.help or ""
+        assert text.count("(") == text.count(")"), (action.dest, text)
+        assert not text.endswith(("...", "Fig", "eq")), (action.dest, text)

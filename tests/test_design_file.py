@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from origami_cad.errors import DesignError
@@ -85,8 +87,14 @@ def test_other_bad_files(tmp_path):
         load_design(tmp_path / "none.toml")
     with pytest.raises(DesignError, match="not valid TOML"):
         load_design(write(tmp_path, "[pattern\nkind ="))
-    with pytest.raises(DesignError, match="missing key 'pattern'"):
+    with pytest.raises(DesignError, match=r"missing key 'pattern'$"):
         load_design(write(tmp_path, "[other]\n"))
+    # another of the package's files given for a design says what it is
+    examples = Path(__file__).resolve().parents[1] / "examples"
+    for name, kind in [("crawler/crawler.toml", "a robot file"), ("arm_task.toml", "arm"),
+                       ("miura_route.toml", "route"), ("arm_fold.toml", "sequence")]:  # fmt: skip
+        with pytest.raises(DesignError, match=f"{name}: missing key 'pattern': it is .*{kind}"):
+            load_design(examples / name)
     with pytest.raises(DesignError, match="either 'vectors'"):
         load_design(write(tmp_path, TG.replace("hypar_base = false", "lengths = [1.0]")))
     with pytest.raises(DesignError, match="no such file"):

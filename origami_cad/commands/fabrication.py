@@ -122,7 +122,7 @@ RENDERS = ("assembled.png", "exploded.png", "section.png")
 
 @register
 class Fabricate(Command):
-    """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, fabrication.json...
+    """Dual-material printable structure: four STLs, STEP, 3MF, parts.glb, panels.png, and more.
 
     The paper's b = 3, h = 2.2, t = 0.4 mm by default; ``bias``, ``theta_max`` or
     ``p_max`` (eq. 6), ``height``, ``thickness``... set them. ``hole`` gives hole

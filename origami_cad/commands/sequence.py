@@ -133,7 +133,7 @@ class SequenceCommand(Command):
                min=1, max=1_000_000),
         Option("points", "int", "mapping points besides the keyframes", default=21, min=2,
                max=1000),
-        Option("fixed_panel", help="hold this panel in every route"),
+        Option("fixed_panel", help="hold this panel in every route", metavar="PANEL"),
     )  # fmt: skip
 
     def inputs(self, a):

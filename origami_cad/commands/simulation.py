@@ -74,7 +74,8 @@ def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> 
 
 @register
 class Simulate(Command):
-    """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold, ...
+    """Bar-and-hinge folding by strings and TSA (or a test machine's pull): states.fold,
+    simulation.json, fold.gif.
 
     ``route`` is the route file; a design carrying its tendons (a PyGamiX description)
     needs none. ``pull`` (mm) pulls the strings' anchored end as a test machine does, at
@@ -92,7 +93,8 @@ class Simulate(Command):
     OPTIONS = (
         Option("route", help="route file (default: the design's own tendons)", nargs="?",
                positional=True, metavar="ROUTE"),
-        Option("steps", "int", "actuation steps over the route's turns", min=1, max=100_000),
+        Option("steps", "int", "equal TSA steps over the route's turns (default: by take-up)",
+               min=1, max=100_000),
         Option("blockers", "object", "stop crease EDGE at DEG deg (repeat)", repeat=True,
                parse=_blocker, flag="--blocker", metavar="EDGE:DEG"),
         Option("gravity", "float", "gravity along -z", "mm/s^2", min=-1e6, max=1e6),
@@ -105,7 +107,8 @@ class Simulate(Command):
                max=1e4, open_min=True),
         Option("pull_step", "float", "pull per state", "mm", default=1.0, min=0, max=1e3,
                open_min=True),
-        Option("fixed_panel", help="hold this panel (default: the route's or design's)"),
+        Option("fixed_panel", help="hold this panel (default: the route's or design's)",
+               metavar="PANEL"),
         MATERIALS,
         Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
         _GIF,

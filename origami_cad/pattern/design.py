@@ -160,6 +160,25 @@ def _file_size(table: Table, size: dict[str, Any]) -> dict[str, Any]:
     return own
 
 
+#: a table of each of the package's other TOML files, and what the file is (a design file
+#: has a [pattern] table)
+_OTHER_FILES = {
+    "robot": "a robot file (origami-cad robot, crawl, design-gait)",
+    "arm": "an arm design task (origami-cad design-arm)",
+    "route": "a string route file",
+    "sequence": "a TSA sequence file (origami-cad drive)",
+    "crease": "a materials file (--materials)",
+}
+
+
+def _not_a_design(p: Path, data: dict) -> None:
+    """Refuse a TOML file without a [pattern] table, saying what kind of file it is when
+    its tables tell."""
+    kind = next((what for key, what in _OTHER_FILES.items() if key in data), None)
+    said = f": it is {kind}, not a design file" if kind else ""
+    raise DesignError(f"{p}: missing key 'pattern'{said}")
+
+
 @checked(
     PatternError,
     path=Arg("path", optional=False),
@@ -191,6 +210,8 @@ def load_design(
     p = Path(path)
     data = load_toml(p)
     top = Table(data, str(p))
+    if "pattern" not in data:
+        _not_a_design(p, data)
     table = top.table("pattern")
     top.finish()
     kind = table.string("kind", choices=KINDS)
