@@ -14,6 +14,7 @@ from origami_cad.errors import StringsError
 __all__ = ["Calibrate"]
 
 _FIT = ("crease_stiffness", "hole_friction")
+_CHOICES = (*_FIT, "crease_softening")
 
 
 @register
@@ -25,7 +26,8 @@ class Calibrate(Command):
     current through its torque and the ring TSA's eq. 8, ``x_dis`` mm from the TSA to
     the first hole; default: the first tendon's anchor to its first hole). The design
     carries its tendons (a PyGamiX description). ``fit`` names the parameters fitted
-    (crease_stiffness, N mm/rad per mm; hole_friction); ``materials`` the starting values.
+    (crease_stiffness, N mm/rad per mm; hole_friction; crease_softening, the crease's
+    stiffness factor from 60 deg on); ``materials`` the starting values.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "calibrate", ("design",), "folder", "calibrating"
@@ -33,7 +35,7 @@ class Calibrate(Command):
     FILES = ("materials.toml", "calibration.json", "fit.png")
     OPTIONS = (
         Option("runs", help="measured runs (CSV)", nargs="+", positional=True, metavar="RUN"),
-        Option("fit", help="parameters fitted", nargs="+", choices=_FIT, default=_FIT),
+        Option("fit", help="parameters fitted", nargs="+", choices=_CHOICES, default=_FIT),
         Option("step", "float", "the grid of pulls compared", "mm", default=2.0, min=0.1,
                max=100.0),
         Option("evaluations", "int", "simulations at most", default=40, min=3, max=1000),

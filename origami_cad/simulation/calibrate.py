@@ -53,8 +53,22 @@ __all__ = [
     "tendons_x_dis",
 ]
 
-#: The parameters :func:`calibrate` fits, with their bounds (stiffness N mm/rad per mm).
-FITTED = {"crease_stiffness": (1e-5, 10.0), "hole_friction": (0.0, 1.0)}
+#: The parameters :func:`calibrate` fits, with their bounds (stiffness N mm/rad per mm;
+#: softening: the crease's stiffness factor from :data:`SOFTENING_ANGLE` deg on).
+FITTED = {
+    "crease_stiffness": (1e-5, 10.0),
+    "hole_friction": (0.0, 1.0),
+    "crease_softening": (0.0, 1.0),
+}
+
+#: deg: a fitted softening law falls linearly from the stiffness at 0 deg to its
+#: factor here, and holds it past (PyGamiX's crease: 0.58 at 60 deg).
+SOFTENING_ANGLE = 60.0
+
+
+def _softening_of(m: Materials) -> float:
+    """The factor ``m``'s law reaches at :data:`SOFTENING_ANGLE` (1: linear)."""
+    return float(np.interp(SOFTENING_ANGLE, m.law_angles, m.law_factors))
 
 
 def _number(text: str, where: str, row: int, col: str) -> float:
@@ -245,7 +259,11 @@ class Calibration:
             "parameters": {
                 k: {"value": v, "standard_error": self.sigma[k]} for k, v in self.values.items()
             },
-            "units": {"crease_stiffness": "N mm/rad per mm", "hole_friction": "1"},
+            "units": {
+                "crease_stiffness": "N mm/rad per mm",
+                "hole_friction": "1",
+                "crease_softening": f"1 (the stiffness factor at {SOFTENING_ANGLE:g} deg)",
+            },
             "nrmse_mean": self.error,
             "nrmse_mean_before": self.error_before,
             "nrmse_per_run": dict(zip(self.names, self.run_errors, strict=True)),
@@ -300,6 +318,9 @@ def calibrate(
         for name, v in zip(fit, x, strict=True):
             if name == "crease_stiffness":
                 values["crease_stiffness_given"] = float(10.0**v)
+            elif name == "crease_softening":
+                values["law_angles"] = (0.0, SOFTENING_ANGLE)
+                values["law_factors"] = (1.0, float(v))
             else:
                 values[name] = float(v)
         return start.replace(**values)
@@ -323,7 +344,8 @@ def calibrate(
         return np.array(cols).T
 
     x0 = np.array([
-        math.log10(start.crease_stiffness()) if n == "crease_stiffness" else start.hole_friction
+        math.log10(start.crease_stiffness()) if n == "crease_stiffness"
+        else _softening_of(start) if n == "crease_softening" else start.hole_friction
         for n in fit
     ])  # fmt: skip
     scale = [math.log10 if n == "crease_stiffness" else float for n in fit]
@@ -359,11 +381,13 @@ def calibrate(
 
 def _coarse_start(residual, x0, lo, hi, fit, cost0: float) -> np.ndarray:
     """The best start of a grid around ``x0`` (crease stiffness / 4, x 1, x 4 on its log
-    scale; hole friction 0, 0.1, 0.25 and 0.5): least squares then starts in the right
-    valley, not in the one the starting materials happen to lie in."""
+    scale; hole friction 0, 0.1, 0.25 and 0.5; softening 0.3 and 1): least squares then
+    starts in the right valley, not in the one the starting materials happen to lie in."""
     axes = [
         x + np.log10([0.25, 1.0, 4.0])
         if n == "crease_stiffness"
+        else np.array([0.3, 1.0])
+        if n == "crease_softening"
         else np.array([0.0, 0.1, 0.25, 0.5])
         for n, x in zip(fit, x0, strict=True)
     ]
