@@ -50,3 +50,19 @@ def test_nrmse_is_the_rms_error_over_the_peak() -> None:
     measured = np.array([0.0, 10.0, 5.0])
     assert nrmse(measured, measured) == 0.0
     assert nrmse(measured + 1.0, measured) == pytest.approx(0.1)
+
+
+def test_oc_calibrate_takes_files_and_returns_a_typed_result(tmp_path: Path) -> None:
+    import origami_cad as oc
+    from origami_cad.simulation.calibrate import Calibration
+
+    mountain = Path(__file__).parent / "data" / "pygamix" / "descriptionData"
+    cp = oc.read_pattern(mountain / "f-mountain-big-fix-new.json")
+    run = tmp_path / "run.csv"
+    run.write_text("pull_mm,tension_N\n0,0\n3,0.5\n6,0.9\n")
+    fit = oc.calibrate(cp, None, [run], fit=("hole_friction",), step=3.0, max_evaluations=2)
+    assert isinstance(fit, Calibration) and fit.names == ["run.csv"]
+    assert fit.grid.tolist() == [0.0, 3.0, 6.0] and 0.0 <= fit.values["hole_friction"] <= 1.0
+    assert fit.error <= fit.error_before
+    with pytest.raises(SimulationError, match="no tendons"):
+        oc.calibrate(oc.miura_design(2, 2, 20.0, 20.0, 60.0).pattern, None, [run])

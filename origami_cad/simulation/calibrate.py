@@ -280,10 +280,63 @@ def _curve(cp, route, materials: Materials, grid: np.ndarray, step: float) -> np
     return np.interp(grid, run.pull, run.tension)
 
 
+def _run_arrays(run: Any, i: int) -> tuple[np.ndarray, np.ndarray]:
+    """A run given as a file (read by :func:`read_force_curve`) or as ``(pull mm, force N)``
+    arrays, checked: 1-D, finite, as long, at least two, the pull never decreasing."""
+    if isinstance(run, str | os.PathLike):
+        return read_force_curve(run)
+    try:
+        pull, force = (np.asarray(a, dtype=float) for a in run)
+    except (TypeError, ValueError):
+        raise SimulationError(
+            f"calibrate: run {i + 1}: expected a file or (pull, force) arrays"
+        ) from None
+    if pull.ndim != 1 or pull.shape != force.shape or len(pull) < 2:
+        raise SimulationError(f"calibrate: run {i + 1}: pull and force must be 1-D, as long, >= 2")
+    if not (np.all(np.isfinite(pull)) and np.all(np.isfinite(force))):
+        raise SimulationError(f"calibrate: run {i + 1}: a pull or force is not finite")
+    if np.any(np.diff(pull) < 0) or pull[-1] <= pull[0]:
+        raise SimulationError(f"calibrate: run {i + 1}: the pull must increase")
+    return pull, force
+
+
+def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
+    """The arguments of :func:`calibrate`, checked (a :class:`SimulationError` naming the one
+    that is wrong): the route (default: the design's tendons) and the runs as arrays."""
+    if not isinstance(cp, CreasePattern):
+        raise SimulationError(f"calibrate: cp must be a CreasePattern, got {type(cp).__name__}")
+    if route is None:
+        from origami_cad.strings.route import route_from_pattern
+
+        route = route_from_pattern(cp)
+        if route is None:
+            raise SimulationError("calibrate: the design carries no tendons to pull")
+    if not isinstance(route, RouteSpec):
+        raise SimulationError(f"calibrate: route must be a RouteSpec, got {type(route).__name__}")
+    if materials is not None and not isinstance(materials, Materials):
+        raise SimulationError("calibrate: materials must be Materials or None")
+    if isinstance(fit, str) or not isinstance(fit, tuple | list) or not fit:
+        raise SimulationError(f"calibrate: fit must name parameters of {', '.join(FITTED)}")
+    unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
+    if unknown:
+        raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
+    if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
+        raise SimulationError(f"calibrate: step must be a number of mm in (0, 1e4), got {step!r}")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int)
+        or not (1 <= max_evaluations <= 10_000)
+    ):
+        raise SimulationError("calibrate: max_evaluations must be an integer in [1, 10000]")
+    if isinstance(runs, str | os.PathLike) or not isinstance(runs, list | tuple) or not runs:
+        raise SimulationError("calibrate: runs must be a non-empty list of files or curves")
+    return route, [_run_arrays(r, i) for i, r in enumerate(runs)]
+
+
 def calibrate(
     cp: CreasePattern,
-    route: RouteSpec,
-    runs: list[tuple[np.ndarray, np.ndarray]],
+    route: RouteSpec | None,
+    runs: list,
     materials: Materials | None = None,
     *,
     fit: tuple[str, ...] = ("crease_stiffness", "hole_friction"),
@@ -293,19 +346,24 @@ def calibrate(
 ) -> Calibration:
     """Fit ``fit`` (names of :data:`FITTED`) so the pull simulation matches the runs' mean.
 
-    ``runs`` are ``(pull mm, force N)`` curves; the grid is every ``step`` mm up to the
+    ``route`` is the tendons pulled (None: the design's, a PyGamiX description's). ``runs``
+    are measurement files (:func:`read_force_curve`) or ``(pull mm, force N)`` curves;
+    the grid is every ``step`` mm up to the
     shortest run's end. ``materials`` are the starting values (default :class:`Materials`),
     ``max_evaluations`` bounds the simulations. Bounded least squares on the residual
     (simulated - mean) / peak; the standard errors from the Jacobian at the optimum.
     """
     from scipy.optimize import least_squares
 
-    if not runs:
-        raise SimulationError("calibrate: no measured run")
-    unknown = [n for n in fit if n not in FITTED]
-    if unknown or not fit:
-        known = ", ".join(FITTED)
-        raise SimulationError(f"calibrate: cannot fit {unknown or fit} (known: {known})")
+    given = runs
+    route, runs = _checked_call(cp, route, runs, materials, fit, step, max_evaluations)
+    fit = tuple(fit)
+    if names is None:
+        names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
+                 for i, r in enumerate(given)]  # fmt: skip
+    elif not (isinstance(names, list | tuple) and len(names) == len(runs)
+              and all(isinstance(n, str) for n in names)):  # fmt: skip
+        raise SimulationError("calibrate: names must be one string per run")
     start = materials or Materials()
     end = min(float(p[-1]) for p, _ in runs)
     grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
@@ -375,7 +433,7 @@ def calibrate(
         values, sigma, fitted, grid, measured, simulated, before,
         nrmse(simulated, mean), nrmse(before, mean),
         [nrmse(simulated, m) for m in measured], evaluations,
-        names or [f"run {i + 1}" for i in range(len(runs))],
+        list(names),
     )  # fmt: skip
 
 
