@@ -18,6 +18,7 @@ from origami_cad.simulation.calibrate import (
     calibrate,
     drive_log_curve,
     load_runs,
+    select_tendons,
     tendons_x_dis,
 )
 from origami_cad.simulation.materials import Materials, load_materials
@@ -179,3 +180,18 @@ def test_pull_json_is_labelled_by_the_pull(known_pull):
     states = known_pull.to_dict()["simulation"]["states"]
     assert states["pull_mm"] == pytest.approx(known_pull.pull.tolist())
     assert not {"turns", "theta_s_deg", "tsa_torque_Nmm"} & set(states)
+
+
+def test_cli_a_tendon_the_design_lacks_is_refused(tmp_path):
+    run = tmp_path / "run.csv"
+    run.write_text("pull_mm,tension_N\n0,0\n1,1\n2,1.5\n")
+    out = tmp_path / "out"
+    done = _cli("calibrate", str(MOUNTAIN), str(run), "--tendons", "3", "-o", str(out))
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "tendon 3" in done.stderr and "1..2" in done.stderr and not out.exists()
+
+
+def test_select_tendons_keeps_the_ones_named(mountain):
+    _, route = mountain
+    assert select_tendons(route, (2,)).strings == (route.strings[1],)
+    assert select_tendons(route, None) is route

@@ -41,6 +41,8 @@ class Calibrate(Command):
         Option("evaluations", "int", "simulations at most", default=40, min=3, max=1000),
         Option("x_dis", "float", "a drive log's TSA to its first hole", "mm", min=0,
                max=1e4, open_min=True),
+        Option("tendons", "int", "pull only these tendons (1-based; default: all)", nargs="+",
+               min=1, max=1000),
         MATERIALS,
         *SIZING,
     )  # fmt: skip
@@ -62,7 +64,8 @@ class Calibrate(Command):
         runs = load_runs(a.runs, tsa=route.tsa, x_dis=x_dis)
         fit = calibrate(loaded.pattern, route, runs, materials_of(a), fit=tuple(a.fit),
                         step=a.step, max_evaluations=a.evaluations,
-                        names=[Path(r).name for r in a.runs])  # fmt: skip
+                        names=[Path(r).name for r in a.runs],
+                        tendons=tuple(a.tendons) if a.tendons else None)  # fmt: skip
         header = f"# calibrated by origami-cad calibrate on {len(runs)} runs of {a.design}"
         with self.stage(a, loaded) as stage:
             with atomic_write(stage / self.FILES[0], "w", encoding="utf-8") as fh:

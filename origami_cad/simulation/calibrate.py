@@ -26,6 +26,7 @@ A missing or non-numeric column, a pull that decreases, or too few rows is a
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 import os
 from dataclasses import dataclass, field
@@ -50,6 +51,7 @@ __all__ = [
     "load_runs",
     "nrmse",
     "read_force_curve",
+    "select_tendons",
     "tendons_x_dis",
 ]
 
@@ -333,6 +335,21 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     return route, [_run_arrays(r, i) for i, r in enumerate(runs)]
 
 
+def select_tendons(route: RouteSpec, tendons: tuple[int, ...] | None) -> RouteSpec:
+    """``route`` with only its strings ``tendons`` (1-based; None: all of them), or a
+    :class:`SimulationError` naming the tendon that does not exist."""
+    if tendons is None:
+        return route
+    k = len(route.strings)
+    if isinstance(tendons, str | bytes) or not isinstance(tendons, tuple | list) or not tendons:
+        raise SimulationError(f"calibrate: tendons must be numbers in 1..{k}")
+    for t in tendons:
+        if isinstance(t, bool) or not isinstance(t, int) or not 1 <= t <= k:
+            raise SimulationError(f"calibrate: tendon {t!r}: the route has tendons 1..{k}")
+    picked = tuple(route.strings[t - 1] for t in dict.fromkeys(tendons))
+    return dataclasses.replace(route, strings=picked)
+
+
 def calibrate(
     cp: CreasePattern,
     route: RouteSpec | None,
@@ -343,6 +360,7 @@ def calibrate(
     step: float = 2.0,
     max_evaluations: int = 40,
     names: list[str] | None = None,
+    tendons: tuple[int, ...] | None = None,
 ) -> Calibration:
     """Fit ``fit`` (names of :data:`FITTED`) so the pull simulation matches the runs' mean.
 
@@ -352,11 +370,14 @@ def calibrate(
     shortest run's end. ``materials`` are the starting values (default :class:`Materials`),
     ``max_evaluations`` bounds the simulations. Bounded least squares on the residual
     (simulated - mean) / peak; the standard errors from the Jacobian at the optimum.
+    ``tendons`` (1-based) pulls only those of the route's strings (default: every one,
+    on one crosshead).
     """
     from scipy.optimize import least_squares
 
     given = runs
     route, runs = _checked_call(cp, route, runs, materials, fit, step, max_evaluations)
+    route = select_tendons(route, tendons)
     fit = tuple(fit)
     if names is None:
         names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
