@@ -47,6 +47,7 @@ __all__ = [
     "Calibration",
     "ServoModel",
     "calibrate",
+    "compare_materials",
     "drive_log_curve",
     "load_runs",
     "nrmse",
@@ -455,6 +456,38 @@ def calibrate(
         nrmse(simulated, mean), nrmse(before, mean),
         [nrmse(simulated, m) for m in measured], evaluations,
         list(names),
+    )  # fmt: skip
+
+
+def compare_materials(
+    design: CreasePattern | str | os.PathLike[str],
+    runs: list,
+    before: Materials,
+    after: Materials,
+    *,
+    step: float = 2.0,
+    tendons: tuple[int, ...] | None = None,
+) -> Calibration:
+    """Two materials' pulls against measured runs, no fit: a :class:`Calibration` whose
+    ``before`` and ``simulated`` curves (N, on the runs' grid every ``step`` mm) are
+    ``before``'s and ``after``'s, and ``values`` empty. ``design`` is a pattern carrying
+    its tendons or its file; ``runs`` files or ``(pull mm, force N)`` curves."""
+    from origami_cad.pattern import read_pattern
+
+    cp = design if isinstance(design, CreasePattern) else read_pattern(design)
+    route, curves = _checked_call(cp, None, runs, after, ("hole_friction",), step, 1)
+    route = select_tendons(route, tendons)
+    end = min(float(p[-1]) for p, _ in curves)
+    grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
+    measured = np.array([np.interp(grid, p, f) for p, f in curves])
+    mean = measured.mean(axis=0)
+    first = _curve(cp, route, before, grid, step)
+    second = _curve(cp, route, after, grid, step)
+    names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
+             for i, r in enumerate(runs)]  # fmt: skip
+    return Calibration(
+        {}, {}, after, grid, measured, second, first, nrmse(second, mean), nrmse(first, mean),
+        [nrmse(second, m) for m in measured], 2, names,
     )  # fmt: skip
 
 
