@@ -18,6 +18,7 @@ from origami_cad.pattern.io import read_pattern, write_pattern
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.tg import TGDesign
 from origami_cad.simulation import SimulationParams, simulate
+from origami_cad.simulation.calibrate import Calibration, calibrate
 from origami_cad.simulation.folder import fold, fold_states
 from origami_cad.simulation.mjcf import to_mjcf
 from origami_cad.simulation.paths import with_fold_path

@@ -27,6 +27,9 @@ from origami_cad.design.search import SearchSettings
 from origami_cad.errors import OrigamiCadError
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+MOUNTAIN = (
+    Path(__file__).parent / "data" / "pygamix" / "descriptionData" / "f-mountain-big-fix-new.json"
+)
 BOUND_S = 30  # no hostile call may run longer than this (a loaded 2-core machine)
 _EXAMPLES = int(os.environ.get("ORIGAMI_FUZZ_EXAMPLES", "0"))
 BUDGET = settings(
@@ -68,6 +71,8 @@ def _calls(tmp: Path) -> dict:
     cp = oc.CreasePattern(V, E, "BBBBV")
     small = oc.miura_design(2, 2, 20.0, 20.0, 60.0)
     miura = oc.load_design(EXAMPLES / "miura_6x4.toml")
+    mountain = oc.read_pattern(MOUNTAIN)
+    bench = (np.array([0.0, 2.0, 4.0, 6.0]), np.array([0.0, 1.0, 1.5, 1.8]))  # mm, N
     route = oc.load_route(EXAMPLES / "miura_route.toml", miura.pattern)
     task = oc.ArmTask(points=[[250.0, 0.0], [120.0, 60.0], [50.0, 133.3]], vectors=3, samples=10)
     return {
@@ -93,6 +98,10 @@ def _calls(tmp: Path) -> dict:
         "design_arm": (oc.design_arm, {"task": task, "settings": SearchSettings(
             runs=1, popsize=4, max_generations=1), "executor": None, "progress": None,
             "check_strings": False}),
+        "calibrate": (oc.calibrate, {"cp": mountain, "route": None, "runs": [bench],
+                                     "materials": None, "fit": ("hole_friction",), "step": 3.0,
+                                     "max_evaluations": 2, "names": None,
+                                     "tendons": (2,)}),
         "fold": (oc.fold, {"design": small, "p": 0.5, "method": "auto", "params": None}),
         "fold_design": (oc.fold_design, {"design": small, "p": 0.5}),
         "fold_sequence": (oc.fold_sequence, {"design": small, "ratios": [0.1, 0.5]}),
@@ -170,6 +179,7 @@ def test_the_table_covers_the_curated_api_and_the_parts():
         "fabricate": "plan_panels takes the same source, params and bed first",
         "write_fabrication": "test_api_hostile.py: into a file",
         "Fabrication": "made by fabricate only",
+        "Calibration": "made by calibrate only",
         "export_step_tree": "a build123d shape (test_parts)",
         "plan_routes": "test_plan_route_small.py",
         "show": "viz, headless in test_viz_pyvista.py",

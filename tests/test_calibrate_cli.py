@@ -18,6 +18,7 @@ from origami_cad.simulation.calibrate import (
     calibrate,
     drive_log_curve,
     load_runs,
+    select_tendons,
     tendons_x_dis,
 )
 from origami_cad.simulation.materials import Materials, load_materials
@@ -58,6 +59,21 @@ def _bench_file(path: Path, pull, force, noise: float = 0.0, seed: int = 0) -> P
     return path
 
 
+def test_the_fit_recovers_the_friction_of_a_simulated_bench(mountain, known_pull, tmp_path):
+    """The fast check of the slow test below: one parameter, the other known."""
+    cp, route = mountain
+    files = [
+        _bench_file(tmp_path / f"{i}.csv", known_pull.pull, known_pull.tension, 0.02, i)
+        for i in range(2)
+    ]
+    start = KNOWN.replace(hole_friction=0.4)
+    fit = calibrate(cp, route, load_runs(files), start, fit=("hole_friction",), step=3.0,
+                    max_evaluations=8)  # fmt: skip
+    assert fit.error_before > 0.1 and fit.error < 0.03
+    assert fit.values["hole_friction"] == pytest.approx(0.15, abs=0.03)
+
+
+@pytest.mark.slow
 def test_the_fit_recovers_the_parameters_of_a_simulated_bench(mountain, known_pull, tmp_path):
     cp, route = mountain
     files = [
@@ -93,7 +109,8 @@ def _drive_log(path: Path, pull, tension, tsa, x_dis, servo: ServoModel) -> Path
 
 
 def test_a_drive_log_becomes_force_against_pull(mountain, known_pull, tmp_path):
-    cp, route = mountain
+    """The fast check of the slow fit on a drive log below: the log's curve."""
+    _, route = mountain
     x_dis, servo = tendons_x_dis(route), ServoModel()
     log = _drive_log(tmp_path / "log.csv", known_pull.pull, known_pull.tension, route.tsa,
                      x_dis, servo)  # fmt: skip
@@ -101,7 +118,14 @@ def test_a_drive_log_becomes_force_against_pull(mountain, known_pull, tmp_path):
     assert pull[-1] == pytest.approx(PULL, abs=0.05)
     expected = np.interp(pull, known_pull.pull, known_pull.tension)
     assert tension == pytest.approx(expected, rel=0.02, abs=0.02)
-    # and the fit on the log recovers the materials that made it
+
+
+@pytest.mark.slow
+def test_the_fit_on_a_drive_log_recovers_its_materials(mountain, known_pull, tmp_path):
+    cp, route = mountain
+    x_dis, servo = tendons_x_dis(route), ServoModel()
+    log = _drive_log(tmp_path / "log.csv", known_pull.pull, known_pull.tension, route.tsa,
+                     x_dis, servo)  # fmt: skip
     runs = load_runs([log], tsa=route.tsa, x_dis=x_dis)
     start = Materials(crease_stiffness_given=0.02, hole_friction=0.4)
     fit = calibrate(cp, route, runs, start, step=3.0, max_evaluations=40)
@@ -156,3 +180,18 @@ def test_pull_json_is_labelled_by_the_pull(known_pull):
     states = known_pull.to_dict()["simulation"]["states"]
     assert states["pull_mm"] == pytest.approx(known_pull.pull.tolist())
     assert not {"turns", "theta_s_deg", "tsa_torque_Nmm"} & set(states)
+
+
+def test_cli_a_tendon_the_design_lacks_is_refused(tmp_path):
+    run = tmp_path / "run.csv"
+    run.write_text("pull_mm,tension_N\n0,0\n1,1\n2,1.5\n")
+    out = tmp_path / "out"
+    done = _cli("calibrate", str(MOUNTAIN), str(run), "--tendons", "3", "-o", str(out))
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "tendon 3" in done.stderr and "1..2" in done.stderr and not out.exists()
+
+
+def test_select_tendons_keeps_the_ones_named(mountain):
+    _, route = mountain
+    assert select_tendons(route, (2,)).strings == (route.strings[1],)
+    assert select_tendons(route, None) is route

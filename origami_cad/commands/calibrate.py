@@ -14,6 +14,7 @@ from origami_cad.errors import StringsError
 __all__ = ["Calibrate"]
 
 _FIT = ("crease_stiffness", "hole_friction")
+_CHOICES = (*_FIT, "crease_softening")
 
 
 @register
@@ -25,7 +26,8 @@ class Calibrate(Command):
     current through its torque and the ring TSA's eq. 8, ``x_dis`` mm from the TSA to
     the first hole; default: the first tendon's anchor to its first hole). The design
     carries its tendons (a PyGamiX description). ``fit`` names the parameters fitted
-    (crease_stiffness, N mm/rad per mm; hole_friction); ``materials`` the starting values.
+    (crease_stiffness, N mm/rad per mm; hole_friction; crease_softening, the crease's
+    stiffness factor from 60 deg on); ``materials`` the starting values.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "calibrate", ("design",), "folder", "calibrating"
@@ -33,12 +35,14 @@ class Calibrate(Command):
     FILES = ("materials.toml", "calibration.json", "fit.png")
     OPTIONS = (
         Option("runs", help="measured runs (CSV)", nargs="+", positional=True, metavar="RUN"),
-        Option("fit", help="parameters fitted", nargs="+", choices=_FIT, default=_FIT),
+        Option("fit", help="parameters fitted", nargs="+", choices=_CHOICES, default=_FIT),
         Option("step", "float", "the grid of pulls compared", "mm", default=2.0, min=0.1,
                max=100.0),
         Option("evaluations", "int", "simulations at most", default=40, min=3, max=1000),
         Option("x_dis", "float", "a drive log's TSA to its first hole", "mm", min=0,
                max=1e4, open_min=True),
+        Option("tendons", "int", "pull only these tendons (1-based; default: all)", nargs="+",
+               min=1, max=1000),
         MATERIALS,
         *SIZING,
     )  # fmt: skip
@@ -60,7 +64,8 @@ class Calibrate(Command):
         runs = load_runs(a.runs, tsa=route.tsa, x_dis=x_dis)
         fit = calibrate(loaded.pattern, route, runs, materials_of(a), fit=tuple(a.fit),
                         step=a.step, max_evaluations=a.evaluations,
-                        names=[Path(r).name for r in a.runs])  # fmt: skip
+                        names=[Path(r).name for r in a.runs],
+                        tendons=tuple(a.tendons) if a.tendons else None)  # fmt: skip
         header = f"# calibrated by origami-cad calibrate on {len(runs)} runs of {a.design}"
         with self.stage(a, loaded) as stage:
             with atomic_write(stage / self.FILES[0], "w", encoding="utf-8") as fh:

@@ -26,6 +26,7 @@ A missing or non-numeric column, a pull that decreases, or too few rows is a
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 import os
 from dataclasses import dataclass, field
@@ -48,15 +49,31 @@ __all__ = [
     "Calibration",
     "ServoModel",
     "calibrate",
+    "compare_materials",
     "drive_log_curve",
     "load_runs",
     "nrmse",
     "read_force_curve",
+    "select_tendons",
     "tendons_x_dis",
 ]
 
-#: The parameters :func:`calibrate` fits, with their bounds (stiffness N mm/rad per mm).
-FITTED = {"crease_stiffness": (1e-5, 10.0), "hole_friction": (0.0, 1.0)}
+#: The parameters :func:`calibrate` fits, with their bounds (stiffness N mm/rad per mm;
+#: softening: the crease's stiffness factor from :data:`SOFTENING_ANGLE` deg on).
+FITTED = {
+    "crease_stiffness": (1e-5, 10.0),
+    "hole_friction": (0.0, 1.0),
+    "crease_softening": (0.0, 1.0),
+}
+
+#: deg: a fitted softening law falls linearly from the stiffness at 0 deg to its
+#: factor here, and holds it past (PyGamiX's crease: 0.58 at 60 deg).
+SOFTENING_ANGLE = 60.0
+
+
+def _softening_of(m: Materials) -> float:
+    """The factor ``m``'s law reaches at :data:`SOFTENING_ANGLE` (1: linear)."""
+    return float(np.interp(SOFTENING_ANGLE, m.law_angles, m.law_factors))
 
 
 def _number(text: str, where: str, row: int, col: str) -> float:
@@ -259,7 +276,11 @@ class Calibration:
             "parameters": {
                 k: {"value": v, "standard_error": self.sigma[k]} for k, v in self.values.items()
             },
-            "units": {"crease_stiffness": "N mm/rad per mm", "hole_friction": "1"},
+            "units": {
+                "crease_stiffness": "N mm/rad per mm",
+                "hole_friction": "1",
+                "crease_softening": f"1 (the stiffness factor at {SOFTENING_ANGLE:g} deg)",
+            },
             "nrmse_mean": self.error,
             "nrmse_mean_before": self.error_before,
             "nrmse_per_run": dict(zip(self.names, self.run_errors, strict=True)),
@@ -276,63 +297,109 @@ def _curve(cp, route, materials: Materials, grid: np.ndarray, step: float) -> np
     return np.interp(grid, run.pull, run.tension)
 
 
-def _run_arrays(i: int, run: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Run ``i`` of :func:`calibrate` as (pull mm, force N): two equal-length lists of at
-    least two finite numbers."""
-    where = f"calibrate: runs[{i}]"
-    if not isinstance(run, list | tuple) or len(run) != 2:
-        raise SimulationError(f"{where}: expected (pull mm, force N), got {brief_value(run)}")
-    pull, force = (check_numbers(where, x, error=SimulationError) for x in run)
-    if len(pull) != len(force) or len(pull) < 2:
-        raise SimulationError(f"{where}: expected two lists of the same length >= 2")
-    return np.array(pull), np.array(force)
+def _run_arrays(run: Any, i: int) -> tuple[np.ndarray, np.ndarray]:
+    """A run given as a file (read by :func:`read_force_curve`) or as ``(pull mm, force N)``
+    arrays, checked: 1-D, finite, as long, at least two, the pull never decreasing."""
+    if isinstance(run, str | os.PathLike):
+        return read_force_curve(run)
+    try:
+        pull, force = (np.asarray(a, dtype=float) for a in run)
+    except (TypeError, ValueError):
+        raise SimulationError(
+            f"calibrate: run {i + 1}: expected a file or (pull, force) arrays"
+        ) from None
+    if pull.ndim != 1 or pull.shape != force.shape or len(pull) < 2:
+        raise SimulationError(f"calibrate: run {i + 1}: pull and force must be 1-D, as long, >= 2")
+    if not (np.all(np.isfinite(pull)) and np.all(np.isfinite(force))):
+        raise SimulationError(f"calibrate: run {i + 1}: a pull or force is not finite")
+    if np.any(np.diff(pull) < 0) or pull[-1] <= pull[0]:
+        raise SimulationError(f"calibrate: run {i + 1}: the pull must increase")
+    return pull, force
 
 
-@checked(
-    SimulationError,
-    cp=Arg("object", types=(CreasePattern,), optional=False),
-    route=Arg("object", types=(RouteSpec,), optional=False),
-    materials=Arg("object", types=(Materials,)),
-    step=Arg(min=0.01, max=1e4, optional=False),
-    max_evaluations=Arg("int", min=1, max=1000, optional=False),
-)
+def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
+    """The arguments of :func:`calibrate`, checked (a :class:`SimulationError` naming the one
+    that is wrong): the route (default: the design's tendons) and the runs as arrays."""
+    if not isinstance(cp, CreasePattern):
+        raise SimulationError(f"calibrate: cp must be a CreasePattern, got {type(cp).__name__}")
+    if route is None:
+        from origami_cad.strings.route import route_from_pattern
+
+        route = route_from_pattern(cp)
+        if route is None:
+            raise SimulationError("calibrate: the design carries no tendons to pull")
+    if not isinstance(route, RouteSpec):
+        raise SimulationError(f"calibrate: route must be a RouteSpec, got {type(route).__name__}")
+    if materials is not None and not isinstance(materials, Materials):
+        raise SimulationError("calibrate: materials must be Materials or None")
+    if isinstance(fit, str) or not isinstance(fit, tuple | list) or not fit:
+        raise SimulationError(f"calibrate: fit must name parameters of {', '.join(FITTED)}")
+    unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
+    if unknown:
+        raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
+    if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
+        raise SimulationError(f"calibrate: step must be a number of mm in (0, 1e4), got {step!r}")
+    if (
+        isinstance(max_evaluations, bool)
+        or not isinstance(max_evaluations, int)
+        or not (1 <= max_evaluations <= 10_000)
+    ):
+        raise SimulationError("calibrate: max_evaluations must be an integer in [1, 10000]")
+    if isinstance(runs, str | os.PathLike) or not isinstance(runs, list | tuple) or not runs:
+        raise SimulationError("calibrate: runs must be a non-empty list of files or curves")
+    return route, [_run_arrays(r, i) for i, r in enumerate(runs)]
+
+
+def select_tendons(route: RouteSpec, tendons: tuple[int, ...] | None) -> RouteSpec:
+    """``route`` with only its strings ``tendons`` (1-based; None: all of them), or a
+    :class:`SimulationError` naming the tendon that does not exist."""
+    if tendons is None:
+        return route
+    k = len(route.strings)
+    if isinstance(tendons, str | bytes) or not isinstance(tendons, tuple | list) or not tendons:
+        raise SimulationError(f"calibrate: tendons must be numbers in 1..{k}")
+    for t in tendons:
+        if isinstance(t, bool) or not isinstance(t, int) or not 1 <= t <= k:
+            raise SimulationError(f"calibrate: tendon {t!r}: the route has tendons 1..{k}")
+    picked = tuple(route.strings[t - 1] for t in dict.fromkeys(tendons))
+    return dataclasses.replace(route, strings=picked)
+
+
 def calibrate(
     cp: CreasePattern,
-    route: RouteSpec,
-    runs: list[tuple[np.ndarray, np.ndarray]],
+    route: RouteSpec | None,
+    runs: list,
     materials: Materials | None = None,
     *,
     fit: tuple[str, ...] = ("crease_stiffness", "hole_friction"),
     step: float = 2.0,
     max_evaluations: int = 40,
     names: list[str] | None = None,
+    tendons: tuple[int, ...] | None = None,
 ) -> Calibration:
     """Fit ``fit`` (names of :data:`FITTED`) so the pull simulation matches the runs' mean.
 
-    ``runs`` are ``(pull mm, force N)`` curves; the grid is every ``step`` mm up to the
+    ``route`` is the tendons pulled (None: the design's, a PyGamiX description's). ``runs``
+    are measurement files (:func:`read_force_curve`) or ``(pull mm, force N)`` curves;
+    the grid is every ``step`` mm up to the
     shortest run's end. ``materials`` are the starting values (default :class:`Materials`),
     ``max_evaluations`` bounds the simulations. Bounded least squares on the residual
     (simulated - mean) / peak; the standard errors from the Jacobian at the optimum.
+    ``tendons`` (1-based) pulls only those of the route's strings (default: every one,
+    on one crosshead).
     """
     from scipy.optimize import least_squares
 
-    if not isinstance(runs, list | tuple) or not runs:
-        raise SimulationError(f"calibrate: runs: expected measured runs, got {brief_value(runs)}")
-    if isinstance(fit, str) or not isinstance(fit, list | tuple):
-        raise SimulationError(f"calibrate: fit: expected a list of names, got {brief_value(fit)}")
-    runs = [_run_arrays(i, run) for i, run in enumerate(runs)]
-    if names is not None and (
-        not isinstance(names, list | tuple)
-        or len(names) != len(runs)
-        or not all(isinstance(n, str) for n in names)
-    ):
-        raise SimulationError(
-            f"calibrate: names: expected {len(runs)} run names (text), got {brief_value(names)}"
-        )
-    unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
-    if unknown or not fit:
-        known = ", ".join(FITTED)
-        raise SimulationError(f"calibrate: cannot fit {unknown or fit} (known: {known})")
+    given = runs
+    route, runs = _checked_call(cp, route, runs, materials, fit, step, max_evaluations)
+    route = select_tendons(route, tendons)
+    fit = tuple(fit)
+    if names is None:
+        names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
+                 for i, r in enumerate(given)]  # fmt: skip
+    elif not (isinstance(names, list | tuple) and len(names) == len(runs)
+              and all(isinstance(n, str) for n in names)):  # fmt: skip
+        raise SimulationError("calibrate: names must be one string per run")
     start = materials or Materials()
     end = min(float(p[-1]) for p, _ in runs)
     grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
@@ -345,6 +412,9 @@ def calibrate(
         for name, v in zip(fit, x, strict=True):
             if name == "crease_stiffness":
                 values["crease_stiffness_given"] = float(10.0**v)
+            elif name == "crease_softening":
+                values["law_angles"] = (0.0, SOFTENING_ANGLE)
+                values["law_factors"] = (1.0, float(v))
             else:
                 values[name] = float(v)
         return start.replace(**values)
@@ -368,7 +438,8 @@ def calibrate(
         return np.array(cols).T
 
     x0 = np.array([
-        math.log10(start.crease_stiffness()) if n == "crease_stiffness" else start.hole_friction
+        math.log10(start.crease_stiffness()) if n == "crease_stiffness"
+        else _softening_of(start) if n == "crease_softening" else start.hole_friction
         for n in fit
     ])  # fmt: skip
     scale = [math.log10 if n == "crease_stiffness" else float for n in fit]
@@ -398,17 +469,51 @@ def calibrate(
         values, sigma, fitted, grid, measured, simulated, before,
         nrmse(simulated, mean), nrmse(before, mean),
         [nrmse(simulated, m) for m in measured], evaluations,
-        names or [f"run {i + 1}" for i in range(len(runs))],
+        list(names),
+    )  # fmt: skip
+
+
+def compare_materials(
+    design: CreasePattern | str | os.PathLike[str],
+    runs: list,
+    before: Materials,
+    after: Materials,
+    *,
+    step: float = 2.0,
+    tendons: tuple[int, ...] | None = None,
+) -> Calibration:
+    """Two materials' pulls against measured runs, no fit: a :class:`Calibration` whose
+    ``before`` and ``simulated`` curves (N, on the runs' grid every ``step`` mm) are
+    ``before``'s and ``after``'s, and ``values`` empty. ``design`` is a pattern carrying
+    its tendons or its file; ``runs`` files or ``(pull mm, force N)`` curves."""
+    from origami_cad.pattern import read_pattern
+
+    cp = design if isinstance(design, CreasePattern) else read_pattern(design)
+    route, curves = _checked_call(cp, None, runs, after, ("hole_friction",), step, 1)
+    route = select_tendons(route, tendons)
+    end = min(float(p[-1]) for p, _ in curves)
+    grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
+    measured = np.array([np.interp(grid, p, f) for p, f in curves])
+    mean = measured.mean(axis=0)
+    first = _curve(cp, route, before, grid, step)
+    second = _curve(cp, route, after, grid, step)
+    names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
+             for i, r in enumerate(runs)]  # fmt: skip
+    return Calibration(
+        {}, {}, after, grid, measured, second, first, nrmse(second, mean), nrmse(first, mean),
+        [nrmse(second, m) for m in measured], 2, names,
     )  # fmt: skip
 
 
 def _coarse_start(residual, x0, lo, hi, fit, cost0: float) -> np.ndarray:
     """The best start of a grid around ``x0`` (crease stiffness / 4, x 1, x 4 on its log
-    scale; hole friction 0, 0.1, 0.25 and 0.5): least squares then starts in the right
-    valley, not in the one the starting materials happen to lie in."""
+    scale; hole friction 0, 0.1, 0.25 and 0.5; softening 0.3 and 1): least squares then
+    starts in the right valley, not in the one the starting materials happen to lie in."""
     axes = [
         x + np.log10([0.25, 1.0, 4.0])
         if n == "crease_stiffness"
+        else np.array([0.3, 1.0])
+        if n == "crease_softening"
         else np.array([0.0, 0.1, 0.25, 0.5])
         for n, x in zip(fit, x0, strict=True)
     ]

@@ -9,6 +9,8 @@ File (every key optional; the defaults and their sources below)::
     hinge_zone = 7.0           # mm, w: the width that bends, 2 (b + m) of the print
     density = 1.21             # g/cm^3
     # stiffness = 0.0387       # N mm/rad per mm of crease: given, it replaces E t^3 / (12 w)
+    # law_angles = [0, 60, 100]      # deg: the softening law's points (default: linear)
+    # law_factors = [1, 0.58, 0.35]  # the stiffness there over `stiffness`
     [panel]                    # the PLA panels
     modulus = 3500.0           # MPa
     thickness = 2.2            # mm, h
@@ -22,6 +24,14 @@ The crease's bending stiffness per unit length is a function of its thickness:
 uniformly), :meth:`Materials.crease_stiffness`; a file may give ``stiffness`` instead
 (a measured or calibrated value), which then holds at its own thickness ``t0`` and
 scales as ``(t / t0)^3`` at another.
+
+The crease softens as it folds when the file gives ``law_angles`` (deg, from 0,
+increasing) and ``law_factors`` (>= 0, as many): the crease's stiffness (its moment's
+slope) is the stiffness above times the factor, piecewise linear in the fold angle and
+constant past the last point. Without them the crease is a linear spring (every result
+as before). PyGamiX 3.0.2's simulator (``phys_sim25.py``, ``kb``) makes its printed TPU
+crease's stiffness fall with the fold angle: 0.147 at 0 deg, 0.085 at 60 deg, 0.052 at
+100 deg (factors 1, 0.58, 0.35), a law fitted by its authors to their own bench.
 
 Defaults and sources: PLA's modulus 3500 MPa and TPU 95A's 26 MPa are the values of
 the filament makers' data sheets that the paper's print used (the project's
@@ -45,7 +55,7 @@ from origami_cad._args import Arg, checked
 from origami_cad._toml import Table, finite_toml, load_toml, toml_table
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
-from origami_cad.simulation.model import SimulationParams
+from origami_cad.simulation.model import SimulationParams, check_crease_law
 
 __all__ = ["Materials", "dump_materials", "load_materials", "parse_materials"]
 
@@ -66,6 +76,13 @@ class Materials:
     panel_density: float = DENSITY_G_CM3["PLA"]
     string_axial_stiffness: float = 6000.0
     hole_friction: float = 0.0
+    law_angles: tuple[float, ...] = (0.0,)
+    law_factors: tuple[float, ...] = (1.0,)
+
+    @property
+    def crease_law(self) -> tuple[tuple[float, float], ...]:
+        """The crease's softening law, ``((deg, factor), ...)`` (see the module docstring)."""
+        return tuple(zip(self.law_angles, self.law_factors, strict=True))
 
     def crease_stiffness(self, thickness: float | None = None) -> float:
         """Bending stiffness of a crease per unit length at ``thickness`` mm (default the
@@ -90,6 +107,7 @@ class Materials:
             "string_axial_stiffness": self.string_axial_stiffness,
             "density": self.panel_density,
             "hole_friction": self.hole_friction,
+            "crease_law": self.crease_law,
         }
 
     def simulation_params(self, **overrides) -> SimulationParams:
@@ -110,7 +128,8 @@ class Materials:
 _KEYS = {  # table -> {key in the file: (field, low bound open)}
     "crease": {"modulus": "crease_modulus", "thickness": "crease_thickness",
                "hinge_zone": "hinge_zone", "density": "crease_density",
-               "stiffness": "crease_stiffness_given"},
+               "stiffness": "crease_stiffness_given", "law_angles": "law_angles",
+               "law_factors": "law_factors"},
     "panel": {"modulus": "panel_modulus", "thickness": "panel_thickness",
               "density": "panel_density"},
     "string": {"axial_stiffness": "string_axial_stiffness", "hole_friction": "hole_friction"},
@@ -118,9 +137,15 @@ _KEYS = {  # table -> {key in the file: (field, low bound open)}
 
 
 def _checked(m: Materials, where: str) -> Materials:
+    if len(m.law_angles) != len(m.law_factors):
+        raise SimulationError(
+            f"{where}: [crease] law_angles and law_factors must be as long "
+            f"({len(m.law_angles)} and {len(m.law_factors)})"
+        )
+    check_crease_law(m.crease_law, f"{where}: [crease] law_angles, law_factors")
     for f in dataclasses.fields(m):
         v = getattr(m, f.name)
-        if v is None:
+        if v is None or f.name in ("law_angles", "law_factors"):
             continue
         if f.name == "hole_friction":
             if not 0.0 <= v <= 10.0:
@@ -136,7 +161,9 @@ def _from_data(data: dict, where: str) -> Materials:
     for name, keys in _KEYS.items():
         table = top.table(name, {})
         for key, field in keys.items():
-            if table.has(key):
+            if key.startswith("law_") and table.has(key):
+                values[field] = tuple(table.numbers(key, min_length=1))
+            elif table.has(key):
                 low = 0.0 if key != "hole_friction" else None
                 values[field] = table.number(key, low=low, low_open=low is not None, high=1e7)
         table.finish()
@@ -170,10 +197,13 @@ def dump_materials(m: Materials, *, header: str = "") -> str:
     """
     units = {"modulus": "MPa", "thickness": "mm", "hinge_zone": "mm", "density": "g/cm^3",
              "stiffness": "N mm/rad per mm", "axial_stiffness": "N (EA)",
-             "hole_friction": "capstan law"}  # fmt: skip
+             "hole_friction": "capstan law", "law_angles": "deg: the crease law's points",
+             "law_factors": "the stiffness there over the crease's"}  # fmt: skip
     lines = [header.rstrip("\n")] if header else []
     for name, keys in _KEYS.items():
         items = {key: getattr(m, field) for key, field in keys.items()}
+        if len(m.law_angles) == 1 and m.law_factors == (1.0,):  # the linear spring
+            items = {k: v for k, v in items.items() if not k.startswith("law_")}
         comments = {k: units[k] for k in items}
         lines += [*([""] if lines else []), *toml_table(name, items, comments=comments)]
     return finite_toml("\n".join(lines) + "\n", "the materials file", SimulationError)

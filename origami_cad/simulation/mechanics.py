@@ -26,6 +26,7 @@ __all__ = [
     "bar_hessians",
     "bar_hinge_energy",
     "bar_lengths",
+    "crease_law",
     "fold_angles",
     "hinge_gradients",
     "hinge_hessians",
@@ -365,6 +366,34 @@ def assemble_bars(
 
 
 @njit(cache=True)
+def crease_law(turn: float, angles: np.ndarray, factors: np.ndarray) -> tuple:
+    """A softening crease's law at ``turn`` rad: ``(F, f, G)``, the moment, stiffness and
+    energy per unit of the hinge's stiffness (rad, 1, rad^2), odd / even in ``turn``.
+
+    The stiffness factor ``f`` is piecewise linear in ``|turn|`` through ``(angles,
+    factors)`` (rad, dimensionless; ``angles[0] = 0``) and constant past the last point;
+    the moment is its integral ``F = int_0^|turn| f`` (with ``turn``'s sign) and the
+    energy ``G = int_0^|turn| F``. One point ``(0, 1)`` is the linear spring:
+    ``(turn, 1, turn^2 / 2)``.
+    """
+    a = abs(turn)
+    moment = 0.0
+    energy = 0.0
+    n = angles.shape[0]
+    for s in range(n):
+        f0 = factors[s]
+        end = angles[s + 1] if s + 1 < n else np.inf
+        slope = (factors[s + 1] - f0) / (end - angles[s]) if s + 1 < n else 0.0
+        d = min(a, end) - angles[s]
+        energy += moment * d + 0.5 * f0 * d * d + slope * d * d * d / 6.0
+        moment += f0 * d + 0.5 * slope * d * d
+        if a <= end:
+            sign = 1.0 if turn >= 0 else -1.0
+            return sign * moment, f0 + slope * d, energy
+    return moment, factors[n - 1], energy  # pragma: no cover - the last segment never ends
+
+
+@njit(cache=True)
 def assemble_hinges(
     x: np.ndarray,
     hinges: np.ndarray,
@@ -373,14 +402,19 @@ def assemble_hinges(
     limit: np.ndarray,
     limit_k: float,
     limit_margin: float,
+    soft: np.ndarray,
+    law_angles: np.ndarray,
+    law_factors: np.ndarray,
     positions: np.ndarray,
     grad: np.ndarray,
     data: np.ndarray,
 ) -> None:  # pragma: no cover - compiled; checked against a dense assembly by the tests
     """Add the hinges' gradients and exact Hessians in place.
 
-    Each hinge's energy is ``k/2 (rho - rest)^2`` plus the fold-limit barrier
-    ``limit_k/2 (|rho| - (limit - limit_margin))_+^2``; its Hessian block is
+    Each hinge's energy is ``k/2 (rho - rest)^2`` (a ``soft`` hinge's: ``k G(rho -
+    rest)`` of :func:`crease_law` through ``law_angles`` rad and ``law_factors``) plus
+    the fold-limit barrier ``limit_k/2 (|rho| - (limit - limit_margin))_+^2``; its
+    Hessian block is
     ``k_rot g g^T + M d2rho`` with ``g`` the fold angle's gradient
     (:func:`hinge_gradients`), ``d2rho`` its second derivatives
     (:func:`hinge_hessians`), ``M`` the moment and ``k_rot`` the rotational
@@ -396,6 +430,9 @@ def assemble_hinges(
         (H,) rotational stiffness, N mm/rad; rest angle and fold limit, rad.
     limit_k, limit_margin : float
         The barrier's stiffness, N mm/rad, and how early it starts, rad.
+    soft, law_angles, law_factors : ndarray
+        (H,) bool: the hinges that follow the crease law; the law's points (P,), rad
+        and stiffness factors (one point: every hinge is linear).
     positions : ndarray
         (H, 144) where entry ``12 r + c`` of each hinge's 12 x 12 block goes.
     grad : ndarray
@@ -412,8 +449,13 @@ def assemble_hinges(
             nodes[p] = hinges[h, p]
         rho = _fold_angle(x, nodes[0], nodes[1], nodes[2], nodes[3])
         over = abs(rho) - (limit[h] - limit_margin)
-        moment = k[h] * (rho - rest[h])
-        k_rot = k[h]
+        if soft[h] and law_angles.shape[0] > 1:
+            factor_m, factor_k, _ = crease_law(rho - rest[h], law_angles, law_factors)
+            moment = k[h] * factor_m
+            k_rot = k[h] * factor_k
+        else:
+            moment = k[h] * (rho - rest[h])
+            k_rot = k[h]
         if over > 0:
             moment += limit_k * over * np.sign(rho)
             k_rot += limit_k
@@ -439,11 +481,15 @@ def bar_hinge_energy(
     limit: np.ndarray,
     limit_k: float,
     limit_margin: float,
+    soft: np.ndarray,
+    law_angles: np.ndarray,
+    law_factors: np.ndarray,
 ) -> float:  # pragma: no cover - compiled; checked against the NumPy energy by the tests
     """Elastic energy of the bars, the hinges and the fold-limit barrier, N mm.
 
     ``sum k/2 (L - L0)^2 + sum k/2 (rho - rest)^2 + limit_k/2 (|rho| - (limit -
-    limit_margin))_+^2``, with :func:`bar_lengths` and :func:`fold_angles`.
+    limit_margin))_+^2``, with :func:`bar_lengths` and :func:`fold_angles` (a ``soft``
+    hinge's ``k G(rho - rest)``: :func:`crease_law`).
     """
     bar_energy = 0.0
     for b in range(bars.shape[0]):
@@ -458,7 +504,10 @@ def bar_hinge_energy(
     for h in range(hinges.shape[0]):
         rho = _fold_angle(x, hinges[h, 0], hinges[h, 1], hinges[h, 2], hinges[h, 3])
         turn = rho - hinge_rest[h]
-        hinge_energy += hinge_k[h] * turn * turn
+        if soft[h] and law_angles.shape[0] > 1:
+            hinge_energy += 2.0 * hinge_k[h] * crease_law(turn, law_angles, law_factors)[2]
+        else:
+            hinge_energy += hinge_k[h] * turn * turn
         over = abs(rho) - (limit[h] - limit_margin)
         if over > 0:
             limit_energy += over * over

@@ -24,7 +24,7 @@ from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.triangles import triangulate_panel
 
-__all__ = ["SimulationParams", "Structure", "build_structure"]
+__all__ = ["SimulationParams", "Structure", "build_structure", "check_crease_law"]
 
 _PRINTED = FabricationParams()  # the default printed sheet (paper Fig. 4)
 
@@ -91,6 +91,13 @@ class SimulationParams:
     hole_friction : float
         Friction coefficient of a string sliding through a panel's hole (the capstan
         law, :mod:`origami_cad.strings.friction`; 0: none).
+    crease_law : tuple of (float, float)
+        The creases' softening law: points ``(fold angle, degrees; stiffness factor)``,
+        the first at 0 deg, the angles increasing, the factors >= 0. A crease's
+        stiffness (the slope of its moment) is :attr:`crease_stiffness` times the
+        factor, piecewise linear in the fold angle and constant past the last point
+        (:func:`~origami_cad.simulation.mechanics.crease_law`); the default ``((0, 1),)``
+        is the linear spring.
     """
 
     panel_modulus: float = 3500.0
@@ -108,9 +115,16 @@ class SimulationParams:
     ground_stiffness: float = 100.0
     slip: float = 1e-3
     hole_friction: float = 0.0
+    crease_law: tuple[tuple[float, float], ...] = ((0.0, 1.0),)
 
     def __post_init__(self) -> None:
         check_fields(self, SimulationError, _FIELDS)
+        object.__setattr__(self, "crease_law", check_crease_law(self.crease_law))
+
+    def law_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """The crease law as the solver takes it: angles (P,) rad, factors (P,)."""
+        law = np.array(self.crease_law, dtype=float).reshape(-1, 2)
+        return np.radians(law[:, 0]), law[:, 1].copy()
 
     @classmethod
     def from_fabrication(cls, fab: FabricationParams, **overrides) -> SimulationParams:
@@ -171,6 +185,27 @@ class SimulationParams:
         return self.panel_modulus * self.panel_thickness**3 / 12.0
 
 
+def check_crease_law(law, where: str = "SimulationParams: crease_law"):
+    """``law`` as a tuple of ``(degrees, factor)`` points, or a :class:`SimulationError`
+    naming ``where``: the first at 0 deg, the angles increasing up to 180 deg, the
+    factors finite and >= 0, at least one point."""
+    try:
+        points = tuple((float(a), float(f)) for a, f in law)
+    except (TypeError, ValueError):
+        raise SimulationError(f"{where}: expected (degrees, factor) pairs") from None
+    if not points or points[0][0] != 0.0:
+        raise SimulationError(f"{where}: the first point must be at 0 deg")
+    for i, (a, f) in enumerate(points):
+        if not (math.isfinite(a) and math.isfinite(f) and f >= 0 and a <= 180.0):
+            raise SimulationError(
+                f"{where}: point {i} ({a:g} deg, {f:g}): the angle must lie in [0, 180] deg "
+                "and the factor be finite and >= 0"
+            )
+        if i and a <= points[i - 1][0]:
+            raise SimulationError(f"{where}: point {i}: the angles must increase")
+    return points
+
+
 @dataclass
 class Structure:
     """The bar-and-hinge model (plain arrays): nodes are the pattern's vertices."""
@@ -190,6 +225,13 @@ class Structure:
     limit_k: float = 0.0
     limit_margin: float = 0.0
     notes: list[str] = field(default_factory=list)
+    hinge_soft: np.ndarray | None = None  # (H,) bool: the creases that follow the law
+    law_angles: np.ndarray = field(default_factory=lambda: np.zeros(1))  # (P,) rad
+    law_factors: np.ndarray = field(default_factory=lambda: np.ones(1))  # (P,)
+
+    def __post_init__(self) -> None:
+        if self.hinge_soft is None:
+            self.hinge_soft = np.zeros(len(self.hinges), dtype=bool)
 
     @property
     def folds(self) -> np.ndarray:
@@ -245,6 +287,7 @@ def build_structure(
     mass = tri_area * params.panel_thickness * params.density * 1e-3 / 1000.0  # kg
     np.add.at(weight, tris.ravel(), np.repeat(mass / 3.0, 3) * params.gravity / 1000.0)  # N
     fixed, note = _held_panel(cp, fixed_panel, free)
+    law_angles, law_factors = params.law_arrays()
     return Structure(
         x0=x0,
         triangles=tris,
@@ -262,6 +305,9 @@ def build_structure(
         limit_k=1e3 * float(max(np.max(k_fold), 1.0)),
         limit_margin=math.radians(params.limit_margin),
         notes=[note],
+        hinge_soft=hedge >= 0,
+        law_angles=law_angles,
+        law_factors=law_factors,
     )
 
 

@@ -128,7 +128,8 @@ class Ground:
 
 def _hinge_terms(st: Structure) -> tuple:
     """The hinge arrays the compiled kernels take, in their order: hinges, stiffness
-    (N mm/rad), rest angles and fold limits (rad), the limits' stiffness and margin.
+    (N mm/rad), rest angles and fold limits (rad), the limits' stiffness and margin,
+    and the crease law (the soft hinges, the law's angles, rad, and stiffness factors).
     """
     return (
         st.hinges,
@@ -137,6 +138,9 @@ def _hinge_terms(st: Structure) -> tuple:
         st.hinge_limit,
         float(st.limit_k),
         float(st.limit_margin),
+        st.hinge_soft,
+        st.law_angles,
+        st.law_factors,
     )
 
 
