@@ -8,10 +8,10 @@ time is the steadier figure). The cost against the panel count is fitted as
 ``t = c * panels ** k`` over 5 x 5 ... 32 x 32 (CPU times; the 32 x 32, 1,024 panels, is the
 issue's 1,000-panel sheet). Each stage (the build, each writer) is timed by wall and CPU.
 
-Peak memory is a fresh process's peak RSS (``resource``, the children's maximum): the
+Peak memory is a fresh process's peak RSS (``VmHWM``, else ``resource``): the
 30 x 30 sheet built and exported alone in a child (``python bench_fabrication.py 30``), so
-the figure is that sheet's with the imports (build123d/OCP alone take about half a
-gigabyte), not the whole benchmark's; it counts OCC's C++ allocations, which
+the figure is that sheet's with the imports (build123d/OCP alone take about 430 MB),
+not the whole benchmark's; it counts OCC's C++ allocations, which
 ``tracemalloc`` does not see. Benchmarks, never tests.
 """
 
@@ -104,9 +104,19 @@ def _in_child(sheet: tuple) -> dict:
         text=True,
         check=True,
     )
-    out = json.loads(done.stdout.strip().splitlines()[-1])
-    out["rss_mb"] = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    return out
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _peak_mb() -> float:
+    """This process's peak RSS, MB: ``VmHWM``, which a fresh program starts afresh (a
+    child's ``ru_maxrss`` keeps the peak of the parent it was forked from)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
 
 
 def _exponent(panels: list[int], seconds: list[float]) -> float:
@@ -148,6 +158,7 @@ def run() -> list[tuple[str, float, str]]:
 if __name__ == "__main__":  # one sheet in this process, for the parent's peak memory
     import build123d  # noqa: F401  (what fabricate imports on first use, measured apart)
 
-    import_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    import_mb = _peak_mb()
     wall, cpu, stages, count = _one(*(int(a) for a in sys.argv[1:3]), *map(float, sys.argv[3:5]))
-    print(json.dumps({"wall": wall, "cpu": cpu, "panels": count, "import_mb": import_mb}))
+    peak = {"rss_mb": _peak_mb(), "import_mb": import_mb}
+    print(json.dumps({"wall": wall, "cpu": cpu, "panels": count, **peak}))
