@@ -32,8 +32,8 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
+from scipy.linalg.lapack import dpbtrf, dpbtrs
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 from threadpoolctl import ThreadpoolController
@@ -110,10 +110,11 @@ class Factor:
         order = self.plan.order
         out = np.empty_like(rhs)
         if self.plan.method is FactorMethod.BANDED:
-            with _one_thread():
-                out[order] = sla.cho_solve_banded(
-                    (self.factor, True), rhs[order], overwrite_b=True, check_finite=False
-                )
+            with _one_thread():  # LAPACK's own call: scipy's wrapper costs 1/10 of a solve
+                x, info = dpbtrs(self.factor, rhs[order], lower=1, overwrite_b=1)
+            if info != 0:
+                raise ValueError(f"dpbtrs: illegal argument {-info}")
+            out[order] = x
         else:
             out[order] = self.factor.solve(rhs[order])
         return out
@@ -194,16 +195,12 @@ def factorise(plan: FactorPlan, values: np.ndarray) -> Factor | None:
     if plan.method is FactorMethod.BANDED:
         ab = np.zeros((plan.bandwidth + 1) * plan.size)
         ab[plan.target] = values[plan.source]
-        try:
-            with _one_thread():
-                chol = sla.cholesky_banded(
-                    ab.reshape(plan.bandwidth + 1, plan.size),
-                    lower=True,
-                    overwrite_ab=True,
-                    check_finite=False,
-                )
-        except np.linalg.LinAlgError:  # a leading minor is not positive definite
+        with _one_thread():
+            chol, info = dpbtrf(ab.reshape(plan.bandwidth + 1, plan.size), lower=1, overwrite_ab=1)
+        if info > 0:  # a leading minor is not positive definite
             return None
+        if info < 0:
+            raise ValueError(f"dpbtrf: illegal argument {-info}")
         return Factor(plan, chol)
     a = sp.csc_matrix((values[plan.source], plan.target, plan.indptr), shape=(plan.size,) * 2)
     try:

@@ -152,11 +152,12 @@ def export_3mf(
     """
     if slicer not in SLICERS:
         raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
-    meshes = {n: _part_mesh(parts, n) for n in PART_NAMES}
     settings = slicer_settings(params, print_settings)
     if slicer == "prusa":
-        entries = _prusa_entries(meshes, name, settings)
+        entries, rows = _prusa_entries(parts, name, settings)
     else:
+        meshes = {n: _part_mesh(parts, n) for n in PART_NAMES}
+        rows = sum(len(v) + len(t) for v, t in meshes.values())
         entries = _bambu_entries(meshes, name, settings, slicer)
     with (
         atomic_path(path) as tmp,
@@ -166,7 +167,6 @@ def export_3mf(
         zf.writestr("_rels/.rels", _RELS)
         for entry, text in entries.items():
             if isinstance(text, list):  # the model: its lines streamed into the archive
-                rows = sum(len(v) + len(t) for v, t in meshes.values())
                 _write_lines(zf, entry, text, large=rows * _ROW_BYTES > zipfile.ZIP64_LIMIT)
             else:
                 zf.writestr(entry, text)
@@ -202,33 +202,47 @@ def _part_mesh(parts: Parts, part: str) -> tuple[np.ndarray, np.ndarray]:
     return stack_meshes(part_meshes(parts, part))
 
 
-def _prusa_entries(meshes, name: str, settings) -> dict[str, str | bytes]:
-    """The files of the PrusaSlicer flavour (one object, a triangle range per part)."""
-    all_v, all_t, ranges, mats, voff, toff = [], [], [], [], 0, 0
+def _prusa_entries(parts: Parts, name: str, settings) -> tuple[dict[str, str | bytes], int]:
+    """The files of the PrusaSlicer flavour (one object, a triangle range per part), and
+    the model's vertex and triangle rows.
+
+    Every solid's cached mesh is copied once, straight into the one object's vertices
+    and triangle rows (vertex indices and material): no per-part stack in between (on a
+    30 x 30 sheet each copy of the triangles is tens of MB).
+    """
+    solids = {n: part_meshes(parts, n) for n in PART_NAMES}
+    n_verts = sum(len(v) for n in PART_NAMES for v, _ in solids[n])
+    n_tris = sum(len(t) for n in PART_NAMES for _, t in solids[n])
+    verts = np.empty((n_verts, 3))
+    tris = np.empty((n_tris, 4), dtype=np.int64)  # v1, v2, v3 and the base material
+    ranges, voff, toff = [], 0, 0
     for n in PART_NAMES:
-        v, t = meshes[n]
-        all_v.append(v)
-        all_t.append(t + voff)
-        ranges.append((toff, toff + len(t) - 1))
-        mats.append(np.full(len(t), list(MATERIAL_COLORS).index(PART_MATERIALS[n])))
-        voff, toff = voff + len(v), toff + len(t)
-    verts, tris, mat = np.vstack(all_v), np.vstack(all_t), np.concatenate(mats)
+        first = toff
+        tris[first : first + sum(len(t) for _, t in solids[n]), 3] = list(MATERIAL_COLORS).index(
+            PART_MATERIALS[n]
+        )
+        for v, t in solids[n]:
+            verts[voff : voff + len(v)] = v
+            np.add(t, voff, out=tris[toff : toff + len(t), :3])
+            voff, toff = voff + len(v), toff + len(t)
+        ranges.append((first, toff - 1))
     head = _model_head(f"origami_cad {__version__}", name)
     model = [
         *head,
         f'  <object id="2" type="model" name="{xml_text(name)}" pid="1" pindex="0">',
-        *_mesh_lines(verts, tris, mat),
+        *_mesh_lines(verts, tris),
         "  </object>",
         *_model_tail(2),
     ]
     prusa, bambu = _slicer_configs(ranges, name)
-    return {
+    entries = {
         "3D/3dmodel.model": model,
         "Metadata/Slic3r_PE_model.config": "\n".join(prusa),
         "Metadata/model_settings.config": "\n".join(bambu),
         "Metadata/Slic3r_PE.config": _prusa_print_config(settings),
         "Metadata/project_settings.config": _bambu_project_config(settings),
     }
+    return entries, n_verts + n_tris
 
 
 def _bambu_entries(meshes, name: str, settings, slicer: str) -> dict[str, str | bytes]:
@@ -359,10 +373,11 @@ def _rows(pieces: list[str], columns: np.ndarray, decimals: int) -> bytes:
     return flat[flat != 0][:-1].tobytes()
 
 
-def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = None) -> list:
+def _mesh_lines(verts: np.ndarray, tris: np.ndarray) -> list:
     """``<mesh>`` of an object (lines; the vertices and the triangles each one ``bytes``).
 
-    With ``mat``, each triangle's base material index. A NaN or infinite coordinate (which
+    ``tris`` (M, 3) vertex indices, or (M, 4) with each triangle's base material index
+    last. A NaN or infinite coordinate (which
     the integer formatting would turn into a wrong number) is a :class:`FabricationError`.
     """
     if not np.isfinite(verts).all():
@@ -370,13 +385,12 @@ def _mesh_lines(verts: np.ndarray, tris: np.ndarray, mat: np.ndarray | None = No
     vertex = ['     <vertex x="', '" y="', '" z="', '"/>']
     lines = ["   <mesh>", "    <vertices>", _row_blocks(vertex, verts.reshape(-1, 3), 6)]
     lines += ["    </vertices>", "    <triangles>"]
-    if mat is None:
-        triangle = ['     <triangle v1="', '" v2="', '" v3="', '"/>']
-        lines.append(_row_blocks(triangle, tris.reshape(-1, 3), 0))
-    else:
+    if tris.ndim == 2 and tris.shape[1] == 4:
         triangle = ['     <triangle v1="', '" v2="', '" v3="', '" pid="1" p1="', '"/>']
-        columns = np.column_stack([tris, np.asarray(mat).reshape(-1, 1)]).astype(np.int64)
-        lines.append(_row_blocks(triangle, columns, 0))
+    else:
+        triangle = ['     <triangle v1="', '" v2="', '" v3="', '"/>']
+        tris = tris.reshape(-1, 3)
+    lines.append(_row_blocks(triangle, tris, 0))
     return [*lines, "    </triangles>", "   </mesh>"]
 
 
