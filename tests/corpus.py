@@ -290,9 +290,36 @@ def docs_block(entries: list[dict], rows: dict[str, list[str]], stamp: str) -> s
     return "\n".join([*out, "", DOCS_END])
 
 
-def update_docs(page: Path, rows: list[Row], entries: list[dict] | None = None) -> None:
+def source_commit() -> str:
+    """The commit the package was measured on (short hash; ``+changes`` when the tree has
+    uncommitted changes to the package), or ``unknown`` outside a git checkout."""
+    root = Path(__file__).resolve().parents[1]
+    try:
+        head = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=30,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "-C", str(root), "status", "--porcelain", "--", "origami_cad"],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=30,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return f"{head}{'+changes' if dirty else ''}"
+
+
+def update_docs(
+    page: Path, rows: list[Row], entries: list[dict] | None = None, commit: str | None = None
+) -> None:
     """Rewrite the corpus table of ``page`` (between :data:`DOCS_BEGIN` and
-    :data:`DOCS_END`): the patterns just run get their results, the others keep theirs."""
+    :data:`DOCS_END`): the patterns just run get their results, the others keep theirs;
+    ``commit`` is the one measured (default: :func:`source_commit` now)."""
     text = page.read_text(encoding="utf-8")
     if DOCS_BEGIN not in text or DOCS_END not in text:
         raise SystemExit(f"{page}: no corpus table ({DOCS_BEGIN!r} ... {DOCS_END!r})")
@@ -301,8 +328,9 @@ def update_docs(page: Path, rows: list[Row], entries: list[dict] | None = None) 
     from origami_cad import __version__
 
     stamp = (
-        f"Last run: origami_cad {__version__}, {time.strftime('%Y-%m-%d')}, "
-        f"{len(rows)} patterns run then (`make corpus` runs all of them)."
+        f"Last run: origami_cad {__version__} at commit {commit or source_commit()}, "
+        f"{time.strftime('%Y-%m-%d')}, {len(rows)} patterns run then (`make corpus` runs all "
+        "of them)."
     )
     if not rows:
         stamp = (
@@ -330,6 +358,7 @@ def main(argv: list[str] | None = None) -> int:
     entries = load_manifest(args.fast)
     if args.only:
         entries = [e for e in entries if any(o in e["file"] for o in args.only)]
+    commit = source_commit()  # the code measured, whatever is committed during the run
     t0 = time.perf_counter()
     with ThreadPoolExecutor(args.jobs) as pool:
         rows = list(pool.map(lambda e: run_pattern(e, args.timeout, args.keep), entries))
@@ -342,7 +371,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.markdown:
         args.markdown.write_text(text + "\n")
     if args.docs:
-        update_docs(args.docs, rows)
+        update_docs(args.docs, rows, commit=commit)
     return 0
 
 
