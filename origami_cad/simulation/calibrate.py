@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._args import Arg, brief_value, check_numbers, checked
+from origami_cad._args import Arg, brief_value, checked
 from origami_cad._toml import input_file
 from origami_cad.errors import SimulationError
 from origami_cad.pattern.model import CreasePattern
