@@ -70,7 +70,7 @@ def _render_fabrication(cp, fab, stage: Path, name: str) -> list[tuple[Path, str
     return [(p, t) for p, _, t in shots]
 
 
-def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
+def _fabrication_numbers(fab, name: str, exports: dict[str, float]) -> list[tuple[str, str]]:
     report = fab.report()
     vols = ", ".join(f"{n} {v['volume_mm3'] / 1000:.2f} cm3" for n, v in report["parts"].items())
     limits = f"{report['theta_max_deg']:.1f} deg, {100 * report['p_max']:.1f} %"
@@ -84,7 +84,8 @@ def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
     if fab.limits.p_max_kinematic is not None:
         kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
         numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
-    numbers.append((f"{name}: build + export time", f"{sum(fab.timings.values()):.1f} s"))
+    seconds = sum(fab.timings.values()) + sum(exports.values())
+    numbers.append((f"{name}: build + export time", f"{seconds:.1f} s"))
     return numbers
 
 
@@ -172,7 +173,7 @@ class Fabricate(Command):
         fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)), progress=a.progress)
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
-            write_fabrication(fab, stage, slicer=a.slicer)
+            written = write_fabrication(fab, stage, slicer=a.slicer)
             write_parts_glb(fab, stage / "parts.glb")
             save_panels_png(fab, stage / "panels.png")
             images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
@@ -183,7 +184,7 @@ class Fabricate(Command):
         return Outputs(
             files=files,
             images=[(Path(a.folder) / p.name, c) for p, c in images],
-            numbers=_fabrication_numbers(fab, label),
+            numbers=_fabrication_numbers(fab, label, written.timings),
             messages=[
                 *warned,
                 _summary(fab),

@@ -2,6 +2,7 @@
 
 from origami_cad.fabrication.build import (
     Fabrication,
+    FabricationFiles,
     build_fabrication,
     fabricate,
     write_fabrication,
