@@ -5,6 +5,7 @@ from origami_cad.fabrication.build import (
     FabricationFiles,
     build_fabrication,
     fabricate,
+    fabrication_numbers,
     write_fabrication,
 )
 from origami_cad.fabrication.panels import (

@@ -41,6 +41,7 @@ __all__ = [
     "FabricationFiles",
     "build_fabrication",
     "fabricate",
+    "fabrication_numbers",
     "write_fabrication",
 ]
 
@@ -346,3 +347,33 @@ def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], f
     """``write(fab, out)`` and the seconds it took."""
     t0 = time.perf_counter()
     return write(fab, out), time.perf_counter() - t0
+
+
+def fabrication_numbers(
+    fab: Fabrication, name: str = "", exports: Mapping[str, float] | None = None
+) -> tuple[str, list[tuple[str, str]]]:
+    """What a fabrication tells its user: one summary line (panels, holes, eq. 6's
+    ``theta_max`` deg and ``p_max`` %, the mass as printed and as solid, g) and the key
+    numbers, each label prefixed by ``name`` (volumes cm3, masses g, the build's time plus
+    ``exports``' seconds, e.g. :attr:`FabricationFiles.timings`)."""
+    report = fab.report()
+    summary = (
+        f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
+        f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
+        f"mass {report['printed_mass_g']:.1f} g as printed ({report['total_mass_g']:.1f} g solid)"
+    )
+    vols = ", ".join(f"{n} {v['volume_mm3'] / 1000:.2f} cm3" for n, v in report["parts"].items())
+    limits = f"{report['theta_max_deg']:.1f} deg, {100 * report['p_max']:.1f} %"
+    numbers = [
+        (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
+        (f"{name}: theta_max, p_max (eq. 6)", limits),
+        (f"{name}: volumes", vols),
+        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),  # as solid
+        (f"{name}: mass as printed (the 3MF's settings)", f"{report['printed_mass_g']:.1f} g"),
+    ]
+    if fab.limits.p_max_kinematic is not None:
+        kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
+        numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
+    seconds = sum(fab.timings.values()) + sum((exports or {}).values())
+    numbers.append((f"{name}: build + export time", f"{seconds:.1f} s"))
+    return summary, numbers
