@@ -210,4 +210,20 @@ def test_write_fabrication_chooses_the_flavour_and_refuses_an_unknown_one(fab, t
     with pytest.raises(FabricationError, match="prusa, bambu, orca"):
         export_3mf(fab.parts, tmp_path / "x.3mf", slicer="cura")
     assert not (tmp_path / "x.3mf").exists()
-    fab.slicer = "prusa"
+
+
+def test_write_fabrication_leaves_the_fabrication_as_it_was(fab, tmp_path):
+    """The slicer and the export times are the call's: the next write is unchanged by it."""
+    import json
+
+    slicer, timings = fab.slicer, dict(fab.timings)
+    bambu = write_fabrication(fab, tmp_path / "bambu", slicer="bambu")
+    assert fab.slicer == slicer == "prusa" and fab.timings == timings  # nothing changed
+    assert bambu.slicer == "bambu" and list(bambu.timings) == ["stl", "step", "3mf"]
+    assert all(t > 0 for t in bambu.timings.values())
+    report = json.loads(bambu["json"].read_text())
+    assert report["timings_s"] == {**timings, **bambu.timings}  # build and export times
+    again = write_fabrication(fab, tmp_path / "again")  # the default layout, not bambu's
+    assert again.slicer == "prusa" and bbs_import(again["3mf"], BAMBU)[1] is None
+    assert bbs_import(bambu["3mf"], BAMBU)[1] is not None
+    assert set(again) == set(bambu) and all(again[k].parent == tmp_path / "again" for k in again)

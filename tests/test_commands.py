@@ -48,9 +48,6 @@ def test_no_command_module_is_over_300_lines_and_no_run_over_40():
 MAX_PRIVATE = 3
 #: the skeleton itself: its private helpers are the commands' infrastructure
 INFRASTRUCTURE = {"_base.py", "_options.py", "_outputs.py"}
-#: modules whose decisions have not moved into the library yet (each must still be over,
-#: so the list only shrinks)
-PENDING = {"fabrication.py", "patterns.py", "simulation.py"}
 
 
 def _private_functions(path: Path) -> list[str]:
@@ -72,10 +69,8 @@ def test_no_command_module_holds_more_than_three_private_helpers():
         if p.name not in INFRASTRUCTURE
     }
     assert "_write_arm_files" in counts["design.py"]  # it sees them
-    over = {n: f for n, f in counts.items() if len(f) > MAX_PRIVATE and n not in PENDING}
+    over = {n: f for n, f in counts.items() if len(f) > MAX_PRIVATE}
     assert not over, f"command modules with more than {MAX_PRIVATE} private helpers: {over}"
-    done = sorted(n for n in PENDING if len(counts[n]) <= MAX_PRIVATE)
-    assert not done, f"no longer over {MAX_PRIVATE}: remove from PENDING: {done}"
 
 
 def test_the_cli_is_the_registry():

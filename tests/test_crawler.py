@@ -74,9 +74,10 @@ def test_files_are_what_the_generator_writes(robot):
     assert np.allclose(cp.vertices, on_disk.vertices)
     assert cp.assignments.tolist() == on_disk.assignments.tolist()
     assert sorted(on_disk.face_labels) == ["body", "leg_fl", "leg_fr", "leg_rl", "leg_rr"]
-    for name, text in files.routes.items():
+    for name, text in files.texts().items():  # the routes and crawler.toml
         assert (HERE / name).read_text(encoding="utf-8") == text
-    assert (HERE / "crawler.toml").read_text(encoding="utf-8") == files.robot
+    assert set(files.texts()) == {"crawler.toml", *files.routes}
+    assert files.routes["route_fl.toml"] == robot.legs[0].route  # the data, read back
     # the printed holes are the routed holes
     routed = {p for leg in robot.legs for s in leg.route.strings for p in s.points}
     assert routed == set(robot.holes)
@@ -333,7 +334,8 @@ def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
 def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
     copy_crawler(tmp_path, leave_out=("route_rl.toml",))
     text = (HERE / "route_rl.toml").read_text(encoding="utf-8")
-    text = text.replace("max_turns = 8\n", "max_turns = 8\nmax_torque = 2.0   # N mm\n")
+    assert "max_turns = 8.0\n" in text
+    text = text.replace("max_turns = 8.0\n", "max_turns = 8.0\nmax_torque = 2.0   # N mm\n")
     (tmp_path / "route_rl.toml").write_text(text, encoding="utf-8")
     robot = load_robot(tmp_path / "crawler.toml")
     result = simulate_gait(robot, cycles=1, steps=2)

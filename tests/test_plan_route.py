@@ -23,9 +23,10 @@ from origami_cad.strings.plan import (
     evaluate_routes,
     plan_geometry,
     plan_routes,
-    route_toml,
+    route_spec,
     string_curves,
 )
+from origami_cad.strings.route import dump_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SHEET = FabricationParams(bias=3.0, height=2.2, thickness=0.4)  # the printed sheet of Figs. 4-5
@@ -49,7 +50,7 @@ def _example(design: str, route: str):
 def _written(tmp_path: Path, loaded, geom, planned, name: str = "route.toml"):
     """The planned route written as a route file and read back as `route` reads it."""
     path = tmp_path / name
-    path.write_text(route_toml(geom, planned), encoding="utf-8")
+    path.write_text(dump_route(route_spec(geom, planned), loaded.pattern), encoding="utf-8")
     return load_route(path, loaded.pattern)
 
 

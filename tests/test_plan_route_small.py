@@ -17,8 +17,9 @@ from origami_cad.strings.plan import (
     plan_geometry,
     plan_messages,
     plan_routes,
-    route_toml,
+    route_spec,
 )
+from origami_cad.strings.route import dump_route
 
 #: a short search: the sheets are small
 FAST = PlanSettings(generations=20, grid=17)
@@ -69,7 +70,7 @@ def test_ring_strings_share_panels_of_a_small_sheet_through_holes_of_their_own(s
     assert len(set(panels)) < len(panels)  # some panel carries two strings
     assert len({s.anchor for s in best.strings}) == 3  # a guide each
     path = tmp_path / "route.toml"  # the route file reads back and folds
-    path.write_text(route_toml(geom, best), encoding="utf-8")
+    path.write_text(dump_route(route_spec(geom, best), loaded.pattern), encoding="utf-8")
     spec = load_route(path, loaded.pattern)
     result = simulate_dcqc(loaded, spec)
     assert result.p[-1] > 0.5 * geom.target_p

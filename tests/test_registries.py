@@ -157,7 +157,7 @@ def test_a_toy_export_is_written_with_the_others_through_the_registry(tmp_path, 
     cp = miura_pattern(rows=2, columns=2, panel_length=30.0, panel_width=30.0, sector_angle=65.0)
     fab = fabricate(cp, FabricationParams(shell=0.5))
     paths = write_fabrication(fab, tmp_path)
-    assert paths["toy"] == tmp_path / "volumes.txt" and "toy" in fab.timings
+    assert paths["toy"] == tmp_path / "volumes.txt" and "toy" in paths.timings
     volumes = dict(line.split() for line in paths["toy"].read_text().splitlines())
     stls = sorted(p.stem for p in tmp_path.glob("*.stl"))
     assert sorted(volumes) == stls and len(stls) == 4  # one line per part, as its STL

@@ -20,7 +20,8 @@ from origami_cad.errors import PatternError
 from origami_cad.kinematics.folding import FoldPath, PathDesign
 from origami_cad.pattern.design import Design
 from origami_cad.strings import TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.plan import PlanSettings, TSAPlacement, plan_geometry, route_toml
+from origami_cad.strings.plan import PlanSettings, TSAPlacement, plan_geometry, route_spec
+from origami_cad.strings.route import dump_route
 
 SQUARE_BASE = Path(__file__).parent / "data" / "origami-simulator" / "squareBase.svg"
 FAST = PlanSettings(generations=20, grid=17)
@@ -82,7 +83,7 @@ def test_python_api_plan_then_both_string_models_fold_the_written_route(folded, 
     best = planned[0]
     assert best.checks["dcqc"]["reaches_target"] and len(best.strings) >= 1
     path = tmp_path / "route.toml"
-    path.write_text(route_toml(geom, best))
+    path.write_text(dump_route(route_spec(geom, best), folded.pattern))
     spec = load_route(path, folded.pattern)
     dcqc = simulate_dcqc(folded, spec)
     assert dcqc.valid and dcqc.p[-1] >= geom.target_p - 1e-3

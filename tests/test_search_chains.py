@@ -138,7 +138,8 @@ def test_the_route_planners_top_candidates_each_fold_through_route_and_simulate(
     """plan-route -> route -> simulate: not only rank 1, each of the top three routes."""
     from origami_cad.pattern.design import load_pattern_source
     from origami_cad.strings import TSAParams
-    from origami_cad.strings.plan import TSAPlacement, plan_geometry, plan_routes, route_toml
+    from origami_cad.strings.plan import TSAPlacement, plan_geometry, plan_routes, route_spec
+    from origami_cad.strings.route import dump_route
 
     boat = EXAMPLES / "data" / "boat.dxf"
     loaded = load_pattern_source(boat)
@@ -148,7 +149,8 @@ def test_the_route_planners_top_candidates_each_fold_through_route_and_simulate(
     assert len(planned) >= 2
     for rank, route in enumerate(planned[:3], start=1):
         path = tmp_path / f"route{rank}.toml"
-        path.write_text(route_toml(geom, route, f"# rank {rank}"), encoding="utf-8")
+        spec = route_spec(geom, route)
+        path.write_text(dump_route(spec, loaded.pattern, header=f"# rank {rank}"), encoding="utf-8")
         assert main(["route", str(boat), str(path), "-o", str(tmp_path / f"dcqc{rank}")]) == 0
         folded = json.loads((tmp_path / f"dcqc{rank}" / "dcqc.json").read_text())
         assert folded["valid"] and folded["states"]["p"][-1] >= geom.target_p - 1e-3

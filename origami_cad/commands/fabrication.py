@@ -39,55 +39,6 @@ PARAM_OPTIONS = (
 )  # fmt: skip
 
 
-def _section_args(cp, fab) -> dict[str, Any]:
-    """A section perpendicular to the first main crease, through its middle (Fig. 4e)."""
-    main = [e for e in range(cp.n_edges) if cp.assignments[e] in "MV"]
-    a, b = cp.vertices[cp.edges[main[0]]]
-    mid = (a + b) / 2
-    direction = (b - a) / max(float(((b - a) ** 2).sum()) ** 0.5, 1e-12)
-    return {
-        "mode": "section",
-        "section_origin": (float(mid[0]), float(mid[1]), fab.params.height / 2),
-        "section_normal": (float(direction[0]), float(direction[1]), 0.0),
-    }
-
-
-def _render_fabrication(cp, fab, stage: Path, name: str) -> list[tuple[Path, str]]:
-    from origami_cad.viz.parts_render import render_parts
-
-    stls = {n: stage / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
-    shots = [
-        (stage / "assembled.png", {}, f"{name}: assembled"),
-        (stage / "exploded.png", {"mode": "exploded"}, f"{name}: the four STLs"),
-        (
-            stage / "section.png",
-            _section_args(cp, fab),
-            f"{name}: section across a crease (Fig. 4e)",
-        ),
-    ]
-    for path, kwargs, title in shots:
-        render_parts(stls, path, title=title, **kwargs)
-    return [(p, t) for p, _, t in shots]
-
-
-def _fabrication_numbers(fab, name: str) -> list[tuple[str, str]]:
-    report = fab.report()
-    vols = ", ".join(f"{n} {v['volume_mm3'] / 1000:.2f} cm3" for n, v in report["parts"].items())
-    limits = f"{report['theta_max_deg']:.1f} deg, {100 * report['p_max']:.1f} %"
-    numbers = [
-        (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
-        (f"{name}: theta_max, p_max (eq. 6)", limits),
-        (f"{name}: volumes", vols),
-        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),  # as solid
-        (f"{name}: mass as printed (the 3MF's settings)", f"{report['printed_mass_g']:.1f} g"),
-    ]
-    if fab.limits.p_max_kinematic is not None:
-        kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
-        numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
-    numbers.append((f"{name}: build + export time", f"{sum(fab.timings.values()):.1f} s"))
-    return numbers
-
-
 def _params(a):
     """The command's ``FabricationParams``: given whole, or from its keywords (eq. 6)."""
     from origami_cad.fabrication import fabrication_params
@@ -100,15 +51,6 @@ def _params(a):
     if any(v is not None for v in fields.values()):
         raise OptionsError("give either fabrication parameters or their keywords, not both")
     return a.params
-
-
-def _summary(fab) -> str:
-    report = fab.report()
-    return (
-        f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
-        f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
-        f"mass {report['printed_mass_g']:.1f} g as printed ({report['total_mass_g']:.1f} g solid)"
-    )
 
 
 #: The files of a printed sheet (``write_fabrication``, the glTF and the panels' plot), and
@@ -163,30 +105,32 @@ class Fabricate(Command):
         return {f.name: f.default for f in fields if f.default is not dataclasses.MISSING}
 
     def run(self, a) -> Outputs:
-        from origami_cad.fabrication import fabricate, write_fabrication
+        from origami_cad.fabrication import fabricate, fabrication_numbers, write_fabrication
         from origami_cad.viz.fabrication_plots import save_panels_png
         from origami_cad.viz.gltf import write_parts_glb
+        from origami_cad.viz.parts_render import render_fabrication
 
         params = _params(a)
         loaded, warned = self.load(a, a.design)
         fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)), progress=a.progress)
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
-            write_fabrication(fab, stage, slicer=a.slicer)
+            written = write_fabrication(fab, stage, slicer=a.slicer)
             write_parts_glb(fab, stage / "parts.glb")
             save_panels_png(fab, stage / "panels.png")
             images = [(stage / "parts.glb", f"{label}: the printed parts, PLA white, TPU red")]
             images.append((stage / "panels.png", f"{label}: panels, operation regions and holes"))
             if a.renders:
-                images += _render_fabrication(loaded.pattern, fab, stage, label)
+                images += render_fabrication(loaded.pattern, fab, stage, label)
             files = moved(staged(stage), stage, a.folder)
+        summary, numbers = fabrication_numbers(fab, label, written.timings)
         return Outputs(
             files=files,
             images=[(Path(a.folder) / p.name, c) for p, c in images],
-            numbers=_fabrication_numbers(fab, label),
+            numbers=numbers,
             messages=[
                 *warned,
-                _summary(fab),
+                summary,
                 *(f"warning: {w}" for w in fab.warnings),
                 wrote(a.folder, files),
             ],

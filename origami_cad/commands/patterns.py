@@ -162,26 +162,6 @@ class Pattern(Command):
         return result
 
 
-def _placed_states(loaded, ratio: float, frames: int, method: str = "auto"):
-    """The folded states from p = 0 to ``ratio``, each placed on the table, and the
-    warnings of the fold (lines for the user)."""
-    import dataclasses
-    import warnings
-
-    import numpy as np
-
-    from origami_cad.kinematics.placement import place_sequence
-    from origami_cad.simulation.folder import StrainWarning, fold_states
-
-    ratios = np.linspace(0.0, ratio, frames) if frames > 1 else [ratio]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", StrainWarning)
-        states = fold_states(loaded, ratios, method=method)
-    placed = place_sequence(loaded.pattern, [s.coords for s in states])
-    states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
-    return states, [f"warning: {w.message}" for w in caught if w.category is StrainWarning]
-
-
 def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
     """The folded states as ``out``'s format (.fold, .png, .step, .glb or .gif)."""
     import numpy as np
@@ -247,14 +227,15 @@ class Fold(Command):
     )
 
     def run(self, a) -> Outputs:
-        from origami_cad.simulation.folder import fold_notes
+        from origami_cad.simulation.folder import fold_notes, placed_fold_states
 
         outs, ratio = [Path(o) for o in a.outputs], a.ratio
         loaded, warned = self.load(a, a.design)
         kinds = [file_format(out, FOLD_SUFFIXES) for out in outs]
         animated = any(k in (".gif", ".glb") for k in kinds)
         frames = a.frames if a.frames > 1 or not animated else 30
-        states, strained = _placed_states(loaded, ratio, frames, a.method.replace("-", " "))
+        states, strained = placed_fold_states(loaded, ratio, frames, a.method.replace("-", " "))
+        strained = [f"warning: {m}" for m in strained]
         method, strain = states[-1].method, max(s.strain for s in states)
         how = method if method == "closed form" else f"{method}, largest strain {strain:.3g} %"
         end = states[-1].fold_angles if ratio > 0 else None

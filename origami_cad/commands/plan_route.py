@@ -141,11 +141,13 @@ class PlanRoute(Command):
     def write(self, a, loaded, geom, planned, stage: Path, seconds: float) -> list:
         """route.toml, routes.json and the two plots into ``stage``; the routes, verified."""
         from origami_cad.simulation.verify import verify_planned
-        from origami_cad.strings.plan import plan_data, route_toml
+        from origami_cad.strings.plan import plan_data, route_spec
+        from origami_cad.strings.route import dump_route
         from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
 
         names = [f.name for f in self.outputs(a)[0]]
-        text = route_toml(geom, planned[0], _plan_header(a, planned, geom))
+        spec = route_spec(geom, planned[0])
+        text = dump_route(spec, loaded.pattern, header=_plan_header(a, planned, geom))
         (stage / names[0]).write_text(text, encoding="utf-8")
         planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
         with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:

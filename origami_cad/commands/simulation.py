@@ -10,7 +10,7 @@ from origami_cad._fileio import atomic_write
 from origami_cad._toml import json_text
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.commands.pull import MATERIALS, materials_of, robot_materials
-from origami_cad.errors import DesignError, OptionsError, SimulationError
+from origami_cad.errors import DesignError, SimulationError
 
 __all__ = ["GIF_FRAMES", "MATERIALS", "gif_states", "robot_materials"]
 
@@ -37,17 +37,6 @@ def _blocker(text: str) -> tuple[int, float]:
     if not (math.isfinite(degrees) and 0 < degrees <= 180):
         raise ValueError(f"expected EDGE:DEGREES with DEGREES in (0, 180], got {text!r}")
     return int(edge), degrees
-
-
-def _blocker_limits(cp, blockers, source) -> dict[int, float]:
-    limits = {}
-    for edge, degrees in dict(blockers or {}).items():
-        if not 0 <= edge < cp.n_edges or cp.assignments[edge] not in ("M", "V", "F"):
-            raise OptionsError(f"blocker on edge {edge}: not a crease of {source}")
-        if not (math.isfinite(degrees) and 0 < degrees <= 180):
-            raise OptionsError(f"blocker on edge {edge}: the angle must lie in (0, 180] degrees")
-        limits[int(edge)] = float(degrees)
-    return limits
 
 
 def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
@@ -139,8 +128,8 @@ class Simulate(Command):
             return write_pull(self, a, loaded, spec, params, warned)
         from origami_cad.simulation import simulate
 
-        limits = _blocker_limits(cp, a.blockers, a.pattern)
-        kwargs = {"steps": a.steps, "fold_limits": limits or None, "free": a.free}
+        limits = dict(a.blockers or {}) or None  # the library refuses a blocker off a crease
+        kwargs = {"steps": a.steps, "fold_limits": limits, "free": a.free}
         result = simulate(cp, spec, params, design=loaded, progress=a.progress,
                           fixed_panel=a.fixed_panel, **kwargs)  # fmt: skip
         with self.stage(a, loaded) as stage:
@@ -170,25 +159,6 @@ class Simulate(Command):
             ],
             result=result,
         )  # fmt: skip
-
-
-def _arm_scene_numbers(summary: dict[str, Any]) -> list[tuple[str, str]]:
-    """The key numbers of ``arm-scene`` from its summary."""
-    return [
-        ("designed fold range", f"p = 0 .. {summary['designed_fold_ratio_end']:.3f}"),
-        (
-            "simulated tip: distance from P_end at the end",
-            f"{summary['final_distance_from_P_end_mm']:.2f} mm",
-        ),
-        (
-            "simulated tip: largest distance from the designed tip",
-            f"{summary['max_distance_from_designed_tip_mm']:.2f} mm",
-        ),
-        ("states touching the prohibited area", str(summary["states_touching_prohibited_area"])),
-        ("TSA turns to fold it", f"{summary['tsa_turns']:.1f}"),
-        ("largest TSA torque", f"{summary['max_tsa_torque_Nmm']:.3g} N mm"),
-        ("why the folding stops", summary["reason"]),
-    ]
 
 
 def _arm_design(cmd: Command, a):
@@ -221,9 +191,9 @@ class ArmScene(Command):
     def run(self, a) -> Outputs:
         import numpy as np
 
+        from origami_cad.design import arm_scene as scene
         from origami_cad.design import load_task
         from origami_cad.design.arm_route import arm_chain_path
-        from origami_cad.design.arm_scene import arm_scene_metrics, designed_arm_path
         from origami_cad.simulation.string_models import fold_by_strings
         from origami_cad.strings import load_route
         from origami_cad.viz.design_plots import save_arm_scene_png
@@ -233,10 +203,10 @@ class ArmScene(Command):
         spec = load_route(a.route, loaded.pattern)
         result = fold_by_strings(loaded, spec, "simulation", steps=a.steps)
         simulated = arm_chain_path(loaded.tg, result.states, np.asarray(result.p, dtype=float))
-        p_e, designed = designed_arm_path(
+        p_e, designed = scene.designed_arm_path(
             arm_task, loaded.tg, getattr(spec.fabrication, "bias", None)
         )
-        summary = arm_scene_metrics(arm_task, loaded.tg, result, simulated, designed, p_e)
+        summary = scene.arm_scene_metrics(arm_task, loaded.tg, result, simulated, designed, p_e)
         d_end, turns = summary["final_distance_from_P_end_mm"], summary["tsa_turns"]
         peak = summary["max_tsa_torque_Nmm"]
         title = f"tip {d_end:.1f} mm from P_end after {turns:.1f} TSA turns, "
@@ -249,7 +219,7 @@ class ArmScene(Command):
         return Outputs(
             files=files,
             images=[(files[0], "Designed tip path and the printed arm's, folded by its strings")],
-            numbers=_arm_scene_numbers(summary),
+            numbers=scene.arm_scene_numbers(summary),
             messages=[
                 f"the printed arm's tip ends {d_end:.2f} mm from P_end after {turns:.1f} TSA "
                 f"turns (peak torque {peak:.3g} N mm); {result.reason}",

@@ -5,7 +5,7 @@
   gait keyframes) and the parts it carries (``robot_placements``);
 - :mod:`~origami_cad.crawler.design`: the parametric crawler (pattern, routes and robot
   file from design numbers, mm and degrees; the paper's 340 x 320 x 122 mm envelope), its
-  robot file's text in :mod:`~origami_cad.crawler.design_toml`;
+  robot file's comments in :mod:`~origami_cad.crawler.design_notes`;
 - :mod:`~origami_cad.crawler.walk`: the robot walking quasi-statically on the ground
   (bar-and-hinge, stick-slip friction) and its gait as a servo sequence;
 - :mod:`~origami_cad.crawler.gait`: CMA-ES gait search over frictions;

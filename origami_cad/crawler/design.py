@@ -2,7 +2,10 @@
 
 :func:`crawler_files` draws the crawler of ``examples/crawler`` (docs/crawler.md) for the
 design numbers of a :class:`CrawlerDesign` and returns data: the crease pattern, one
-route file's text per leg and the robot file's text. :func:`write_crawler` writes them.
+:class:`~origami_cad.strings.route.RouteSpec` per leg and the
+:class:`~origami_cad.crawler.robot.Robot`. :func:`write_crawler` writes them through the
+formats' one writers (``dump_route``, ``dump_robot``), with the comments of
+:mod:`~origami_cad.crawler.design_notes`.
 ``examples/crawler/make_crawler.py`` is a thin caller: with the default numbers it
 writes the committed ``crawler.fold``, ``route_*.toml`` and ``crawler.toml``.
 
@@ -40,11 +43,13 @@ from pathlib import Path
 
 import numpy as np
 
-from origami_cad._toml import finite_toml
-from origami_cad.crawler.design_toml import robot_text
+from origami_cad._fileio import atomic_write
+from origami_cad.crawler.design_notes import HAND_GAIT, ROBOT_HEADER, robot_notes, route_header
+from origami_cad.crawler.robot import PointMass, Robot, dump_robot, make_leg, with_gait
 from origami_cad.errors import DesignError
 from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.formats.fold import write_fold
+from origami_cad.strings.route import RouteSpec, dump_route, route_from_tables
 
 __all__ = [
     "ENVELOPE",
@@ -56,8 +61,8 @@ __all__ = [
     "crawler_files",
     "crawler_pattern",
     "leg_holes",
+    "leg_route",
     "module_centre",
-    "route_text",
     "shell_for",
     "write_crawler",
 ]
@@ -260,68 +265,63 @@ def module_centre(cp: CreasePattern, label: str) -> tuple[float, float]:
     return float(foot.centroid.x), float(foot.centroid.y)
 
 
-def _fabrication_lines(design: CrawlerDesign) -> list[str]:
-    """A route's ``[fabrication]`` table for a sheet other than the paper's (none for it)."""
-    if design.paper_sheet:
-        return []
-    return [
-        "[fabrication]            # the printed sheet (eq. 6): a thicker TPU crease layer",
-        "height = 2.2",
-        f"thickness = {design.crease_thickness:g}        # mm, t: crease stiffness E t^3 / (12 w)",
-        f"shell = {design.shell:g}            # mm, s < (h - t) / 2",
-        "",
-    ]  # fmt: skip
+def _decimals(value: float, digits: int) -> float:
+    """``value`` rounded to ``digits`` decimals, as the route files give them (mm)."""
+    return float(f"{value:.{digits}f}")
 
 
-def route_text(cp: CreasePattern, design: CrawlerDesign, leg: tuple) -> str:
-    """The route TOML of one leg's TSA (``leg``: a row of ``LEGS``)."""
-    label, servo, name, sx, sy = leg
+def leg_route(cp: CreasePattern, design: CrawlerDesign, leg: tuple) -> RouteSpec:
+    """The route of one leg's TSA (``leg``: a row of ``LEGS``): four strings from the
+    module's exit guide (anchor mm, 3 decimals) down through the leg's holes and up
+    through the body's (mm, 1 decimal), under the mountain crease; the printed sheet's
+    ``[fabrication]`` when it is not the paper's. Checked as a route file is."""
+    label, _, _, sx, sy = leg
     cx, cy = module_centre(cp, label)
     ax = cx - sx * EXIT_OFFSET  # the twist axis points at the body (heading 180 deg front)
-    legs, body = leg_holes(design, sx, sy)
-    lines = [
-        f"# The crawler's {name} leg (servo ID {servo}), written by make_crawler.py.",
-        f"# An onboard TSA module on panel {label} twists four strings; each goes down through",
-        f"# the leg {design.leg_hole:g} mm from the hinge, under the mountain crease (DCQC: "
-        "below a mountain),",
-        f"# up through the body {design.body_hole:g} mm from the hinge, where it is tied.",
-        "[tsa]",
-        'model = "onboard"',
-        f"length = {TSA_LENGTH}           # mm, twisted strands (the module's guide_distance)",
-        f"radius = {TSA_RADIUS}            # mm",
-        f"max_helix_angle = {TSA_HELIX}   # deg",
-        "",
-        *_fabrication_lines(design),
-        "[route]",
-        "thickness = 2.2",
-        "step = 20.0              # deg per quasi-static step",
-        "max_turns = 8",
-        "",
-    ]
-    for (lx, ly), (bx, by) in zip(legs, body, strict=True):
-        lines += [
-            "[[route.strings]]",
-            f'anchor_panel = "{label}"',
-            f"anchor = [{ax:.3f}, {cy:.3f}, {EXIT_HEIGHT}]   # exit guide, mm above the top face",
-            f"holes = [[{lx:.1f}, {ly:.1f}], [{bx:.1f}, {by:.1f}]]",
-            'sides = ["top", "bottom"]',
-            "",
-        ]
-    return finite_toml("\n".join(lines), f"the {label} route file", DesignError)
+    anchor = [_decimals(ax, 3), _decimals(cy, 3), EXIT_HEIGHT]
+    strings = [
+        {"anchor_panel": label, "anchor": anchor, "sides": ["top", "bottom"],
+         "holes": [[_decimals(v, 1) for v in hole] for hole in pair]}
+        for pair in zip(*leg_holes(design, sx, sy), strict=True)
+    ]  # fmt: skip
+    tables: dict = {
+        "tsa": {"model": "onboard", "length": TSA_LENGTH, "radius": TSA_RADIUS,
+                "max_helix_angle": TSA_HELIX},
+        "route": {"thickness": SHEET_HEIGHT, "step": 20.0, "max_turns": 8, "strings": strings},
+    }  # fmt: skip
+    if not design.paper_sheet:
+        tables["fabrication"] = {"height": SHEET_HEIGHT, "thickness": design.crease_thickness,
+                                 "shell": design.shell}  # fmt: skip
+    return route_from_tables(tables, cp, f"the {label} route")
 
 
 @dataclass(frozen=True)
 class CrawlerFiles:
-    """A crawler as data: its design, crease pattern, route texts and robot file text.
+    """A crawler as data: its design, crease pattern, routes and robot.
 
-    ``routes`` maps each route file's name (``route_fl.toml``...) to its TOML text;
-    ``robot`` is ``crawler.toml``'s text, which names ``crawler.fold`` and the routes.
+    ``routes`` maps each route file's name (``route_fl.toml``...) to its
+    :class:`~origami_cad.strings.route.RouteSpec`; ``robot`` is the
+    :class:`~origami_cad.crawler.robot.Robot` of ``crawler.toml``, which names
+    ``crawler.fold`` and the routes; ``notes`` its comments by table and ``headers`` the
+    route files' first lines. :meth:`texts` gives the files' texts.
     """
 
     design: CrawlerDesign
     pattern: CreasePattern
-    routes: dict[str, str]
-    robot: str
+    routes: dict[str, RouteSpec]
+    robot: Robot
+    notes: dict[str, str]
+    headers: dict[str, str]
+
+    def texts(self) -> dict[str, str]:
+        """Each TOML file's text by name: the routes (``dump_route``), then ``crawler.toml``
+        (``dump_robot``)."""
+        out = {
+            name: dump_route(spec, self.pattern, header=self.headers[name])
+            for name, spec in self.routes.items()
+        }
+        out["crawler.toml"] = dump_robot(self.robot, header=ROBOT_HEADER, notes=self.notes)
+        return out
 
 
 def crawler_files(
@@ -345,12 +345,14 @@ def crawler_files(
         the blocker); ``None`` checks nothing (``examples/crawler`` as built is 349 mm
         long at its 20 deg rest, over the paper's 340 mm).
     header : str, optional
-        The robot file's first comment lines (default: ``examples/crawler``'s).
+        The comment lines before the robot file's gait (default: ``examples/crawler``'s).
 
     Raises
     ------
     DesignError
         The design is past ``envelope``, naming the dimension, the fold and the limit.
+    SimulationError
+        The gait folds a leg past the blockers, naming the keyframe and the leg.
     """
     d = design or CrawlerDesign()
     if envelope is not None:
@@ -362,24 +364,36 @@ def crawler_files(
             f"crawler design: leg_hole = {d.leg_hole:g} mm is under the leg's TSA module "
             f"(it starts {near:.1f} mm from the hinge)"
         )
-    routes = {f"route_{leg[0][4:]}.toml": route_text(cp, d, leg) for leg in LEGS}
-    servos = []
-    for label, servo, name, sx, _ in LEGS:
+    routes, headers, legs = {}, {}, []
+    masses = [PointMass("driver module", "body", (0.0, 0.0), 109.71)]
+    for leg in LEGS:
+        label, servo, name, sx, _ = leg
+        file = f"route_{label[4:]}.toml"
+        routes[file] = leg_route(cp, d, leg)
+        headers[file] = route_header(d, name, servo, label)
+        legs.append(make_leg(cp, "body", label, routes[file], servo, name, file))
         cx, cy = module_centre(cp, label)
-        servos.append((label, servo, name, (round(cx + sx * SERVO_BEHIND), round(cy))))
-    text = robot_text(d, servos, module_centre(cp, "leg_fl"), gait, header)
-    return CrawlerFiles(d, cp, routes, text)
+        at = (float(round(cx + sx * SERVO_BEHIND)), float(round(cy)))
+        masses.append(PointMass(f"servo {name}", label, at, 18.0))
+    holes = tuple(dict.fromkeys(p for r in routes.values() for s in r.strings for p in s.points))
+    times, ratios = HAND_GAIT if gait is None else gait
+    robot = Robot(cp, "body", tuple(legs), float(d.blocker_angle), 0.6, holes, tuple(masses),
+                  (0.0, 0.0), 0.0, times, ratios, None, Path("crawler.fold"))  # fmt: skip
+    robot = with_gait(robot, times, ratios, where="the crawler's gait")
+    notes = robot_notes(d, module_centre(cp, "leg_fl"), gait is None, header)
+    return CrawlerFiles(d, cp, routes, robot, notes, headers)
 
 
 def write_crawler(files: CrawlerFiles, folder: str | os.PathLike[str]) -> Path:
-    """Write ``crawler.fold``, the routes and ``crawler.toml`` into ``folder``; the robot
-    file's path."""
+    """Write ``crawler.fold``, the routes and ``crawler.toml`` into ``folder`` (each file
+    whole or not at all); the robot file's path."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
+    texts = files.texts()  # every text first: a refused value writes nothing
     write_fold(files.pattern, out / "crawler.fold")
-    for name, text in files.routes.items():
-        (out / name).write_text(text, encoding="utf-8")
-    (out / "crawler.toml").write_text(files.robot, encoding="utf-8")
+    for name, text in texts.items():
+        with atomic_write(out / name, "w", encoding="utf-8") as fh:
+            fh.write(text)
     return out / "crawler.toml"
 
 

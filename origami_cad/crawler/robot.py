@@ -45,6 +45,7 @@ __all__ = [
     "leg_key",
     "load_gait",
     "load_robot",
+    "make_leg",
     "robot_placements",
     "with_gait",
 ]
@@ -118,6 +119,34 @@ def _shared_crease(cp: CreasePattern, a: int, b: int) -> int | None:
     hit = np.flatnonzero(((ef[:, 0] == a) & (ef[:, 1] == b)) | ((ef[:, 0] == b) & (ef[:, 1] == a)))
     hit = [int(e) for e in hit if cp.assignments[e] in ("M", "V")]
     return hit[0] if len(hit) == 1 else None
+
+
+def make_leg(
+    cp: CreasePattern,
+    body: str,
+    panel: str,
+    route: RouteSpec,
+    servo: int,
+    name: str | None = None,
+    route_path: str | os.PathLike[str] | None = None,
+) -> Leg:
+    """The :class:`Leg` on panel ``panel`` of ``cp``, hinged to panel ``body`` by the one
+    crease they share, folded by ``route`` (an onboard TSA) on servo ID ``servo``;
+    ``name`` defaults to the panel label, ``route_path`` is the route file
+    :func:`dump_robot` names (a relative path is written as it is). Raises
+    :class:`SimulationError` naming the panel that is not a leg of ``body``."""
+    labels = cp.face_labels
+    for label in (panel, body):
+        if label not in labels:
+            raise SimulationError(f"leg {panel!r}: no panel labelled {label!r}")
+    face = cp.face_index(panel)
+    crease = _shared_crease(cp, face, cp.face_index(body))
+    if crease is None:
+        raise SimulationError(f"leg {panel!r}: it does not share one crease with {body!r}")
+    if route.tsa.model != "onboard":
+        raise SimulationError(f"leg {panel!r}: a leg's TSA must be onboard")
+    where = None if route_path is None else Path(route_path)
+    return Leg(panel, face, crease, route, int(servo), name or panel, where)
 
 
 def _robot_pattern(p: Path, robot: Table) -> tuple[CreasePattern, Path, str]:
@@ -375,25 +404,53 @@ def load_gait(path: str | os.PathLike[str], robot: Robot) -> Robot:
 
 
 def _relative(path: Path | None, folder: Path, what: str) -> str:
+    """``path`` relative to ``folder`` (a relative ``path`` is taken as it is)."""
     if path is None:
         raise SimulationError(f"the robot's {what} has no file to name")
+    if not Path(path).is_absolute():
+        return Path(path).as_posix()
     return Path(os.path.relpath(path, folder)).as_posix()
 
 
+#: The tables :func:`dump_robot` may put a note before, in the file's order.
+NOTE_TABLES = ("robot", "fabrication", "leg", "mass", "adapter", "gait")
+
+
+def _note(notes: dict[str, str] | None, table: str) -> list[str]:
+    """The comment lines before the first ``table``: each line of its note after ``# ``."""
+    text = (notes or {}).get(table)
+    return [f"# {line}".rstrip() for line in text.splitlines()] if text else []
+
+
 def dump_robot(
-    robot: Robot, folder: str | os.PathLike[str] | None = None, *, header: str = ""
+    robot: Robot,
+    folder: str | os.PathLike[str] | None = None,
+    *,
+    header: str = "",
+    notes: dict[str, str] | None = None,
 ) -> str:
-    """A robot file (TOML text) of ``robot`` that :func:`load_robot` reads back.
+    """A robot file (TOML text) of ``robot`` that :func:`load_robot` reads back: the robot
+    format's one writer.
 
     The pattern and route files are named relative to ``folder``, where the robot file
-    goes (default: the folder it was read from); lengths mm, angles deg, masses g.
-    The ``[fabrication]`` holes are written only when they are not the routes' holes.
+    goes (default: the folder it was read from; a relative path is written as it is);
+    lengths mm, angles deg, masses g, times s. The ``[fabrication]`` holes are written
+    only when they are not the routes' holes. ``header`` (comment lines, ``#`` and all)
+    opens the file; ``notes`` maps a table of :data:`NOTE_TABLES` to the comment put
+    before its first table (plain text, each line written after ``# ``).
 
     >>> robot = load_robot("examples/crawler/crawler.toml")
-    >>> text = dump_robot(robot)
+    >>> text = dump_robot(robot, notes={"gait": "one 32 s cycle"})
     >>> 'pattern = "crawler.fold"' in text and 'route = "route_fl.toml"' in text
     True
+    >>> "# one 32 s cycle\\n[gait]" in text
+    True
     """
+    unknown = set(notes or {}) - set(NOTE_TABLES)
+    if unknown:
+        raise SimulationError(
+            f"robot file notes: no table {sorted(unknown)[0]!r} (one of {', '.join(NOTE_TABLES)})"
+        )
     base = Path(folder) if folder is not None else (robot.source or Path("x")).parent
     base = base.resolve()
     lines = [header.rstrip("\n")] if header else []
@@ -403,25 +460,32 @@ def dump_robot(
         "blocker_angle": float(robot.blocker_angle),
         "friction": float(robot.friction),
     }
-    lines += toml_table("robot", head, comments={"blocker_angle": "deg"})
+    lines += [*_note(notes, "robot"), *toml_table("robot", head, comments={"blocker_angle": "deg"})]
     routed = tuple(
         dict.fromkeys(p for leg in robot.legs for s in leg.route.strings for p in s.points)
     )
     if tuple(robot.holes) != routed:
-        holes = [list(h) for h in robot.holes]
-        lines += ["", *toml_table("fabrication", {"holes": holes}, comments={"holes": "mm"})]
-    for leg in robot.legs:
+        holes = {"holes": [list(h) for h in robot.holes]}
+        lines += ["", *_note(notes, "fabrication")]
+        lines += toml_table("fabrication", holes, comments={"holes": "mm"})
+    elif _note(notes, "fabrication"):  # the note alone: why there is no holes list
+        lines += ["", *_note(notes, "fabrication")]
+    for k, leg in enumerate(robot.legs):
         route = _relative(leg.route_path, base, f"leg {leg.name!r}'s route")
         table = {"panel": leg.panel, "route": route, "servo": leg.servo, "name": leg.name}
-        lines += ["", *toml_table("leg", table, array=True)]
-    for m in robot.masses:
+        note = _note(notes, "leg") if k == 0 else []
+        lines += ["", *note, *toml_table("leg", table, array=True)]
+    for k, m in enumerate(robot.masses):
         table = {"name": m.name, "panel": m.panel, "at": list(m.at), "grams": float(m.grams)}
-        lines += ["", *toml_table("mass", table, array=True, comments={"at": "mm"})]
+        note = _note(notes, "mass") if k == 0 else []
+        lines += ["", *note, *toml_table("mass", table, array=True, comments={"at": "mm"})]
     adapter = {"at": list(robot.adapter_at), "heading": float(robot.adapter_heading)}
-    lines += ["", *toml_table("adapter", adapter, comments={"heading": "deg"}), "", "[gait]"]
+    lines += ["", *_note(notes, "adapter"), *toml_table("adapter", adapter,
+              comments={"heading": "deg"})]  # fmt: skip
+    lines += ["", *_note(notes, "gait"), "[gait]"]
     for t, p in zip(robot.gait_t, robot.gait_p, strict=True):
         frame = {"t": float(t), "p": [float(v) for v in p]}
-        lines += toml_table("gait.keyframe", frame, array=True)
+        lines += toml_table("gait.keyframe", frame, array=True, comments={"t": "s"})
     return finite_toml("\n".join(lines) + "\n", "the robot file", SimulationError)
 
 

@@ -13,7 +13,7 @@ from origami_cad.design.predicates import touches_area
 from origami_cad.kinematics.chain import chain_points
 from origami_cad.kinematics.limits import reachable_fold_angle
 
-__all__ = ["arm_scene_metrics", "designed_arm_path"]
+__all__ = ["arm_scene_metrics", "arm_scene_numbers", "designed_arm_path"]
 
 
 def designed_arm_path(task, tg, bias: float | None = None) -> tuple[float, np.ndarray]:
@@ -133,3 +133,23 @@ def arm_scene_metrics(task, tg, result, simulated, designed, p_e: float) -> dict
         "simulated_tip_mm": tips.tolist(),
         "designed_tip_mm": designed[:, -1].tolist(),
     }
+
+
+def arm_scene_numbers(summary: dict[str, Any]) -> list[tuple[str, str]]:
+    """The key numbers of an arm scene (labels and values: mm, N mm, turns) from the
+    summary of :func:`arm_scene_metrics`."""
+    return [
+        ("designed fold range", f"p = 0 .. {summary['designed_fold_ratio_end']:.3f}"),
+        (
+            "simulated tip: distance from P_end at the end",
+            f"{summary['final_distance_from_P_end_mm']:.2f} mm",
+        ),
+        (
+            "simulated tip: largest distance from the designed tip",
+            f"{summary['max_distance_from_designed_tip_mm']:.2f} mm",
+        ),
+        ("states touching the prohibited area", str(summary["states_touching_prohibited_area"])),
+        ("TSA turns to fold it", f"{summary['tsa_turns']:.1f}"),
+        ("largest TSA torque", f"{summary['max_tsa_torque_Nmm']:.3g} N mm"),
+        ("why the folding stops", summary["reason"]),
+    ]

@@ -2,8 +2,10 @@
 
 from origami_cad.fabrication.build import (
     Fabrication,
+    FabricationFiles,
     build_fabrication,
     fabricate,
+    fabrication_numbers,
     write_fabrication,
 )
 from origami_cad.fabrication.panels import (

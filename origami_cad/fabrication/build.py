@@ -7,7 +7,7 @@ import logging
 import math
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -38,8 +38,10 @@ log = logging.getLogger(__name__)
 
 __all__ = [
     "Fabrication",
+    "FabricationFiles",
     "build_fabrication",
     "fabricate",
+    "fabrication_numbers",
     "write_fabrication",
 ]
 
@@ -276,10 +278,25 @@ def fabricate(
     return fab
 
 
-def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], float]:
-    """``write(fab, out)`` and the seconds it took."""
-    t0 = time.perf_counter()
-    return write(fab, out), time.perf_counter() - t0
+@dataclass(frozen=True)
+class FabricationFiles(Mapping):
+    """What :func:`write_fabrication` wrote: ``{key: path}`` (``files["3mf"]``, ``files["json"]``,
+    one key per part's STL...) and what it measured, ``timings`` (s per export format, in
+    the registry's order), and the ``slicer`` ``print.3mf`` is laid out for. The
+    :class:`Fabrication` it wrote is left as it was."""
+
+    paths: dict[str, Path]
+    timings: dict[str, float]
+    slicer: str
+
+    def __getitem__(self, key: str) -> Path:
+        return self.paths[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.paths)
+
+    def __len__(self) -> int:
+        return len(self.paths)
 
 
 @checked(
@@ -290,11 +307,13 @@ def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], f
 )
 def write_fabrication(
     fab: Fabrication, folder: str | os.PathLike[str], slicer: str | None = None
-) -> dict[str, Path]:
+) -> FabricationFiles:
     """Write the four STLs, ``assembly.step``, ``print.3mf``, ``fabrication.json`` and a FOLD.
 
     ``slicer`` (``"prusa"``, ``"bambu"`` or ``"orca"``; default :attr:`Fabrication.slicer`)
     is the slicer ``print.3mf`` is laid out for. Each file is written whole or not at all.
+    ``fab`` is not changed: the export times (s) go into ``fabrication.json``'s
+    ``timings_s`` beside the build's and into the returned :class:`FabricationFiles`.
 
     Every format is written here, in this process: a forked writer beside the others (tried
     for the STEP) hangs when OCC's thread pool is running in the parent (the child waits for
@@ -304,10 +323,11 @@ def write_fabrication(
     from origami_cad.fabrication.slicer import SLICERS
     from origami_cad.pattern.formats.fold import write_fold
 
-    if slicer is not None:
-        if slicer not in SLICERS:
-            raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
-        fab.slicer = slicer
+    if slicer is not None and slicer not in SLICERS:
+        raise FabricationError(f"slicer must be one of {', '.join(SLICERS)}, got {slicer!r}")
+    # the writers read the slicer and the report the timings from a copy: fab stays as given
+    written_fab = dataclasses.replace(fab, slicer=slicer or fab.slicer, timings=dict(fab.timings))
+    written_fab._sheet = fab._sheet
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
@@ -317,12 +337,50 @@ def write_fabrication(
     except OSError as exc:
         raise OutputError(f"{folder}: cannot make this folder ({exc.strerror})") from None
     written: dict[str, dict[str, Path]] = {}
+    timings: dict[str, float] = {}
     for fmt, write in WRITERS.items():
-        written[fmt], fab.timings[fmt] = _timed_write(write, fab, out)
+        written[fmt], timings[fmt] = _timed_write(write, written_fab, out)
+    written_fab.timings.update(timings)
     paths = {key: path for fmt in WRITERS for key, path in written[fmt].items()}
     paths["fold"] = write_fold(fab.pattern_with_holes, out / "pattern_with_holes.fold")
     paths["json"] = out / "fabrication.json"
-    text = json_text(fab.report(), str(paths["json"]), FabricationError, indent=1)
+    text = json_text(written_fab.report(), str(paths["json"]), FabricationError, indent=1)
     with atomic_write(paths["json"], "w", encoding="utf-8") as fh:
         fh.write(text)
-    return paths
+    return FabricationFiles(paths, timings, written_fab.slicer)
+
+
+def _timed_write(write, fab: Fabrication, out: Path) -> tuple[dict[str, Path], float]:
+    """``write(fab, out)`` and the seconds it took."""
+    t0 = time.perf_counter()
+    return write(fab, out), time.perf_counter() - t0
+
+
+def fabrication_numbers(
+    fab: Fabrication, name: str = "", exports: Mapping[str, float] | None = None
+) -> tuple[str, list[tuple[str, str]]]:
+    """What a fabrication tells its user: one summary line (panels, holes, eq. 6's
+    ``theta_max`` deg and ``p_max`` %, the mass as printed and as solid, g) and the key
+    numbers, each label prefixed by ``name`` (volumes cm3, masses g, the build's time plus
+    ``exports``' seconds, e.g. :attr:`FabricationFiles.timings`)."""
+    report = fab.report()
+    summary = (
+        f"{report['panels']} panels, {len(fab.holes)} holes; theta_max = "
+        f"{report['theta_max_deg']:.1f} deg, p_max = {100 * report['p_max']:.1f} %; "
+        f"mass {report['printed_mass_g']:.1f} g as printed ({report['total_mass_g']:.1f} g solid)"
+    )
+    vols = ", ".join(f"{n} {v['volume_mm3'] / 1000:.2f} cm3" for n, v in report["parts"].items())
+    limits = f"{report['theta_max_deg']:.1f} deg, {100 * report['p_max']:.1f} %"
+    numbers = [
+        (f"{name}: panels / holes", f"{report['panels']} / {len(fab.holes)}"),
+        (f"{name}: theta_max, p_max (eq. 6)", limits),
+        (f"{name}: volumes", vols),
+        (f"{name}: mass estimate", f"{report['total_mass_g']:.1f} g"),  # as solid
+        (f"{name}: mass as printed (the 3MF's settings)", f"{report['printed_mass_g']:.1f} g"),
+    ]
+    if fab.limits.p_max_kinematic is not None:
+        kinematic = f"{100 * fab.limits.p_max_kinematic:.1f} %"
+        numbers.append((f"{name}: p_max of the folded structure (legs first)", kinematic))
+    seconds = sum(fab.timings.values()) + sum((exports or {}).values())
+    numbers.append((f"{name}: build + export time", f"{seconds:.1f} s"))
+    return summary, numbers

@@ -38,6 +38,7 @@ at the edges, radians inside.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 
@@ -69,6 +70,7 @@ __all__ = [
     "fold_general",
     "fold_notes",
     "fold_states",
+    "placed_fold_states",
 ]
 
 #: Above this largest edge strain (percent) a fold warns: the panels stretch visibly, the
@@ -181,6 +183,28 @@ def fold_states(
     if method == "closed form":
         return fold_sequence(design, values)
     return fold_general(design.pattern, values, params=params)
+
+
+def placed_fold_states(
+    design: Design | CreasePattern, ratio: float, frames: int = 1, method: str = "auto"
+) -> tuple[list[FoldedState], list[str]]:
+    """The folding of ``design`` from p = 0 to ``ratio`` in ``frames`` evenly spaced states
+    (one: ``ratio`` alone), each placed on the table (mm), and what the fold warns of
+    (the messages of :class:`StrainWarning`: the panels stretch past :data:`STRAIN_LIMIT` %),
+    as ``fold`` gives them to a user. ``method`` as :func:`fold_states`'."""
+    import warnings
+
+    from origami_cad.kinematics.placement import place_sequence
+
+    if isinstance(design, CreasePattern):
+        design = Design(design, None, "file")
+    ratios = np.linspace(0.0, ratio, frames) if frames > 1 else [ratio]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", StrainWarning)
+        states = fold_states(design, ratios, method=method)
+    placed = place_sequence(design.pattern, [s.coords for s in states])
+    states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
+    return states, [str(w.message) for w in caught if w.category is StrainWarning]
 
 
 def _ratio(p) -> float:

@@ -49,8 +49,6 @@ from typing import Any
 import numpy as np
 
 from origami_cad._args import Arg, brief_value, check_number, check_numbers, checked
-from origami_cad._names import one_line, toml_string
-from origami_cad._toml import finite_toml
 from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.kinematics.folding import PathDesign, fold_design
@@ -73,7 +71,7 @@ from origami_cad.strings.plan_search import (
     string_pool,
     string_sets,
 )
-from origami_cad.strings.route import TOP, RouteSpec
+from origami_cad.strings.route import RouteSpec
 
 __all__ = [
     "DEFAULT_CREASE_STIFFNESS",
@@ -91,7 +89,6 @@ __all__ = [
     "plan_numbers",
     "plan_routes",
     "route_spec",
-    "route_toml",
     "run_tasks",
     "string_curves",
     "target_ratio",
@@ -300,7 +297,9 @@ def fewest_strings(
 
 
 def route_spec(geom: PlanGeometry, planned: PlannedRoute) -> RouteSpec:
-    """The planned route as a :class:`RouteSpec`, with the settings :func:`route_toml` writes."""
+    """The planned route as a :class:`RouteSpec`, with the settings its route file keeps
+    (``dump_route`` writes it): the turns a quarter more than planned, ``p_max`` the target
+    when it is below the fold limit, an onboard TSA's panel held."""
     return RouteSpec(
         tsa=geom.placement.tsa,
         strings=planned.strings,
@@ -354,43 +353,6 @@ def _full_dcqc(design, geom, settings, route: PlannedRoute) -> dict[str, Any]:
         "reaches_target": bool(res.stop in stops and res.p[-1] >= geom.target_p - 1e-3),
         "segments_cutting_panels": len(res.cutting),
     }
-
-
-def route_toml(geom: PlanGeometry, planned: PlannedRoute, header: str = "") -> str:
-    """The route file (TOML text, ``docs/strings.md``) of a planned route.
-
-    Holes are written as points (mm) with their panel in a comment, sides explicitly
-    (they follow the DCQC rule); ``[fabrication]`` states the printed sheet, so both
-    string models stop at its eq. 6 limit, and ``p_max`` the target when it is below.
-    """
-    spec = route_spec(geom, planned)
-    tsa = spec.tsa
-    lines = [header.rstrip("\n")] if header else []
-    lines += ["[tsa]", f'model = "{tsa.model}"']
-    if tsa.model == "ring":
-        lines += [f"d1 = {tsa.d1:g}", f"d2 = {tsa.d2:g}", f"string_width = {tsa.string_width:g}"]
-    else:
-        lines += [f"length = {tsa.length:g}", f"radius = {tsa.radius:g}"]
-        lines.append(f"max_helix_angle = {tsa.max_helix_angle:g}")
-    fab = geom.fabrication
-    lines += ["", "[fabrication]", f"bias = {fab.bias:g}", f"height = {fab.height:g}"]
-    lines += [f"thickness = {fab.thickness:g}", f"midlayer_bias = {fab.midlayer_bias:g}", ""]
-    lines += ["[route]", f"thickness = {spec.thickness:g}", "take_up = 0.1", "step = 180.0"]
-    lines.append(f"max_turns = {spec.max_turns:g}")
-    if spec.p_max is not None:
-        lines.append(f"p_max = {spec.p_max:.6f}")
-    if spec.fixed_panel:
-        lines.append(f"fixed_panel = {toml_string(spec.fixed_panel)}")
-    for s in spec.strings:
-        lines += ["", "[[route.strings]]"]
-        if s.anchor_face >= 0:
-            lines.append(f"anchor_panel = {toml_string(geom.labels[s.anchor_face])}")
-        lines.append("anchor = [" + ", ".join(f"{v:.4f}" for v in s.anchor) + "]")
-        holes = ", ".join(f"[{x:.4f}, {y:.4f}]" for x, y in s.points)
-        lines.append(f"holes = [{holes}]  # panels {one_line(', '.join(s.names))}")
-        sides = ", ".join('"top"' if v == TOP else '"bottom"' for v in s.sides)
-        lines.append(f"sides = [{sides}]  # DCQC: above valleys, below mountains")
-    return finite_toml("\n".join(lines) + "\n", "the planned route file", StringsError)
 
 
 def plan_numbers(planned, geom: PlanGeometry, seconds: float, cpu: float) -> list[tuple[str, str]]:

@@ -284,7 +284,7 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
     the route format's one writer.
 
     Every value is written as the spec holds it (lengths mm, angles deg): the holes as
-    their points (with their names in a comment: an automatic hole keeps its place,
+    their points (with their panels in a comment: an automatic hole keeps its place,
     whatever the hole diameter), the sides explicitly, the anchor's panel by its label.
 
     Examples
@@ -330,7 +330,8 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
             "holes": [list(p) for p in s.points],
             "sides": ["top" if v == TOP else "bottom" for v in s.sides],
         }
-        panels = f"panels {', '.join(s.names)}"
+        names = [cp.face_labels[f] if f >= 0 else n for f, n in zip(s.faces, s.names, strict=True)]
+        panels = f"panels {', '.join(names)}"
         lines += ["", *toml_table("route.strings", table, array=True, comments={"holes": panels})]
     return finite_toml("\n".join(lines) + "\n", "the route file", StringsError)
 

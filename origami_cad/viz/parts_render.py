@@ -11,7 +11,7 @@ import numpy as np
 from origami_cad._fileio import atomic_path
 from origami_cad.viz.render3d import import_pyvista, offscreen_plotter
 
-__all__ = ["PART_COLORS", "render_parts"]
+__all__ = ["PART_COLORS", "fabrication_section", "render_fabrication", "render_parts"]
 
 #: Display colour of each part: PLA white/cream, TPU red.
 PART_COLORS = {
@@ -102,3 +102,35 @@ def render_parts(
         with atomic_path(path) as tmp:
             plotter.screenshot(str(tmp))
     return Path(path)
+
+
+def fabrication_section(cp, height: float) -> dict:
+    """The section :func:`render_parts` cuts to show a crease (Fig. 4e): perpendicular to
+    ``cp``'s first main crease, through its middle, at half the panels' ``height`` (mm)."""
+    main = [e for e in range(cp.n_edges) if cp.assignments[e] in "MV"]
+    a, b = cp.vertices[cp.edges[main[0]]]
+    mid = (a + b) / 2
+    direction = (b - a) / max(float(((b - a) ** 2).sum()) ** 0.5, 1e-12)
+    return {
+        "mode": "section",
+        "section_origin": (float(mid[0]), float(mid[1]), height / 2),
+        "section_normal": (float(direction[0]), float(direction[1]), 0.0),
+    }
+
+
+def render_fabrication(
+    cp, fab, folder: str | os.PathLike[str], name: str
+) -> list[tuple[Path, str]]:
+    """``assembled.png``, ``exploded.png`` and ``section.png`` of a fabrication's four
+    STLs, already written into ``folder``; each picture's path and caption (``name`` first)."""
+    out = Path(folder)
+    stls = {n: out / f"{n}.stl" for n in ("infills", "midlayers", "shells", "creases")}
+    shots = [
+        (out / "assembled.png", {}, f"{name}: assembled"),
+        (out / "exploded.png", {"mode": "exploded"}, f"{name}: the four STLs"),
+        (out / "section.png", fabrication_section(cp, fab.params.height),
+         f"{name}: section across a crease (Fig. 4e)"),
+    ]  # fmt: skip
+    for path, kwargs, title in shots:
+        render_parts(stls, path, title=title, **kwargs)
+    return [(p, t) for p, _, t in shots]
