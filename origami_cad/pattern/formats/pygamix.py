@@ -40,6 +40,7 @@ import numpy as np
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats.pygamix_kl import KLRows, kl_rows
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = ["LINE_TYPES", "read_pygamix"]
@@ -50,6 +51,8 @@ _REFUSED = {4: "a hole's outline", 5: "a hinge hole"}
 #: Hole diameter when the file gives none, mm.
 DEFAULT_HOLE_DIAMETER = 2.0
 _MAX_ITEMS = 200_000
+#: Most rows (``setting.copy_time``) of a generated piece.
+_MAX_COPIES = 1000
 
 
 def _fail(where: str, what: str) -> PatternError:
@@ -144,19 +147,61 @@ def _description(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.
     return cp, _faces(cp, centres, where), holes, DEFAULT_HOLE_DIAMETER
 
 
-def _editable(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.ndarray, float]:
+def _kl_piece(piece: dict, k: int, setting: dict, where: str) -> KLRows:
+    """A ``"kl"`` piece drawn as PyGamiX draws it (:mod:`.pygamix_kl`), mm."""
+    key = f"origami[{k}]"
+    if piece.get("add_width", False) is not False:
+        raise _fail(where, f"{key}.add_width true (a width bias) is not supported")
+    if setting.get("enable_connection", False) is not False:
+        raise _fail(where, "setting.enable_connection true (connection flaps) is not supported")
+    entries = piece.get("data")
+    if not isinstance(entries, list) or not entries or len(entries) > _MAX_ITEMS:
+        raise _fail(where, f"{key}.data must be a non-empty list of [length, angle]")
+    rows = []
+    for i, e in enumerate(entries):
+        if not isinstance(e, list) or len(e) != 2:
+            raise _fail(where, f"{key}.data[{i}] must be [length, angle] (mm, radians)")
+        length, angle = (_number(v, where, f"{key}.data[{i}]") for v in e)
+        if length <= 0:
+            raise _fail(where, f"{key}.data[{i}]: the length must be > 0 mm")
+        if rows and abs(math.cos((angle - rows[-1][1]) / 2)) < 1e-9:
+            raise _fail(where, f"{key}.data[{i}] turns by 180 degrees, which is not supported")
+        rows.append([length, angle])
+    tsp = _points([piece.get("tsp", [0, 0])], where, f"{key}.tsp")[0]
+    width = _number(setting.get("unit_width"), where, "setting.unit_width")
+    copies = setting.get("copy_time", 1)
+    flag = setting.get("entry_flag", 0)
+    if width <= 0:
+        raise _fail(where, "setting.unit_width must be > 0 mm")
+    _index(copies, where, "setting.copy_time", _MAX_COPIES + 1, low=1)
+    _index(flag, where, "setting.entry_flag", 2)
+    if len(rows) * copies > _MAX_ITEMS:
+        raise _fail(where, f"{key}: more than {_MAX_ITEMS} segments in all rows")
+    return kl_rows(rows, (float(tsp[0]), float(tsp[1])), width, copies, flag == 1)
+
+
+def _pieces(data: dict, where: str) -> tuple[CreasePattern, np.ndarray | None]:
+    """The pattern of all pieces; the panels' corners when all are generated, else None."""
     pieces = data.get("origami")
     if not isinstance(pieces, list) or not pieces:
         raise _fail(where, "origami must be a non-empty list of pieces")
-    all_ends, all_letters = [], []
+    setting = data.get("setting") or {}
+    if not isinstance(setting, dict):
+        raise _fail(where, "setting must be an object")
+    all_ends, all_letters, panels = [], [], []
     for k, piece in enumerate(pieces):
         kind = piece.get("type") if isinstance(piece, dict) else None
+        if kind == "kl":
+            rows = _kl_piece(piece, k, setting, where)
+            all_ends.append(rows.ends)
+            all_letters += rows.letters
+            panels.append(rows.panels)
+            continue
         if kind != "dxf":
             raise _fail(
                 where,
-                f"origami[{k}] is a {printable(repr(kind), 20)} piece (units PyGamiX generates "
-                "from its own parameters), which is not supported; only 'dxf' pieces are read: "
-                "save the design's system description (descriptionData) from PyGamiX instead",
+                f"origami[{k}] is a {printable(repr(kind), 20)} piece, which is not supported "
+                "(only 'dxf' and 'kl' pieces are read)",
             )
         body = piece.get("data")
         if not isinstance(body, dict) or not isinstance(body.get("lines_type"), list):
@@ -166,6 +211,35 @@ def _editable(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.nda
         all_ends.append(ends + shift)
         all_letters += letters
     cp = _pattern(np.concatenate(all_ends), all_letters, where)
+    return cp, np.concatenate(panels) if len(panels) == len(pieces) else None
+
+
+def _kl_holes(
+    first: dict[int, np.ndarray], data: dict, panels: np.ndarray, where: str
+) -> np.ndarray:
+    """Each generated panel's hole: its ``util.hole_axis`` point, else the weighted sum of
+    its corners (``contributions``), else their mean, mm."""
+    n = len(panels)
+    beyond = [u for u in first if u >= n]
+    if beyond:
+        raise _fail(where, f"util.hole_axis places a hole on panel {beyond[0]} of {n}")
+    weights = data.get("contributions")
+    holes = np.zeros((n, 2))
+    for u in range(n):
+        if u in first:
+            holes[u] = first[u]
+            continue
+        w = weights[u] if isinstance(weights, list) and len(weights) == n else None
+        if isinstance(w, list) and len(w) == 4:
+            wv = np.array([_number(v, where, f"contributions[{u}]") for v in w])
+            holes[u] = wv @ panels[u] if wv.sum() > 0 else panels[u].mean(axis=0)
+        else:
+            holes[u] = panels[u].mean(axis=0)
+    return holes
+
+
+def _editable(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.ndarray, float]:
+    cp, panels = _pieces(data, where)
     axis = (data.get("util") or {}).get("hole_axis", [])
     if not isinstance(axis, list):
         raise _fail(where, "util.hole_axis must be a list")
@@ -176,11 +250,14 @@ def _editable(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.nda
         point = _points([entry[0]], where, f"util.hole_axis[{i}]")[0]
         panel = _index(entry[1], where, f"util.hole_axis[{i}] panel", _MAX_ITEMS)
         first.setdefault(panel, point)
-    n = max(first, default=-1) + 1
-    missing = [u for u in range(n) if u not in first]
-    if missing:
-        raise _fail(where, f"util.hole_axis places no hole on panel {missing[0]}")
-    holes = np.array([first[u] for u in range(n)]).reshape(-1, 2)
+    if panels is not None:
+        holes = _kl_holes(first, data, panels, where)
+    else:
+        n = max(first, default=-1) + 1
+        missing = [u for u in range(n) if u not in first]
+        if missing:
+            raise _fail(where, f"util.hole_axis places no hole on panel {missing[0]}")
+        holes = np.array([first[u] for u in range(n)]).reshape(-1, 2)
     size = (data.get("setting") or {}).get("hole_size", DEFAULT_HOLE_DIAMETER)
     diameter = _number(size, where, "setting.hole_size")
     if diameter <= 0:
