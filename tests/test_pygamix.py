@@ -131,10 +131,14 @@ def test_bad_tendons_name_the_key(tmp_path: Path, extra, match) -> None:
         read_pattern(_design(tmp_path, [2, 2, 2, 2, 0], **extra))
 
 
-def test_cli_checks_a_description_and_refuses_a_generated_piece() -> None:
+def test_cli_checks_a_description_and_refuses_an_unknown_piece(tmp_path: Path) -> None:
     run = [sys.executable, "-m", "origami_cad.cli", "check"]
     ok = subprocess.run([*run, str(MOUNTAIN)], capture_output=True, text=True, check=False)
     assert ok.returncode == 0 and "0 errors" in ok.stdout
-    bad = DATA / "packedImport" / "miura-120.json"
+    data = json.loads((DATA / "packedImport" / "miura-120.json").read_text())
+    data["origami"][0]["type"] = "lean"
+    bad = tmp_path / "lean.json"
+    bad.write_text(json.dumps(data))
     out = subprocess.run([*run, str(bad)], capture_output=True, text=True, check=False)
     assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1
+    assert "'lean' piece" in out.stderr and "not supported" in out.stderr
