@@ -16,8 +16,17 @@ in one of two JSON forms, both read here as they are:
   placed at ``tsp``; a ``"dxf"`` piece holds ``data.kps``, ``data.lines`` and
   ``data.lines_type``; its panels' holes are ``util.hole_axis`` (``[point, panel,
   enabled]``), its hole size ``setting.hole_size``; strings, anchors and fixed
-  panels as above. Pieces of other types (``"kl"``: units PyGamiX generates from
-  its own parameters) are refused, naming the type.
+  panels as above. A ``"kl"`` piece is a transition graph, ``data`` a list of
+  ``[length, angle]`` (mm, radians), that PyGamiX draws as ``setting.copy_time``
+  Miura rows of ``setting.unit_width`` mm upwards from ``tsp``, the first segment's
+  crease a valley when ``setting.entry_flag`` is 1, else a mountain; it is drawn
+  here as PyGamiX draws it (:mod:`.pygamix_kl`: the joints, their legs clipped where
+  they cross, the rows' ends at 1.57 rad), its panels numbered in PyGamiX's order.
+  A design of ``"kl"`` pieces only may leave a panel out of ``util.hole_axis``: its
+  hole is then ``contributions[u]`` times the panel's corners (their mean without
+  weights). ``add_width`` true (a width bias), ``setting.enable_connection`` true
+  (connection flaps), a turn of 180 degrees and pieces of other types are refused,
+  naming them.
 
 Line types: 0 valley, 1 mountain, 2 border, 3 cut, 6 facet (``F``); 4 (a hole's
 outline) and 5 (a hinge hole) are refused, naming the line. A panel's first hole
