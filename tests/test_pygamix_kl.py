@@ -115,8 +115,11 @@ def _piece(tmp_path: Path, **change) -> Path:
     ("change", "match"),
     [
         ({"piece__type": "lean"}, r"origami\[0\] is a 'lean' piece.*not supported"),
-        ({"piece__add_width": True}, r"origami\[0\]\.add_width.*not supported"),
-        ({"setting__enable_connection": True}, r"setting\.enable_connection.*not supported"),
+        ({"piece__add_width": 1}, r"origami\[0\]\.add_width: 1 is neither true nor false"),
+        (
+            {"setting__enable_connection": True, "setting__con_left_length": -2.0},
+            r"setting\.con_left_length",
+        ),
         ({"piece__data": [[60.0, 0.0], [60.0, math.pi]]}, r"origami\[0\]\.data\[1\] turns by 180"),
         ({"piece__data": [[-1.0, 0.0]]}, r"origami\[0\]\.data\[0\].*> 0 mm"),
         ({"setting__copy_time": 0}, r"setting\.copy_time"),
@@ -128,6 +131,23 @@ def test_what_is_not_drawn_is_refused_in_one_line(tmp_path: Path, change, match)
     with pytest.raises(PatternError, match=match) as err:
         read_pattern(_piece(tmp_path, **change))
     assert "\n" not in str(err.value) and "bad.json" in str(err.value)
+
+
+def test_width_bias_and_connection_flaps_move_and_lengthen_the_rows(tmp_path: Path) -> None:
+    def vertices(**change) -> np.ndarray:
+        path = _piece(tmp_path, util__hole_axis=[], **change)  # holes: the panels' own
+        return read_pattern(path).vertices
+
+    base = vertices()
+    raised = vertices(piece__add_width=True)  # PyGamiX starts it copy_time rows higher
+    assert sorted(map(tuple, raised.round(9))) == sorted(
+        map(tuple, (base + np.array([0, 120])).round(9))
+    )
+    flaps = vertices(setting__enable_connection=True, setting__con_left_length=10.0,
+                     setting__con_right_length=15.0)  # fmt: skip
+    assert np.ptp(flaps[:, 0]) == pytest.approx(np.ptp(base[:, 0]) + 25.0)
+    joint = [tuple(v) for v in flaps.round(9) if v[1] == 60.0 and 0 < v[0] < 140]
+    assert joint == [(100.0, 60.0)]  # the flap lengthens the first segment: 10 + 90 mm
 
 
 def test_cli_checks_and_folds_a_generated_piece(tmp_path: Path) -> None:

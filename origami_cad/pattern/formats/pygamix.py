@@ -24,9 +24,11 @@ in one of two JSON forms, both read here as they are:
   they cross, the rows' ends at 1.57 rad), its panels numbered in PyGamiX's order.
   A design of ``"kl"`` pieces only may leave a panel out of ``util.hole_axis``: its
   hole is then ``contributions[u]`` times the panel's corners (their mean without
-  weights). ``add_width`` true (a width bias), ``setting.enable_connection`` true
-  (connection flaps), a turn of 180 degrees and pieces of other types are refused,
-  naming them.
+  weights). As in PyGamiX, ``add_width`` true starts the piece's rows
+  ``copy_time * unit_width`` above ``tsp``, and ``setting.enable_connection`` true
+  lengthens its first and last segments by ``setting.con_left_length`` and
+  ``con_right_length`` (the connection flaps; their extra holes are not read). A
+  turn of 180 degrees and pieces of other types are refused, naming them.
 
 Line types: 0 valley, 1 mountain, 2 border, 3 cut, 6 facet (``F``); 4 (a hole's
 outline) and 5 (a hinge hole) are refused, naming the line. A panel's first hole
@@ -159,10 +161,6 @@ def _description(data: dict, where: str) -> tuple[CreasePattern, np.ndarray, np.
 def _kl_piece(piece: dict, k: int, setting: dict, where: str) -> KLRows:
     """A ``"kl"`` piece drawn as PyGamiX draws it (:mod:`.pygamix_kl`), mm."""
     key = f"origami[{k}]"
-    if piece.get("add_width", False) is not False:
-        raise _fail(where, f"{key}.add_width true (a width bias) is not supported")
-    if setting.get("enable_connection", False) is not False:
-        raise _fail(where, "setting.enable_connection true (connection flaps) is not supported")
     entries = piece.get("data")
     if not isinstance(entries, list) or not entries or len(entries) > _MAX_ITEMS:
         raise _fail(where, f"{key}.data must be a non-empty list of [length, angle]")
@@ -186,7 +184,22 @@ def _kl_piece(piece: dict, k: int, setting: dict, where: str) -> KLRows:
     _index(flag, where, "setting.entry_flag", 2)
     if len(rows) * copies > _MAX_ITEMS:
         raise _fail(where, f"{key}: more than {_MAX_ITEMS} segments in all rows")
+    if _flag(piece.get("add_width", False), where, f"{key}.add_width"):
+        tsp = tsp + np.array([0.0, copies * width])  # PyGamiX starts such a piece above its rows
+    if _flag(setting.get("enable_connection", False), where, "setting.enable_connection"):
+        # connection flaps: the first and last segments longer, at their own angles
+        left = _number(setting.get("con_left_length"), where, "setting.con_left_length")
+        right = _number(setting.get("con_right_length"), where, "setting.con_right_length")
+        if left < 0 or right < 0:
+            raise _fail(where, "setting.con_left_length and con_right_length must be >= 0 mm")
+        rows = [[left, rows[0][1]], *rows, [right, rows[-1][1]]]
     return kl_rows(rows, (float(tsp[0]), float(tsp[1])), width, copies, flag == 1)
+
+
+def _flag(v: Any, where: str, key: str) -> bool:
+    if not isinstance(v, bool):
+        raise _fail(where, f"{key}: {printable(repr(v), 20)} is neither true nor false")
+    return v
 
 
 def _pieces(data: dict, where: str) -> tuple[CreasePattern, np.ndarray | None]:

@@ -31,8 +31,11 @@ of segments each ``length`` long at the absolute ``angle``. PyGamiX draws it as
 
 The panels are PyGamiX's units, in its order: row by row from ``tsp`` upwards, within
 a row segment by segment, the lower panel before the upper one. Each has four corners,
-in PyGamiX's order: the previous joint's leg foot, its top, this joint's leg top, its
-foot (the weights ``contributions[u]`` of an editable design refer to this order).
+the ends of the legs that bound it, in the order PyGamiX walks its creases (the weights
+``contributions[u]`` of an editable design refer to this order): the lower panel from
+the previous joint's leg top to this joint's leg top, its foot and the previous foot;
+the upper panel from this joint's leg top to the previous top, the previous foot and
+this foot. (Where legs are clipped PyGamiX's panel has more corners, at the clips.)
 
 This module only computes; :mod:`.pygamix` reads the file and checks its values.
 """
@@ -276,6 +279,6 @@ def kl_rows(entries: list[list[float]], tsp: tuple[float, float], unit_width: fl
                     letters.append(letter)
         for a, b in pairwise(joints):
             pa, pb = a.points(), b.points()
-            panels.append((pa[4], pa[2], pb[2], pb[4]))
-            panels.append((pa[5], pa[3], pb[3], pb[5]))
+            panels.append((pa[2], pb[2], pb[4], pa[4]))  # lower
+            panels.append((pb[3], pa[3], pa[5], pb[5]))  # upper
     return KLRows(np.array(ends, dtype=float), letters, np.array(panels, dtype=float))
