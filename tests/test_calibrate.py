@@ -96,3 +96,71 @@ def test_the_calibrated_mountain_materials_give_the_error_the_readme_reports() -
     fit = compare_materials(design, runs, Materials(), calibrated, step=3.0, tendons=(2,))
     assert fit.error == pytest.approx(reported, abs=0.01)
     assert fit.error_before > 3 * fit.error and fit.names == ["1_2.csv", "2_2.csv", "3_2.csv"]
+
+
+#: The structures measured on the same bench as the mountain, not used in its fit:
+#: (runs' folder, design, tendons and holes per tendon, the runs' files and lengths).
+PREDICTED = {
+    "diamond": ("f-diamond-III-acc.json", 41748, [6, 6, 4],
+                {"DMD_2.csv": 7036, "DMD4_2.csv": 8918, "DMD5_2.csv": 8921}),
+    "resch": ("f-resch-50.json", 46415, [9, 9],
+              {"4_2.csv": 14200, "5_2.csv": 14251, "6_2.csv": 14207}),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(PREDICTED))
+def test_the_predicted_structures_are_the_sources_bytes_and_route(name: str) -> None:
+    import json
+
+    from origami_cad.pattern import read_pattern
+    from origami_cad.strings.route import route_from_pattern
+
+    design, chars, holes, runs = PREDICTED[name]
+    path = EXAMPLE / "descriptionData" / design
+    assert path.stat().st_size == chars and json.loads(path.read_text())["strings"]
+    ends = set()
+    for run, size in runs.items():
+        assert (EXAMPLE / "experiment" / name / run).stat().st_size == size, run
+        pull, force = read_force_curve(EXAMPLE / "experiment" / name / run)
+        assert pull[0] == 0.0 and force.max() > 20.0
+        ends.add(round(float(pull[-1])))
+    assert len(ends) == 1  # the three runs pull as far
+    cp = read_pattern(path)
+    route = route_from_pattern(cp)
+    assert [len(s.points) for s in route.strings] == holes
+    # every tendon leaves from one external anchor, at the fixed panel's centre
+    fixed = cp.vertices[cp.faces[cp.face_labels.index(route.fixed_panel)]].mean(axis=0)
+    for s in route.strings:
+        assert s.anchor_face < 0 and np.allclose(s.anchor[:2], fixed, atol=0.02)
+
+
+def _prediction(name: str, materials: Materials, step: float):
+    from origami_cad.simulation.calibrate import compare_materials
+
+    runs = sorted((EXAMPLE / "experiment" / name).glob("*.csv"))
+    design = EXAMPLE / "descriptionData" / PREDICTED[name][0]
+    return compare_materials(design, runs, Materials(), materials, step=step)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(PREDICTED))
+def test_the_mountain_materials_predict_the_first_half_of_the_pull(name: str) -> None:
+    """The mountain's materials predict the other structures within 0.25 over the first
+    half of the pull (the RMSE over that half's measured peak), better than the
+    defaults. Over the whole pull the hole friction locks the model early
+    (docs/calibration.md): with the fitted friction the force passes 1.5 times the
+    measured peak before 75 % of the pull; without friction it stays under the
+    measured force over the first 80 %."""
+    from origami_cad.simulation.materials import load_materials
+
+    calibrated = load_materials(EXAMPLE / "materials_mountain.toml")
+    fit = _prediction(name, calibrated, step=2.5)
+    mean = fit.runs.mean(axis=0)
+    half = fit.grid <= fit.grid[-1] / 2
+    assert nrmse(fit.simulated[half], mean[half]) <= 0.25
+    assert nrmse(fit.simulated[half], mean[half]) < nrmse(fit.before[half], mean[half])
+    locked = fit.grid[np.argmax(fit.simulated > 1.5 * mean.max())]
+    assert fit.error > 0.25 and 0.0 < locked < 0.75 * fit.grid[-1]
+    frictionless = _prediction(name, calibrated.replace(hole_friction=0.0), step=2.5)
+    early = fit.grid <= 0.8 * fit.grid[-1]
+    assert np.all(frictionless.simulated[early] < mean[early])
