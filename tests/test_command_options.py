@@ -33,6 +33,8 @@ def _cases():
 def _argv(name: str, opt, value: str) -> list[str]:
     cls = COMMANDS[name]
     argv = [name, *(f"missing_{i}.toml" for i in cls.INPUTS)]
+    # the other positional arguments a command needs (calibrate's runs): files missing too
+    argv += [f"missing_{o.name}.csv" for o in cls.OPTIONS if o.positional and o.nargs == "+"]
     argv += ["-o", "out.toml" if cls.OUTPUT != "folder" else "out"] if cls.OUTPUT else []
     if name == "emulate" and opt.name != "protocol":
         argv += ["--protocol", "nothing"]  # a valid value would otherwise emulate until Ctrl-C

@@ -59,7 +59,7 @@ def _resolves(name: str, modules: dict[str, set[str]], everywhere: set[str]) -> 
     """A dotted ``origami_cad...`` name is a module or a name in its module; a file name
     (``x.py``, ``a/b``) exists in the repository or the package; an identifier is defined
     somewhere in the package."""
-    if name.endswith((".py", ".md", "/")) or "/" in name:
+    if name.endswith((".py", ".pyi", ".md", "/")) or "/" in name:
         base = name.rstrip("/")
         return (
             (ROOT / base).exists()

@@ -111,11 +111,11 @@ def test_a_toy_format_is_a_design_path_and_a_cli_output(tmp_path, toy_format, ca
 
 def test_unknown_suffixes_name_the_known_formats(tmp_path, toy_format):
     (tmp_path / "cp.ori").write_text("<opx/>")
-    known = r"readable: \.fold, \.dxf, \.svg, \.json, \.opx, \.toy"
+    known = r"readable: \.fold, \.dxf, \.svg, \.json, \.opx, \.cp, \.toy"
     with pytest.raises(PatternError, match=r"cp\.ori.*" + known):
         read_pattern(tmp_path / "cp.ori")
     cp = miura_pattern(rows=2, columns=2, panel_length=20.0, panel_width=30.0, sector_angle=60.0)
-    with pytest.raises(PatternError, match=r"writable: \.fold, \.dxf, \.svg, \.opx, \.toy"):
+    with pytest.raises(PatternError, match=r"writable: \.fold, \.dxf, \.svg, \.opx, \.cp, \.toy"):
         write_pattern(cp, tmp_path / "cp.ori")
     assert not (tmp_path / "cp.ori.tmp").exists()
 

@@ -12,21 +12,22 @@ from origami_cad.commands.pull import MATERIALS, materials_of
 
 __all__ = ["Calibrate"]
 
-_FIT = ("crease_stiffness", "hole_friction")
-_CHOICES = (*_FIT, "crease_softening")
+#: the parameters as the command line names them (the library's names with underscores)
+_FIT = ("crease-stiffness", "hole-friction")
+_CHOICES = (*_FIT, "crease-softening")
 
 
 @register
 class Calibrate(Command):
     """Fit the materials to measured force-pull runs: materials.toml, calibration.json, fit.png.
 
-    ``runs`` are PyGamiX's 4-column bench files (``t - 0.1, t, pull mm, force N``), CSV
-    files with ``pull_mm`` and ``tension_N`` columns, or ``drive`` logs (the servo's
-    current through its torque and the ring TSA's eq. 8, ``x_dis`` mm from the TSA to
-    the first hole; default: the first tendon's anchor to its first hole). The design
-    carries its tendons (a PyGamiX description). ``fit`` names the parameters fitted
-    (crease_stiffness, N mm/rad per mm; hole_friction; crease_softening, the crease's
-    stiffness factor from 60 deg on); ``materials`` the starting values.
+    Each RUN is a PyGamiX 4-column bench file (t - 0.1, t, pull mm, force N), a CSV file
+    with the header of the pull.csv that simulate --pull writes (pull in mm, tension in
+    N), or a drive log (the servo's current through its torque and the ring TSA's eq. 8,
+    --x-dis mm from the TSA to the first hole; default: the first tendon's anchor to its
+    first hole). The design carries its tendons (a PyGamiX description). --fit names the
+    parameters fitted (crease-stiffness, N mm/rad per mm; hole-friction; crease-softening,
+    the crease's stiffness factor from 60 deg on); --materials gives the starting values.
     """
 
     NAME, INPUTS, OUTPUT, PROGRESS = "calibrate", ("design",), "folder", "calibrating"
@@ -45,6 +46,11 @@ class Calibrate(Command):
         MATERIALS,
         *SIZING,
     )  # fmt: skip
+
+    def prepare(self, a) -> None:
+        """The fitted parameters by the library's names; then the outputs' checks."""
+        a.fit = [name.replace("-", "_") for name in a.fit]
+        super().prepare(a)
 
     def inputs(self, a):
         return [a.design, *a.runs, *([a.materials] if a.materials else [])]

@@ -54,7 +54,7 @@ def _write_pattern_file(cp, out: Path, labels: bool = False) -> None:
 
 @register
 class Convert(Command):
-    """Read a pattern (.fold/.dxf/.svg/.opx) and write it as .fold, .dxf, .svg, .opx or a
+    """Read a pattern (.fold/.dxf/.svg/.opx/.cp) and write it as .fold, .dxf, .svg, .opx, .cp or a
     .png picture.
 
     ``unit``, ``scale`` and ``width`` size an imported pattern and ``tolerance`` joins it

@@ -238,7 +238,8 @@ class ArmDesign:
             "fold_ratio_end": self.fold_ratio_end,
             "bias_mm": self.bias,
             "tip_mm": self.tips.tolist(),
-            "best_fitness_per_generation": list(self.history),
+            # null: no design of that generation met the task's constraints (-inf inside)
+            "best_fitness_per_generation": [h if math.isfinite(h) else None for h in self.history],
         }
 
 

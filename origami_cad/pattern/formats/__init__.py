@@ -8,6 +8,7 @@ suffix     module                 notes
 ``.svg``   :mod:`.formats.svg`    Origami Simulator colour convention
 ``.json``  :mod:`.formats.pygamix` PyGamiX's designs (read only), FOLD
 ``.opx``   :mod:`.formats.opx`    ORIPA's XML (line types, y down)
+``.cp``    :mod:`.formats.cp`     ORIPA's plain text (Orihime, Rabbit Ear)
 =========  =====================  ======================================
 
 Each format module ends in two small dicts, ``readers`` and ``writers``, from a
@@ -20,7 +21,7 @@ and :func:`~origami_cad.pattern.write_pattern` dispatch through them. A new form
 its module and one line of :data:`MODULES`.
 
 >>> sorted(READERS), sorted(WRITERS)
-(['.dxf', '.fold', '.json', '.opx', '.svg'], ['.dxf', '.fold', '.opx', '.svg'])
+(['.cp', '.dxf', '.fold', '.json', '.opx', '.svg'], ['.cp', '.dxf', '.fold', '.opx', '.svg'])
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from typing import Any
 
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
-from origami_cad.pattern.formats import dxf, fold, opx, pygamix, svg
+from origami_cad.pattern.formats import cp, dxf, fold, opx, pygamix, svg
 
 __all__ = ["MODULES", "READERS", "WRITERS", "reader", "register", "writer"]
 
@@ -42,6 +43,7 @@ MODULES = (
     svg,
     pygamix,
     opx,
+    cp,
 )
 
 MODULES_BY_NAME = {m.__name__.rsplit(".", 1)[-1]: m for m in MODULES}
