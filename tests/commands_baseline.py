@@ -77,7 +77,7 @@ CASES: dict[str, tuple[list[str], bool]] = {
     "part-list": (["part", "--list"], True),
     "completion": (["completion", "bash"], True),
     "calibrate": (["calibrate", "{ex}/" + MOUNTAIN, "{ex}/pygamix/experiment/mountain/1_2.csv",
-                   "--tendons", "2", "--fit", "hole_friction", "--evaluations", "3", "--step",
+                   "--tendons", "2", "--fit", "hole-friction", "--evaluations", "3", "--step",
                    "10", "-o", "{out}/cal"], True),
     "design-gait": (["design-gait", "{ex}/" + CR, "-o", "{out}/gait", "--popsize", "4",
                      "--generations", "1", "--steps", "1", "--frictions", "0.6"], False),
