@@ -2,14 +2,15 @@
 
 Each module holds one family of commands (``patterns``, ``design``, ``fabrication``,
 ``strings``, ``plan_route``, ``simulation``, ``calibrate``, ``robot``, ``gait``,
-``sequence``, ``drive``, ``parts``; the ``demo`` command is declared by
-:mod:`origami_cad.demo`, which chains the others); each command is a
+``sequence``, ``drive``, ``parts``; ``demo`` is declared by :mod:`origami_cad.demo`,
+which chains the others, and ``completion`` by :mod:`origami_cad.cli`, each when its
+module is imported); each command is a
 :class:`Command` subclass registered with :func:`register`: its name, inputs, outputs and
 options (types, units, ranges, help). :mod:`origami_cad.cli` is generated from
 :data:`COMMANDS`; :func:`execute` runs a command from Python as the command line does.
 
->>> sorted(COMMANDS)[:4]
-['arm-scene', 'calibrate', 'check', 'convert']
+>>> COMMANDS["check"].NAME, "calibrate" in COMMANDS
+('check', True)
 """
 
 from __future__ import annotations
