@@ -361,7 +361,9 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     if unknown:
         raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
     if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
-        raise SimulationError(f"calibrate: step must be a number of mm in (0, 1e4), got {step!r}")
+        raise SimulationError(
+            f"calibrate: step must be a number of mm in (0, 1e4), got {brief_value(step)}"
+        )
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)
@@ -383,7 +385,9 @@ def select_tendons(route: RouteSpec, tendons: tuple[int, ...] | None) -> RouteSp
         raise SimulationError(f"calibrate: tendons must be numbers in 1..{k}")
     for t in tendons:
         if isinstance(t, bool) or not isinstance(t, int) or not 1 <= t <= k:
-            raise SimulationError(f"calibrate: tendon {t!r}: the route has tendons 1..{k}")
+            raise SimulationError(
+                f"calibrate: tendon {brief_value(t)}: the route has tendons 1..{k}"
+            )
     picked = tuple(route.strings[t - 1] for t in dict.fromkeys(tendons))
     return dataclasses.replace(route, strings=picked)
 
