@@ -9,8 +9,9 @@ coordinate: a 0.05 mm coordinate of a 30 mm position is compared at the position
 accuracy, not its own). Where the environment is the recording's
 (``tests/data/commands_bytes.json``: library versions, processor, Mesa), every file's
 bytes must be the recorded ones too (timestamps, timings, versions and the output folder's
-path left out). The slow cases (CMA-ES, B-rep solids, the route search, the crawl) run
-with ``ORIGAMI_BASELINE_ALL=1``.
+path left out). The slow cases (CMA-ES, B-rep solids, the route search, the crawl) are
+marked slow: ``make slow`` runs them, or ``pytest -m slow tests/test_commands_baseline.py``
+(about 30 s of CPU).
 
 Re-recorded, and why:
 
@@ -33,7 +34,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 import sys
 import warnings
@@ -44,7 +44,6 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from commands_baseline import BASELINE, BYTES, CASES, NOT_RECORDED, digests, environment, run_case
 
-ALL = os.environ.get("ORIGAMI_BASELINE_ALL") == "1"
 RECORDED = json.loads(BASELINE.read_text())
 RECORDED_BYTES = json.loads(BYTES.read_text())
 _NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
@@ -102,10 +101,10 @@ def test_the_comparison_sees_a_change():
     assert differences(series, {"f": [0.0526, 1.0, 2.0, 30.0]})
 
 
-@pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.parametrize(
+    "name", [n if CASES[n][1] else pytest.param(n, marks=pytest.mark.slow) for n in sorted(CASES)]
+)
 def test_a_command_writes_what_it_wrote(name, tmp_path):
-    if not (CASES[name][1] or ALL):
-        pytest.skip("slow: ORIGAMI_BASELINE_ALL=1 runs it")
     found = run_case(name, tmp_path / name)
     assert not differences(RECORDED[name], found, name)
     if RECORDED_BYTES["environment"] != environment():
