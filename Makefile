@@ -21,7 +21,8 @@ test: $(STAMP)
 	$(PY) -m pytest -q -n auto --dist loadfile
 
 # the tests marked slow (make test leaves them out; each keeps a fast check there): the
-# paper task's ten recorded runs
+# paper task's ten recorded runs and its whole search at 180 deg, the commands' slow
+# baseline cases (tests/test_commands_baseline.py)
 slow: $(STAMP)
 	$(PY) -m pytest -q -n auto --dist loadfile -m slow
 

@@ -1,4 +1,4 @@
-"""Crawler (issue 17): one simulated gait cycle of examples/crawler, free on the ground."""
+"""Crawler: one simulated gait cycle of examples/crawler, free on the ground."""
 
 from __future__ import annotations
 

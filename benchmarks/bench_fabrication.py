@@ -39,7 +39,7 @@ from origami_cad.viz.gltf import write_parts_glb
 SHEETS = ((4, 6, 20.0, 30.0), (5, 5, 15.0, 15.0), (10, 10, 15.0, 15.0), (20, 20, 15.0, 15.0))
 #: the largest sheet, measured for its peak memory too
 LARGEST = (32, 32, 15.0, 15.0)
-#: the sheet of issue 44's memory goal (< 1 GB peak, < 10 s wall, every export)
+#: the sheet of the memory goal (< 1 GB peak, < 10 s wall, every export)
 MEMORY_SHEET = (30, 30, 15.0, 15.0)
 
 

@@ -1,4 +1,4 @@
-"""Gait design (issue 31): one gait evaluation, and one whole design-gait search."""
+"""Gait design: one gait evaluation, and one whole design-gait search."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The crawler of Fig. 7 in MuJoCo, in a closed loop (issue 33; docs/mujoco.md).
+"""The crawler of Fig. 7 in MuJoCo, in a closed loop (docs/mujoco.md).
 
 Exports examples/crawler/crawler.toml to MJCF, then at every step reads the body's pose
 (position and heading), plays the robot file's gait through the TSAs (servo turns, mapped

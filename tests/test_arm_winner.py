@@ -6,7 +6,6 @@ import concurrent.futures as cf
 import dataclasses
 import json
 import math
-import os
 import warnings
 from pathlib import Path
 
@@ -122,9 +121,7 @@ def test_the_papers_task_at_180_deg_writes_its_designs_and_says_how_far_they_fol
         assert (out / name).stat().st_size > 0
 
 
-@pytest.mark.skipif(
-    os.environ.get("ORIGAMI_BASELINE_ALL") != "1", reason="slow: ORIGAMI_BASELINE_ALL=1 runs it"
-)
+@pytest.mark.slow
 def test_the_papers_whole_search_at_180_deg_exits_0(tmp_path, capsys):
     """Ten runs of 400 generations, as the task file says (about 15 s)."""
     out = tmp_path / "arm"

@@ -1,5 +1,5 @@
-"""The package's own text: no docstring or comment cites an internal issue number, and no
-module is over 800 lines.
+"""The package's own text: no docstring, comment or page of the documentation cites an
+internal issue number, and no module is over 800 lines.
 
 An issue number means nothing to a user reading the installed package; the code says
 what it does and why, the changelog and the history say when. Another project's issue
@@ -41,6 +41,21 @@ def test_no_docstring_or_comment_cites_an_issue_number():
     files = sorted([*(ROOT / "origami_cad").rglob("*.py"), *(ROOT / "parts").rglob("*.py")])
     assert len(files) > 100
     found = [f"{f.relative_to(ROOT)}:{c}" for f in files for c in citations(f)]
+    assert not found, "\n".join(found)
+
+
+def test_no_page_of_the_documentation_or_example_cites_an_issue_number():
+    """The documentation, the examples and the benchmarks are read without the tracker."""
+    pages = sorted([ROOT / "README.md", *(ROOT / "docs").rglob("*.md")])
+    scripts = sorted([*(ROOT / "examples").rglob("*.py"), *(ROOT / "benchmarks").rglob("*.py")])
+    assert len(pages) > 10 and scripts
+    found = [
+        f"{page.relative_to(ROOT)}:{k}: {m.group(0)!r}"
+        for page in pages
+        for k, line in enumerate(page.read_text(encoding="utf-8").splitlines(), start=1)
+        for m in CITATION.finditer(ELSEWHERE.sub("", line))
+    ]
+    found += [f"{f.relative_to(ROOT)}:{c}" for f in scripts for c in citations(f)]
     assert not found, "\n".join(found)
 
 

@@ -151,7 +151,7 @@ def test_a_glb_with_a_nan_coordinate_is_refused_and_a_good_one_reads_back(tmp_pa
     assert all(math.isfinite(v) for v in position["min"] + position["max"])
     bad = flat.copy()
     bad[3, 2] = NAN
-    with pytest.raises(SimulationError, match="is nan; JSON holds finite numbers only"):
+    with pytest.raises(PatternError, match="is nan; JSON holds finite numbers only"):
         write_glb(tmp_path / "b.glb", folding_meshes(cp, [bad]))
     assert not (tmp_path / "b.glb").exists()
 

@@ -9,7 +9,7 @@ script passes it the design numbers below.
 * ``DESIGN``: the built robot (body 180 mm, legs 90 mm), written here with its hand gait.
   It is 349.9 mm long at its 20 deg rest, over the paper's 340 mm, so the envelope is
   reported, not enforced, for it.
-* ``DESIGNED``: the crawler found by ``design-gait --design`` (issue 31; docs/crawler.md,
+* ``DESIGNED``: the crawler found by ``design-gait --design`` (docs/crawler.md,
   "Designing the crawler"), within the paper's 340 x 320 x 122 mm, written to
   ``examples/crawler_designed/`` walking ``GAIT``, its one gait for every ground (57.5 /
   65.1 / 63.2 mm per cycle at friction 0.4 / 0.6 / 0.8).

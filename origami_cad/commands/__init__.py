@@ -1,15 +1,16 @@
 """The commands of ``origami-cad``, one registry: each declared once, next to its code.
 
 Each module holds one family of commands (``patterns``, ``design``, ``fabrication``,
-``strings``, ``plan_route``, ``simulation``, ``robot``, ``sequence``, ``drive``,
-``parts``; the ``demo`` command is declared by :mod:`origami_cad.demo`, which chains
-the others); each command is a
+``strings``, ``plan_route``, ``simulation``, ``calibrate``, ``robot``, ``gait``,
+``sequence``, ``drive``, ``parts``; ``demo`` is declared by :mod:`origami_cad.demo`,
+which chains the others, and ``completion`` by :mod:`origami_cad.cli`, each when its
+module is imported); each command is a
 :class:`Command` subclass registered with :func:`register`: its name, inputs, outputs and
 options (types, units, ranges, help). :mod:`origami_cad.cli` is generated from
 :data:`COMMANDS`; :func:`execute` runs a command from Python as the command line does.
 
->>> sorted(COMMANDS)[:3]
-['arm-scene', 'check', 'convert']
+>>> COMMANDS["check"].NAME, "calibrate" in COMMANDS
+('check', True)
 """
 
 from __future__ import annotations

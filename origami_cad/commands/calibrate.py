@@ -9,7 +9,6 @@ from pathlib import Path
 from origami_cad._fileio import atomic_write
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.commands.pull import MATERIALS, materials_of
-from origami_cad.errors import StringsError
 
 __all__ = ["Calibrate"]
 
@@ -57,17 +56,13 @@ class Calibrate(Command):
         return [a.design, *a.runs, *([a.materials] if a.materials else [])]
 
     def run(self, a) -> Outputs:
-        from origami_cad.simulation.calibrate import calibrate, load_runs, tendons_x_dis
+        from origami_cad.simulation.calibrate import calibrate, design_tendons, load_runs
         from origami_cad.simulation.materials import dump_materials
-        from origami_cad.strings.route import route_from_pattern
         from origami_cad.viz.calibration_plots import save_fit_png
 
         loaded, warned = self.load(a, a.design)
-        route = route_from_pattern(loaded.pattern)
-        if route is None:
-            raise StringsError(f"{a.design}: the design carries no tendons to pull")
-        x_dis = a.x_dis if a.x_dis is not None else tendons_x_dis(route)
-        runs = load_runs(a.runs, tsa=route.tsa, x_dis=x_dis)
+        route = design_tendons(loaded.pattern, a.design)
+        runs = load_runs(a.runs, route=route, x_dis=a.x_dis)
         fit = calibrate(loaded.pattern, route, runs, materials_of(a), fit=tuple(a.fit),
                         step=a.step, max_evaluations=a.evaluations,
                         names=[Path(r).name for r in a.runs],
@@ -80,7 +75,6 @@ class Calibrate(Command):
                 json.dump(fit.to_dict(), fh, indent=1)
             save_fit_png(fit, stage / self.FILES[2], title=f"{Path(a.design).name}")
         files = [Path(a.folder) / n for n in self.FILES]
-        values = ", ".join(f"{k} = {v:.4g} +- {fit.sigma[k]:.2g}" for k, v in fit.values.items())
         return Outputs(
             files=files,
             images=[(files[2], "Measured force against pull, simulated before and after")],
@@ -89,11 +83,6 @@ class Calibrate(Command):
                 ("NRMSE against the runs' mean", f"{fit.error:.3f} (start {fit.error_before:.3f})"),
                 ("simulations", str(fit.evaluations)),
             ],
-            messages=[
-                *warned,
-                f"fitted {values}; NRMSE {fit.error:.3f} (start {fit.error_before:.3f}) after "
-                f"{fit.evaluations} simulations",
-                wrote(a.folder, self.FILES),
-            ],
+            messages=[*warned, fit.summary(), wrote(a.folder, self.FILES)],
             result=fit,
         )

@@ -192,6 +192,50 @@ def _distance(tips, d, s, target):
 
 
 @njit(cache=True, error_model="numpy")
+def _results(n_designs, n_mid, n_samples):
+    """The arrays :func:`population_fitness` fills, in ``FitnessResult``'s order (the
+    buildability counts, improper states and hits start at 0)."""
+    return (
+        np.empty(n_designs), np.empty(n_designs), np.empty(n_designs),
+        np.zeros((n_designs, n_mid)), np.zeros((n_designs, n_mid), dtype=np.int64),
+        np.zeros(n_designs, dtype=np.int64), np.zeros(n_designs, dtype=np.int64),
+        np.zeros(n_designs, dtype=np.int64), np.empty((n_designs, n_samples, 2)),
+        np.empty(n_designs), np.empty(n_designs), np.empty(n_designs),
+        np.zeros(n_designs, dtype=np.int64),
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _scratch(n, n_samples):
+    """The buffers one design at a time reuses: the chain's joints ``xs, ys`` (S, n + 2)
+    mm, the turns' tangents ``tb``, ``tan(beta_i)``, the legs' offsets (n,), the panels'
+    cotangents and insets (n + 2)."""
+    xs, ys = np.empty((n_samples, n + 2)), np.empty((n_samples, n + 2))
+    return xs, ys, np.empty(n), np.empty(n), np.empty(n), np.empty(n + 2), np.empty(n + 2)
+
+
+@njit(cache=True, error_model="numpy")
+def _crease_limit(fixed_limit, b, eq6_span):
+    """Every crease's fold limit at inner bias ``b`` mm, radians: ``fixed_limit``, or when
+    it is NaN eq. 6's ``2 atan(2 b / (h - t))`` (``eq6_span = h - t`` mm)."""
+    return fixed_limit if fixed_limit == fixed_limit else 2.0 * math.atan(2.0 * b / eq6_span)
+
+
+@njit(cache=True, error_model="numpy")
+def _eq5(alpha, d_start, d_end, weights, d_mid, improper, feasible):
+    """Eq. 5 of one design: ``alpha / (10 + d_start) + (600 - alpha) / (10 + d_end)``, the
+    intermediate points' ``w_j / (10 + d_j)``, ``-4`` per improper state; ``-inf`` when
+    not ``feasible`` (a prohibited area touched, or not buildable). Distances mm."""
+    f = alpha / (10.0 + d_start) + (600.0 - alpha) / (10.0 + d_end)
+    for j in range(weights.shape[0]):
+        f = f + weights[j] / (10.0 + d_mid[j])
+    f = f - 4.0 * improper
+    if not feasible:
+        f = -np.inf
+    return f
+
+
+@njit(cache=True, error_model="numpy")
 def population_fitness(
     lengths, beta, ef0, bias, fixed_limit, eq6_span, ramp, hypar, start, points, weights,
     alpha, half_width, min_gap, min_face, warn_edges, warn_offsets, warn_boxes,
@@ -245,35 +289,17 @@ def population_fitness(
     n_samples = ramp.shape[0]
     n_mid = points.shape[0] - 2
     mids = points[1 : n_mid + 1]
-    fitness = np.empty(n_designs)
-    d_start = np.empty(n_designs)
-    d_end = np.empty(n_designs)
-    d_mid = np.zeros((n_designs, n_mid))
-    mid_index = np.zeros((n_designs, n_mid), dtype=np.int64)
-    improper = np.zeros(n_designs, dtype=np.int64)
-    hits = np.zeros(n_designs, dtype=np.int64)
-    legs = np.zeros(n_designs, dtype=np.int64)
-    panels = np.zeros(n_designs, dtype=np.int64)
-    tips = np.empty((n_designs, n_samples, 2))
-    ratio_end = np.empty(n_designs)
-    b_out = np.empty(n_designs)
-    limits = np.empty(n_designs)
-    xs = np.empty((n_samples, n + 2))
-    ys = np.empty((n_samples, n + 2))
-    tb = np.empty(n)
-    tanb = np.empty(n)
-    off = np.empty(n)
-    cot = np.empty(n + 2)
-    inset = np.empty(n + 2)
+    out = _results(n_designs, n_mid, n_samples)
+    fitness, d_start, d_end, d_mid, mid_index, improper, hits, legs, tips = out[:9]
+    ratio_end, b_out, limits, panels = out[9:]
+    xs, ys, tb, tanb, off, cot, inset = _scratch(n, n_samples)
     p_start, p_end = points[0], points[n_mid + 1]
     for d in range(n_designs):
-        b = bias[d]
+        b = b_out[d] = bias[d]
         for i in range(n):
             tanb[i] = math.tan(beta[d, i])
-        b_out[d] = b
-        limit = fixed_limit if fixed_limit == fixed_limit else 2.0 * math.atan(2.0 * b / eq6_span)
-        limits[d] = limit
-        if half_width > 0:
+        limit = limits[d] = _crease_limit(fixed_limit, b, eq6_span)
+        if half_width > 0:  # the build: the legs' gaps, the panels' faces
             legs[d] = _leg_violations(lengths, tanb, d, half_width, min_gap, off)
             panels[d] = _panel_violations(
                 lengths, beta, tanb, d, half_width, b, min_face, cot, inset
@@ -283,18 +309,10 @@ def population_fitness(
         _build_chains(tanb, lengths, d, ef0[d], theta_end, ramp, hypar, start, xs, ys, tips, tb)
         _match_points(tips, d, mids, d_mid, mid_index)
         hits[d] = _count_hits(xs, ys, pro_edges, pro_offsets, pro_boxes)
-        if hits[d] == 0 and legs[d] == 0 and panels[d] == 0:
+        feasible = hits[d] == 0 and legs[d] == 0 and panels[d] == 0
+        if feasible:  # an infeasible design's improper states do not enter its cost
             improper[d] = _count_improper(xs, ys, warn_edges, warn_offsets, warn_boxes)
         d_start[d] = _distance(tips, d, 0, p_start)
         d_end[d] = _distance(tips, d, n_samples - 1, p_end)
-        f = alpha / (10.0 + d_start[d]) + (600.0 - alpha) / (10.0 + d_end[d])
-        for j in range(n_mid):
-            f = f + weights[j] / (10.0 + d_mid[d, j])
-        f = f - 4.0 * improper[d]
-        if hits[d] > 0 or legs[d] > 0 or panels[d] > 0:
-            f = -np.inf
-        fitness[d] = f
-    return (
-        fitness, d_start, d_end, d_mid, mid_index, improper, hits, legs, tips, ratio_end,
-        b_out, limits, panels,
-    )  # fmt: skip
+        fitness[d] = _eq5(alpha, d_start[d], d_end[d], weights, d_mid[d], improper[d], feasible)
+    return out

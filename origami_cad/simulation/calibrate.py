@@ -50,6 +50,7 @@ __all__ = [
     "ServoModel",
     "calibrate",
     "compare_materials",
+    "design_tendons",
     "drive_log_curve",
     "load_runs",
     "nrmse",
@@ -198,6 +199,17 @@ def drive_log_curve(
     return pull[good], torque[good] / rate[good]
 
 
+def design_tendons(cp: CreasePattern, where: str = "calibrate") -> RouteSpec:
+    """The tendons a design carries (a PyGamiX description's) as the route pulled; a
+    :class:`SimulationError` naming ``where`` when it carries none."""
+    from origami_cad.strings.route import route_from_pattern
+
+    route = route_from_pattern(cp)
+    if route is None:
+        raise SimulationError(f"{where}: the design carries no tendons to pull")
+    return route
+
+
 def tendons_x_dis(route: RouteSpec) -> float:
     """The first tendon's anchor to its first hole in the flat sheet, mm (a drive log's
     default ``x_dis``)."""
@@ -210,6 +222,7 @@ def tendons_x_dis(route: RouteSpec) -> float:
     tsa=Arg("object", types=(TSAParams,)),
     x_dis=Arg(min=0.0, open_min=True, max=1e5),
     servo=Arg("object", types=(ServoModel,)),
+    route=Arg("object", types=(RouteSpec,)),
 )
 def load_runs(
     paths: list[str | os.PathLike[str]],
@@ -217,10 +230,15 @@ def load_runs(
     tsa: TSAParams | None = None,
     x_dis: float | None = None,
     servo: ServoModel | None = None,
+    route: RouteSpec | None = None,
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """Measured runs from files: force-against-pull curves (:func:`read_force_curve`), or
     ``drive`` logs (a header with ``current_mA``) through ``tsa`` and ``x_dis`` mm
-    (:func:`drive_log_curve`)."""
+    (:func:`drive_log_curve`). Given the ``route`` pulled, ``tsa`` defaults to its TSA
+    and ``x_dis`` to its first tendon's anchor to first hole (:func:`tendons_x_dis`)."""
+    if route is not None:
+        tsa = route.tsa if tsa is None else tsa
+        x_dis = tendons_x_dis(route) if x_dis is None else x_dis
     if isinstance(paths, str | bytes | os.PathLike) or not isinstance(paths, list | tuple):
         raise SimulationError(
             f"load_runs: paths: expected a list of files, got {brief_value(paths)}"
@@ -269,6 +287,15 @@ class Calibration:
     run_errors: list[float]
     evaluations: int
     names: list[str] = field(default_factory=list)
+
+    def summary(self) -> str:
+        """One line: the values fitted with their standard errors, the normalised RMSE
+        before and after, the simulations run."""
+        values = ", ".join(f"{k} = {v:.4g} +- {self.sigma[k]:.2g}" for k, v in self.values.items())
+        return (
+            f"fitted {values}; NRMSE {self.error:.3f} (start {self.error_before:.3f}) after "
+            f"{self.evaluations} simulations"
+        )
 
     def to_dict(self) -> dict[str, Any]:
         """``calibration.json``."""
@@ -323,11 +350,7 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     if not isinstance(cp, CreasePattern):
         raise SimulationError(f"calibrate: cp must be a CreasePattern, got {type(cp).__name__}")
     if route is None:
-        from origami_cad.strings.route import route_from_pattern
-
-        route = route_from_pattern(cp)
-        if route is None:
-            raise SimulationError("calibrate: the design carries no tendons to pull")
+        route = design_tendons(cp)
     if not isinstance(route, RouteSpec):
         raise SimulationError(f"calibrate: route must be a RouteSpec, got {type(route).__name__}")
     if materials is not None and not isinstance(materials, Materials):
@@ -338,7 +361,9 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     if unknown:
         raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
     if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
-        raise SimulationError(f"calibrate: step must be a number of mm in (0, 1e4), got {step!r}")
+        raise SimulationError(
+            f"calibrate: step must be a number of mm in (0, 1e4), got {brief_value(step)}"
+        )
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)
@@ -360,9 +385,97 @@ def select_tendons(route: RouteSpec, tendons: tuple[int, ...] | None) -> RouteSp
         raise SimulationError(f"calibrate: tendons must be numbers in 1..{k}")
     for t in tendons:
         if isinstance(t, bool) or not isinstance(t, int) or not 1 <= t <= k:
-            raise SimulationError(f"calibrate: tendon {t!r}: the route has tendons 1..{k}")
+            raise SimulationError(
+                f"calibrate: tendon {brief_value(t)}: the route has tendons 1..{k}"
+            )
     picked = tuple(route.strings[t - 1] for t in dict.fromkeys(tendons))
     return dataclasses.replace(route, strings=picked)
+
+
+def _run_names(runs: list, names: list[str] | None) -> list[str]:
+    """Each run's name in the results: ``names`` (checked: one string per run), else a
+    file's name, or ``run i`` for curves given as arrays."""
+    if names is None:
+        return [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
+                for i, r in enumerate(runs)]  # fmt: skip
+    if not (isinstance(names, list | tuple) and len(names) == len(runs)
+            and all(isinstance(n, str) for n in names)):  # fmt: skip
+        raise SimulationError("calibrate: names must be one string per run")
+    return list(names)
+
+
+def _on_grid(curves: list, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The runs on one grid: ``(grid (G,) mm, every step mm up to the shortest run's end;
+    runs (R, G) N; their mean (G,) N)``."""
+    end = min(float(p[-1]) for p, _ in curves)
+    grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
+    measured = np.array([np.interp(grid, p, f) for p, f in curves])
+    return grid, measured, measured.mean(axis=0)
+
+
+@dataclass(frozen=True)
+class _Variables:
+    """The parameters ``fit`` as least squares' variables, from ``start``: log10 of the
+    crease stiffness (N mm/rad per mm), the hole friction and the softening factor as
+    they are."""
+
+    fit: tuple[str, ...]
+    start: Materials
+
+    def materials(self, x: np.ndarray) -> Materials:
+        """``start`` with the variables ``x``."""
+        values: dict[str, Any] = {}
+        for name, v in zip(self.fit, x, strict=True):
+            if name == "crease_stiffness":
+                values["crease_stiffness_given"] = float(10.0**v)
+            elif name == "crease_softening":
+                values["law_angles"] = (0.0, SOFTENING_ANGLE)
+                values["law_factors"] = (1.0, float(v))
+            else:
+                values[name] = float(v)
+        return self.start.replace(**values)
+
+    def start_point(self) -> np.ndarray:
+        """``start``'s variables."""
+        m = self.start
+        return np.array([
+            math.log10(m.crease_stiffness()) if n == "crease_stiffness"
+            else _softening_of(m) if n == "crease_softening" else m.hole_friction
+            for n in self.fit
+        ])  # fmt: skip
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The variables' bounds (:data:`FITTED`'s, the stiffness's on its log scale)."""
+        scale = [math.log10 if n == "crease_stiffness" else float for n in self.fit]
+        lo = np.array([f(FITTED[n][0]) for f, n in zip(scale, self.fit, strict=True)])
+        hi = np.array([f(FITTED[n][1]) for f, n in zip(scale, self.fit, strict=True)])
+        return lo, hi
+
+    def values(self, x: np.ndarray, sigma_x: np.ndarray) -> tuple[dict, dict]:
+        """``(values, standard errors)`` by name, in the parameters' units."""
+        values, sigma = {}, {}
+        for name, v, s in zip(self.fit, x, sigma_x, strict=True):
+            if name == "crease_stiffness":
+                values[name] = float(10.0**v)
+                sigma[name] = float(10.0**v * math.log(10.0) * s)
+            else:
+                values[name], sigma[name] = float(v), float(s)
+        return values, sigma
+
+
+def _forward_differences(residual, hi: np.ndarray):
+    """The Jacobian of ``residual`` by forward differences with a step of 0.03 in each
+    variable (log10 of the stiffness, the friction): large beside the solver's tolerance,
+    small beside the bounds; backwards within 0.03 of an upper bound ``hi``."""
+
+    def jacobian(x: np.ndarray) -> np.ndarray:
+        r0, cols = residual(x), []
+        for i in range(len(x)):
+            h = 0.03 if x[i] + 0.03 <= hi[i] else -0.03
+            cols.append((residual(x + h * np.eye(len(x))[i]) - r0) / h)
+        return np.array(cols).T
+
+    return jacobian
 
 
 def calibrate(
@@ -393,80 +506,34 @@ def calibrate(
     given = runs
     route, runs = _checked_call(cp, route, runs, materials, fit, step, max_evaluations)
     route = select_tendons(route, tendons)
-    fit = tuple(fit)
-    if names is None:
-        names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
-                 for i, r in enumerate(given)]  # fmt: skip
-    elif not (isinstance(names, list | tuple) and len(names) == len(runs)
-              and all(isinstance(n, str) for n in names)):  # fmt: skip
-        raise SimulationError("calibrate: names must be one string per run")
-    start = materials or Materials()
-    end = min(float(p[-1]) for p, _ in runs)
-    grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
-    measured = np.array([np.interp(grid, p, f) for p, f in runs])
-    mean = measured.mean(axis=0)
+    names = _run_names(given, names)
+    variables = _Variables(tuple(fit), materials or Materials())
+    grid, measured, mean = _on_grid(runs, step)
     peak = float(np.max(np.abs(mean)))
-
-    def materials_of(x: np.ndarray) -> Materials:
-        values = {}
-        for name, v in zip(fit, x, strict=True):
-            if name == "crease_stiffness":
-                values["crease_stiffness_given"] = float(10.0**v)
-            elif name == "crease_softening":
-                values["law_angles"] = (0.0, SOFTENING_ANGLE)
-                values["law_factors"] = (1.0, float(v))
-            else:
-                values[name] = float(v)
-        return start.replace(**values)
-
     seen: dict[bytes, np.ndarray] = {}
 
     def residual(x: np.ndarray) -> np.ndarray:
+        """(simulated - mean) / peak at the variables ``x``, each point simulated once."""
         key = np.asarray(x, dtype=float).tobytes()
         if key not in seen:
-            seen[key] = (_curve(cp, route, materials_of(x), grid, step) - mean) / peak
+            seen[key] = (_curve(cp, route, variables.materials(x), grid, step) - mean) / peak
         return seen[key]
 
-    def jacobian(x: np.ndarray) -> np.ndarray:
-        """Forward differences with a step of 0.03 in each variable (log10 of the
-        stiffness, the friction): large beside the solver's tolerance, small beside
-        the bounds."""
-        r0, cols = residual(x), []
-        for i in range(len(x)):
-            h = 0.03 if x[i] + 0.03 <= hi[i] else -0.03
-            cols.append((residual(x + h * np.eye(len(x))[i]) - r0) / h)
-        return np.array(cols).T
-
-    x0 = np.array([
-        math.log10(start.crease_stiffness()) if n == "crease_stiffness"
-        else _softening_of(start) if n == "crease_softening" else start.hole_friction
-        for n in fit
-    ])  # fmt: skip
-    scale = [math.log10 if n == "crease_stiffness" else float for n in fit]
-    lo = np.array([f(FITTED[n][0]) for f, n in zip(scale, fit, strict=True)])
-    hi = np.array([f(FITTED[n][1]) for f, n in zip(scale, fit, strict=True)])
-    x0 = np.clip(x0, lo, hi)
+    lo, hi = variables.bounds()
+    x0 = np.clip(variables.start_point(), lo, hi)
     before = residual(x0) * peak + mean
     best, _ = _coarse_start(
-        residual, x0, lo, hi, fit, float(np.sum((before - mean) ** 2)) / peak**2
+        residual, x0, lo, hi, variables.fit, float(np.sum((before - mean) ** 2)) / peak**2
     )
     out = least_squares(
-        residual, best, jac=jacobian, bounds=(lo, hi), max_nfev=max_evaluations,
-        x_scale=np.full(len(fit), 0.1),
+        residual, best, jac=_forward_differences(residual, hi), bounds=(lo, hi),
+        max_nfev=max_evaluations, x_scale=np.full(len(variables.fit), 0.1),
     )  # fmt: skip
     evaluations = len(seen)
-    fitted = materials_of(out.x)
     simulated = out.fun * peak + mean
-    sigma_x = _standard_errors(out)
-    values, sigma = {}, {}
-    for name, v, s in zip(fit, out.x, sigma_x, strict=True):
-        if name == "crease_stiffness":
-            values[name] = float(10.0**v)
-            sigma[name] = float(10.0**v * math.log(10.0) * s)
-        else:
-            values[name], sigma[name] = float(v), float(s)
+    values, sigma = variables.values(out.x, _standard_errors(out))
     return Calibration(
-        values, sigma, fitted, grid, measured, simulated, before,
+        values, sigma, variables.materials(out.x), grid, measured, simulated, before,
         nrmse(simulated, mean), nrmse(before, mean),
         [nrmse(simulated, m) for m in measured], evaluations,
         list(names),
@@ -491,14 +558,10 @@ def compare_materials(
     cp = design if isinstance(design, CreasePattern) else read_pattern(design)
     route, curves = _checked_call(cp, None, runs, after, ("hole_friction",), step, 1)
     route = select_tendons(route, tendons)
-    end = min(float(p[-1]) for p, _ in curves)
-    grid = np.linspace(0.0, end, max(2, int(end / step) + 1))
-    measured = np.array([np.interp(grid, p, f) for p, f in curves])
-    mean = measured.mean(axis=0)
+    grid, measured, mean = _on_grid(curves, step)
     first = _curve(cp, route, before, grid, step)
     second = _curve(cp, route, after, grid, step)
-    names = [Path(r).name if isinstance(r, str | os.PathLike) else f"run {i + 1}"
-             for i, r in enumerate(runs)]  # fmt: skip
+    names = _run_names(runs, None)
     return Calibration(
         {}, {}, after, grid, measured, second, first, nrmse(second, mean), nrmse(first, mean),
         [nrmse(second, m) for m in measured], 2, names,

@@ -125,6 +125,33 @@ def _arc(start, rx, ry, phi_deg, large, sweep, end) -> list[tuple[float, float]]
     return out
 
 
+def _segment(up: str, rel: bool, vals: list[float], here: tuple[float, float], control):
+    """The points one drawing command (``up``: L, H, V, A, C, S, Q or T; ``rel``: its
+    lower-case form) adds from ``here``, its end last, and the control point the next
+    smooth Bézier reflects (``(kind, point)``, or None after a line or an arc)."""
+    x, y = here
+    if up in "LHV":
+        if up == "L":
+            nx, ny = vals[0] + (x if rel else 0.0), vals[1] + (y if rel else 0.0)
+        elif up == "H":
+            nx, ny = vals[0] + (x if rel else 0.0), y
+        else:
+            nx, ny = x, vals[0] + (y if rel else 0.0)
+        return [(nx, ny)], None
+    if up == "A":
+        nx, ny = vals[5] + (x if rel else 0.0), vals[6] + (y if rel else 0.0)
+        return _arc((x, y), vals[0], vals[1], vals[2], vals[3] != 0, vals[4] != 0, (nx, ny)), None
+    off = np.array([x, y]) if rel else np.zeros(2)
+    given = np.array(vals).reshape(-1, 2) + off
+    start = np.array([x, y])
+    kind = "C" if up in "CS" else "Q"
+    if up in "ST":  # the first control point: the last one's reflection, or here
+        first = 2 * start - control[1] if control and control[0] == kind else start
+        given = np.vstack([first, given])
+    ctrl = np.vstack([start, given])
+    return _bezier(ctrl), (kind, ctrl[-2])
+
+
 def path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
     """The polylines (user units) of SVG path data ``d``; ``where`` names the element in
     the errors."""
@@ -177,32 +204,9 @@ def path_points(d: str, where: str) -> list[list[tuple[float, float]]]:
             continue
         if not current:
             current = [(x, y)]
-        if up in "LHV":
-            if up == "L":
-                nx, ny = vals[0] + (x if rel else 0.0), vals[1] + (y if rel else 0.0)
-            elif up == "H":
-                nx, ny = vals[0] + (x if rel else 0.0), y
-            else:
-                nx, ny = x, vals[0] + (y if rel else 0.0)
-            points, control = [(nx, ny)], None
-        elif up == "A":
-            nx, ny = vals[5] + (x if rel else 0.0), vals[6] + (y if rel else 0.0)
-            points = _arc((x, y), vals[0], vals[1], vals[2], vals[3] != 0, vals[4] != 0, (nx, ny))
-            control = None
-        else:
-            off = np.array([x, y]) if rel else np.zeros(2)
-            given = np.array(vals).reshape(-1, 2) + off
-            here = np.array([x, y])
-            kind = "C" if up in "CS" else "Q"
-            if up in "ST":  # the first control point: the last one's reflection, or here
-                first = 2 * here - control[1] if control and control[0] == kind else here
-                given = np.vstack([first, given])
-            ctrl = np.vstack([here, given])
-            points = _bezier(ctrl)
-            control = (kind, ctrl[-2])
-            nx, ny = points[-1]
+        points, control = _segment(up, rel, vals, (x, y), control)
         current.extend(points)
-        x, y = nx, ny
+        x, y = points[-1]
     if current:
         subpaths.append(current)
     return subpaths
