@@ -338,7 +338,9 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     if unknown:
         raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
     if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
-        raise SimulationError(f"calibrate: step must be a number of mm in (0, 1e4), got {step!r}")
+        raise SimulationError(
+            f"calibrate: step must be a number of mm in (0, 1e4), got {brief_value(step)}"
+        )
     if (
         isinstance(max_evaluations, bool)
         or not isinstance(max_evaluations, int)

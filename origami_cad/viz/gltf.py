@@ -27,7 +27,7 @@ import numpy as np
 
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import json_text
-from origami_cad.errors import SimulationError
+from origami_cad.errors import OutputError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.pattern.triangles import panel_triangles
 
@@ -194,7 +194,7 @@ def glb_bytes(meshes: Sequence[GlbMesh], times: Sequence[float] | None = None) -
         doc["animations"] = [_animation(buf, meshes, animated, times)]
     doc |= {"accessors": buf.accessors, "bufferViews": buf.views}
     doc["buffers"] = [{"byteLength": len(buf.data)}]
-    text = json_text(doc, "glTF", SimulationError, separators=(",", ":")).encode()
+    text = json_text(doc, "glTF", OutputError, separators=(",", ":")).encode()
     text += b" " * (-len(text) % 4)
     body = bytes(buf.data)
     total = 12 + 8 + len(text) + 8 + len(body)
