@@ -159,7 +159,8 @@ def _coerce(info: ParamInfo, value: Any) -> Any:
     if isinstance(value, base):
         return value
     raise FabricationError(
-        f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, got {value!r}"
+        f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, "
+        f"got {brief_value(value)}"
     )
 
 

@@ -401,3 +401,15 @@ def test_the_cli_refuses_huge_exotic_or_ignored_option_values(tmp_path, capsys, 
     err = capsys.readouterr().err
     assert code == 2 and named in err and err.count("\n") == 1, err
     assert len(err) < 400, err
+
+
+def test_a_design_of_another_pattern_and_a_step_below_the_grid_are_refused(every_call):
+    func, good = every_call["simulate"]
+    with bounded(), pytest.raises(OrigamiCadError, match="design: its pattern has 12 edges"):
+        func(**{**good, "design": oc.miura_design(2, 2, 20.0, 20.0, 60.0)})
+    func, good = every_call["calibrate"]
+    with bounded(), pytest.raises(OrigamiCadError, match=r"step .*\[0.1, 1e4\), got 1e-320"):
+        func(**{**good, "step": 1e-320})
+    func, good = every_call["run_sequence"]
+    with bounded(), pytest.raises(OrigamiCadError, match=r"\[0.1, 1000\], got 1e-320"):
+        func(**{**good, "time_scale": 1e-320})
