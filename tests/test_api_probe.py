@@ -413,3 +413,15 @@ def test_a_design_of_another_pattern_and_a_step_below_the_grid_are_refused(every
     func, good = every_call["run_sequence"]
     with bounded(), pytest.raises(OrigamiCadError, match=r"\[0.1, 1000\], got 1e-320"):
         func(**{**good, "time_scale": 1e-320})
+
+
+def test_check_refuses_a_fifo_before_reading_it(tmp_path, capsys):
+    """The search for files a TOML input names opened a FIFO and waited for a writer."""
+    from origami_cad.cli import main
+
+    fifo = tmp_path / "design.toml"
+    os.mkfifo(fifo)
+    with bounded(10):
+        code = main(["check", str(fifo)])
+    err = capsys.readouterr().err
+    assert code == 2 and "not a regular file" in err and err.count("\n") == 1, err
