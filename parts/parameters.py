@@ -195,7 +195,14 @@ def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
         return value
     expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
     shown = brief_value(value)
-    if isinstance(value, bool) or not isinstance(value, str | int | float):
+    text = isinstance(value, str)
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, str | int | float)
+        or (
+            text and not value.isascii()  # "\u0663" is 3 to float(): no one types it for one
+        )
+    ):
         raise FabricationError(f"{expected}, got {shown}")
     try:
         number = tp(value.strip()) if isinstance(value, str) else tp(value)

@@ -346,6 +346,7 @@ def _plan():
         (lambda: parts.RingRail(angles=np.zeros((2, 2, 2))), "angles"),
         (lambda: parts.Blocker(angle=np.zeros((2, 2))), "angle"),
         (lambda: parts.Blocker(length=1e-320), "length"),
+        (lambda: parts.Blocker(angle="\u0663"), "angle"),
         (lambda: parts.DriverAdapter(connectors=math.inf), "connectors"),
         (lambda: parts.Blocker(params=parts.BlockerParams(angle=math.nan)), "angle"),
         (lambda: parts.RingRailParams(centre="ab"), "centre"),
@@ -415,13 +416,31 @@ def test_a_design_of_another_pattern_and_a_step_below_the_grid_are_refused(every
         func(**{**good, "time_scale": 1e-320})
 
 
-def test_check_refuses_a_fifo_before_reading_it(tmp_path, capsys):
-    """The search for files a TOML input names opened a FIFO and waited for a writer."""
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["check", "{fifo}"],
+        [
+            "sequence",
+            "{fifo}",
+            "{ex}/arm_route.toml",
+            "-o",
+            "{tmp}/s.toml",
+            "--keyframes",
+            "0:0",
+            "9:0.3",
+        ],
+    ],
+    ids=["check", "sequence"],
+)
+def test_a_fifo_input_is_refused_before_anything_reads_it(tmp_path, capsys, argv):
+    """The search for files a TOML input names, and sequence's test for a robot file,
+    opened a FIFO and waited for a writer."""
     from origami_cad.cli import main
 
     fifo = tmp_path / "design.toml"
     os.mkfifo(fifo)
     with bounded(10):
-        code = main(["check", str(fifo)])
+        code = main([a.format(fifo=fifo, ex=EXAMPLES, tmp=tmp_path) for a in argv])
     err = capsys.readouterr().err
     assert code == 2 and "not a regular file" in err and err.count("\n") == 1, err
