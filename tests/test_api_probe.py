@@ -444,3 +444,18 @@ def test_a_fifo_input_is_refused_before_anything_reads_it(tmp_path, capsys, argv
         code = main([a.format(fifo=fifo, ex=EXAMPLES, tmp=tmp_path) for a in argv])
     err = capsys.readouterr().err
     assert code == 2 and "not a regular file" in err and err.count("\n") == 1, err
+
+
+def test_sequence_of_a_robot_checks_its_gait_files_tsa_tables_as_drive_does(tmp_path, capsys):
+    """``sequence ROBOT GAIT`` took the gait's keyframes and passed ``radius = inf`` in its
+    ``[[tsa]]`` tables, which ``drive`` refuses on the same file."""
+    from origami_cad.cli import main
+
+    gait = tmp_path / "gait.toml"
+    text = (EXAMPLES / "crawler_gait.toml").read_text(encoding="utf-8")
+    gait.write_text(text.replace("radius = 0.6 ", "radius = inf ", 1), encoding="utf-8")
+    robot = EXAMPLES / "crawler" / "crawler.toml"
+    code = main(["sequence", str(robot), str(gait), "-o", str(tmp_path / "s.toml")])
+    err = capsys.readouterr().err
+    assert code == 2 and "radius" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "s.toml").exists()
