@@ -459,3 +459,17 @@ def test_sequence_of_a_robot_checks_its_gait_files_tsa_tables_as_drive_does(tmp_
     err = capsys.readouterr().err
     assert code == 2 and "radius" in err and err.count("\n") == 1, err
     assert not (tmp_path / "s.toml").exists()
+
+
+@pytest.mark.parametrize(
+    "make, named",
+    [
+        (lambda: oc.miura_design(2, 2, 20.0, 1e-9, 65.0), "panel_width = 1e-09 mm"),
+        (lambda: oc.miura_design(2, 2, 1e-9, 20.0, 65.0), "panel_length = 1e-09 mm"),
+        (lambda: oc.tg_design([[40, 0], [30, 25]], fold_ratio=0.5, unit_width=1e-9), "unit_width"),
+    ],
+)
+def test_a_panel_too_small_for_the_tolerance_is_named_not_an_internal_error(make, named):
+    with pytest.raises(OrigamiCadError) as err:
+        make()
+    assert named in str(err.value) and "internal" not in str(err.value), str(err.value)
