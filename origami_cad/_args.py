@@ -81,7 +81,7 @@ def brief_value(value: Any, limit: int = 60) -> str:
 
 
 def _shown(value: Any) -> str:
-    if isinstance(value, str) and value.isprintable():
+    if isinstance(value, str) and value.isprintable() and len(value) <= 60:
         return value
     return brief_value(value)
 
@@ -112,13 +112,14 @@ def check_number(
     ``bool`` is never a number.
     """
     expected = f"{shown}: expected {describe_range(kind, low, high, open_min)}, got {_shown(value)}"
-    if isinstance(value, bool):
-        raise error(expected)
+    if isinstance(value, bool) or (isinstance(value, str) and not value.isascii()):
+        raise error(expected)  # "\u0663" is 3 to float(): no one types it for a number
     try:
         number = float(value) if kind == "float" else _integer(value)
-    except (TypeError, ValueError, OverflowError):
+        finite = math.isfinite(number)
+    except (TypeError, ValueError, OverflowError):  # an integer past a float's range too
         raise error(expected) from None
-    if not math.isfinite(number):
+    if not finite:
         raise error(expected)
     too_low = low is not None and (number <= low if open_min else number < low)
     if too_low or (high is not None and number > high):

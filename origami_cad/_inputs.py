@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -67,8 +68,9 @@ def _named_files(path: Path) -> Iterator[tuple[str, Path]]:
     if path.suffix.lower() != ".toml":
         return
     try:
-        if os.stat(path).st_size > MAX_SEARCHED:
-            return
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_SEARCHED:
+            return  # a FIFO or a device would block, or never end: its reader refuses it
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, ValueError, RecursionError):
         return

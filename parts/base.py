@@ -24,9 +24,34 @@ from typing import Any
 
 from build123d import Align, BasePartObject, Compound, Location, Mode, RigidJoint, Rotation
 
+from origami_cad._args import Arg, brief_value
+from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import moved_tree
 
 __all__ = ["OrigamiPart"]
+
+
+def _placement(owner: str, rotation: Any, align: Any, mode: Any) -> tuple[Location, Any]:
+    """``rotation`` (three angles, degrees, or a build123d ``Location``) and ``align`` (an
+    ``Align`` or three of them, or None) checked; else a :class:`FabricationError` naming
+    the argument and the value."""
+    if isinstance(rotation, Location):
+        rotate = rotation
+    else:
+        angles = Arg("floats", length=3, min=-1e4, max=1e4, optional=False).check(
+            f"{owner}: rotation", rotation, FabricationError
+        )
+        rotate = Rotation(*angles)
+    each = tuple(align) if isinstance(align, tuple | list) else (align,)
+    if align is not None and (
+        len(each) not in (1, 3) or not all(isinstance(a, Align | None) for a in each)
+    ):
+        raise FabricationError(
+            f"{owner}: align: expected an Align or three of them (x, y, z), "
+            f"got {brief_value(align)}"
+        )
+    Arg("object", types=(Mode,), optional=False).check(f"{owner}: mode", mode, FabricationError)
+    return rotate, align
 
 
 def _align_offset(tree: Compound, align: Any) -> Location:
@@ -64,7 +89,7 @@ class OrigamiPart(BasePartObject):
         align: Align | tuple[Align, Align, Align] | None = None,
         mode: Mode = Mode.ADD,
     ):
-        rotate = Rotation(*rotation) if isinstance(rotation, tuple | list) else rotation
+        rotate, align = _placement(type(self).__name__, rotation, align, mode)
         frame = rotate * _align_offset(tree, align)
         placed = moved_tree(tree, frame)
         super().__init__(placed, mode=mode)

@@ -23,7 +23,7 @@ from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.pattern.model import CreasePattern
 
 from .base import OrigamiPart
-from .parameters import resolve_params, spec
+from .parameters import check_params, resolve_params, spec
 
 __all__ = ["Blocker", "BlockerParams", "blocker", "blocker_frame"]
 
@@ -54,6 +54,9 @@ class BlockerParams:
     thickness: float = field(
         default=FabricationParams.thickness, metadata=spec("mm", "t of the panels", low=0.0)
     )
+
+    def __post_init__(self) -> None:
+        check_params(self)
 
 
 def blocker_frame(
@@ -160,6 +163,11 @@ def _build(
         raise FabricationError("crease needs plan (the PanelPlan of the pattern it is on)")
     if plan is not None and crease is None:
         raise FabricationError("plan needs crease (the edge index of the crease to stop)")
+    if not thickness < height:
+        raise FabricationError(
+            f"parameter thickness: {thickness:g} mm is not thinner than the panels "
+            f"{height:g} mm high (height); it must be < {height:g} mm"
+        )
     limit = math.degrees(theta_max(bias, height, thickness))
     if not 0 < angle < min(limit, 180.0):
         raise FabricationError(f"angle must lie in (0, {limit:.1f}) deg (theta_max), got {angle}")

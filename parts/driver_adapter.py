@@ -10,7 +10,7 @@ from build123d import Align, Box, Compound, Cylinder, Location, Mode, Part
 from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
-from .parameters import resolve_params, spec
+from .parameters import check_params, resolve_params, spec
 
 __all__ = ["DriverAdapter", "DriverAdapterParams", "driver_adapter"]
 
@@ -45,6 +45,9 @@ class DriverAdapterParams:
         default=3.2, metadata=spec("mm", "diameter of the four corner holes", low=0.0)
     )
     pocket: float = field(default=1.2, metadata=spec("mm", "depth of the board pocket", low=0.0))
+
+    def __post_init__(self) -> None:
+        check_params(self)
 
 
 class DriverAdapter(OrigamiPart):

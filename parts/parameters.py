@@ -25,12 +25,13 @@ import dataclasses
 import math
 import types
 import typing
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar
 
+from origami_cad._args import brief_value
 from origami_cad.errors import FabricationError
 
-__all__ = ["ParamInfo", "param_info", "resolve_params", "spec"]
+__all__ = ["ParamInfo", "check_params", "param_info", "resolve_params", "spec"]
 
 P = TypeVar("P")
 
@@ -42,6 +43,9 @@ MAX_LENGTH = 10_000.0
 MAX_ANGLE = 360.0
 MAX_COUNT = 64
 MAX_ITEMS = 64
+#: The least size of a part's length or angle that must be positive (mm or degrees): a
+#: finer one (1e-300 mm) is no solid the B-rep kernel can build.
+MIN_SIZE = 1e-3
 _BOUNDS = {"mm": MAX_LENGTH, "deg": MAX_ANGLE}
 
 
@@ -125,6 +129,15 @@ def resolve_params(cls: type[P], params: P | None, values: Mapping[str, Any]) ->
     return dataclasses.replace(base, **changes)
 
 
+def check_params(params: Any) -> None:
+    """Check and convert every field of a part's parameter dataclass (its
+    ``__post_init__``), as :func:`resolve_params` does the values it is given: a
+    :class:`FabricationError` names the parameter and the bad value."""
+    for info in param_info(type(params)):
+        value = _coerce(info, getattr(params, info.name))
+        object.__setattr__(params, info.name, value)
+
+
 def _unwrap_optional(tp: Any) -> tuple[Any, bool]:
     if typing.get_origin(tp) in (typing.Union, types.UnionType):
         args = [a for a in typing.get_args(tp) if a is not type(None)]
@@ -146,17 +159,23 @@ def _coerce(info: ParamInfo, value: Any) -> Any:
     if isinstance(value, base):
         return value
     raise FabricationError(
-        f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, got {value!r}"
+        f"parameter {info.name}: expected a {getattr(base, '__name__', base)}, "
+        f"got {brief_value(value)}"
     )
 
 
 def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
     args = typing.get_args(tp)
-    items = value.split(",") if isinstance(value, str) else list(value)
+    count = "numbers" if args[-1] is Ellipsis else f"{len(args)} comma-separated numbers"
+    expected = f"parameter {info.name}: expected {count}, got {brief_value(value)}"
+    if isinstance(value, str):
+        items = value.split(",")
+    elif isinstance(value, bytes | Mapping) or not isinstance(value, Iterable):
+        raise FabricationError(expected)
+    else:
+        items = list(value)
     if args[-1] is not Ellipsis and len(items) != len(args):
-        raise FabricationError(
-            f"parameter {info.name}: expected {len(args)} comma-separated numbers, got {value!r}"
-        )
+        raise FabricationError(expected)
     if not items:
         raise FabricationError(f"parameter {info.name}: expected at least one value")
     if len(items) > MAX_ITEMS:
@@ -170,23 +189,38 @@ def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
 def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
     if tp is str:
         if not isinstance(value, str):
-            raise FabricationError(f"parameter {info.name}: expected text, got {value!r}")
+            raise FabricationError(
+                f"parameter {info.name}: expected text, got {brief_value(value)}"
+            )
         return value
     expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
-    if isinstance(value, bool) or not isinstance(value, str | int | float):
-        raise FabricationError(f"{expected}, got {value!r}")
+    shown = brief_value(value)
+    text = isinstance(value, str)
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, str | int | float)
+        or (
+            text and not value.isascii()  # "\u0663" is 3 to float(): no one types it for one
+        )
+    ):
+        raise FabricationError(f"{expected}, got {shown}")
     try:
         number = tp(value.strip()) if isinstance(value, str) else tp(value)
-    except ValueError:
-        raise FabricationError(f"{expected}, got {value!r}") from None
-    if number != value and not isinstance(value, str):
-        raise FabricationError(f"{expected}, got {value!r}")
+    except (ValueError, OverflowError):
+        raise FabricationError(f"{expected}, got {shown}") from None
     if not math.isfinite(number):
-        raise FabricationError(f"parameter {info.name}: expected a finite number, got {value!r}")
+        raise FabricationError(f"parameter {info.name}: expected a finite number, got {shown}")
+    if number != value and not isinstance(value, str):
+        raise FabricationError(f"{expected}, got {shown}")
+    unit = f" {info.unit}" if info.unit else ""
     if info.low is not None and not number > info.low:
-        unit = f" {info.unit}" if info.unit else ""
         raise FabricationError(
             f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}"
+        )
+    if info.low == 0 and info.unit in _BOUNDS and number < MIN_SIZE:
+        raise FabricationError(
+            f"parameter {info.name}: at least {MIN_SIZE:g}{unit} "
+            f"(parts.parameters.MIN_SIZE), got {number!r}"
         )
     _check_bound(info, tp, number)
     return number

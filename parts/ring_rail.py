@@ -32,7 +32,7 @@ from build123d import (
 from origami_cad.errors import FabricationError
 
 from .base import OrigamiPart
-from .parameters import resolve_params, spec
+from .parameters import check_params, resolve_params, spec
 
 __all__ = ["CLEARANCE", "WALL", "RingRail", "RingRailParams", "ring_anchor_points", "ring_rail"]
 
@@ -74,6 +74,9 @@ class RingRailParams:
     eyelet: float = field(
         default=2.0, metadata=spec("mm", "diameter of each carriage's string eyelet", low=0.0)
     )
+
+    def __post_init__(self) -> None:
+        check_params(self)
 
 
 def ring_anchor_points(params: RingRailParams | None = None, **values: Any) -> list[list[float]]:

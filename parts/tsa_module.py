@@ -37,7 +37,7 @@ from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
 
 from .base import OrigamiPart
-from .parameters import resolve_params, spec
+from .parameters import check_params, resolve_params, spec
 
 __all__ = ["SERVOS", "TSAModule", "TSAModuleParams", "tsa_module"]
 
@@ -103,6 +103,9 @@ class TSAModuleParams:
     centre: tuple[float, float] = field(
         default=(0.0, 0.0), metadata=spec("mm", "where the module stands without a panel")
     )
+
+    def __post_init__(self) -> None:
+        check_params(self)
 
 
 class TSAModule(OrigamiPart):
@@ -225,6 +228,8 @@ def _build(
 
 #: How many times its panel's largest extent a servo case's narrower side may be.
 MAX_OVERHANG = 2.0
+#: How many times its panel's largest extent a servo case's longer side may be.
+MAX_SPAN = 3.0
 
 
 def _check_fits(plan: PanelPlan, panel: str, h: float, length: float) -> None:
@@ -232,15 +237,17 @@ def _check_fits(plan: PanelPlan, panel: str, h: float, length: float) -> None:
 
     A case may overhang its panel (the paper's arm carries an XL330, 26 x 34 mm, on a
     base panel 15.9 mm across), but its narrower side may not exceed
-    :data:`MAX_OVERHANG` times the panel's largest extent (its bounding box's diagonal).
+    :data:`MAX_OVERHANG` times the panel's largest extent (its bounding box's diagonal),
+    nor its longer side :data:`MAX_SPAN` times.
     """
     x0, y0, x1, y1 = shapely.Polygon(plan.outline(panel).outer).bounds
     extent = math.hypot(x1 - x0, y1 - y0)
-    if min(h, length) > MAX_OVERHANG * extent:
+    if min(h, length) > MAX_OVERHANG * extent or max(h, length) > MAX_SPAN * extent:
         raise FabricationError(
             f"the servo's case ({h:g} x {length:g} mm lying on its side) is larger than panel "
-            f"{panel!r} ({extent:.1f} mm across; a case may be at most {MAX_OVERHANG:g} times "
-            "that): mount it on a larger panel or use a smaller servo"
+            f"{panel!r} ({extent:.1f} mm across; a case's sides may be at most "
+            f"{MAX_OVERHANG * extent:.1f} and {MAX_SPAN * extent:.1f} mm): mount it on a "
+            "larger panel or use a smaller servo"
         )
 
 

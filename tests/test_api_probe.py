@@ -317,3 +317,159 @@ def test_fuzz_numbers_replaced_in_every_format(readers, reader, tmp_path):
             if problem:
                 failures.append(f"number {k} = {replacement}: {problem}")
     assert not failures, "\n".join(failures)
+
+
+# --------------------------------------------------------------------------- third sweep
+_PLAN = None
+
+
+def _plan():
+    global _PLAN
+    if _PLAN is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            _PLAN = oc.plan_panels(oc.miura_design(2, 2, 20.0, 20.0, 60.0))
+    return _PLAN
+
+
+@pytest.mark.parametrize(
+    "make, named",
+    [
+        (lambda: parts.Blocker(rotation=math.nan), "rotation"),
+        (lambda: parts.Blocker(rotation="x"), "rotation"),
+        (lambda: parts.DriverAdapter(rotation=np.zeros(0)), "rotation"),
+        (lambda: parts.RingRail(align=0), "align"),
+        (lambda: parts.RingRail(align=np.zeros(3)), "align"),
+        (lambda: parts.TSAModule(mode="add"), "mode"),
+        (lambda: parts.TSAModule(body=1.0), "body"),
+        (lambda: parts.RingRail(centre=math.nan), "centre"),
+        (lambda: parts.RingRail(angles=np.zeros((2, 2, 2))), "angles"),
+        (lambda: parts.Blocker(angle=np.zeros((2, 2))), "angle"),
+        (lambda: parts.Blocker(length=1e-320), "length"),
+        (lambda: parts.Blocker(angle="\u0663"), "angle"),
+        (lambda: parts.DriverAdapter(connectors=math.inf), "connectors"),
+        (lambda: parts.Blocker(params=parts.BlockerParams(angle=math.nan)), "angle"),
+        (lambda: parts.RingRailParams(centre="ab"), "centre"),
+        (lambda: parts.Blocker(thickness=5.0, height=2.2), "thickness"),
+        (
+            lambda: parts.TSAModule(plan=_plan(), panel="c0r0s0", servo="big", body=(200, 200, 30)),
+            "servo's case",
+        ),
+    ],
+)
+def test_the_parts_refuse_hostile_arguments_by_name(make, named):
+    """Placement arguments, scalars for tuples, arrays, sizes below a solid, infinite
+    counts, parameter dataclasses built directly, a servo larger than its panel."""
+    with bounded(), pytest.raises(OrigamiCadError) as err:
+        make()
+    assert named in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+def test_a_route_of_another_pattern_is_refused_by_its_hole():
+    miura = oc.load_design(EXAMPLES / "miura_6x4.toml")
+    route = oc.load_route(EXAMPLES / "miura_route.toml", miura.pattern)
+    small = oc.miura_design(2, 2, 20.0, 20.0, 60.0)
+    with bounded(), pytest.raises(OrigamiCadError, match="pattern has 4 panels"):
+        oc.simulate_dcqc(small, route, max_dp=0.05)
+
+
+def test_a_file_name_with_a_newline_is_named_on_one_line(tmp_path):
+    with pytest.raises(OrigamiCadError) as err:
+        oc.to_mjcf(tmp_path / "a\nb.toml")
+    assert "\n" not in str(err.value)
+
+
+def test_tiny_printed_sizes_are_refused_before_the_kernel_sees_them():
+    for key in ("thickness", "hole_diameter", "midlayer_bias"):
+        with pytest.raises(OrigamiCadError, match=f"{key} must be .*at least 0.01 mm"):
+            oc.FabricationParams(**{key: 1e-320})
+
+
+@pytest.mark.parametrize(
+    "argv, named",
+    [
+        (["fold", "{ex}/fig2_tg.toml", "-o", "{tmp}/a.fold", "--frames", "9" * 400], "--frames"),
+        (["fold", "{ex}/fig2_tg.toml", "-o", "{tmp}/a.fold", "--frames", "\u0663"], "--frames"),
+        (["drive", "{ex}/arm_fold.toml", "--dry-run", "--speed", "1e-320"], "--speed"),
+        (["drive", "{ex}/arm_fold.toml", "--dry-run", "--port", ""], "--port"),
+        (["part", "blocker", "-o", "{tmp}/p", "--crease", "9" * 400], "--crease"),
+    ],
+)
+def test_the_cli_refuses_huge_exotic_or_ignored_option_values(tmp_path, capsys, argv, named):
+    from origami_cad.cli import main
+
+    code = main([a.format(ex=EXAMPLES, tmp=tmp_path) for a in argv])
+    err = capsys.readouterr().err
+    assert code == 2 and named in err and err.count("\n") == 1, err
+    assert len(err) < 400, err
+
+
+def test_a_design_of_another_pattern_and_a_step_below_the_grid_are_refused(every_call):
+    func, good = every_call["simulate"]
+    with bounded(), pytest.raises(OrigamiCadError, match="design: its pattern has 12 edges"):
+        func(**{**good, "design": oc.miura_design(2, 2, 20.0, 20.0, 60.0)})
+    func, good = every_call["calibrate"]
+    with bounded(), pytest.raises(OrigamiCadError, match=r"step .*\[0.1, 1e4\), got 1e-320"):
+        func(**{**good, "step": 1e-320})
+    func, good = every_call["run_sequence"]
+    with bounded(), pytest.raises(OrigamiCadError, match=r"\[0.1, 1000\], got 1e-320"):
+        func(**{**good, "time_scale": 1e-320})
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["check", "{fifo}"],
+        [
+            "sequence",
+            "{fifo}",
+            "{ex}/arm_route.toml",
+            "-o",
+            "{tmp}/s.toml",
+            "--keyframes",
+            "0:0",
+            "9:0.3",
+        ],
+    ],
+    ids=["check", "sequence"],
+)
+def test_a_fifo_input_is_refused_before_anything_reads_it(tmp_path, capsys, argv):
+    """The search for files a TOML input names, and sequence's test for a robot file,
+    opened a FIFO and waited for a writer."""
+    from origami_cad.cli import main
+
+    fifo = tmp_path / "design.toml"
+    os.mkfifo(fifo)
+    with bounded(10):
+        code = main([a.format(fifo=fifo, ex=EXAMPLES, tmp=tmp_path) for a in argv])
+    err = capsys.readouterr().err
+    assert code == 2 and "not a regular file" in err and err.count("\n") == 1, err
+
+
+def test_sequence_of_a_robot_checks_its_gait_files_tsa_tables_as_drive_does(tmp_path, capsys):
+    """``sequence ROBOT GAIT`` took the gait's keyframes and passed ``radius = inf`` in its
+    ``[[tsa]]`` tables, which ``drive`` refuses on the same file."""
+    from origami_cad.cli import main
+
+    gait = tmp_path / "gait.toml"
+    text = (EXAMPLES / "crawler_gait.toml").read_text(encoding="utf-8")
+    gait.write_text(text.replace("radius = 0.6 ", "radius = inf ", 1), encoding="utf-8")
+    robot = EXAMPLES / "crawler" / "crawler.toml"
+    code = main(["sequence", str(robot), str(gait), "-o", str(tmp_path / "s.toml")])
+    err = capsys.readouterr().err
+    assert code == 2 and "radius" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "s.toml").exists()
+
+
+@pytest.mark.parametrize(
+    "make, named",
+    [
+        (lambda: oc.miura_design(2, 2, 20.0, 1e-9, 65.0), "panel_width = 1e-09 mm"),
+        (lambda: oc.miura_design(2, 2, 1e-9, 20.0, 65.0), "panel_length = 1e-09 mm"),
+        (lambda: oc.tg_design([[40, 0], [30, 25]], fold_ratio=0.5, unit_width=1e-9), "unit_width"),
+    ],
+)
+def test_a_panel_too_small_for_the_tolerance_is_named_not_an_internal_error(make, named):
+    with pytest.raises(OrigamiCadError) as err:
+        make()
+    assert named in str(err.value) and "internal" not in str(err.value), str(err.value)

@@ -672,7 +672,7 @@ def test_time_scale_must_be_finite_and_positive(tmp_path, value, capsys):
         code = main(["drive", str(tmp_path / "seq.toml"), "--dry-run", "--speed", str(value)])
         assert code == 2
         err = capsys.readouterr().err  # finite but out of range: the job; NaN, inf: argparse
-        assert "speed must be a number in (0, 1000]" in err or "expected a finite number" in err
+        assert "speed must be a number in [0.1, 1000]" in err or "expected a finite number" in err
 
 
 def test_emulator_and_bus_refuse_repeated_or_bad_ids():

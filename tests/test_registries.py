@@ -310,7 +310,7 @@ def test_each_stage_error_is_its_own_class_under_the_root():
     [
         (["check", "{tmp}/pattern.fold"], "edges_vertices"),
         (["design-arm", "{tmp}/task.toml", "-o", "{tmp}/d"], "task.toml"),
-        (["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "180"], "theta_max"),
+        (["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "180"], "--theta-max"),
         (["route", "{miura}", "{tmp}/route.toml", "-o", "{tmp}/r"], "route.toml"),
         (["robot", "{tmp}/robot.toml", "-o", "{tmp}/rb"], "robot.toml"),
         (["drive", "{tmp}/sequence.toml", "--dry-run"], "sequence.toml"),

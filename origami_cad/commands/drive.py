@@ -133,8 +133,8 @@ class Drive(Command):
         _PROTOCOL,
         Option("baudrate", "int", "bits per second", default=57600, min=1, max=100_000_000),
         Option("dry_run", "flag", "start the emulator and drive it"),
-        Option("speed", "float", "dry run: times faster than real time", min=0,
-               open_min=True, max=1000),
+        Option("speed", "float", "dry run: times faster than real time", min=0.1,
+               max=1000),
         Option("load_scale", "float", "dry run: the emulated loads times this", min=0,
                max=1e6),
         Option("log", help="CSV log, written as it runs (none unless given)", metavar="FILE"),
@@ -152,9 +152,10 @@ class Drive(Command):
         defaults and check the outputs."""
         if not a.dry_run and not a.port:
             raise DriveError("give the servos' port, or use a dry run on the emulator")
-        if a.dry_run and a.port:
+        if a.dry_run and a.port is not None:
             raise OptionsError(
-                f"--port {a.port}: a dry run drives the emulator; give one of the two"
+                f"--port {a.port or repr(a.port)}: a dry run drives the emulator; "
+                "give one of the two"
             )
         given = [n for n in DRY_RUN_DEFAULTS if getattr(a, n) is not None]
         if given and not a.dry_run:

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from origami_cad._fileio import atomic_path
 from origami_cad._names import one_line
+from origami_cad._toml import load_toml
 from origami_cad.commands._base import Command, Option, Outputs, register, wrote
 from origami_cad.commands.drive import parse_ids
 from origami_cad.errors import DriveError, OptionsError
@@ -79,6 +80,8 @@ def _robot_sequence(a) -> Outputs:
             f"{one_line(a.route)} gives the keyframes and the robot its legs"
         )
     table = {"rate": RATE, "repeat": 1, "current_limit": 1200.0} | load_sequence_table(a.route)
+    if "tsa" in load_toml(a.route, DriveError):  # drive runs it too: checked as drive reads it
+        load_sequence(a.route)
     rate = a.rate if a.rate is not None else table["rate"]
     repeat = a.repeat if a.repeat is not None else table["repeat"]
     robot = load_gait(a.route, load_robot(a.design))

@@ -359,11 +359,11 @@ def is_robot_file(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` is a robot file: a readable TOML file with a ``[robot]`` table."""
     import tomllib
 
-    if Path(path).suffix.lower() != ".toml":
-        return False
-    try:
+    try:  # a FIFO or a device would block, or never end: its reader refuses it
+        if Path(path).suffix.lower() != ".toml" or not Path(path).is_file():
+            return False
         data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except (OSError, ValueError, RecursionError):  # ValueError: bad UTF-8, TOML, a NUL
         return False
     return isinstance(data.get("robot"), dict)
 

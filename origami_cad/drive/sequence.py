@@ -264,18 +264,20 @@ def _name(t: Table, default: str) -> str:
 
 
 def check_time_scale(time_scale: Any, what: str = "time_scale") -> float:
-    """``time_scale`` (the CLI's ``--speed``) as a float; :class:`DriveError` unless finite, > 0.
+    """``time_scale`` (the CLI's ``--speed``) as a float; :class:`DriveError` unless finite,
+    in [0.1, 1000].
 
     At most 1000: beyond it the emulated servos cannot keep up and the run
-    would only measure the host's scheduling.
+    would only measure the host's scheduling; at least 0.1: a run ten times slower than
+    real time is the slowest worth watching (1e-300 would never end).
     """
     if (
         isinstance(time_scale, bool)
         or not isinstance(time_scale, int | float)
         or not math.isfinite(time_scale)
-        or not 0 < time_scale <= 1000
+        or not 0.1 <= time_scale <= 1000
     ):
-        raise DriveError(f"{what} must be a number in (0, 1000], got {brief_value(time_scale)}")
+        raise DriveError(f"{what} must be a number in [0.1, 1000], got {brief_value(time_scale)}")
     return float(time_scale)
 
 

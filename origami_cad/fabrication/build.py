@@ -18,7 +18,7 @@ from origami_cad import __version__
 from origami_cad._args import Arg, checked
 from origami_cad._display import View3DDisplay
 from origami_cad._fileio import atomic_write
-from origami_cad._toml import json_text
+from origami_cad._toml import json_text, printable
 from origami_cad.errors import FabricationError, OutputError, warn
 from origami_cad.fabrication.panels import PanelOutline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
@@ -331,11 +331,15 @@ def write_fabrication(
 
     out = Path(folder)
     if out.exists() and not out.is_dir():
-        raise OutputError(f"{folder}: is a file, not a folder to write the fabrication into")
+        raise OutputError(
+            f"{printable(str(folder))}: is a file, not a folder to write the fabrication into"
+        )
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise OutputError(f"{folder}: cannot make this folder ({exc.strerror})") from None
+        raise OutputError(
+            f"{printable(str(folder))}: cannot make this folder ({exc.strerror})"
+        ) from None
     written: dict[str, dict[str, Path]] = {}
     timings: dict[str, float] = {}
     for fmt, write in WRITERS.items():

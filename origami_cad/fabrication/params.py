@@ -55,6 +55,11 @@ def theta_max(bias: float, height: float, thickness: float) -> float:
     return float(crease_fold_limit(bias, height, thickness))
 
 
+#: The finest feature a printed structure's length may ask for, mm (a nozzle's tenth):
+#: 1e-300 mm is no solid the B-rep kernel can build.
+MIN_FEATURE = 0.01
+
+
 @dataclass(frozen=True)
 class FabricationParams:
     """Parameters of the printed structure (all lengths mm).
@@ -95,10 +100,20 @@ class FabricationParams:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
                 raise FabricationError(f"{name} must be a number > 0 mm, got {brief_value(value)}")
+            if value < MIN_FEATURE:
+                raise FabricationError(
+                    f"{name} must be at least {MIN_FEATURE:g} mm (no printer makes a finer "
+                    f"feature), got {value!r}"
+                )
         for name in ("midlayer_bias", "border_margin"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
                 raise FabricationError(f"{name} must be a number >= 0 mm, got {brief_value(value)}")
+            if 0 < value < MIN_FEATURE:
+                raise FabricationError(
+                    f"{name} must be 0 or at least {MIN_FEATURE:g} mm (no printer makes a "
+                    f"finer feature), got {value!r}"
+                )
         if self.height <= self.thickness:
             raise FabricationError(
                 f"height h = {self.height:g} mm must exceed the crease thickness "

@@ -125,8 +125,12 @@ def miura_tessellation(
     verts = _grid_vertices(x_joint, offsets, h, rows, start)
     edges, assign = _grid_edges(beta_deg, entry_flag, rows)
     cp = CreasePattern(verts, edges, assign, metadata={"title": title} if title else None)
-    if cp.n_vertices != len(verts) or cp.notes:  # pragma: no cover - guarded by checks above
-        raise PatternError("internal error: the tessellation grid needed repair")
+    if cp.n_vertices != len(verts) or cp.notes:  # a feature under the tolerance: merged
+        raise PatternError(
+            f"the row height {h:g} mm (a TG's unit_width / 2) and the segment lengths "
+            f"({float(l.min()):g} to {float(l.max()):g} mm) are too far apart in size: "
+            f"vertices closer than {cp.tolerance:.3g} mm (1e-6 of the pattern's size) merge"
+        )
     return cp.with_face_labels(_grid_labels(cp, n + 2))
 
 
@@ -317,6 +321,27 @@ def _grid_labels(cp: CreasePattern, n_joints: int) -> list[str]:
     return labels
 
 
+def _check_panel_sizes(
+    rows: int, columns: int, panel_length: float, panel_width: float, sector_angle: float
+) -> None:
+    """PatternError naming ``panel_width`` or ``panel_length`` (mm) when it is so small
+    beside the whole pattern that its vertices would merge (the pattern's tolerance is
+    ``DEFAULT_RELATIVE_TOLERANCE`` of its size; a feature must be
+    :data:`MIN_FEATURE_TOLERANCES` times that)."""
+    from origami_cad.pattern.model import DEFAULT_RELATIVE_TOLERANCE as rel
+
+    lean = panel_width / math.tan(math.radians(sector_angle))
+    size = math.hypot(columns * panel_length + lean, rows * panel_width)
+    least = MIN_FEATURE_TOLERANCES * rel * size
+    for key, value in (("panel_width", panel_width), ("panel_length", panel_length)):
+        if not value > least:
+            raise PatternError(
+                f"{key} = {value:g} mm is too small beside a pattern {size:.4g} mm across: "
+                f"vertices closer than {rel * size:.3g} mm (1e-6 of its size) merge; it "
+                f"must exceed {least:.3g} mm"
+            )
+
+
 def miura_pattern(
     rows: int,
     columns: int,
@@ -360,6 +385,7 @@ def miura_pattern(
         raise PatternError(f"columns must be >= 1, got {columns}")
     if not 0.0 < sector_angle < 90.0:
         raise PatternError(f"sector_angle must lie in (0, 90) deg, got {sector_angle}")
+    _check_panel_sizes(rows, columns, panel_length, panel_width, sector_angle)
     betas = [sector_angle] * (columns - 1)
     return miura_tessellation(
         [panel_length] * columns,

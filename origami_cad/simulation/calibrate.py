@@ -360,9 +360,9 @@ def _checked_call(cp, route, runs, materials, fit, step, max_evaluations):
     unknown = [n for n in fit if not isinstance(n, str) or n not in FITTED]
     if unknown:
         raise SimulationError(f"calibrate: cannot fit {unknown} (known: {', '.join(FITTED)})")
-    if isinstance(step, bool) or not isinstance(step, int | float) or not 0 < step < 1e4:
+    if isinstance(step, bool) or not isinstance(step, int | float) or not 0.1 <= step < 1e4:
         raise SimulationError(
-            f"calibrate: step must be a number of mm in (0, 1e4), got {brief_value(step)}"
+            f"calibrate: step must be a number of mm in [0.1, 1e4), got {brief_value(step)}"
         )
     if (
         isinstance(max_evaluations, bool)

@@ -50,12 +50,12 @@ import math
 import os
 from collections import deque
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from origami_cad._args import Arg, brief_value, checked
 from origami_cad._names import xml_text
+from origami_cad._toml import input_file
 from origami_cad.errors import SimulationError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
@@ -119,9 +119,7 @@ def load_mjcf_source(source, routes=()) -> MjcfSource:
     if bad is not None:
         raise MjcfError(f"routes: expected route files or RouteSpecs, got {brief_value(bad)}")
     if isinstance(source, (str, os.PathLike)):
-        path = Path(source)
-        if not path.is_file():
-            raise MjcfError(f"{path}: no such file")
+        path, _ = input_file(source, MjcfError)  # a name with a newline shown on one line
         try:
             text = path.read_text(encoding="utf-8") if path.suffix.lower() == ".toml" else ""
         except (OSError, UnicodeDecodeError) as exc:

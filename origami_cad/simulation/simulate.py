@@ -373,6 +373,11 @@ def simulate(
         ``params.ground``.
     """
     fold_limits = _checked_limits(cp, fold_limits)
+    if design is not None and design.pattern.edges.shape != cp.edges.shape:
+        raise SimulationError(
+            f"simulate: design: its pattern has {design.pattern.n_edges} edges, cp "
+            f"{cp.n_edges}: the design of another pattern"
+        )
     params = _default_params(route, params, free)
     cap = route.max_tension if tension_limit is None else tension_limit
     rules = StopRules(

@@ -566,6 +566,14 @@ def hole_frames(cp: CreasePattern, string: StringRoute) -> tuple[np.ndarray, np.
     """
     tri = np.empty((len(string.faces), 3), dtype=np.int64)
     ab = np.empty((len(string.faces), 2))
+    n = len(cp.faces)
+    for k, fi in enumerate(string.faces):
+        if not 0 <= fi < n:
+            name = string.names[k] if k < len(string.names) else f"#{k + 1}"
+            raise StringsError(
+                f"route: hole {name} is on panel {fi}, but the pattern has {n} panels "
+                "(a route of another pattern?)"
+            )
     for k, (fi, (x, y)) in enumerate(zip(string.faces, string.points, strict=True)):
         tri[k], ab[k] = panel_frame(cp, fi, x, y)
     return tri, ab
