@@ -3,12 +3,13 @@ force-against-pull curves (a test machine's runs, or ``drive``'s logs)."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
+from origami_cad._toml import json_text
 from origami_cad.commands._base import SIZING, Command, Option, Outputs, register, wrote
 from origami_cad.commands.pull import MATERIALS, materials_of
+from origami_cad.errors import SimulationError
 
 __all__ = ["Calibrate"]
 
@@ -38,7 +39,9 @@ class Calibrate(Command):
         Option("fit", help="parameters fitted", nargs="+", choices=_CHOICES, default=_FIT),
         Option("step", "float", "the grid of pulls compared", "mm", default=2.0, min=0.1,
                max=100.0),
-        Option("evaluations", "int", "simulations at most", default=40, min=3, max=1000),
+        Option("evaluations", "int", "least-squares evaluations at most (a Jacobian and the "
+               "coarse start cost more simulations: calibration.json counts them)", default=40,
+               min=3, max=1000),
         Option("x_dis", "float", "a drive log's TSA to its first hole", "mm", min=0,
                max=1e4, open_min=True),
         Option("tendons", "int", "pull only these tendons (1-based; default: all)", nargs="+",
@@ -72,7 +75,7 @@ class Calibrate(Command):
             with atomic_write(stage / self.FILES[0], "w", encoding="utf-8") as fh:
                 fh.write(dump_materials(fit.materials, header=header))
             with atomic_write(stage / self.FILES[1], "w", encoding="utf-8") as fh:
-                json.dump(fit.to_dict(), fh, indent=1)
+                fh.write(json_text(fit.to_dict(), "calibration.json", SimulationError, indent=1))
             save_fit_png(fit, stage / self.FILES[2], title=f"{Path(a.design).name}")
         files = [Path(a.folder) / n for n in self.FILES]
         return Outputs(

@@ -301,7 +301,12 @@ class Calibration:
         """``calibration.json``."""
         return {
             "parameters": {
-                k: {"value": v, "standard_error": self.sigma[k]} for k, v in self.values.items()
+                # null: a parameter these runs do not determine (no finite standard error)
+                k: {
+                    "value": v,
+                    "standard_error": self.sigma[k] if math.isfinite(self.sigma[k]) else None,
+                }
+                for k, v in self.values.items()
             },
             "units": {
                 "crease_stiffness": "N mm/rad per mm",
@@ -496,7 +501,9 @@ def calibrate(
     are measurement files (:func:`read_force_curve`) or ``(pull mm, force N)`` curves;
     the grid is every ``step`` mm up to the
     shortest run's end. ``materials`` are the starting values (default :class:`Materials`),
-    ``max_evaluations`` bounds the simulations. Bounded least squares on the residual
+    ``max_evaluations`` bounds the least-squares evaluations (each forward-difference
+    Jacobian costs one more simulation per fitted parameter, and a coarse start a few
+    before them: ``Calibration.evaluations`` counts them all). Bounded least squares on the residual
     (simulated - mean) / peak; the standard errors from the Jacobian at the optimum.
     ``tendons`` (1-based) pulls only those of the route's strings (default: every one,
     on one crosshead).
