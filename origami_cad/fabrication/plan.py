@@ -370,8 +370,8 @@ def _bias_warnings(cp: CreasePattern, params: FabricationParams, biases) -> tupl
             f"{len(thinned)} of {len(cp.faces)} panels are too small for the shell wall "
             f"{params.shell:g} mm even at the inner bias {MIN_BIAS:g} mm and got the thickest "
             f"that fits (at least {min(MIN_SHELL, params.shell):g} mm, whole print layers): "
-            f"{_named(cp, thinned, lambda f: f' {biases.shell[f]:.2f} mm')}; a thinner TPU "
-            f"wall is weaker where the strings pull (fabrication.json lists every panel's shell)"
+            f"{_named(cp, thinned, lambda f: f' {biases.shell[f]:.2f} mm')}; their TPU "
+            f"wraps the PLA infill more thinly (fabrication.json lists every panel's shell)"
         )
     if biases.holeless:
         out.append(
