@@ -169,18 +169,24 @@ class Fabrication(View3DDisplay):
 
     def _bias_report(self, labels) -> dict[str, Any]:
         """Each panel's inner bias (mm) and the panels without a hole, when some panel was
-        too small for the default (nothing otherwise: the file stays as it was)."""
-        if self.plan.biases is None:
-            return {}
-        holed = set(self.plan.hole_panels.tolist())
-        return {
-            "panel_bias_mm": {
+        too small for the default bias, and each panel's shell wall (mm) when some panel got
+        a thinner one (nothing otherwise: the file stays as it was)."""
+        out: dict[str, Any] = {}
+        if self.plan.biases is not None:
+            holed = set(self.plan.hole_panels.tolist())
+            out["panel_bias_mm"] = {
                 lab: float(b) for lab, b in zip(labels, self.plan.biases, strict=True)
-            },
-            "panels_without_hole": [lab for i, lab in enumerate(labels) if i not in holed]
-            if self.params.holes == "auto"
-            else [],
-        }
+            }
+            out["panels_without_hole"] = (
+                [lab for i, lab in enumerate(labels) if i not in holed]
+                if self.params.holes == "auto"
+                else []
+            )
+        if self.plan.shells is not None:
+            out["panel_shell_mm"] = {
+                lab: float(s) for lab, s in zip(labels, self.plan.shells, strict=True)
+            }
+        return out
 
     def report(self) -> dict[str, Any]:
         """The content of ``fabrication.json``: masses in g, ``total_mass_g`` the parts as

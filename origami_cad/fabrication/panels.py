@@ -32,6 +32,7 @@ __all__ = [
     "panel_outlines",
     "plan_holes",
     "printed_pattern",
+    "shell_of",
 ]
 
 #: Edges whose sides are free (vertical walls, border margin): border and cut.
@@ -172,6 +173,9 @@ class PanelOutline:
         Maximum operation region, where holes may go: for each of its polygons,
         the exterior ring then any interior rings, closed (first point repeated).
         Empty when nothing is left. :meth:`region_polygon` gives it as shapely.
+    shell : float or None
+        The shell wall ``s`` the footprints were made for, mm (``None``: ``params.shell``
+        of the solids built from them). :func:`shell_of` gives the one to build with.
     """
 
     index: int
@@ -184,6 +188,7 @@ class PanelOutline:
     infill_outer: np.ndarray
     midlayer: np.ndarray
     region: tuple[tuple[np.ndarray, ...], ...]
+    shell: float | None = None
 
     def region_polygon(self) -> shapely.Polygon | shapely.MultiPolygon:
         """The operation region as a shapely geometry (empty if nothing is left)."""
@@ -248,13 +253,18 @@ def check_panels(cp: CreasePattern) -> None:
 
 
 def panel_outline(
-    cp: CreasePattern, fi: int, params: FabricationParams, bias: float | None = None
+    cp: CreasePattern,
+    fi: int,
+    params: FabricationParams,
+    bias: float | None = None,
+    shell: float | None = None,
 ) -> PanelOutline:
     """The footprints of panel (face) ``fi`` of ``cp`` at inner bias ``bias`` (mm, default
-    ``params.bias``); :class:`PatternError` naming the panel when it is too small for them.
-    The pattern itself is not checked (:func:`panel_outlines` does)."""
+    ``params.bias``) and shell wall ``shell`` (mm, default ``params.shell``);
+    :class:`PatternError` naming the panel when it is too small for them. The pattern
+    itself is not checked (:func:`panel_outlines` does)."""
     b = params.bias if bias is None else bias
-    s, m = params.shell, params.midlayer_bias
+    s, m = (params.shell if shell is None else shell), params.midlayer_bias
     half = params.half_height
     margin = params.border_margin
     slope = b / half  # horizontal run of a chamfer per mm of height
@@ -276,8 +286,14 @@ def panel_outline(
         shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
     )
     return PanelOutline(
-        fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, _rings(region)
+        fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, _rings(region), s
     )
+
+
+def shell_of(o: PanelOutline, params: FabricationParams) -> float:
+    """The shell wall the solids of panel ``o`` are built with, mm: the one its footprints
+    were made for (``o.shell``), else ``params.shell``."""
+    return params.shell if o.shell is None else float(o.shell)
 
 
 def _centred_pole(region) -> shapely.Point:
@@ -362,12 +378,14 @@ def panel_fits(
     bias: float,
     holes: tuple[tuple[float, float, float], ...] = (),
     auto_hole: bool = True,
+    shell: float | None = None,
 ) -> bool:
-    """Whether panel (face) ``fi`` keeps its footprints at inner bias ``bias`` (mm) and room
-    for its hole: the automatic one (``params.holes == "auto"`` and ``auto_hole``) or
-    ``holes`` ((x, y, diameter) mm, the given holes on this panel)."""
+    """Whether panel (face) ``fi`` keeps its footprints at inner bias ``bias`` (mm) and shell
+    wall ``shell`` (mm, default ``params.shell``) and room for its hole: the automatic one
+    (``params.holes == "auto"`` and ``auto_hole``) or ``holes`` ((x, y, diameter) mm, the
+    given holes on this panel)."""
     try:
-        o = panel_outline(cp, fi, params, bias)
+        o = panel_outline(cp, fi, params, bias, shell)
         if params.holes == "auto" and auto_hole:
             _auto_hole(o, params.hole_diameter)
     except PatternError:

@@ -29,6 +29,7 @@ __all__ = [
     "bias_for_p_max",
     "bias_for_theta_max",
     "fabrication_params",
+    "layer_height",
     "theta_max",
 ]
 
@@ -166,6 +167,24 @@ class FabricationParams:
             "hole_diameter_mm": self.hole_diameter,
             "holes": self.holes if isinstance(self.holes, str) else [list(p) for p in self.holes],
         }
+
+
+def layer_height(params: FabricationParams, largest: float = 0.2) -> float:
+    """The largest layer height (mm, at most ``largest``) that resolves every layer.
+
+    Each panel half ``(h - t) / 2``, the crease layer ``t`` and the shell ``s`` are a
+    whole number of layers, so no layer straddles two materials' boundary. Tries
+    ``largest``, then steps of 0.01 mm down to 0.05 mm; falls back to 0.05 mm. The print
+    settings use it (:mod:`~origami_cad.fabrication.slicer`); a panel given a thinner
+    shell wall (:func:`~origami_cad.fabrication.plan.panel_biases`) gets a whole number
+    of these layers too.
+    """
+    targets = (params.half_height, params.thickness, params.shell)
+    for hundredths in range(round(largest * 100), 4, -1):
+        h = hundredths / 100
+        if all(abs(x / h - round(x / h)) < 1e-6 for x in targets):
+            return h
+    return 0.05
 
 
 def fabrication_params(

@@ -32,7 +32,7 @@ from OCP.TopAbs import TopAbs_EDGE, TopAbs_FORWARD, TopAbs_REVERSED
 from OCP.TopExp import TopExp, TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Face, TopoDS_Shell, TopoDS_Solid, TopoDS_Wire
 
-from origami_cad.fabrication.panels import PanelOutline
+from origami_cad.fabrication.panels import PanelOutline, shell_of
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import Hole
 
@@ -337,7 +337,7 @@ def fast_panel_build(
     order); ``None`` when the solids are not built here."""
     if not holes_clear(o, holes):
         return None
-    h, half, s = params.height, params.half_height, params.shell
+    h, half, s = params.height, params.half_height, shell_of(o, params)
     lo_z, hi_z = half, half + params.thickness
     lower = (o.outer, 0.0, o.inner, lo_z)
     upper = (o.inner, hi_z, o.outer, h)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication.assembly import MATERIAL_COLORS
-from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
+from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams, layer_height
 
 __all__ = [
     "EXTRUDERS",
@@ -26,21 +26,6 @@ SLICERS = ("prusa", "bambu", "orca")
 
 #: Extruder of each material (1-based, as slicers count).
 EXTRUDERS = {"PLA": 1, "TPU": 2}
-
-
-def layer_height(params: FabricationParams, largest: float = 0.2) -> float:
-    """The largest layer height (mm, at most ``largest``) that resolves every layer.
-
-    Each panel half ``(h - t) / 2``, the crease layer ``t`` and the shell ``s`` are a
-    whole number of layers, so no layer straddles two materials' boundary. Tries
-    ``largest``, then steps of 0.01 mm down to 0.05 mm; falls back to 0.05 mm.
-    """
-    targets = (params.half_height, params.thickness, params.shell)
-    for hundredths in range(round(largest * 100), 4, -1):
-        h = hundredths / 100
-        if all(abs(x / h - round(x / h)) < 1e-6 for x in targets):
-            return h
-    return 0.05
 
 
 #: Per-material slicer settings: nozzle and first-layer temperatures (deg C), bed (deg C),

@@ -30,7 +30,7 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Face
 
 from origami_cad.errors import PatternError
-from origami_cad.fabrication.panels import PanelOutline
+from origami_cad.fabrication.panels import PanelOutline, shell_of
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.polyhedra import Facets, fast_panel_build
 from origami_cad.pattern.model import Hole
@@ -303,7 +303,7 @@ def boolean_panel_solids(
     params : FabricationParams
         Heights and thicknesses, mm.
     """
-    h, t, half, s = params.height, params.thickness, params.half_height, params.shell
+    h, t, half, s = params.height, params.thickness, params.half_height, shell_of(o, params)
     z_layer_lo, z_layer_hi = half, half + t
     cyl = _cylinders(holes, 0.0, h)
     lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
