@@ -213,6 +213,10 @@ class HessianAssembly:
         iterations and between solves as the conjugate-gradient preconditioner.
     stale : bool
         Whether the next Newton step should factorise afresh instead.
+    damping_hint : float
+        The Levenberg damping (relative to the stiffest bar) that last made a
+        refused Hessian positive definite: the next refusal goes straight to it
+        instead of climbing from 1e-10 by tens (each try a factorisation).
     reuse_factorisations : bool
         Class-wide switch (default True): False factorises at every Newton step
         (the plain Newton method, for comparisons).
@@ -256,6 +260,7 @@ class HessianAssembly:
         self.diagonal = np.searchsorted(unique, diag)
         self.preconditioner: Factor | None = None
         self.stale = False
+        self.damping_hint = 0.0
         self._plan: FactorPlan | None = None
 
     def keep(self, factor: Factor) -> None:
@@ -349,8 +354,10 @@ def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_ite
     """Conjugate gradients on ``a x = rhs`` preconditioned by an earlier factorisation.
 
     Returns ``(x, iterations)``; ``x`` is None when it did not reach ``rtol``
-    (relative residual) within ``max_iter`` iterations, or when it met a
-    direction of non-positive curvature (``a`` not positive definite there).
+    (relative residual) within ``max_iter`` iterations, unless its residual is
+    then within :data:`_CG_LOOSE` (an inexact Newton step, which the line search
+    still checks), or when it met a direction of non-positive curvature (``a``
+    not positive definite there).
     """
     x = np.zeros_like(rhs)
     r = rhs.copy()
@@ -372,6 +379,8 @@ def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_ite
         rz_next = float(r @ z)
         p = z + (rz_next / rz) * p
         rz = rz_next
+    if float(np.linalg.norm(r)) <= _CG_LOOSE * float(np.linalg.norm(rhs)):
+        return x, max_iter  # an inexact Newton step still: keep what it cost
     return None, max_iter
 
 
@@ -413,6 +422,13 @@ class SolveInfo:
 _CG_RTOL = 1e-3
 _CG_MAX_ITER = 30
 _CG_REFRESH = 5
+# the relative residual at which a solve that ran out of iterations is still taken
+# (the box pleat's slow solves end at 2e-3 to 1e-2: a factorisation saved each)
+_CG_LOOSE = 1e-2
+# the least Levenberg damping (relative to the stiffest bar) tried on a Hessian that is
+# not positive definite: smaller ones never made the box pleat's positive definite
+# (1e-10 to 1e-7: three wasted factorisations at each refusal, measured)
+_LEAST_DAMPING = 1e-7
 
 
 def _line_search(x, step, g, energy, free, st, strings, ground):
@@ -547,12 +563,16 @@ def _factorised_step(x, g, values, energy, damping, scale, asm, info, problem):
     on its diagonal) is positive definite. Returns ``(damping, (t, step, trial x,
     trial energy))``, the step None when 16 tries found no descent.
     """
+    refused = False
     for _ in range(16):
         factor = asm.factorise(values, damping * scale)
         info.factorisations += 1
-        if factor is None:
-            damping = max(damping * 10.0, 1e-10)
+        if factor is None:  # not positive definite: straight to the damping that last did
+            refused = True
+            damping = max(damping * 10.0, _LEAST_DAMPING, asm.damping_hint)
             continue
+        if refused:
+            asm.damping_hint = damping
         asm.keep(factor)
         a = asm.matrix(values, damping * scale)
         step = -factor.solve(g)
