@@ -198,3 +198,22 @@ def test_the_preconditioner_is_kept_across_solves_unless_switched_off(monkeypatc
     # both are equilibria to 1e-7 N of residual force: about 1e-6 mm along the soft folding
     np.testing.assert_allclose(x_fast, x_plain, atol=1e-5)
     assert np.abs(x_fast - start).max() > 1e-2  # the hinges really folded the sheet
+
+
+def test_a_whole_first_step_settles_the_flat_sheet_to_the_same_state_in_fewer_iterations():
+    _, st = _miura_structure(3)
+    signs = np.where(np.arange(len(st.hinges)) % 2 == 0, 1.0, -1.0)
+    st.hinge_rest = np.where(st.folds, signs * math.radians(3.0), 0.0)
+    flat = st.x0.copy()
+    x_cut, cut = solver.solve_equilibrium(flat, st, assembly=HessianAssembly(st))
+    x_whole, whole = solver.solve_equilibrium(
+        flat, st, assembly=HessianAssembly(st), whole_step=True
+    )
+    assert cut.converged and whole.converged
+    assert whole.iterations < cut.iterations
+    assert np.abs(x_whole - flat).max() > 0.1  # the creases really folded
+    np.testing.assert_allclose(x_whole, x_cut, atol=1e-5)
+    # the step alone folds the sheet already
+    stepped = solver.whole_newton_step(flat, st, HessianAssembly(st))
+    assert np.abs(stepped - flat).max() > 0.1
+    np.testing.assert_array_equal(flat, st.x0)  # the start is not changed in place

@@ -524,7 +524,9 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     if ground is not None:
         ground.start(st.x0)
     assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
-    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground, assembly=assembly)
+    x, _ = solve_equilibrium(  # from the flat sheet: its first Newton step whole
+        st.x0.copy(), st, None, ground=ground, assembly=assembly, whole_step=ground is None
+    )
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
