@@ -158,6 +158,7 @@ class Table:
     """
 
     def __init__(self, data: Any, where: str, error: type[Exception] = DesignError) -> None:
+        where = printable(where, 1000)  # a file named with a newline: its messages stay one line
         if not isinstance(data, dict):
             raise error(f"{where}: expected a table, got {_type_name(data)}")
         self.data = data

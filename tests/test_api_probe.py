@@ -473,3 +473,12 @@ def test_a_panel_too_small_for_the_tolerance_is_named_not_an_internal_error(make
     with pytest.raises(OrigamiCadError) as err:
         make()
     assert named in str(err.value) and "internal" not in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("load", [oc.load_design, oc.load_task, oc.read_pattern])
+def test_a_file_named_with_a_newline_is_named_on_one_line_by_every_loader(tmp_path, load):
+    path = tmp_path / "a\nb.toml"
+    path.write_text("")
+    with pytest.raises(OrigamiCadError) as err:
+        load(path)
+    assert "\n" not in str(err.value) and "a\\nb" in str(err.value), str(err.value)
