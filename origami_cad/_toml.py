@@ -25,6 +25,7 @@ __all__ = [
     "MAX_INTEGER",
     "MAX_MAGNITUDE",
     "Table",
+    "check_finite",
     "finite_toml",
     "input_file",
     "json_text",
@@ -158,6 +159,7 @@ class Table:
     """
 
     def __init__(self, data: Any, where: str, error: type[Exception] = DesignError) -> None:
+        where = printable(where, 1000)  # a file named with a newline: its messages stay one line
         if not isinstance(data, dict):
             raise error(f"{where}: expected a table, got {_type_name(data)}")
         self.data = data
@@ -329,6 +331,27 @@ def _non_finite(value: Any, path: str = "") -> tuple[str, float] | None:
         if found is not None:
             return found
     return None
+
+
+def check_finite(data: Any, where: str, error: type[Exception] = DesignError) -> None:
+    """``error`` naming ``where`` and the key path of the first NaN or infinity in ``data``
+    (read from JSON: Python's reader takes ``NaN``, ``Infinity`` and ``1e999``, which
+    no strict JSON holds), even in a key the reader does not use.
+
+    >>> check_finite({"a": [1.5, float("inf")]}, "x.json")
+    Traceback (most recent call last):
+    ...
+    origami_cad.errors.DesignError: x.json: a[1] is inf, not a finite number (strict JSON has none)
+    """
+    try:
+        bad = _non_finite(data)
+    except RecursionError:
+        raise error(f"{where}: nested too deeply to read") from None
+    if bad is not None:
+        raise error(
+            f"{where}: {bad[0] or 'the value'} is {bad[1]}, not a finite number "
+            "(strict JSON has none)"
+        )
 
 
 def _plain(value: Any) -> Any:

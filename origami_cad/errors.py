@@ -53,7 +53,19 @@ __all__ = [
 
 
 class OrigamiCadError(Exception):
-    """Base class of every error caused by bad input."""
+    r"""Base class of every error caused by bad input.
+
+    Its message is one line: a control character in it (a file named with a newline, a
+    bidirectional override) is shown escaped, whatever built the message.
+
+    >>> str(OrigamiCadError("a\nb.toml: missing key 'pattern'"))
+    "a\\nb.toml: missing key 'pattern'"
+    """
+
+    def __init__(self, *args: object) -> None:
+        if len(args) == 1 and isinstance(args[0], str) and not args[0].isprintable():
+            args = ("".join(c if c.isprintable() else repr(c)[1:-1] for c in args[0]),)
+        super().__init__(*args)
 
 
 class PatternError(OrigamiCadError, ValueError):

@@ -473,3 +473,33 @@ def test_a_panel_too_small_for_the_tolerance_is_named_not_an_internal_error(make
     with pytest.raises(OrigamiCadError) as err:
         make()
     assert named in str(err.value) and "internal" not in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("load", [oc.load_design, oc.load_task, oc.read_pattern])
+def test_a_file_named_with_a_newline_is_named_on_one_line_by_every_loader(tmp_path, load):
+    path = tmp_path / "a\nb.toml"
+    path.write_text("")
+    with pytest.raises(OrigamiCadError) as err:
+        load(path)
+    assert "\n" not in str(err.value) and "a\\nb" in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("token", ["NaN", "Infinity", "1e999"])
+@pytest.mark.parametrize(
+    "source",
+    [
+        EXAMPLES / "gallery/fold/simple.fold",
+        EXAMPLES / "pygamix/descriptionData/f-mountain-big-fix-new.json",
+    ],
+    ids=["fold", "pygamix"],
+)
+def test_json_readers_refuse_what_no_strict_json_holds(tmp_path, source, token):
+    """Python's JSON reader takes NaN, Infinity and 1e999 (as inf): in a key the reader
+    does not use (faceOrders, PyGamiX's kps) they passed unseen."""
+    text = source.read_text(encoding="utf-8")
+    m = re.search(r"(?<![\w.])-?\d+(?:\.\d+)?(?![\w.])", text[len(text) // 2 :])
+    at = len(text) // 2 + m.start()
+    path = tmp_path / f"bad{source.suffix}"
+    path.write_text(text[:at] + token + text[at + len(m.group()) :], encoding="utf-8")
+    with pytest.raises(OrigamiCadError, match="not a finite number"):
+        oc.read_pattern(path)

@@ -28,7 +28,7 @@ import numpy as np
 
 from origami_cad._args import Arg, brief_value, checked
 from origami_cad._fileio import atomic_write
-from origami_cad._toml import input_file, parse_file
+from origami_cad._toml import check_finite, input_file, parse_file
 from origami_cad.errors import PatternError
 from origami_cad.pattern.model import (
     MAX_COORDINATE,
@@ -216,6 +216,7 @@ def _load_unique(path: str | os.PathLike[str]) -> dict[str, Any]:
         raise PatternError(
             f"{name}: a FOLD file must hold a JSON object, not {type(data).__name__}"
         )
+    check_finite(data, name, PatternError)  # NaN, 1e999: even in a key not read
     return data
 
 

@@ -49,7 +49,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._toml import printable
+from origami_cad._toml import check_finite, printable
 from origami_cad.errors import PatternError
 from origami_cad.pattern.formats.pygamix_kl import KLRows, kl_rows
 from origami_cad.pattern.model import CreasePattern, Hole
@@ -364,6 +364,7 @@ def read_pygamix(path: str | os.PathLike[str], mm_per_unit: float | None = None)
         data = json.loads(text)
     except (json.JSONDecodeError, RecursionError) as exc:
         raise _fail(where, f"not valid JSON: {exc}") from None
+    check_finite(data, where, PatternError)  # NaN, 1e999: even in a key not read
     if not isinstance(data, dict):
         raise _fail(where, "a PyGamiX design is a JSON object")
     if "vertices_coords" in data or "file_spec" in data or "file_frames" in data:
