@@ -21,7 +21,7 @@ from origami_cad.strings.dcqc import fold_limit
 from origami_cad.strings.plan_model import PlanGeometry, PlanSettings, TSAPlacement
 from origami_cad.strings.route import RouteSpec, mean_pose, panel_frame, rigid_fit, side_rule
 
-__all__ = ["plan_geometry", "ring_points", "target_ratio"]
+__all__ = ["plan_geometry", "ring_points", "target_ratio", "truncated_geometry"]
 
 
 def target_ratio(
@@ -288,4 +288,21 @@ def plan_geometry(
         limit_p=limit,
         anchor_xy=tuple(float(v) for v in auto_xy) if auto_xy is not None else (math.nan,) * 2,
         fabrication=fab,
+    )
+
+
+def truncated_geometry(geom: PlanGeometry, count: int) -> PlanGeometry:
+    """``geom`` planned to its ``count``-th fold ratio instead of its target: the first
+    ``count`` states of its grid (at least 2), the target that ratio; nothing refolded."""
+    k = max(2, min(int(count), len(geom.ratios)))
+    return replace(
+        geom,
+        ratios=geom.ratios[:k],
+        v0=geom.v0[:k],
+        e1=geom.e1[:k],
+        e2=geom.e2[:k],
+        normal=geom.normal[:k],
+        anchors=geom.anchors[:, :k],
+        energy=geom.energy[:k],
+        target_p=float(geom.ratios[k - 1]),
     )

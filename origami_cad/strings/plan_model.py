@@ -73,7 +73,10 @@ class PlanSettings:
     budgets; ``crease_stiffness`` N mm/rad/mm for the torque; ``share_weight`` and
     ``share_tolerance`` (mm) of the load-share term; ``positions``: fractions of
     the way from a panel's automatic hole to its region's corners where
-    candidate holes go; ``keep`` routes returned.
+    candidate holes go; ``keep`` routes returned. ``time_limit``: wall-clock seconds
+    :func:`~origami_cad.strings.plan.plan_routes` may take; it sets ``deadline`` (a
+    ``time.time()``, s) from it, past which no more string counts are tried and CMA-ES
+    stops, keeping the best found (the result then depends on the machine's speed).
     """
 
     candidates: int = 128
@@ -89,6 +92,8 @@ class PlanSettings:
     positions: tuple[float, ...] = (0.5, 0.9)
     hole_diameter: float = 2.0
     keep: int = 20
+    time_limit: float = math.inf
+    deadline: float = math.inf
 
 
 @dataclass(frozen=True)
