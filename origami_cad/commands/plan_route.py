@@ -116,12 +116,12 @@ class PlanRoute(Command):
             truncated_geometry,
         )  # fmt: skip
 
-        placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
+        start, placement = time.time(), _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
         loaded, warned = self.load(a, a.pattern)
         t0, cpu0 = time.perf_counter(), time.process_time()
         loaded = with_fold_path(loaded)
         settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
-        settings = replace(settings, time_limit=a.time_limit, deadline=time.time() + a.time_limit)
+        settings = replace(settings, time_limit=a.time_limit, deadline=start + a.time_limit)
         geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
         with open_executor(a.scheduler) as executor:
             planned = plan_routes(

@@ -482,6 +482,7 @@ def plan_messages(
         f"best of {len(planned)} routes: {strings}{chose}, {best.turns:.2f} TSA turns "
         f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
     ]
+    lines += [f"warning: {note}" for note in geom.notes]
     if default_target and geom.target_p < geom.limit_p - 1e-9:
         lines.append(
             f"warning: no route reaches the fold limit p = {geom.limit_p:.3f}; planned to "

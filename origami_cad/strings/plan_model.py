@@ -107,7 +107,8 @@ class PlanGeometry:
     with ``anchor_angle`` (A,) deg on the ring; ``rule`` (F, F) the DCQC side
     between adjacent panels (0: none); ``energy`` (G,) the creases' energy, N mm;
     ``regions`` per panel the rings of its operation region shrunk by the hole's
-    radius (empty: no holes there).
+    radius (empty: no holes there); ``notes`` what the geometry chose for the user (a
+    smaller hole than asked).
     """
 
     ratios: np.ndarray
@@ -133,6 +134,7 @@ class PlanGeometry:
     limit_p: float = 1.0
     anchor_xy: tuple[float, float] = (math.nan, math.nan)
     fabrication: FabricationParams = field(default_factory=FabricationParams)
+    notes: tuple[str, ...] = ()
 
 
 @dataclass
