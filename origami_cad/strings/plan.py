@@ -260,6 +260,8 @@ def _within_reach(design, geom, settings, seed, executor, progress, check: int, 
             return fewest_strings(design, lowered, settings, seed, executor, progress, check)
         except StringsError:
             continue
+    if not tried:  # the time limit ran out first: the first refusal says what to try
+        raise StringsError(first) from None
     head = first.split("; try ")[0]
     raise StringsError(
         f"{head}; no route reaches p = {', '.join(tried) or 'less'} either: try "
