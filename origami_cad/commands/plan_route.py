@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from origami_cad._fileio import atomic_write
@@ -91,6 +92,9 @@ class PlanRoute(Command):
                open_min=True, max=1e4, flag=""),
         Option("ring_height", "float", "height of the ring above the sheet", "mm", 10.0,
                min=0, max=1e4, flag=""),
+        Option("time_limit", "float", "wall-clock time the search and its bar-and-hinge check "
+               "may take (then the best found is kept)", "s", default=120.0, min=0,
+               open_min=True, max=1e6),
         Option("verify", "int", "routes folded by the bar-and-hinge simulator", default=2,
                min=0, max=100, flag=""),
         *SIZING,
@@ -109,13 +113,15 @@ class PlanRoute(Command):
             plan_messages,
             plan_numbers,
             plan_routes,
+            truncated_geometry,
         )  # fmt: skip
 
-        placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
+        start, placement = time.time(), _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
         loaded, warned = self.load(a, a.pattern)
         t0, cpu0 = time.perf_counter(), time.process_time()
         loaded = with_fold_path(loaded)
         settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
+        settings = replace(settings, time_limit=a.time_limit, deadline=start + a.time_limit)
         geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
         with open_executor(a.scheduler) as executor:
             planned = plan_routes(
@@ -124,6 +130,7 @@ class PlanRoute(Command):
                 check=max(a.verify, 1), settings=settings,
             )  # fmt: skip
         seconds = time.perf_counter() - t0
+        geom = truncated_geometry(geom, len(planned[0].p))  # a default target out of reach
         files, _ = self.outputs(a)
         with self.stage(a, loaded, folder=files[0].parent) as stage:
             planned = self.write(a, loaded, geom, planned, stage, seconds)
@@ -132,7 +139,8 @@ class PlanRoute(Command):
             images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
             numbers=plan_numbers(planned, geom, seconds, time.process_time() - cpu0),
             messages=[
-                *warned, *plan_messages(planned, geom, fewest=a.strings is None, design=loaded),
+                *warned,
+                *plan_messages(planned, geom, a.strings is None, loaded, a.target_p is None),
                 wrote(files[0].parent, files),
             ],
             result=planned,
@@ -149,7 +157,14 @@ class PlanRoute(Command):
         spec = route_spec(geom, planned[0])
         text = dump_route(spec, loaded.pattern, header=_plan_header(a, planned, geom))
         (stage / names[0]).write_text(text, encoding="utf-8")
-        planned = verify_planned(loaded, geom, planned, a.verify, first=stage / names[0])
+        planned = verify_planned(
+            loaded,
+            geom,
+            planned,
+            a.verify,
+            first=stage / names[0],
+            deadline=time.time() + max(a.time_limit - seconds, 0.0),
+        )
         with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
             fh.write(json_text(plan_data(geom, planned, seconds), names[1], StringsError, indent=1))
         save_planned_routes_png(loaded.pattern, planned, stage / names[2])

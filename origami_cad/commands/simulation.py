@@ -98,6 +98,8 @@ class Simulate(Command):
                open_min=True),
         Option("fixed_panel", help="hold this panel (default: the route's or design's)",
                metavar="PANEL"),
+        Option("time_limit", "float", "wall-clock time the folding may take (then the states "
+               "so far are written)", "s", default=120.0, min=0, open_min=True, max=1e6),
         MATERIALS,
         Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
         _GIF,
@@ -130,6 +132,7 @@ class Simulate(Command):
 
         limits = dict(a.blockers or {}) or None  # the library refuses a blocker off a crease
         kwargs = {"steps": a.steps, "fold_limits": limits, "free": a.free}
+        kwargs["time_limit"] = a.time_limit
         result = simulate(cp, spec, params, design=loaded, progress=a.progress,
                           fixed_panel=a.fixed_panel, **kwargs)  # fmt: skip
         with self.stage(a, loaded) as stage:

@@ -16,14 +16,14 @@ import warnings
 import numpy as np
 
 from origami_cad._args import Arg, checked
-from origami_cad.errors import SimulationError
+from origami_cad.errors import PatternError, SimulationError
 from origami_cad.kinematics.folding import FoldPath, PathDesign
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.folder import StrainWarning, closed_form_applies, fold_general
 from origami_cad.simulation.model import SimulationParams
 
-__all__ = ["PATH_SAMPLES", "fold_path", "with_fold_path"]
+__all__ = ["PATH_SAMPLES", "fold_path", "fold_ratio_fit", "rigid_table", "with_fold_path"]
 
 #: Fold ratios, evenly spaced from 0 to 1, at which the general folder's path is sampled
 #: (4.5 deg apart on a crease driven toward 180 deg).
@@ -101,3 +101,36 @@ def with_fold_path(
         return design
     path = fold_path(design, params=params, samples=samples)
     return PathDesign(design.pattern, design.tg, design.kind, design.source, path=path)
+
+
+def rigid_table(design: Design) -> tuple[np.ndarray, np.ndarray] | None:
+    """Fold ratios and the rigid folding's crease angles (G, m), radians; None if unfoldable."""
+    from origami_cad.kinematics.fold3d import fold_angles_from_coords
+    from origami_cad.kinematics.folding import fold_coords, fold_sequence
+
+    try:
+        if design.tg is not None:
+            ratios = np.linspace(0.0, 1.0, 201)
+            coords = fold_coords(design, ratios)
+            table = np.stack([fold_angles_from_coords(design.pattern, c) for c in coords])
+        else:
+            ratios = np.linspace(0.0, 1.0, 101)
+            table = np.radians(np.stack([s.fold_angles for s in fold_sequence(design, ratios)]))
+    except (PatternError, ValueError):
+        return None
+    return ratios, table
+
+
+def fold_ratio_fit(angles: np.ndarray, table: tuple[np.ndarray, np.ndarray], mask) -> float:
+    """The fold ratio whose rigid folding best matches crease angles ``angles`` (m,), radians.
+
+    Least squares over the creases ``mask`` against the rigid folding's table
+    (from the same folder as the DCQC model), refined between samples by a parabola.
+    """
+    ratios, rigid = table
+    err = ((rigid[:, mask] - angles[mask]) ** 2).sum(axis=1)
+    k = int(np.clip(np.argmin(err), 1, len(ratios) - 2))
+    a, b, c = err[k - 1], err[k], err[k + 1]
+    denom = a - 2 * b + c
+    shift = 0.5 * (a - c) / denom if denom > 0 else 0.0
+    return float(ratios[k] + np.clip(shift, -1.0, 1.0) * (ratios[1] - ratios[0]))

@@ -28,6 +28,7 @@ sheet on the ground instead (gravity and friction hold it).
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -47,10 +48,12 @@ from origami_cad.simulation.cables import (
 )
 from origami_cad.simulation.mechanics import bar_lengths, fold_angles
 from origami_cad.simulation.model import SimulationParams, Structure, build_structure
+from origami_cad.simulation.paths import fold_ratio_fit, rigid_table
 from origami_cad.simulation.solver import Ground, HessianAssembly, solve_equilibrium, total_energy
 from origami_cad.strings.dcqc import (
     MAX_STRING_STRAIN,
     segment_names,
+    time_limit_stop,
     torque_limit_reason,
     tsa_step,
     turn_limit_stop,
@@ -171,39 +174,6 @@ def _distance_to_ring(p: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return np.linalg.norm(a + t[:, None] * ab - p, axis=1)
 
 
-def rigid_table(design: Design) -> tuple[np.ndarray, np.ndarray] | None:
-    """Fold ratios and the rigid folding's crease angles (G, m), radians; None if unfoldable."""
-    from origami_cad.kinematics.fold3d import fold_angles_from_coords
-    from origami_cad.kinematics.folding import fold_coords, fold_sequence
-
-    try:
-        if design.tg is not None:
-            ratios = np.linspace(0.0, 1.0, 201)
-            coords = fold_coords(design, ratios)
-            table = np.stack([fold_angles_from_coords(design.pattern, c) for c in coords])
-        else:
-            ratios = np.linspace(0.0, 1.0, 101)
-            table = np.radians(np.stack([s.fold_angles for s in fold_sequence(design, ratios)]))
-    except (PatternError, ValueError):
-        return None
-    return ratios, table
-
-
-def fold_ratio_fit(angles: np.ndarray, table: tuple[np.ndarray, np.ndarray], mask) -> float:
-    """The fold ratio whose rigid folding best matches crease angles ``angles`` (m,), radians.
-
-    Least squares over the creases ``mask`` against the rigid folding's table
-    (from the same folder as the DCQC model), refined between samples by a parabola.
-    """
-    ratios, rigid = table
-    err = ((rigid[:, mask] - angles[mask]) ** 2).sum(axis=1)
-    k = int(np.clip(np.argmin(err), 1, len(ratios) - 2))
-    a, b, c = err[k - 1], err[k], err[k + 1]
-    denom = a - 2 * b + c
-    shift = 0.5 * (a - c) / denom if denom > 0 else 0.0
-    return float(ratios[k] + np.clip(shift, -1.0, 1.0) * (ratios[1] - ratios[0]))
-
-
 class _Placement:
     """Keeps the solver's held panel and the route's fixed anchors consistent with the mean pose."""
 
@@ -283,6 +253,9 @@ class StopRules:
         by about this much at most between states.
     max_states : int
         Safety cap on the number of states.
+    time_limit : float
+        Stop (:attr:`StopReason.TIME_LIMIT`) once the folding has taken this many seconds
+        of wall-clock time, keeping the states found so far.
     """
 
     tension_cap: float
@@ -292,6 +265,7 @@ class StopRules:
     max_bar_strain: float = 0.01
     max_dp: float = 0.01
     max_states: int = 5000
+    time_limit: float = math.inf
 
 
 @checked(
@@ -310,6 +284,7 @@ class StopRules:
     max_bar_strain=Arg(min=0.0, open_min=True, max=1.0, inf_ok=True, optional=False),
     max_dp=Arg(min=1e-4, max=1.0, optional=False),
     max_states=Arg("int", min=1, max=1_000_000, optional=False),
+    time_limit=Arg(min=0.0, open_min=True, inf_ok=True),
     progress=Arg("callable"),
     free=Arg("bool", optional=False),
 )
@@ -332,6 +307,7 @@ def simulate(
     max_states: int = StopRules.max_states,
     progress: Callable[[int, int], None] | None = None,
     free: bool = False,
+    time_limit: float | None = None,
 ) -> SimulationResult:
     """Turn the route's TSA and find the equilibrium after each step, until a physical stop.
 
@@ -371,6 +347,10 @@ def simulate(
         Hold no panel: the structure lies on the ground plane, held there by gravity
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
+    time_limit : float, optional
+        Seconds of wall-clock time the folding may take (default: no limit); then it stops
+        with the states found so far (:attr:`StopReason.TIME_LIMIT`), which the result
+        says.
     """
     fold_limits = _checked_limits(cp, fold_limits)
     if design is not None and design.pattern.edges.shape != cp.edges.shape:
@@ -381,8 +361,9 @@ def simulate(
     params = _default_params(route, params, free)
     cap = route.max_tension if tension_limit is None else tension_limit
     rules = StopRules(
-        cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states
-    )
+        cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states,
+        math.inf if time_limit is None else float(time_limit),
+    )  # fmt: skip
     held = fixed_panel or route.fixed_panel
     limits, note = _route_limits(route, design, fold_limits)
     run = _start(cp, route, params, held, limits, prefold, free, design)
@@ -543,6 +524,7 @@ def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
     theta = 0.0
     window: list[tuple[np.ndarray, np.ndarray]] = []
     held_at_limit = 0
+    started = time.monotonic()
     while True:
         x_new, info = _step_equilibrium(run, theta, previous)
         previous = run.x
@@ -565,6 +547,8 @@ def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
         )
         if stop is None and theta >= theta_end - 1e-12:
             stop = _Stop(*turn_limit_stop(route))
+        if stop is None and time.monotonic() - started > rules.time_limit:
+            stop = _Stop(*time_limit_stop(rules.time_limit, rows["theta"]))
         if stop is not None:
             return rows, stop
         if n >= rules.max_states:

@@ -8,6 +8,8 @@ the route's target fold ratio without a jam.
 
 from __future__ import annotations
 
+import math
+import time
 from typing import Any
 
 import numpy as np
@@ -29,6 +31,7 @@ def verify_route(
     *,
     steps: int | None = None,
     tolerance: float = 0.03,
+    time_limit: float = math.inf,
 ) -> dict[str, Any]:
     """Fold ``design`` by ``spec`` with the bar-and-hinge model; the figures and a verdict.
 
@@ -36,7 +39,8 @@ def verify_route(
     ``[fabrication]``, the same fold limit as the DCQC model). ``steps``: equal TSA steps
     up to the route's ``max_turns`` (default: steps of string taken up). The route
     passes when the simulation stops at the fold limit (or its ``p_max``) within
-    ``tolerance`` in p of the target and no string jams.
+    ``tolerance`` in p of the target and no string jams. ``time_limit``: wall-clock
+    seconds the simulation may take (its stop is then ``time_limit``).
 
     Returns
     -------
@@ -46,7 +50,9 @@ def verify_route(
     """
     params = SimulationParams.for_route(spec) if params is None else params
     target = fold_limit(design, spec).p
-    result = simulate(design.pattern, spec, params, design=design, steps=steps)
+    result = simulate(
+        design.pattern, spec, params, design=design, steps=steps, time_limit=time_limit
+    )
     p = float(np.nan_to_num(result.p[-1]))
     reaches = result.stop is not StopReason.JAM and p >= target - tolerance
     return {
@@ -61,7 +67,9 @@ def verify_route(
     }
 
 
-def verify_planned(loaded: Design, geometry, planned: list, count: int, *, first=None) -> list:
+def verify_planned(
+    loaded: Design, geometry, planned: list, count: int, *, first=None, deadline=math.inf
+) -> list:
     """The planned routes with the best ``count`` folded by the bar-and-hinge simulator.
 
     Parameters
@@ -77,6 +85,9 @@ def verify_planned(loaded: Design, geometry, planned: list, count: int, *, first
     first : path-like, optional
         The route file the best was written to: it is read back as ``route`` and
         ``simulate`` read it, so the check is of the file (nothing is written).
+    deadline : float, optional
+        A ``time.time()`` (s): each simulation stops there (its stop ``time_limit``), and
+        the routes left after it are not simulated.
 
     Returns
     -------
@@ -91,10 +102,11 @@ def verify_planned(loaded: Design, geometry, planned: list, count: int, *, first
 
     out = []
     for k, r in enumerate(planned):
-        if k < count:
+        left = deadline - time.time()
+        if k < count and left > 0:
             read = k == 0 and first is not None
             spec = load_route(first, loaded.pattern) if read else route_spec(geometry, r)
-            sim = verify_route(loaded, spec, steps=30)
+            sim = verify_route(loaded, spec, steps=30, time_limit=left)
             r = dataclasses.replace(r, checks={**r.checks, "simulation": sim})
         out.append(r)
     return out

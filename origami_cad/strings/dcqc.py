@@ -68,6 +68,7 @@ __all__ = [
     "segment_lengths",
     "segment_names",
     "simulate_dcqc",
+    "time_limit_stop",
     "torque_limit_reason",
     "tsa_step",
     "turn_limit_stop",
@@ -187,6 +188,16 @@ def turn_limit_stop(route: RouteSpec) -> tuple[StopReason, str]:
     if route.tsa.max_theta() < route.max_turns * 2 * math.pi:
         return StopReason.HELIX_LIMIT, "the TSA's strands reached their maximum helix angle"
     return StopReason.TURN_LIMIT, f"the TSA reached its turn limit ({route.max_turns:g} turns)"
+
+
+def time_limit_stop(limit: float, thetas: list[float]) -> tuple[StopReason, str]:
+    """The stop when a folding has used its ``limit`` seconds of wall-clock time, after the
+    TSA angles ``thetas`` (rad, one per state so far); the stop and its sentence."""
+    turns = thetas[-1] / (2.0 * math.pi)
+    return StopReason.TIME_LIMIT, (
+        f"the time limit of {limit:g} s ran out after {len(thetas)} states and {turns:.2f} "
+        "TSA turns (--time-limit: a longer one folds further)"
+    )
 
 
 def torque_limit_reason(route: RouteSpec, torque: float) -> str | None:

@@ -24,6 +24,7 @@ class StopReason(StrEnum):
     TENSION_LIMIT = "tension_limit"  #: a string pulls harder than the route's max_tension
     TORQUE_LIMIT = "torque_limit"  #: the TSA needs more than the route's max_torque
     JAM = "jam"  #: the strings would stretch instead of folding the sheet
+    TIME_LIMIT = "time_limit"  #: the simulation used the wall-clock seconds it was given
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -53,7 +54,7 @@ from origami_cad.errors import StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.kinematics.folding import PathDesign, fold_design
 from origami_cad.pattern.design import Design
-from origami_cad.strings.plan_geometry import plan_geometry, target_ratio
+from origami_cad.strings.plan_geometry import plan_geometry, target_ratio, truncated_geometry
 from origami_cad.strings.plan_model import (
     DEFAULT_CREASE_STIFFNESS,
     PlanGeometry,
@@ -92,6 +93,7 @@ __all__ = [
     "run_tasks",
     "string_curves",
     "target_ratio",
+    "truncated_geometry",
 ]
 
 
@@ -207,7 +209,9 @@ def plan_routes(
             "plan_routes: executor: expected a concurrent.futures.Executor, got "
             f"{brief_value(executor)}"
         )
-    settings = replace(settings or PlanSettings(), candidates=int(candidates))
+    settings = settings or PlanSettings()
+    deadline = min(settings.deadline, time.time() + settings.time_limit)
+    settings = replace(settings, candidates=int(candidates), deadline=deadline)
     geom = geometry or plan_geometry(
         design,
         tsa,
@@ -219,9 +223,75 @@ def plan_routes(
         existing_holes=existing_holes,
     )
     if n_strings is None:
-        return fewest_strings(design, geom, settings, seed, executor, progress, check)
+        lower = target_p is None and not target_angles
+        return _within_reach(design, geom, settings, seed, executor, progress, check, lower)
     planned = search_routes(geom, settings, n_strings, seed, executor, progress)
     return _checked(design, geom, settings, planned, check, n_strings)
+
+
+#: Grid states a default target falls back to when no route reaches the fold limit (of a
+#: 33-state grid, ``p = limit (k / 32)^1.5``: about 65 %, 35 % and 20 % of the limit).
+LOWER_STATES = (25, 17, 12)
+
+
+def _within_reach(design, geom, settings, seed, executor, progress, check: int, lower: bool):
+    """:func:`fewest_strings` to the target; ``lower`` (a default target): failing that, to
+    the furthest of :data:`LOWER_STATES`' fold ratios some route reaches (its routes' ``p``
+    grid ends there), within the time limit."""
+    try:
+        return fewest_strings(design, geom, settings, seed, executor, progress, check)
+    except StringsError as exc:
+        first = str(exc)
+        if not lower and first.startswith("no string satisfies"):
+            raise StringsError(
+                f"{first.split('; try ')[0]}; try a smaller --target-p (such as "
+                f"{0.5 * geom.target_p:.2f}), {_elsewhere(design, geom)} or larger panels "
+                f"(--width {_wider(design):g})"
+            ) from None
+        if not lower:
+            raise
+    tried = []
+    for k in LOWER_STATES:
+        if k >= len(geom.ratios) or time.time() > settings.deadline:
+            continue
+        lowered = truncated_geometry(geom, round(k * (len(geom.ratios) - 1) / 32) + 1)
+        tried.append(f"{lowered.target_p:.2f}")
+        try:
+            return fewest_strings(design, lowered, settings, seed, executor, progress, check)
+        except StringsError:
+            continue
+    if not tried:  # the time limit ran out first: the first refusal says what to try
+        raise StringsError(first) from None
+    head = first.split("; try ")[0]
+    raise StringsError(
+        f"{head}; no route reaches p = {', '.join(tried) or 'less'} either: try "
+        f"{_elsewhere(design, geom)} or larger panels (--width {_wider(design):g})"
+    ) from None
+
+
+def _elsewhere(design: Design, geom: PlanGeometry) -> str:
+    """The other TSA placement to try, with its option: onboard the largest panel, or a ring."""
+    if geom.placement.kind != "ring":
+        return "the TSA on a ring (``tsa`` ring)"
+    return f"the TSA onboard its largest panel (``tsa`` onboard:{_largest_panel(design)})"
+
+
+def _largest_panel(design: Design) -> str:
+    """The label of the pattern's largest panel (by area)."""
+    cp = design.pattern
+    areas = [abs(_area(cp.vertices[list(f)])) for f in cp.faces]
+    return cp.face_labels[int(np.argmax(areas))]
+
+
+def _area(xy: np.ndarray) -> float:
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _wider(design: Design) -> float:
+    """Twice the pattern's width, mm (rounded to 10 mm)."""
+    x0, _, x1, _ = design.pattern.bounds
+    return float(10 * math.ceil(2 * (x1 - x0) / 10))
 
 
 def _checked(design, geom, settings, planned, check: int, n_strings: int) -> list:
@@ -271,8 +341,14 @@ def fewest_strings(
     """
     tick = progress_tick(progress)
     pool = string_pool(geom, settings, executor, tick)
-    tried, why = 0, ""
+    tried, why, best = 0, "", []
     for n in range(1, MAX_STRINGS + 1):
+        if n > 1 and time.time() > settings.deadline:
+            why = (
+                f"; the time limit of {settings.time_limit:g} s ran out before {n} strings were "
+                f"tried (--strings {n}, or a longer --time-limit)"
+            )
+            break
         try:
             routes, evaluated = string_sets(geom, settings, pool, n)
         except StringsError:
@@ -281,6 +357,7 @@ def fewest_strings(
         tick({"evaluated": evaluated})
         tried = n
         quick = ranked_routes(geom, settings, pool, routes, seed, executor, tick, 0)
+        best = quick[:1] or best
         within = [r for r in quick if r.turns <= settings.max_turns]
         if not any(_reaches(r, settings) for r in _check_best(design, geom, settings, within, 1)):
             continue
@@ -288,12 +365,24 @@ def fewest_strings(
         planned = _check_best(design, geom, settings, planned, check)
         if planned:
             return planned
-    other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
     raise StringsError(
         f"no route of 1 to {tried} strings reaches p = {geom.target_p:.3f} within "
-        f"{settings.max_turns:g} TSA turns{why}; try a smaller --target-p, a larger "
-        f"turn budget, or the TSA {other}"
+        f"{settings.max_turns:g} TSA turns{why}; try {_remedy(design, geom, settings, best)}"
     )
+
+
+def _remedy(design, geom, settings, best: list[PlannedRoute]) -> str:
+    """What would let the best route found (``best``: it or nothing) reach its end: a larger
+    turn budget, or the fold ratio it does reach as the target (by the full DCQC model)."""
+    if not best:
+        return f"a smaller --target-p (such as {0.5 * geom.target_p:.2f})"
+    figures = _full_dcqc(design, geom, settings, best[0])
+    if figures["reaches_target"]:
+        return f"a larger turn budget (``budget`` {math.ceil(1.1 * figures['turns'])})"
+    reached = math.floor(100 * figures["p"]) / 100
+    if reached >= 0.01:
+        return f"--target-p {reached:.2f} (the best route's DCQC folding stops there)"
+    return f"a smaller --target-p (such as {0.5 * geom.target_p:.2f})"
 
 
 def route_spec(geom: PlanGeometry, planned: PlannedRoute) -> RouteSpec:
@@ -376,12 +465,17 @@ def plan_numbers(planned, geom: PlanGeometry, seconds: float, cpu: float) -> lis
 
 
 def plan_messages(
-    planned, geom: PlanGeometry, fewest: bool = False, design: Design | None = None
+    planned,
+    geom: PlanGeometry,
+    fewest: bool = False,
+    design: Design | None = None,
+    default_target: bool = False,
 ) -> list[str]:
     """What a plan tells its user: the best route, how many strings (``fewest``: chosen as
     the fewest that reach the target), the routes the simulator stops short, and, for a
     ``design`` folded along a general folder's path, that path's largest strain (percent)
-    at the target."""
+    at the target; ``default_target``: the target was not asked for (a target below the
+    fold limit is then one the search fell back to)."""
     best = planned[0]
     n = len(best.strings)
     strings = f"{n} string{'s' if n != 1 else ''}"
@@ -390,6 +484,13 @@ def plan_messages(
         f"best of {len(planned)} routes: {strings}{chose}, {best.turns:.2f} TSA turns "
         f"to p = {geom.target_p:.4f}, peak torque {best.peak_torque:.3g} N mm"
     ]
+    lines += [f"warning: {note}" for note in geom.notes]
+    if default_target and geom.target_p < geom.limit_p - 1e-9:
+        lines.append(
+            f"warning: no route reaches the fold limit p = {geom.limit_p:.3f}; planned to "
+            f"p = {geom.target_p:.3f}, the furthest of the fold ratios tried that one reaches "
+            "(--target-p sets the target)"
+        )
     for r in planned:
         sim = r.checks.get("simulation")
         if sim is not None and not sim["reaches_target"]:

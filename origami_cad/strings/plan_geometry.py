@@ -12,7 +12,6 @@ from dataclasses import replace
 import numpy as np
 
 from origami_cad.errors import PatternError, StringsError
-from origami_cad.fabrication.panels import panel_outline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.kinematics.folding import PathDesign, fold_coords, fold_design, fold_sequence
@@ -21,7 +20,14 @@ from origami_cad.strings.dcqc import fold_limit
 from origami_cad.strings.plan_model import PlanGeometry, PlanSettings, TSAPlacement
 from origami_cad.strings.route import RouteSpec, mean_pose, panel_frame, rigid_fit, side_rule
 
-__all__ = ["plan_geometry", "ring_points", "target_ratio"]
+__all__ = [
+    "HOLE_LADDER",
+    "MIN_HOLE_DIAMETER",
+    "plan_geometry",
+    "ring_points",
+    "target_ratio",
+    "truncated_geometry",
+]
 
 
 def target_ratio(
@@ -120,54 +126,82 @@ def _frames(cp, coords: np.ndarray):
     return v0, e1, e2, normal, flat[:, 0], np.linalg.inv(mats)
 
 
-def _auto_holes(cp, fab: FabricationParams):
-    """Each face's outline (``None`` where it has no room) and automatic hole (mm), by face.
+#: The smallest string hole the planner falls back to, mm: twice the default string's
+#: width (``TSAParams().string_width``, 0.5 mm), so the string passes freely.
+MIN_HOLE_DIAMETER = 1.0
+#: The hole diameters (mm) tried, largest first, below the asked one when no panel has room
+#: for it.
+HOLE_LADDER = (1.5, 1.2, MIN_HOLE_DIAMETER)
 
-    The outlines and holes ``fabricate`` makes (each panel at its own bias); on a pattern
-    with facet creases, whose printed panels merge several faces, each face's outline at
-    ``fab.bias`` where it fits and the printed holes on the face they fall on.
+
+def _auto_holes(cp, fab: FabricationParams):
+    """Each face's operation region (a polygon, ``None`` where it has none) and automatic
+    hole (mm), by face, as ``fabricate`` plans them (each panel at its own bias).
+
+    On a pattern with facet creases, whose printed panels merge several faces, every face of
+    a printed panel gets that panel's region, and the face under its hole the hole.
     """
     plan = plan_panels(cp, fab)
-    if plan.pattern is cp:
-        outlines = list(plan.outlines)
-    else:
-        outlines = []
-        for fi in range(len(cp.faces)):
-            try:
-                outlines.append(panel_outline(cp, fi, fab))
-            except PatternError:
-                outlines.append(None)
-    auto = {}
-    for h in plan.holes:
+    auto, regions = {}, [None] * len(cp.faces)
+    merged = None
+    if plan.pattern is not cp:
+        centres = np.array([cp.vertices[list(f)].mean(axis=0) for f in cp.faces])
+        merged = plan.pattern.faces_of_points(centres)
+    for h, panel in zip(plan.holes, plan.hole_panels.tolist(), strict=True):
         fi = cp.face_of_point(h.x, h.y)
-        if fi >= 0:
-            auto.setdefault(fi, (h.x, h.y))
-    return outlines, auto
+        if fi < 0 or fi in auto:
+            continue
+        auto[fi] = (h.x, h.y)
+        region = plan.outlines[panel].region_polygon()
+        for f in [fi] if merged is None else np.flatnonzero(merged == panel).tolist():
+            regions[f] = region
+    return regions, auto
+
+
+def _regions_and_diameter(cp, fab: FabricationParams, settings: PlanSettings, free):
+    """The faces' regions and holes (:func:`_auto_holes`) at the asked hole diameter or,
+    when no panel but ``free`` ones has room for it, at the largest of :data:`HOLE_LADDER`
+    that gives at least half as many panels a hole as the smallest does; and that
+    diameter, mm."""
+
+    def holes_at(d: float):
+        regions, auto = _auto_holes(cp, replace(fab, hole_diameter=d, holes="auto"))
+        return regions, auto, d, sum(cp.face_labels[fi] not in free for fi in auto)
+
+    asked = holes_at(settings.hole_diameter)
+    ladder = [holes_at(d) for d in HOLE_LADDER if d < settings.hole_diameter]
+    if asked[3] or not ladder or not max(t[3] for t in ladder):
+        return asked[:3]
+    most = max(t[3] for t in ladder)
+    return next(t for t in ladder if 2 * t[3] >= most)[:3]
 
 
 def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, existing):
-    """Candidate holes (faces, xy) and each panel's shrunk operation region (rings)."""
+    """Candidate holes (faces, xy), each panel's shrunk operation region (rings) and the
+    hole diameter, mm."""
     import shapely
 
-    fab = replace(fab, hole_diameter=settings.hole_diameter, holes="auto")
-    outlines, auto = _auto_holes(cp, fab)
-    faces, points, regions = [], [], []
-    for fi, o in enumerate(outlines):
-        region = o.region_polygon().buffer(-settings.hole_diameter / 2.0) if o else None
-        if region is None or o.label in free or region.is_empty or fi not in auto:
-            regions.append(())
+    regions, auto, diameter = _regions_and_diameter(cp, fab, settings, free)
+    faces, points, rings = [], [], []
+    for fi, region in enumerate(regions):
+        if region is not None:
+            region = region.buffer(-diameter / 2.0)
+        if region is None or cp.face_labels[fi] in free or region.is_empty:
+            rings.append(())
             continue
         region = max(shapely.get_parts(region), key=lambda g: g.area)
-        regions.append((shapely.get_coordinates(region.exterior),))
+        rings.append((shapely.get_coordinates(region.exterior),))
+        if fi not in auto:
+            continue
         pole = np.array(auto[fi])
         pts = [pole] + [
             pole + t * (v - pole)
             for v in shapely.get_coordinates(region.exterior)[:-1]
             for t in settings.positions
         ]
-        for pt in pts:
-            faces.append(o.index)
-            points.append(pt)
+        on = cp.faces_of_points(np.array(pts))
+        faces += [int(f) for f in on if f >= 0]
+        points += [pt for pt, f in zip(pts, on, strict=True) if f >= 0]
     for x, y in existing:
         fi = cp.face_of_point(float(x), float(y))
         if fi < 0:
@@ -176,10 +210,17 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
         points.append(np.array([x, y], dtype=float))
     if not faces:
         raise StringsError(
-            f"no panel has room for a {settings.hole_diameter:g} mm hole (all free, or too "
-            "small): print the pattern larger (--width) or free fewer panels"
+            f"no panel has room for a {MIN_HOLE_DIAMETER:g} mm hole, the smallest a string "
+            f"passes (all free, or too small): print the pattern larger (--width "
+            f"{_doubled_width(cp):g}) or free fewer panels"
         )
-    return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(regions)
+    return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(rings), diameter
+
+
+def _doubled_width(cp) -> float:
+    """Twice the pattern's width, mm, rounded up to 10 mm."""
+    x0, _, x1, _ = cp.bounds
+    return float(10 * math.ceil(2 * (x1 - x0) / 10))
 
 
 def _anchors(geom_parts: dict, placement: TSAPlacement, cp, auto_xy, thickness: float):
@@ -249,7 +290,19 @@ def plan_geometry(
     raw, fold_angles = _fold_table(design, ratios)
     coords = _placed_coords(design, raw, held)
     v0, e1, e2, normal, flat_v0, flat_inv = _frames(cp, coords)
-    faces, xy, regions = _hole_candidates(cp, fab, settings, set(free_panels), existing_holes)
+    faces, xy, regions, diameter = _hole_candidates(
+        cp, fab, settings, set(free_panels), existing_holes
+    )
+    notes = ()
+    if diameter < settings.hole_diameter:
+        notes = (
+            f"no panel has room for a {settings.hole_diameter:g} mm hole: the route's holes "
+            f"are {diameter:g} mm (the largest of {', '.join(f'{d:g}' for d in HOLE_LADDER)} "
+            f"mm that fits; its [fabrication] says so, and fabricate takes --hole-diameter "
+            f"{diameter:g})",
+        )
+    fab = replace(fab, hole_diameter=diameter)
+    settings = replace(settings, hole_diameter=diameter)
     parts = {"ratios": ratios, "v0": v0, "e1": e1, "e2": e2, "normal": normal}
     parts.update(flat_v0=flat_v0, flat_inv=flat_inv)
     auto_xy = None
@@ -288,4 +341,22 @@ def plan_geometry(
         limit_p=limit,
         anchor_xy=tuple(float(v) for v in auto_xy) if auto_xy is not None else (math.nan,) * 2,
         fabrication=fab,
+        notes=notes,
+    )
+
+
+def truncated_geometry(geom: PlanGeometry, count: int) -> PlanGeometry:
+    """``geom`` planned to its ``count``-th fold ratio instead of its target: the first
+    ``count`` states of its grid (at least 2), the target that ratio; nothing refolded."""
+    k = max(2, min(int(count), len(geom.ratios)))
+    return replace(
+        geom,
+        ratios=geom.ratios[:k],
+        v0=geom.v0[:k],
+        e1=geom.e1[:k],
+        e2=geom.e2[:k],
+        normal=geom.normal[:k],
+        anchors=geom.anchors[:, :k],
+        energy=geom.energy[:k],
+        target_p=float(geom.ratios[k - 1]),
     )

@@ -73,7 +73,10 @@ class PlanSettings:
     budgets; ``crease_stiffness`` N mm/rad/mm for the torque; ``share_weight`` and
     ``share_tolerance`` (mm) of the load-share term; ``positions``: fractions of
     the way from a panel's automatic hole to its region's corners where
-    candidate holes go; ``keep`` routes returned.
+    candidate holes go; ``keep`` routes returned. ``time_limit``: wall-clock seconds
+    :func:`~origami_cad.strings.plan.plan_routes` may take; it sets ``deadline`` (a
+    ``time.time()``, s) from it, past which no more string counts are tried and CMA-ES
+    stops, keeping the best found (the result then depends on the machine's speed).
     """
 
     candidates: int = 128
@@ -89,6 +92,8 @@ class PlanSettings:
     positions: tuple[float, ...] = (0.5, 0.9)
     hole_diameter: float = 2.0
     keep: int = 20
+    time_limit: float = math.inf
+    deadline: float = math.inf
 
 
 @dataclass(frozen=True)
@@ -102,7 +107,8 @@ class PlanGeometry:
     with ``anchor_angle`` (A,) deg on the ring; ``rule`` (F, F) the DCQC side
     between adjacent panels (0: none); ``energy`` (G,) the creases' energy, N mm;
     ``regions`` per panel the rings of its operation region shrunk by the hole's
-    radius (empty: no holes there).
+    radius (empty: no holes there); ``notes`` what the geometry chose for the user (a
+    smaller hole than asked).
     """
 
     ratios: np.ndarray
@@ -128,6 +134,7 @@ class PlanGeometry:
     limit_p: float = 1.0
     anchor_xy: tuple[float, float] = (math.nan, math.nan)
     fabrication: FabricationParams = field(default_factory=FabricationParams)
+    notes: tuple[str, ...] = ()
 
 
 @dataclass

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -371,7 +372,7 @@ def _refine_task(geom: PlanGeometry, settings: PlanSettings, route: dict, seed: 
     opts["CMA_eigenmethod"] = canonical_eigh  # the same samples whatever the CPU
     es = cma.CMAEvolutionStrategy(np.zeros(dim), 0.5, opts)
     evaluated, since = 1, 0
-    while not es.stop() and since < STALL:
+    while not es.stop() and since < STALL and time.time() < settings.deadline:
         pop = np.asarray(es.ask())
         c = cost(pop)
         evaluated += len(pop)

@@ -13,6 +13,7 @@ Route file (TOML)::
     thickness = 0.4           # mm, t (crease layer)
     shell = 0.8               # mm, s: the TPU shell, s < (h - t) / 2
     midlayer_bias = 0.5       # mm, m
+    hole_diameter = 2.0       # mm, the printed string holes (written when not 2 mm)
     [route]
     thickness = 2.2           # mm, panel thickness: hole exits sit half of it off the sheet
     hole_diameter = 2.0       # mm, for holes placed automatically (panel labels)
@@ -310,6 +311,7 @@ def dump_route(spec: RouteSpec, cp: CreasePattern, *, header: str = "") -> str:
     fab = spec.fabrication
     if fab is not None:
         keys = ("bias", "height", "thickness", "shell", "midlayer_bias")
+        keys += ("hole_diameter",) if fab.hole_diameter != FabricationParams.hole_diameter else ()
         lines += ["", *toml_table("fabrication", {k: getattr(fab, k) for k in keys})]
     finite = {k: getattr(spec, k) for k in ("max_tension", "max_torque")}
     settings = {
@@ -351,6 +353,7 @@ def _read_fabrication(fab_t: Table) -> FabricationParams:
         thickness=fab_t.number("thickness", defaults.thickness, low=0, low_open=True),
         shell=fab_t.number("shell", defaults.shell, low=0, low_open=True),
         midlayer_bias=fab_t.number("midlayer_bias", defaults.midlayer_bias, low=0),
+        hole_diameter=fab_t.number("hole_diameter", defaults.hole_diameter, low=0, low_open=True),
     )
     fab_t.finish()
     return fabrication
