@@ -51,7 +51,8 @@ def _interrupted_runs(tmp_path: Path, old: list[str], new: list[str], names, run
             assert err == "" and not changed, err
         else:
             assert proc.returncode in (0, 130), err
-        assert "Traceback" not in err and err.count("\n") <= 1, err
+        said = [s for s in err.splitlines() if not s.startswith("origami-cad: warning: ")]
+        assert "Traceback" not in err and len(said) <= 1, err  # the design's warnings aside
         assert changed in (set(), set(names)), (proc.returncode, sorted(changed))
         if proc.returncode == 0:
             assert changed == set(names)

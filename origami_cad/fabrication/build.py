@@ -338,13 +338,13 @@ def write_fabrication(
     out = Path(folder)
     if out.exists() and not out.is_dir():
         raise OutputError(
-            f"{printable(str(folder))}: is a file, not a folder to write the fabrication into"
+            f"{printable(str(folder), 300)}: is a file, not a folder to write the fabrication into"
         )
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputError(
-            f"{printable(str(folder))}: cannot make this folder ({exc.strerror})"
+            f"{printable(str(folder), 300)}: cannot make this folder ({exc.strerror})"
         ) from None
     written: dict[str, dict[str, Path]] = {}
     timings: dict[str, float] = {}
