@@ -353,11 +353,7 @@ def simulate(
         says.
     """
     fold_limits = _checked_limits(cp, fold_limits)
-    if design is not None and design.pattern.edges.shape != cp.edges.shape:
-        raise SimulationError(
-            f"simulate: design: its pattern has {design.pattern.n_edges} edges, cp "
-            f"{cp.n_edges}: the design of another pattern"
-        )
+    _check_design(cp, design)
     params = _default_params(route, params, free)
     cap = route.max_tension if tension_limit is None else tension_limit
     rules = StopRules(
@@ -371,6 +367,15 @@ def simulate(
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
     return _result(rows, stop, run.notes)
+
+
+def _check_design(cp: CreasePattern, design: Design | None) -> None:
+    """A :class:`SimulationError` when ``design`` is the design of another pattern."""
+    if design is not None and design.pattern.edges.shape != cp.edges.shape:
+        raise SimulationError(
+            f"simulate: design: its pattern has {design.pattern.n_edges} edges, cp "
+            f"{cp.n_edges}: the design of another pattern"
+        )
 
 
 def _checked_limits(cp: CreasePattern, fold_limits: Any) -> dict[int, float] | None:
@@ -505,9 +510,9 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     if ground is not None:
         ground.start(st.x0)
     assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
-    x, _ = solve_equilibrium(  # from the flat sheet: its first Newton step whole
-        st.x0.copy(), st, None, ground=ground, assembly=assembly, whole_step=ground is None
-    )
+    # from the flat sheet (not its first Newton step whole: from that bifurcation point the
+    # whole step may settle on another branch, docs/simulation.md)
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground, assembly=assembly)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)

@@ -252,6 +252,29 @@ def ring_points(centre, placement: TSAPlacement, angles) -> np.ndarray:
     )
 
 
+def _hole_notes(asked: float, diameter: float) -> tuple[str, ...]:
+    """The warning when the holes had to be smaller than ``asked`` mm (``diameter`` mm)."""
+    if diameter >= asked:
+        return ()
+    return (
+        f"no panel has room for a {asked:g} mm hole: the route's holes are {diameter:g} mm "
+        f"(the largest of {', '.join(f'{d:g}' for d in HOLE_LADDER)} mm that fits; its "
+        f"[fabrication] says so, and fabricate takes --hole-diameter {diameter:g})",
+    )
+
+
+def _side_rules(cp) -> np.ndarray:
+    """(F, F) int8: for each pair of neighbouring panels, the DCQC side a string must run
+    on between them (:func:`~origami_cad.strings.route.side_rule`; 0 where free)."""
+    n_faces = len(cp.faces)
+    rule = np.zeros((n_faces, n_faces), dtype=np.int8)
+    for a, b in {tuple(sorted(map(int, pair))) for pair in cp.edge_faces() if min(pair) >= 0}:
+        side = side_rule(cp, a, b)
+        if side is not None:
+            rule[a, b] = rule[b, a] = side
+    return rule
+
+
 def plan_geometry(
     design: Design,
     placement: TSAPlacement,
@@ -293,14 +316,7 @@ def plan_geometry(
     faces, xy, regions, diameter = _hole_candidates(
         cp, fab, settings, set(free_panels), existing_holes
     )
-    notes = ()
-    if diameter < settings.hole_diameter:
-        notes = (
-            f"no panel has room for a {settings.hole_diameter:g} mm hole: the route's holes "
-            f"are {diameter:g} mm (the largest of {', '.join(f'{d:g}' for d in HOLE_LADDER)} "
-            f"mm that fits; its [fabrication] says so, and fabricate takes --hole-diameter "
-            f"{diameter:g})",
-        )
+    notes = _hole_notes(settings.hole_diameter, diameter)
     fab = replace(fab, hole_diameter=diameter)
     settings = replace(settings, hole_diameter=diameter)
     parts = {"ratios": ratios, "v0": v0, "e1": e1, "e2": e2, "normal": normal}
@@ -310,13 +326,6 @@ def plan_geometry(
         auto = _auto_holes(cp, replace(fab, hole_diameter=settings.hole_diameter))[1]
         auto_xy = auto.get(held, tuple(flat_v0[held]))
     anchors, angles, centre = _anchors(parts, placement, cp, auto_xy, fab.height)
-    n_faces = len(cp.faces)
-    rule = np.zeros((n_faces, n_faces), dtype=np.int8)
-    ef = cp.edge_faces()
-    for a, b in {tuple(sorted(map(int, pair))) for pair in ef if min(pair) >= 0}:
-        side = side_rule(cp, a, b)
-        if side is not None:
-            rule[a, b] = rule[b, a] = side
     return PlanGeometry(
         ratios=ratios,
         v0=v0,
@@ -329,7 +338,7 @@ def plan_geometry(
         hole_xy=xy,
         anchors=anchors,
         anchor_angle=angles,
-        rule=rule,
+        rule=_side_rules(cp),
         energy=_energy(cp, fold_angles, settings.crease_stiffness),
         regions=regions,
         labels=tuple(cp.face_labels),
