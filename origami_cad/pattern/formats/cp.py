@@ -31,14 +31,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import numpy as np
-
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import input_file, printable
 from origami_cad.errors import PatternError
-from origami_cad.pattern.formats.opx import ORIPA_TYPES
+from origami_cad.pattern.formats.opx import ORIPA_TYPES, oripa_pattern, refuse_joins
 from origami_cad.pattern.model import MAX_COORDINATE, MAX_EDGES, CreasePattern
-from origami_cad.pattern.planar import Tolerance, import_tolerance
+from origami_cad.pattern.planar import Tolerance
 
 __all__ = ["read_cp", "write_cp"]
 
@@ -109,22 +107,12 @@ def read_cp(
     if not kept:
         raise PatternError(f"{name}: no crease lines found (a .cp line is 'type x0 y0 x1 y1')")
     scale = 1.0 if mm_per_unit is None else float(mm_per_unit)
-    coords = np.array([ln[:4] for ln in kept], dtype=float).reshape(-1, 2) * scale
-    coords[:, 1] = 0.0 - coords[:, 1]  # ORIPA's y points down the screen (no -0.0)
     unit = "1 mm per unit (the file has no unit)"
     if mm_per_unit is not None:
         unit = f"{scale:g} mm per unit (given)"
-    try:
-        cp = CreasePattern(
-            coords,
-            np.arange(len(coords)).reshape(-1, 2),
-            [ln[4] for ln in kept],
-            metadata={"title": p.stem, "source_unit": unit},
-            tolerance=import_tolerance(tolerance),
-        ).with_outline_cuts_as_border()
-    except PatternError as exc:
-        raise PatternError(f"{name}: {exc}") from None
-    return cp.with_metadata()
+    metadata = {"title": p.stem, "source_unit": unit}
+    letters = [ln[4] for ln in kept]
+    return oripa_pattern([ln[:4] for ln in kept], letters, name, metadata, scale, tolerance)
 
 
 def write_cp(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
@@ -132,12 +120,7 @@ def write_cp(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
 
     A ``J`` (join) edge, which the format has no type for, is a PatternError naming it.
     """
-    joins = np.flatnonzero(cp.assignments == "J")
-    if joins.size:
-        raise PatternError(
-            f"{printable(str(path), 300)}: edge {int(joins[0])} is a join (J) edge, which "
-            ".cp has no line type for; write .fold to keep it"
-        )
+    refuse_joins(cp, path, ".cp")
     rows = []
     for (a, b), letter in zip(cp.edges, cp.assignments, strict=True):
         (x0, y0), (x1, y1) = cp.vertices[a], cp.vertices[b]

@@ -56,7 +56,10 @@ from origami_cad.pattern.model import (
 )
 from origami_cad.pattern.planar import Tolerance, import_tolerance
 
-__all__ = ["MAX_DEPTH", "MAX_ELEMENTS", "ORIPA_TYPES", "read_opx", "write_opx"]
+__all__ = [
+    "MAX_DEPTH", "MAX_ELEMENTS", "ORIPA_TYPES", "oripa_pattern", "read_opx", "refuse_joins",
+    "write_opx",
+]  # fmt: skip
 
 #: ORIPA's line type codes (``OriLine.Type``) and the assignment each is read as
 #: (None: left out).
@@ -144,6 +147,42 @@ def _texts(data: ET.Element) -> dict[str, str]:
     return texts
 
 
+def oripa_pattern(
+    segments: list,
+    letters: list[str],
+    name: str,
+    metadata: dict,
+    scale: float = 1.0,
+    tolerance: Tolerance = None,
+) -> CreasePattern:
+    """The pattern of ORIPA's lines (``.opx`` and ``.cp``): ``segments`` ``(x0, y0, x1, y1)``
+    in ORIPA units (y down the screen), ``letters`` their assignments; scaled by ``scale``
+    mm per unit, y turned up, outline cuts read as border. A PatternError names ``name``."""
+    coords = np.array(segments, dtype=float).reshape(-1, 2) * scale
+    coords[:, 1] = 0.0 - coords[:, 1]  # ORIPA's y points down the screen (no -0.0)
+    try:
+        return CreasePattern(
+            coords,
+            np.arange(len(coords)).reshape(-1, 2),
+            letters,
+            metadata=metadata,
+            tolerance=import_tolerance(tolerance),
+        ).with_outline_cuts_as_border()
+    except PatternError as exc:
+        raise PatternError(f"{name}: {exc}") from None
+
+
+def refuse_joins(cp: CreasePattern, path: str | os.PathLike[str], fmt: str) -> None:
+    """A PatternError naming the first ``J`` (join) edge, which ORIPA's formats have no
+    line type for."""
+    joins = np.flatnonzero(cp.assignments == "J")
+    if joins.size:
+        raise PatternError(
+            f"{printable(str(path), 300)}: edge {int(joins[0])} is a join (J) edge, which "
+            f"{fmt} has no line type for; write .fold to keep it"
+        )
+
+
 def read_opx(
     path: str | os.PathLike[str],
     mm_per_unit: float | None = None,
@@ -178,8 +217,6 @@ def read_opx(
     kept = [ln for ln in lines if ORIPA_TYPES[ln[4]] is not None and ln[:2] != ln[2:4]]
     if not kept:
         raise PatternError(f"{name}: no crease lines found (no ORIPA line of types 0 to 4)")
-    coords = np.array([ln[:4] for ln in kept], dtype=float).reshape(-1, 2) * scale
-    coords[:, 1] = 0.0 - coords[:, 1]  # ORIPA's y points down the screen (no -0.0)
     letters = [ORIPA_TYPES[ln[4]] for ln in kept]
     texts = _texts(data)
     unit = "1 mm per ORIPA unit (the file has no unit)"
@@ -188,16 +225,7 @@ def read_opx(
     metadata = {"title": texts.get("title") or p.stem, "source_unit": unit}
     if texts.get("originalAuthorName") or texts.get("editorName"):
         metadata["creator"] = texts.get("originalAuthorName") or texts["editorName"]
-    try:
-        cp = CreasePattern(
-            coords,
-            np.arange(len(coords)).reshape(-1, 2),
-            letters,
-            metadata=metadata,
-            tolerance=import_tolerance(tolerance),
-        ).with_outline_cuts_as_border()
-    except PatternError as exc:
-        raise PatternError(f"{name}: {exc}") from None
+    cp = oripa_pattern([ln[:4] for ln in kept], letters, name, metadata, scale, tolerance)
     notes = []
     left = sum(1 for ln in lines if ORIPA_TYPES[ln[4]] is None)
     if left:
@@ -224,12 +252,7 @@ def write_opx(cp: CreasePattern, path: str | os.PathLike[str]) -> Path:
     ORIPA's own; y is turned over to ORIPA's (down the screen). A ``J`` (join) edge,
     which ORIPA has no type for, is a PatternError naming it.
     """
-    joins = np.flatnonzero(cp.assignments == "J")
-    if joins.size:
-        raise PatternError(
-            f"{printable(str(path), 300)}: edge {int(joins[0])} is a join (J) edge, which "
-            "ORIPA has no line type for; write .fold to keep it"
-        )
+    refuse_joins(cp, path, "ORIPA")
     x0, _, x1, _ = cp.bounds
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
