@@ -3,13 +3,13 @@ follow small panels (Origami Simulator's square base and hypar)."""
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import time
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
 
 import origami_cad as oc
 from origami_cad.pattern.design import Design
@@ -29,15 +29,6 @@ from origami_cad.strings.plan_geometry import HOLE_LADDER, MIN_HOLE_DIAMETER
 DATA = Path(__file__).parent / "data" / "origami-simulator"
 FAST = PlanSettings(generations=20, grid=17)
 RING = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")

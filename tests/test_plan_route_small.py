@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 from pathlib import Path
 
 import pytest
+from helpers_exec import InlineExecutor
 
 from origami_cad.errors import StringsError
 from origami_cad.pattern import CreasePattern, write_pattern
@@ -23,15 +23,6 @@ from origami_cad.strings.route import dump_route
 
 #: a short search: the sheets are small
 FAST = PlanSettings(generations=20, grid=17)
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")

@@ -8,11 +8,11 @@ API and the command line.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
 
 import origami_cad as oc
 from origami_cad.commands import execute
@@ -26,15 +26,6 @@ from origami_cad.strings.route import dump_route
 SQUARE_BASE = Path(__file__).parent / "data" / "origami-simulator" / "squareBase.svg"
 FAST = PlanSettings(generations=20, grid=17)
 RING = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")
