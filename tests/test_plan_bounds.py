@@ -10,15 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from helpers_exec import InlineExecutor
+from helpers_plan import FAST, RING, square_base
 
 import origami_cad as oc
 from origami_cad.pattern.design import Design
 from origami_cad.simulation import simulate
-from origami_cad.strings import TSAParams
 from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.plan import (
-    PlanSettings,
-    TSAPlacement,
     plan_geometry,
     plan_routes,
     route_spec,
@@ -27,14 +25,11 @@ from origami_cad.strings.plan import (
 from origami_cad.strings.plan_geometry import HOLE_LADDER, MIN_HOLE_DIAMETER
 
 DATA = Path(__file__).parent / "data" / "origami-simulator"
-FAST = PlanSettings(generations=20, grid=17)
-RING = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
 
 
 @pytest.fixture(scope="module")
 def base() -> Design:
-    path = DATA / "squareBase.svg"
-    return oc.with_fold_path(Design(oc.read_pattern(path, width=150.0), None, "file", path))
+    return oc.with_fold_path(square_base())
 
 
 def test_a_spent_time_limit_keeps_the_first_count_and_stops_the_simulation(base):

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 from helpers_exec import InlineExecutor
+from helpers_plan import FAST
 
 from origami_cad.errors import StringsError
 from origami_cad.pattern import CreasePattern, write_pattern
 from origami_cad.pattern.design import load_pattern_source
 from origami_cad.strings import TSAParams, load_route, simulate_dcqc
 from origami_cad.strings.plan import (
-    PlanSettings,
     TSAPlacement,
     plan_geometry,
     plan_messages,
@@ -20,9 +20,6 @@ from origami_cad.strings.plan import (
     route_spec,
 )
 from origami_cad.strings.route import dump_route
-
-#: a short search: the sheets are small
-FAST = PlanSettings(generations=20, grid=17)
 
 
 @pytest.fixture(scope="module")
