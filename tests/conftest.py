@@ -177,3 +177,42 @@ def gait_file_text(robot, *, command=None, **options) -> str:
 
     header = gait_sequence_header(robot, command)
     return dump_sequence(gait_sequence(robot, **options), header=header, layout="gait")
+
+
+#: The crawler example: its robot file, pattern and four routes, and the script writing them.
+CRAWLER = EXAMPLES / "crawler"
+CRAWLER_FILES = (
+    "crawler.toml",
+    "crawler.fold",
+    "route_fl.toml",
+    "route_fr.toml",
+    "route_rl.toml",
+    "route_rr.toml",
+)
+
+
+@pytest.fixture(scope="module")
+def robot():
+    """The crawler example's robot (examples/crawler/crawler.toml), loaded."""
+    from origami_cad.crawler.robot import load_robot
+
+    return load_robot(CRAWLER / "crawler.toml")
+
+
+def copy_crawler(folder: Path, *, leave_out: tuple[str, ...] = ()) -> Path:
+    """The crawler example's files copied into ``folder``, but for those in ``leave_out``
+    (the test writes its own); the copy's robot file."""
+    for name in CRAWLER_FILES:
+        if name not in leave_out:
+            (folder / name).write_bytes((CRAWLER / name).read_bytes())
+    return folder / "crawler.toml"
+
+
+def make_crawler_script():
+    """``examples/crawler/make_crawler.py`` as a module: its design numbers, its ``main``."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_crawler", CRAWLER / "make_crawler.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod

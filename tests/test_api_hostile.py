@@ -5,11 +5,10 @@ bare Python error, a silent repair or a call that does not return."""
 from __future__ import annotations
 
 import math
-import signal
-from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+from helpers_exec import bounded
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -24,28 +23,11 @@ from origami_cad.errors import (
 )
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-BOUND_S = 20  # no hostile call may run longer than this
 
 #: Values a careless or hostile script passes where a number belongs.
 HOSTILE = st.sampled_from(
     [math.nan, math.inf, -math.inf, -1.0, 0.0, -1e-300, 1e300, 10**9, "1", b"1", [], {}, True]
 )
-
-
-@contextmanager
-def bounded(seconds: int = BOUND_S):
-    """Fail the test when the body runs longer than ``seconds`` (SIGALRM)."""
-
-    def _late(signum, frame):
-        raise TimeoutError(f"a hostile call ran past {seconds} s")
-
-    old = signal.signal(signal.SIGALRM, _late)
-    signal.alarm(seconds)
-    try:
-        yield
-    finally:
-        signal.alarm(0)
-        signal.signal(signal.SIGALRM, old)
 
 
 def _only_our_errors(call, expected: type[OrigamiCadError]):

@@ -15,14 +15,13 @@ import math
 import os
 import random
 import re
-import signal
 import warnings
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import origami_cad.parts as parts
 import pytest
+from helpers_exec import InlineExecutor, bounded
 from test_api_hostile_all import HOSTILE, _calls
 
 import origami_cad as oc
@@ -37,7 +36,6 @@ from origami_cad.strings.plan import plan_routes
 from origami_cad.strings.plan_model import TSAPlacement
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-BOUND_S = 20
 FUZZ = int(os.environ.get("ORIGAMI_FUZZ_EXAMPLES", "0")) > 0
 fuzz_only = pytest.mark.skipif(not FUZZ, reason="make fuzz runs it (ORIGAMI_FUZZ_EXAMPLES)")
 
@@ -46,20 +44,6 @@ NEVER = [math.nan, object(), np.zeros((2, 2, 2)), b"\x00"]
 #: ``make fuzz``: every value of the curated sweep and more (sizes, shapes, paths, text).
 EVERY = [*HOSTILE, np.zeros((2, 2, 2)), np.zeros(0), 10**9, -(10**9), 2**63, 1 + 2j, "nan",
          "1", {"a": 1}, (1.0,), Path("/nonexistent/x"), Path("/")]  # fmt: skip
-
-
-@contextmanager
-def bounded(seconds: int = BOUND_S):
-    def _late(signum, frame):
-        raise TimeoutError(f"a hostile call ran past {seconds} s")
-
-    old = signal.signal(signal.SIGALRM, _late)
-    signal.alarm(seconds)
-    try:
-        yield
-    finally:
-        signal.alarm(0)
-        signal.signal(signal.SIGALRM, old)
 
 
 def outcome(call, *args, **kwargs) -> str | None:
@@ -73,17 +57,6 @@ def outcome(call, *args, **kwargs) -> str | None:
         except Exception as exc:
             return f"{type(exc).__name__}: {exc!s:.200}"
     return None
-
-
-class Inline:
-    """An executor that runs each task at once, here (no process pool in a test)."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        import concurrent.futures as cf
-
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 def _stage_calls(tmp: Path) -> dict:
@@ -118,7 +91,7 @@ def _stage_calls(tmp: Path) -> dict:
         "plan_routes": (plan_routes, {"design": small, "tsa": TSAPlacement(
             "ring", None, tsa=oc.TSAParams(model="ring")), "n_strings": 2, "target_p": None,
             "target_angles": None, "free_panels": (), "existing_holes": (), "candidates": 8,
-            "seed": 0, "executor": Inline(), "progress": None, "check": 1}),
+            "seed": 0, "executor": InlineExecutor(), "progress": None, "check": 1}),
         "simulate_gait": (simulate_gait, {"robot": robot, "cycles": 1, "steps": 3,
                           "reverse": False, "params": None, "friction": None, "prefold": None,
                           "progress": None}),

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import dataclasses
 import json
 import math
@@ -11,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
 
 import origami_cad as oc
 from origami_cad.cli import main
@@ -21,15 +21,6 @@ from origami_cad.pattern.design import load_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TASK = EXAMPLES / "arm_task.toml"
-
-
-class InlineExecutor(cf.Executor):
-    """A real Executor that runs each call in this process when submitted."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 def _arm(run: int, fitness: float, p_end: float) -> ArmDesign:

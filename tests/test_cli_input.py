@@ -1,4 +1,5 @@
-"""Values and outputs the CLI refuses before it writes anything (issue 19, items 9 and 12)."""
+"""Values and outputs the CLI refuses before it writes anything (bad values,
+unwritable outputs)."""
 
 from __future__ import annotations
 

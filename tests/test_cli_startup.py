@@ -2,7 +2,7 @@
 
 A Ctrl-C that lands inside an extension module's import (OCP's) surfaces as that
 module's ``ImportError``, raised from the ``KeyboardInterrupt``: the CLI must still say
-"interrupted" in one line, never print a traceback (CI saw one, issue 32's signal test).
+"interrupted" in one line, never print a traceback (CI once printed one from the signal test).
 """
 
 from __future__ import annotations

@@ -103,7 +103,8 @@ def test_prusa_model_config_ranges_tile_the_object(three_mf, fab):
 
 
 def test_no_edge_is_shared_by_more_than_two_triangles(three_mf):
-    """Issue 18's defect: shells welded across solids shared edges among 4 triangles."""
+    """Each object's mesh is closed and its own: every edge is used by exactly two triangles
+    (shells welded across solids shared edges among four)."""
     with zipfile.ZipFile(three_mf) as zf:
         model_xml = ET.fromstring(zf.read("3D/3dmodel.model"))
     for obj in model_xml.iterfind(".//m:object", NS):

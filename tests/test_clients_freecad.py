@@ -89,12 +89,17 @@ def test_freecad_shows_every_solid_in_its_part_colour(tmp_path):
         check_freecad_solids(solids, fab.parts)
 
 
-MODES_SCRIPT = """
-import json, sys, FreeCAD, FreeCADGui
+def _both_merge_modes(per_object: str) -> str:
+    """A FreeCAD probe script (``{path}``, ``{out}`` as :func:`_freecad` fills them) that
+    imports the STEP with compound merge off (the assembly as link groups) and on (with
+    App::Part groups), and writes, by mode, the rows ``per_object`` (the body of a loop over
+    the document's objects ``o``, indented 8 spaces) appends to ``out``."""
+    return (
+        """
+import json, FreeCAD, FreeCADGui, Part
 FreeCADGui.showMainWindow()
 import ImportGui
 rows = {{}}
-# compound merge off (the assembly as link groups), and on (with App::Part groups)
 for merge in (False, True):
     FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Import/hSTEP").SetBool(
         "ReadShapeCompoundMode", merge)
@@ -103,32 +108,28 @@ for merge in (False, True):
     FreeCADGui.updateGui()
     out = []
     for o in doc.Objects:
+"""
+        + per_object
+        + """    rows["merge" if merge else "no merge"] = out
+with open({out!r}, "w") as fh:
+    json.dump(rows, fh)
+"""
+    )
+
+
+#: Per mode, each Part::Feature: label, solids, all valid, colour, volume.
+MODES_SCRIPT = _both_merge_modes("""\
         if o.TypeId != "Part::Feature":
             continue
         shape = o.Shape
         out.append([o.Label, len(shape.Solids), all(s.isValid() for s in shape.Solids),
                     list(o.ViewObject.ShapeColor[:3]), shape.Volume])
-    rows["merge" if merge else "no merge"] = out
-with open({out!r}, "w") as fh:
-    json.dump(rows, fh)
-"""
+""")
 
-
-SOLIDS_SCRIPT = """
-import json, FreeCAD, FreeCADGui, Part
-FreeCADGui.showMainWindow()
-import ImportGui
-rows = {{}}
-# compound merge off (link groups: a shape placed several times is one hidden feature and
-# App::Link arrays placing it), and on (with App::Part groups: a feature per solid)
-for merge in (False, True):
-    FreeCAD.ParamGet("User parameter:BaseApp/Preferences/Mod/Import/hSTEP").SetBool(
-        "ReadShapeCompoundMode", merge)
-    doc = FreeCAD.newDocument()
-    ImportGui.insert({path!r}, doc.Name, merge=merge, useLinkGroup=not merge)
-    FreeCADGui.updateGui()
-    out = []
-    for o in doc.Objects:
+#: Per mode, each solid shown: label, type, valid, colour, volume, centre of mass, visible.
+#: With merge off a shape placed several times is one hidden feature and App::Link arrays
+#: placing it; with merge on, a feature per solid.
+SOLIDS_SCRIPT = _both_merge_modes("""\
         if o.TypeId not in ("Part::Feature", "App::Link"):
             continue
         if any(p.TypeId == "App::Link" for p in o.InList):
@@ -139,10 +140,7 @@ for merge in (False, True):
             c = s.CenterOfMass
             out.append([o.Label, o.TypeId, s.isValid(), colour, s.Volume, [c.x, c.y, c.z],
                         bool(o.ViewObject.Visibility)])
-    rows["merge" if merge else "no merge"] = out
-with open({out!r}, "w") as fh:
-    json.dump(rows, fh)
-"""
+""")
 
 
 def check_freecad_solids(rows: list, parts, names=PART_NAMES) -> None:

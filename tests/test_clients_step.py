@@ -3,7 +3,7 @@
 FreeCAD's STEP importer walks the XCAF label tree and gives each solid the colour of
 its own label (or of the component that places it); a solid without one takes its
 parent's label colour only when that parent holds that single solid. A colour set on
-a compound of many solids is lost (issue 18: only ``creases`` came in red).
+a compound of many solids is lost (once only ``creases`` came in red).
 """
 
 from __future__ import annotations

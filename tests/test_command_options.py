@@ -1,4 +1,4 @@
-"""Every option of every command, fed hostile values (issue 32, root cause 4).
+"""Every option of every command, fed hostile values.
 
 Each option is declared once with its type and range (``origami_cad.commands``); the
 command skeleton checks every one before any work. Here each option of each command gets

@@ -1,4 +1,4 @@
-"""The command registry (issue 29): one place per command, thin commands, CLI syntax in the CLI.
+"""The command registry: one place per command, thin commands, CLI syntax in the CLI.
 
 Every command of ``origami-cad`` is declared once in ``origami_cad/commands/``; these
 tests keep it that way: the modules stay short, each ``run`` stays a thin body over the

@@ -1,16 +1,22 @@
-"""The crawler of the paper's Fig. 7 (issue 17): files, printing and walking in simulation."""
+"""The crawler of the paper's Fig. 7: files, printing and walking in simulation."""
 
 from __future__ import annotations
 
 import csv
-import importlib.util
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import gait_file_text, gif_motion, ink, panel_frames
+from conftest import (
+    CRAWLER,
+    copy_crawler,
+    gait_file_text,
+    gif_motion,
+    ink,
+    make_crawler_script,
+    panel_frames,
+)
 
 from origami_cad.cli import main
 from origami_cad.crawler.robot import load_robot
@@ -28,36 +34,7 @@ from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.pattern import read_pattern
 from origami_cad.pattern.check import check_pattern
 
-HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
-ROBOT = HERE / "crawler.toml"
-CRAWLER_FILES = (
-    "crawler.toml",
-    "crawler.fold",
-    "route_fl.toml",
-    "route_fr.toml",
-    "route_rl.toml",
-    "route_rr.toml",
-)
-
-
-def copy_crawler(folder: Path, *, leave_out: tuple[str, ...] = ()) -> None:
-    """The crawler example's files (robot, pattern, the four routes) copied into ``folder``,
-    but for those in ``leave_out`` (the test writes its own)."""
-    for name in CRAWLER_FILES:
-        if name not in leave_out:
-            (folder / name).write_bytes((HERE / name).read_bytes())
-
-
-def _generator():
-    spec = importlib.util.spec_from_file_location("make_crawler", HERE / "make_crawler.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return load_robot(ROBOT)
+ROBOT = CRAWLER / "crawler.toml"
 
 
 @pytest.fixture(scope="module")
@@ -68,14 +45,14 @@ def forward(robot):
 def test_files_are_what_the_generator_writes(robot):
     from origami_cad.crawler.design import crawler_files
 
-    files = crawler_files(_generator().DESIGN, envelope=None)  # make_crawler.py's numbers
+    files = crawler_files(make_crawler_script().DESIGN, envelope=None)  # the script's numbers
     cp = files.pattern
-    on_disk = read_pattern(HERE / "crawler.fold")
+    on_disk = read_pattern(CRAWLER / "crawler.fold")
     assert np.allclose(cp.vertices, on_disk.vertices)
     assert cp.assignments.tolist() == on_disk.assignments.tolist()
     assert sorted(on_disk.face_labels) == ["body", "leg_fl", "leg_fr", "leg_rl", "leg_rr"]
     for name, text in files.texts().items():  # the routes and crawler.toml
-        assert (HERE / name).read_text(encoding="utf-8") == text
+        assert (CRAWLER / name).read_text(encoding="utf-8") == text
     assert set(files.texts()) == {"crawler.toml", *files.routes}
     assert files.routes["route_fl.toml"] == robot.legs[0].route  # the data, read back
     # the printed holes are the routed holes
@@ -333,7 +310,7 @@ def test_a_jammed_leg_stalls_its_servo_by_name(tmp_path, robot):
 
 def test_a_leg_over_its_torque_limit_stops_the_gait_by_name(tmp_path):
     copy_crawler(tmp_path, leave_out=("route_rl.toml",))
-    text = (HERE / "route_rl.toml").read_text(encoding="utf-8")
+    text = (CRAWLER / "route_rl.toml").read_text(encoding="utf-8")
     assert "max_turns = 8.0\n" in text
     text = text.replace("max_turns = 8.0\n", "max_turns = 8.0\nmax_torque = 2.0   # N mm\n")
     (tmp_path / "route_rl.toml").write_text(text, encoding="utf-8")
@@ -368,7 +345,7 @@ def test_bad_robot_files_are_refused_naming_file_and_key(tmp_path, capsys):
 
 def test_the_example_gait_is_the_crawl_jobs_sequence(tmp_path, robot, forward):
     """examples/crawler_gait.toml is what `crawl --cycles 1 --steps 6` writes (its header)."""
-    example = HERE.parent / "crawler_gait.toml"
+    example = CRAWLER.parent / "crawler_gait.toml"
     text = example.read_text(encoding="utf-8")
     assert (
         "origami-cad crawl examples/crawler/crawler.toml -o out/crawl --cycles 1 --steps 6" in text
@@ -398,7 +375,7 @@ def test_gait_loads_fold_the_simulation_onto_one_cycle(robot, forward):
 
 
 def test_a_heavier_robot_stalls_a_servo_the_designed_one_does_not(tmp_path, robot, forward):
-    """Issue 17: the emulator's load comes from the simulation. The same gait on the crawler
+    """The emulator's load comes from the simulation. The same gait on the crawler
     with five times the hardware mass (servos, driver module) needs more torque; on servos
     1/40 as strong as an XL330 (13 N mm: ``--load-scale 40``) the designed robot's gait runs
     and the heavy one stalls a servo, named."""

@@ -1,5 +1,5 @@
 """The parametric crawler (``origami_cad.crawler.design``) and the joint design and gait
-search (``origami_cad.crawler.design_search``, ``design-gait --design``), issue 31.
+search (``origami_cad.crawler.design_search``, ``design-gait --design``).
 
 The search here is tiny (one friction, two candidates, two steps between keyframes): it
 checks that the designed crawler's written files walk the scored stride, not how far it
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import CRAWLER, CRAWLER_FILES, make_crawler_script
 
 from origami_cad.cli import main
 from origami_cad.crawler.design import (
@@ -38,34 +38,20 @@ from origami_cad.crawler.robot import load_robot
 from origami_cad.crawler.walk import robot_params
 from origami_cad.errors import DesignError
 
-HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
-
-
-NAMES = ["crawler.fold", "crawler.toml", *(f"route_{k}.toml" for k in ("fl", "fr", "rl", "rr"))]
-
-
-def _make_crawler():
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("make_crawler", HERE / "make_crawler.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
 
 def test_the_generator_with_the_default_numbers_writes_the_committed_example(tmp_path):
     write_crawler(crawler_files(envelope=None), tmp_path)
-    for name in NAMES:
-        assert (tmp_path / name).read_bytes() == (HERE / name).read_bytes(), name
+    for name in CRAWLER_FILES:
+        assert (tmp_path / name).read_bytes() == (CRAWLER / name).read_bytes(), name
 
 
 def test_the_designed_crawler_is_the_generators_and_within_the_envelope(tmp_path):
-    gen, designed = _make_crawler(), HERE.parent / "crawler_designed"
+    gen, designed = make_crawler_script(), CRAWLER.parent / "crawler_designed"
     files = crawler_files(gen.DESIGNED, gen.GAIT, header=gen.HEADER)  # checks it
     write_crawler(files, tmp_path)
-    for name in NAMES:
+    for name in CRAWLER_FILES:
         assert (tmp_path / name).read_bytes() == (designed / name).read_bytes(), name
-    assert sorted(p.name for p in designed.iterdir()) == sorted(NAMES)  # one gait, no other
+    assert sorted(p.name for p in designed.iterdir()) == sorted(CRAWLER_FILES)  # one gait, no other
     extent = check_envelope(gen.DESIGNED)
     assert all(e <= limit for e, limit in zip(extent, ENVELOPE, strict=True))
     robot = load_robot(designed / "crawler.toml")
@@ -112,7 +98,7 @@ def test_the_crease_layer_reaches_the_routes_and_the_simulation(tmp_path):
     assert params.crease_thickness == 0.7 and params.friction == 0.8
     assert (
         params.crease_stiffness
-        > 5 * robot_params(load_robot(HERE / "crawler.toml")).crease_stiffness
+        > 5 * robot_params(load_robot(CRAWLER / "crawler.toml")).crease_stiffness
     )
     with pytest.raises(DesignError, match="shell"):
         CrawlerDesign(crease_thickness=0.7, shell=0.8)  # s < (h - t) / 2 = 0.75
@@ -132,7 +118,7 @@ def test_bad_design_bounds_are_refused_in_one_line(tmp_path, capsys, spec, word)
     with pytest.raises(DesignError, match=word):
         parse_design_bounds(spec)
     out = tmp_path / "out"
-    rc = main(["design-gait", str(HERE / "crawler.toml"), "-o", str(out), "--design", spec])
+    rc = main(["design-gait", str(CRAWLER / "crawler.toml"), "-o", str(out), "--design", spec])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and word in err[0], err
     assert not out.exists()
@@ -154,7 +140,7 @@ def test_every_decoded_design_is_within_the_envelope_and_its_bounds():
 
 
 def test_a_tiny_joint_search_writes_a_crawler_that_walks_the_scored_stride(tmp_path):
-    start = load_robot(HERE / "crawler.toml")
+    start = load_robot(CRAWLER / "crawler.toml")
     settings = GaitSettings(frictions=(0.6,), popsize=2, generations=1, steps=2)
     search = design_crawler(start, settings, {"leg_length": (100.0, 110.0)})
     assert len(search.designs) == len(search.gait.candidates) == 3

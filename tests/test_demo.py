@@ -1,6 +1,6 @@
 """The main job: `origami-cad demo` (what `make demo` runs, not `--quick`) runs every step and
 writes one self-contained page. The slowest test of the suite (about 4 minutes on 2 cores):
-the quick demo once hid a Fig. 8 failure that only the full one reaches (issue 27)."""
+the quick demo once hid a Fig. 8 failure that only the full one reaches."""
 
 from __future__ import annotations
 
@@ -42,13 +42,13 @@ def test_full_demo_writes_a_report_whose_every_link_resolves(tmp_path, capsys):
     for step in STEPS:
         assert f"id='{step.key}'" in page
     assert "FAILED" not in printed and "This step failed" not in page
-    # issue 18: 3D views (fig. 2's folding, the printed parts) embedded, the page still small
+    # 3D views (fig. 2's folding, the printed parts) embedded, the page still small
     assert page.count("<figure class='oc-view'>") >= 2
     assert (out / "index.html").stat().st_size < 5_000_000
     check_against_before(out)
 
 
-# What the demo wrote before its steps became chains of jobs (issue 20), and the
+# What the demo wrote before its steps became chains of jobs, and the
 # documented changes since: the boat's simulation is written by the simulate job
 # (fold.gif as from the command, plus its states.fold) and its TSA module by the
 # part job (named after the part).
@@ -58,17 +58,17 @@ RENAMED = {
     "fig6/tsa_module.step": "fig6/tsa-module.step",
     "fig6/tsa_module.stl": "fig6/tsa-module.stl",
 }
-# numbers that do not depend on timing, or on the string models (issue 15 changes those),
-# or on the arm's design (issue 16 designs it for the fold range its printed creases allow)
+# numbers that do not depend on timing, or on the string models,
+# or on the arm's design (designed for the fold range its printed creases allow)
 STABLE = {
     "fig2": ["shape angles beta_1..beta_4 (eq. 1)", "panels", "creases (M / V)", "pattern size"],
     # "runs x generations" was recorded from the quick demo (4 x 60); the full one runs the
     # task's 10 x 400, checked below
-    # issue 18 made the 6 x 4 sheet the paper's 120 x 120 mm (it was 130.9 x 120 mm), which
+    # the 6 x 4 sheet became the paper's 120 x 120 mm (it was 130.9 x 120 mm), which
     # changed its volumes and mass
     "fig4": ["6 x 4 Miura: panels / holes", "6 x 4 Miura: theta_max, p_max (eq. 6)"],
     "fig6": ["boat: panels / holes", "boat: volumes", "boat: mass estimate"],
-    # issue 17: Fig. 7's servo logs play examples/crawler_gait.toml regenerated from the
+    # Fig. 7's servo logs play examples/crawler_gait.toml regenerated from the
     # model (was typed by hand: 15.69 turns at most; the model's string take-up: 3.83)
     "fig7": ["cycle / readings", "maximum commanded twist"],
 }

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from helpers_exec import InlineExecutor
 from matplotlib.image import imread
 
 from origami_cad.cli import main
@@ -36,18 +37,6 @@ from origami_cad.viz.design_plots import plot_trajectories
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 PAPER_TASK = EXAMPLES / "arm_task.toml"
-
-
-class InlineExecutor(cf.Executor):
-    """A real Executor that runs each call in this process when submitted."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future = cf.Future()
-        try:
-            future.set_result(fn(*args, **kwargs))
-        except BaseException as exc:
-            future.set_exception(exc)
-        return future
 
 
 def test_eq5_by_hand_for_a_straight_and_a_folding_arm():

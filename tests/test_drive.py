@@ -231,7 +231,7 @@ def test_sequence_checks(tmp_path):
     bad.write_text(text.replace("length = 24 ", "length = 5 ", 1))
     with pytest.raises(DriveError, match=r"item \d+: contraction 5\.\d+ mm is not within \[0, 5\)"):
         load_sequence(bad)
-    # issue 32: a rate too low to command every keyframe (1e-300 Hz ran one command)
+    # a rate too low to command every keyframe (1e-300 Hz ran one command)
     bad.write_text(text.replace("rate = 10 ", "rate = 1e-300 ", 1))
     with pytest.raises(DriveError, match=r"key 'rate': 1e-300 Hz .* the 5 s between two keyframes"):
         load_sequence(bad)
@@ -281,7 +281,7 @@ def test_sequence_mapping_from_a_dcqc_result(tmp_path):
 
 # --------------------------------------------------------------------------- simulated loads
 # examples/crawler_gait.toml is the crawl job's gait_sequence.toml: each TSA's ``load`` is
-# the torque the simulated crawl needed of its servo (issue 17), which dry runs apply.
+# the torque the simulated crawl needed of its servo, which dry runs apply.
 
 
 def _first_overloaded(seq, scale: float, limit_ma: float) -> int:

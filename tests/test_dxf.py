@@ -101,7 +101,7 @@ def test_holes_round_trip(tmp_path):
     holes = [Hole((x0 + x1) / 2 + 3.0, (y0 + y1) / 2 + 4.0, 2.0), Hole(x0 + 5.0, y0 + 5.0, 1.5)]
     back = read_dxf(write_dxf(cp.with_holes(holes), tmp_path / "holes.dxf"))
     assert back.same_graph(cp, tolerance=1e-9)
-    assert sorted(back.holes, key=lambda h: h.x) == pytest.approx(sorted(holes, key=lambda h: h.x))
+    assert sorted(back.holes, key=lambda h: h.x) == sorted(holes, key=lambda h: h.x)  # exact
     circles = ezdxf.readfile(tmp_path / "holes.dxf").modelspace().query("CIRCLE")
     assert {c.dxf.layer for c in circles} == {"Holes"}
 
@@ -113,13 +113,16 @@ def test_oripa_outline_drawn_as_cut_lines_becomes_border(tmp_path):
         doc.layers.add(name, color=color)
     add_square(msp, "CutLine")
     msp.add_line((0, 0), (100, 100), dxfattribs={"layer": "ValleyLine"})
+    msp.add_line((0, 100), (40, 60), dxfattribs={"layer": "MountainLine"})
     msp.add_line((60, 20), (80, 40), dxfattribs={"layer": "CutLine"})  # a slit inside
     doc.saveas(tmp_path / "oripa.dxf")
     cp = read_dxf(tmp_path / "oripa.dxf")
     letters = letters_by_midpoint(cp)
     assert [letters[m] for m in [(50, 0), (100, 50), (50, 100), (0, 50)]] == ["B"] * 4
-    assert letters[(50, 50)] == "V"
+    assert (letters[(50, 50)], letters[(20, 80)]) == ("V", "M")
     assert letters[(70, 30)] == "C"
+    slit = cp.edges[cp.assignments == "C"][0]
+    assert sorted(cp.vertices[slit].tolist()) == [[60.0, 20.0], [80.0, 40.0]]
     assert any(n.code == "outline-cuts" for n in cp.notes)
 
 
@@ -291,6 +294,24 @@ def test_insunits_are_converted_to_mm(tmp_path, code, factor):
     cp = read_dxf(tmp_path / "units.dxf")
     assert cp.bounds == pytest.approx((0, 0, 4 * factor, 4 * factor))
     assert cp.edge_lengths().max() == pytest.approx(4 * factor * math.sqrt(2))
+
+
+def test_blocks_and_arcs_are_converted_to_mm_with_the_drawing(tmp_path):
+    doc, msp = new_doc(units=1)  # inches
+    msp.add_lwpolyline([(0, 0), (4, 0), (4, 4), (0, 4)], close=True, dxfattribs={"layer": "Border"})
+    msp.add_polyline2d([(0, 2), (4, 2)], dxfattribs={"layer": "Valley"})
+    block = doc.blocks.new("CREASE")
+    block.add_line((0, 0), (0, 2), dxfattribs={"layer": "Mountain"})
+    msp.add_blockref("CREASE", (1, 0))
+    msp.add_blockref("CREASE", (3, 2))
+    msp.add_arc((2, 4), 1.0, 0, 180, dxfattribs={"layer": "Border"})  # a bump, flattened
+    doc.saveas(tmp_path / "mixed.dxf")
+    cp = read_dxf(tmp_path / "mixed.dxf")
+    assert cp.bounds[2] == pytest.approx(4 * 25.4) and cp.bounds[3] == pytest.approx(5 * 25.4)
+    mountains = cp.vertices[cp.edges[cp.assignments == "M"]]
+    xs = sorted({round(float(x), 6) for x in mountains[:, :, 0].ravel()})
+    assert xs == pytest.approx([25.4, 3 * 25.4])  # both block references, placed
+    assert (cp.assignments == "B").sum() > 8  # the arc became many border segments
 
 
 # ---------------------------------------------------------------- bad input

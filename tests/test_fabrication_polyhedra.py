@@ -1,4 +1,4 @@
-"""Issue 30: a panel's solids assembled from their faces are the boolean chain's solids.
+"""A panel's solids assembled from their faces are the boolean chain's solids.
 
 :func:`~origami_cad.fabrication.polyhedra.fast_panel_solids` builds each solid face by
 face; :func:`~origami_cad.fabrication.solids.boolean_panel_solids` cuts the same solids
@@ -11,15 +11,14 @@ solids of the same volume, in the same place, with the same faces
 from __future__ import annotations
 
 from collections import Counter
-from pathlib import Path
 
 import pytest
 import shapely
 from build123d import Face, Solid, Vector, Wire
+from helpers_fabrication import SHEETS, distinct_panels
 from OCP.BRepCheck import BRepCheck_Analyzer
 
-from origami_cad.fabrication import FabricationParams, largest_bias, plan_panels
-from origami_cad.fabrication.congruent import congruent_panels
+from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.fabrication.polyhedra import fast_panel_solids, holes_clear
 from origami_cad.fabrication.solids import (
     boolean_panel_solids,
@@ -28,19 +27,12 @@ from origami_cad.fabrication.solids import (
     planar_prism,
     prism_rings,
 )
-from origami_cad.pattern.design import load_design, miura_design
+from origami_cad.pattern.design import miura_design
 from origami_cad.pattern.model import Hole
 
-FIG2 = load_design(Path(__file__).resolve().parents[1] / "examples" / "fig2_tg.toml")
 PLANS = {
-    # panels with vanished edges (corners of zero length on some footprints)
-    "Fig. 2 at its largest bias": (FIG2, FabricationParams(bias=largest_bias(FIG2))),
     "6 x 4, auto holes": (miura_design(4, 6, 20.0, 30.0, 70.0), FabricationParams()),
-    "2 x 3, no holes": (miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(holes="none")),
-    "2 x 3, two holes in a panel": (
-        miura_design(2, 3, 30.0, 30.0, 65.0),
-        FabricationParams(shell=0.5, holes=[(12.0, 10.0), (18.0, 12.0), (45.0, 40.0)]),
-    ),
+    **SHEETS,
 }
 
 
@@ -65,12 +57,8 @@ def _same(fast: dict, boolean: dict, where: str) -> None:
 @pytest.mark.parametrize("case", sorted(PLANS))
 def test_solids_from_their_faces_are_the_boolean_solids(case):
     design, params = PLANS[case]
-    plan = plan_panels(design, params)
-    holes_of = [plan.holes_of(o.index) for o in plan.outlines]
-    copies = congruent_panels(plan.outlines, holes_of)
-    for o, holes, same in zip(plan.outlines, holes_of, copies, strict=True):
-        if same is not None:  # a copy of an earlier panel: built once
-            continue
+    plan, panels = distinct_panels(design, params)
+    for o, holes in panels:
         fast = fast_panel_solids(o, holes, plan.params)
         assert fast is not None, (case, o.label)  # convex panels, holes clear
         _same(fast, boolean_panel_solids(o, holes, plan.params), f"{case}: {o.label}")

@@ -1,4 +1,4 @@
-"""Issue 30: the panels' solids meshed straight from the faces they were assembled from.
+"""The panels' solids meshed straight from the faces they were assembled from.
 
 :func:`~origami_cad.fabrication.polymesh.facets_mesh` must give, on every
 distinct panel of several sheets (the examples, vanished edges, no hole, two holes in a
@@ -19,14 +19,14 @@ import pytest
 import shapely
 from build123d import Solid
 from conftest import closed_mesh, mesh_volume
+from helpers_fabrication import SHEETS, distinct_panels
 from OCP.BRep import BRep_Tool
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.TopAbs import TopAbs_VERTEX
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
-from origami_cad.fabrication import FabricationParams, largest_bias, plan_panels
-from origami_cad.fabrication.congruent import congruent_panels
+from origami_cad.fabrication import FabricationParams, plan_panels
 from origami_cad.fabrication.meshing import ANGULAR_TOLERANCE, TOLERANCE, part_meshes, solid_mesh
 from origami_cad.fabrication.polyhedra import Cap, Facets, frustum
 from origami_cad.fabrication.polymesh import circle_segments, facets_mesh
@@ -35,16 +35,10 @@ from origami_cad.pattern.design import load_design, miura_design
 from origami_cad.pattern.model import Hole
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-FIG2 = load_design(EXAMPLES / "fig2_tg.toml")
 PLANS = {
     "examples/miura_6x4.toml": (load_design(EXAMPLES / "miura_6x4.toml"), FabricationParams()),
     "examples/arm_design.toml": (load_design(EXAMPLES / "arm_design.toml"), FabricationParams()),
-    "Fig. 2 at its largest bias": (FIG2, FabricationParams(bias=largest_bias(FIG2))),
-    "2 x 3, no holes": (miura_design(2, 3, 30.0, 30.0, 65.0), FabricationParams(holes="none")),
-    "2 x 3, two holes in a panel": (
-        miura_design(2, 3, 30.0, 30.0, 65.0),
-        FabricationParams(shell=0.5, holes=[(12.0, 10.0), (18.0, 12.0), (45.0, 40.0)]),
-    ),
+    **SHEETS,
 }
 SEGMENTS = circle_segments(ANGULAR_TOLERANCE)
 
@@ -87,12 +81,8 @@ def _check(solid: Solid, facets: Facets, where: str) -> None:
 @pytest.mark.parametrize("case", sorted(PLANS))
 def test_every_distinct_panel_is_meshed_from_its_faces_as_occ_meshes_it(case):
     design, params = PLANS[case]
-    plan = plan_panels(design, params)
-    holes_of = [plan.holes_of(o.index) for o in plan.outlines]
-    copies = congruent_panels(plan.outlines, holes_of)
-    for o, holes, same in zip(plan.outlines, holes_of, copies, strict=True):
-        if same is not None:  # a copy of an earlier panel: meshed once
-            continue
+    plan, panels = distinct_panels(design, params)
+    for o, holes in panels:
         solids, faces = panel_build(o, holes, plan.params)
         assert faces is not None and faces.keys() == solids.keys(), (case, o.label)
         for name, built in solids.items():

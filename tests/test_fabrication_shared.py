@@ -1,4 +1,4 @@
-"""Issue 30: each distinct panel shape built once and copied, each solid tessellated once.
+"""Each distinct panel shape built once and copied, each solid tessellated once.
 
 The copies must be the solids a fresh build gives (valid, same volume, same place), the
 shared meshes the meshes OCC gives each solid, and the files written from them closed.

@@ -1,4 +1,4 @@
-"""No function in the package is over 80 lines (issue 20).
+"""No function in the package is over 80 lines.
 
 A function's length runs from its ``def`` line to its last line, docstring
 included (decorators not counted), over ``origami_cad/`` and ``parts/``. Methods

@@ -1,4 +1,4 @@
-"""Property-based fuzzing of every reader of user files (issue 19).
+"""Property-based fuzzing of every reader of user files.
 
 Hypothesis generates FOLD, SVG and DXF files and design, task and route TOML
 files, from valid ones with fields replaced by hostile values (wrong types,
@@ -15,7 +15,7 @@ default), or by hand::
 
     ORIGAMI_FUZZ_EXAMPLES=3000 .venv/bin/python -m pytest -q tests/test_fuzz_readers.py
 
-Issue 32's cases are in the strategies: SVG transforms that collapse the plane,
+The strategies hold the cases a tester's sweep found: SVG transforms that collapse the plane,
 empty viewBoxes, non-finite sizes and nesting around the depth limit; DXF circles
 of NaN radius, INSERT scales of 0, MINSERTs of MINSERTs and hostile grid counts
 written into the file; FOLD keys given twice and fold angles against their

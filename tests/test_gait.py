@@ -1,4 +1,4 @@
-"""The crawler's gait found by search (issue 31): design-gait and the chain after it.
+"""The crawler's gait found by search: design-gait and the chain after it.
 
 The searches here are tiny (one friction, two candidates, two steps between keyframes):
 they check that the search's outputs are what every chained step accepts, not how far
@@ -8,12 +8,10 @@ the designed gait walks (``make bench`` runs the full search; docs/crawler.md).
 from __future__ import annotations
 
 import json
-import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import gait_file_text
+from conftest import CRAWLER, copy_crawler, gait_file_text
 
 from origami_cad.cli import main
 from origami_cad.commands import execute
@@ -40,20 +38,7 @@ from origami_cad.design.search import UnitBox
 from origami_cad.drive.sequence import load_sequence
 from origami_cad.errors import SimulationError
 
-HERE = Path(__file__).resolve().parents[1] / "examples" / "crawler"
-ROBOT = HERE / "crawler.toml"
-
-
-@pytest.fixture(scope="module")
-def robot():
-    return load_robot(ROBOT)
-
-
-def _copy(folder: Path) -> Path:
-    for p in HERE.iterdir():
-        if p.suffix in (".toml", ".fold"):
-            shutil.copy(p, folder / p.name)
-    return folder / "crawler.toml"
+ROBOT = CRAWLER / "crawler.toml"
 
 
 def test_every_genome_decodes_to_a_gait_within_the_limits_that_drive_and_crawl_accept(
@@ -197,7 +182,7 @@ def test_crawl_refuses_a_too_fast_gait_in_one_line(tmp_path, capsys):
 
 @pytest.mark.parametrize("broken", ["legs", "routes"])
 def test_a_robot_without_legs_or_routes_gets_one_line(tmp_path, capsys, broken):
-    robot = _copy(tmp_path)
+    robot = copy_crawler(tmp_path)
     text = robot.read_text(encoding="utf-8")
     if broken == "legs":
         head, _, rest = text.partition("[[leg]]")
@@ -275,7 +260,7 @@ def test_sequence_of_a_robot_takes_its_gait_file_and_refuses_keyframes(tmp_path,
         assert main([*argv, *extra]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and said in err[0] and "crawler.toml" in err[0], err
-    pattern = ["sequence", str(HERE / "crawler.fold"), str(HERE / "route_fl.toml")]
+    pattern = ["sequence", str(CRAWLER / "crawler.fold"), str(CRAWLER / "route_fl.toml")]
     assert main([*pattern, "-o", str(tmp_path / "no.toml")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--keyframes: required" in err[0], err

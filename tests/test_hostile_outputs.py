@@ -1,4 +1,4 @@
-"""Issue 32, second sweep: what a tester found through the real CLI after the first one.
+"""Outputs checked against the inputs through the real CLI, before any work is done.
 
 Each test is one root cause: a folder command's own file names are checked against the
 inputs (and the files they name) before any work, not only when the files are put in place.

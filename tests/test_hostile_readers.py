@@ -1,4 +1,4 @@
-"""Readers that used to repair silently, and inputs past the stated limits (issue 32, 5-6).
+"""Readers that used to repair silently, and inputs past the stated limits.
 
 Each file is written here and given to the real command line (``origami_cad.cli.main``):
 a refusal is exit code 2 and one line on stderr naming the file and the entity, key or

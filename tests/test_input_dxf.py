@@ -1,4 +1,4 @@
-"""Small DXF files that used to exhaust time or memory (issue 19, class 10), and more.
+"""Small DXF files that used to exhaust time or memory, and more.
 
 Every drawing is made here with ezdxf. Block references and MINSERT grids are
 counted from the block definitions before anything is expanded; curves are

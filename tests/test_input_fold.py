@@ -1,4 +1,4 @@
-"""Hostile and careless FOLD files (issue 19, classes 9, 10 and 12).
+"""Hostile and careless FOLD files.
 
 Every input here is made in the test. A bad file must give a PatternError naming
 the file and the key or entry, in one line (the CLI's exit 2), never another

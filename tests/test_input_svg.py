@@ -1,4 +1,4 @@
-"""Hostile and careless SVG files, and markup injection (issue 19, classes 9, 11 and 12).
+"""Hostile and careless SVG files, and markup injection.
 
 The SVGs are written here. Malformed path data, transforms, colours and opacities
 give a PatternError naming the file and the element, on one line; what the

@@ -1,4 +1,4 @@
-"""Hostile and careless design, task and route files (issue 19, classes 9, 10 and 12).
+"""Hostile and careless design, task and route files.
 
 Each file is written here. Huge, non-finite or mistyped numbers and absurd counts
 give a DesignError naming the file, the table and the key, on one line; nothing

@@ -1,4 +1,4 @@
-"""The domain logic that left the commands (issue 29), called as a script calls it: no files."""
+"""The domain logic that left the commands, called as a script calls it: no files."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Robots into MuJoCo (issue 33): the exports load, count right, settle, fold like Fig. 5,
+"""Robots into MuJoCo: the exports load, count right, settle, fold like Fig. 5,
 walk, render, and bad input is refused by name. Headless; skipped without mujoco."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Names from input files never become paths or markup (issue 32, root cause 1).
+"""Names from input files never become paths or markup.
 
 Each escaper of :mod:`origami_cad._names` is fed arbitrary unicode (quotes, control
 characters, ``/``, ``..``, NUL, bidirectional controls, lone surrogates) and its output

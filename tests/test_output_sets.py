@@ -1,5 +1,4 @@
-"""No output replaces a file an input names; a folder's outputs change as one set
-(issue 32, root causes 2 and 3).
+"""No output replaces a file an input names; a folder's outputs change as one set.
 
 The referenced files are found through the inputs (a design's pattern file, a sequence's
 ``dcqc.json`` mapping, a file named by a file named by the input); the set commit is

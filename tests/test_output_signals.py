@@ -1,5 +1,5 @@
 """Real processes interrupted at random moments over an earlier good output leave all the
-old outputs or all new ones (issue 32, root cause 3): ``fabricate``, ``simulate`` and
+old outputs or all new ones: ``fabricate``, ``simulate`` and
 ``drive`` (its log and plot). A file of its own, so that it runs beside the others.
 
 ``ORIGAMI_SIGNAL_RUNS`` (default 3) sets the interrupts per command.

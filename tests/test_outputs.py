@@ -1,4 +1,4 @@
-"""Outputs never destroy the user's files (issue 19, data loss).
+"""Outputs never destroy the user's files.
 
 An output folder keeps everything the command did not write; an output that
 resolves to an input is refused; links are written through, devices and pipes

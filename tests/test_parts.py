@@ -240,7 +240,7 @@ def test_text_parameters_get_their_declared_types():
         ("blocker", {"angel": "30"}, "unknown parameter 'angel'"),
         ("blocker", {"angle": True}, "parameter angle: expected a float"),
         ("nope", {}, "unknown part 'nope'"),
-        # issue 32: stated bounds, before the B-rep kernel fails on them (or never ends)
+        # stated bounds, before the B-rep kernel fails on them (or never ends)
         ("tsa-module", {"guide_distance": "1e300"}, r"guide_distance: at most 10000 mm .*MAX_LEN"),
         ("tsa-module", {"centre": "-1e300,0"}, "parameter centre: at most 10000 mm"),
         ("blocker", {"reach": -1e300}, "parameter reach: at most 10000 mm"),
@@ -338,7 +338,8 @@ def test_parts_are_installed_inside_the_package():
     ],
 )
 def test_ring_rail_carriages_fit_the_ring_with_clearance_everywhere(kwargs):
-    """Issue 18: straight carriages overlapped the curved ring by 39 mm^3 each."""
+    """No carriage overlaps the curved ring, and each keeps the clearance from it (straight
+    carriages overlapped it by 39 mm^3 each)."""
     from origami_cad.parts.ring_rail import CLEARANCE
 
     rail = ring_rail(**kwargs)

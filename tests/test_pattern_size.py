@@ -1,4 +1,4 @@
-"""The size of an imported pattern: declared units, overrides, and implausible sizes (#18, 9).
+"""The size of an imported pattern: declared units, overrides, and implausible sizes.
 
 ORIPA writes every DXF 6 inches wide with no unit; ezdxf's new documents declare metres
 ($INSUNITS = 6). The declared unit is honoured by default; ``unit``, ``scale`` and

@@ -1,4 +1,4 @@
-"""Folded states shown to users lie on the table, centred on the flat sheet (#18, point 10).
+"""Folded states shown to users lie on the table, centred on the flat sheet.
 
 The folders' own frame (one panel kept where it lies flat) is what the string models
 and the simulation use; only what is shown is moved, rigidly.

@@ -3,22 +3,20 @@ follow small panels (Origami Simulator's square base and hypar)."""
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import time
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
+from helpers_plan import FAST, RING, square_base
 
 import origami_cad as oc
 from origami_cad.pattern.design import Design
 from origami_cad.simulation import simulate
-from origami_cad.strings import TSAParams
 from origami_cad.strings.dcqc_result import StopReason
 from origami_cad.strings.plan import (
-    PlanSettings,
-    TSAPlacement,
     plan_geometry,
     plan_routes,
     route_spec,
@@ -27,23 +25,11 @@ from origami_cad.strings.plan import (
 from origami_cad.strings.plan_geometry import HOLE_LADDER, MIN_HOLE_DIAMETER
 
 DATA = Path(__file__).parent / "data" / "origami-simulator"
-FAST = PlanSettings(generations=20, grid=17)
-RING = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")
 def base() -> Design:
-    path = DATA / "squareBase.svg"
-    return oc.with_fold_path(Design(oc.read_pattern(path, width=150.0), None, "file", path))
+    return oc.with_fold_path(square_base())
 
 
 def test_a_spent_time_limit_keeps_the_first_count_and_stops_the_simulation(base):

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
 
 from origami_cad.cli import main
 from origami_cad.fabrication.params import FabricationParams
@@ -30,15 +30,6 @@ from origami_cad.strings.route import dump_route
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SHEET = FabricationParams(bias=3.0, height=2.2, thickness=0.4)  # the printed sheet of Figs. 4-5
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process (a third kind of executor)."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 def _example(design: str, route: str):

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 from pathlib import Path
 
 import pytest
+from helpers_exec import InlineExecutor
+from helpers_plan import FAST
 
 from origami_cad.errors import StringsError
 from origami_cad.pattern import CreasePattern, write_pattern
 from origami_cad.pattern.design import load_pattern_source
 from origami_cad.strings import TSAParams, load_route, simulate_dcqc
 from origami_cad.strings.plan import (
-    PlanSettings,
     TSAPlacement,
     plan_geometry,
     plan_messages,
@@ -20,18 +20,6 @@ from origami_cad.strings.plan import (
     route_spec,
 )
 from origami_cad.strings.route import dump_route
-
-#: a short search: the sheets are small
-FAST = PlanSettings(generations=20, grid=17)
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""The printed mass from the print settings the 3MF carries (issue 31, item 4).
+"""The printed mass from the print settings the 3MF carries.
 
 The estimate (``origami_cad.fabrication.printmass``) against geometry worked by hand,
 against the settings written into ``print.3mf``, and against PrusaSlicer's own

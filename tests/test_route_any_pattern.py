@@ -8,38 +8,24 @@ API and the command line.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
-from pathlib import Path
-
 import numpy as np
 import pytest
+from helpers_exec import InlineExecutor
+from helpers_plan import FAST, RING, SQUARE_BASE, square_base
 
 import origami_cad as oc
 from origami_cad.commands import execute
 from origami_cad.errors import PatternError
 from origami_cad.kinematics.folding import FoldPath, PathDesign
 from origami_cad.pattern.design import Design
-from origami_cad.strings import TSAParams, load_route, simulate_dcqc
-from origami_cad.strings.plan import PlanSettings, TSAPlacement, plan_geometry, route_spec
+from origami_cad.strings import load_route, simulate_dcqc
+from origami_cad.strings.plan import plan_geometry, route_spec
 from origami_cad.strings.route import dump_route
-
-SQUARE_BASE = Path(__file__).parent / "data" / "origami-simulator" / "squareBase.svg"
-FAST = PlanSettings(generations=20, grid=17)
-RING = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
-
-
-class InlineExecutor(cf.Executor):
-    """Runs each task at once in this process."""
-
-    def submit(self, fn, /, *args, **kwargs):
-        future: cf.Future = cf.Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
 
 
 @pytest.fixture(scope="module")
 def base() -> Design:
-    return Design(oc.read_pattern(SQUARE_BASE, width=150.0), None, "file", SQUARE_BASE)
+    return square_base()
 
 
 @pytest.fixture(scope="module")

@@ -1,5 +1,4 @@
-"""A search's result feeds other steps: every candidate it may hand on goes through the chain
-(issue 27).
+"""A search's result feeds other steps: every candidate it may hand on goes through the chain.
 
 * The paper task's winner, and its ``p_e`` to 1e-6, is the same whether numpy uses its
   AVX-512 kernels or not, at one and at two worker processes.

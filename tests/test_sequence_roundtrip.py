@@ -1,4 +1,4 @@
-"""A sequence the project writes always reads back (issue 27).
+"""A sequence the project writes always reads back.
 
 `model_mapping` samples a model's fold curve, `model_sequence` makes the sequence and
 `dump_sequence` writes it; `load_sequence`

@@ -1,4 +1,4 @@
-"""No error names a staging file (issue 27).
+"""No error names a staging file.
 
 Commands write through a staging file or folder (``.oc-*``) and put the outputs in place
 once complete; a check that fails on a staged file used to name that temporary path, gone
@@ -35,7 +35,7 @@ def _fails_naming(capsys, argv, user_path: Path) -> str:
 def test_sequence_readback_error_names_the_users_file(tmp_path, monkeypatch, capsys):
     import origami_cad.drive.sequence as sequence
 
-    def refuse(path):  # the reader refusing the staged file, as in issue 27
+    def refuse(path):  # the reader refusing the staged file
         raise DriveError(f"{path} [[tsa]] #1: key 'mapping': fold ratios must increase")
 
     monkeypatch.setattr(sequence, "load_sequence", refuse)

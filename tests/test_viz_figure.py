@@ -1,4 +1,4 @@
-"""The PNGs of ``viz.figure``: encoded here (issue 30), the pixels Agg draws, read as such.
+"""The PNGs of ``viz.figure``: encoded here, the pixels Agg draws, read as such.
 
 :func:`~origami_cad.viz.figure.write_png` must write what ``savefig`` writes: the same
 pixels at the same size and resolution, opaque pictures as RGB, a transparent one with its

@@ -1,4 +1,4 @@
-"""Issue 18, point 8: the demo runs from a wheel installed in a fresh venv, outside the tree.
+"""The demo runs from a wheel installed in a fresh venv, outside the tree.
 
 The wheel is built from this checkout (``pip wheel --no-deps``), installed into a new
 venv whose only link to the current environment is a ``.pth`` file naming the current

@@ -44,7 +44,7 @@ from origami_cad._toml import (
 )
 from origami_cad.errors import DesignError, PatternError
 from origami_cad.pattern.formats import READERS
-from origami_cad.pattern.io import read_pattern
+from origami_cad.pattern.io import SIZE_CHECKS, read_pattern
 from origami_cad.pattern.miura import MAX_PANELS, miura_pattern
 from origami_cad.pattern.model import MAX_VERTICES, CreasePattern
 from origami_cad.pattern.tg import DEFAULT_MIN_TURN, TGDesign, design_from_vectors, tg_pattern
@@ -179,13 +179,7 @@ def _not_a_design(p: Path, data: dict) -> None:
     raise DesignError(f"{p}: missing key 'pattern'{said}")
 
 
-@checked(
-    PatternError,
-    path=Arg("path", optional=False),
-    scale=Arg(min=0.0, open_min=True, max=1e9),
-    width=Arg(min=0.0, open_min=True, max=1e9),
-    tolerance=Arg(min=0.0, max=1e6),
-)
+@checked(PatternError, **SIZE_CHECKS)
 def load_design(
     path: str | os.PathLike[str],
     *,

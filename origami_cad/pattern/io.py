@@ -23,6 +23,7 @@ from origami_cad.pattern.model import CreasePattern, Problem, Severity
 __all__ = [
     "PLAUSIBLE_SIZE",
     "READ_FORMATS",
+    "SIZE_CHECKS",
     "UNITS",
     "WRITE_FORMATS",
     "mm_per_unit",
@@ -70,13 +71,17 @@ def mm_per_unit(unit: str | float) -> float:
     return value
 
 
-@checked(
-    PatternError,
-    path=Arg("path", optional=False),
-    scale=Arg(min=0.0, open_min=True, max=1e9),
-    width=Arg(min=0.0, open_min=True, max=1e9),
-    tolerance=Arg(min=0.0, max=1e6),
-)
+#: The checks of a pattern file's path and of the options sizing and joining it (``scale``,
+#: ``width`` mm, ``tolerance`` mm): :func:`read_pattern`'s, and a design file's reader's.
+SIZE_CHECKS = {
+    "path": Arg("path", optional=False),
+    "scale": Arg(min=0.0, open_min=True, max=1e9),
+    "width": Arg(min=0.0, open_min=True, max=1e9),
+    "tolerance": Arg(min=0.0, max=1e6),
+}
+
+
+@checked(PatternError, **SIZE_CHECKS)
 def read_pattern(
     path: str | os.PathLike[str],
     *,
