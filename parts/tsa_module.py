@@ -56,6 +56,11 @@ def _prism(poly: shapely.Polygon, z0: float, z1: float) -> Part:
     return solid if isinstance(solid, Part) else Part(solid.wrapped)
 
 
+#: The least gap between the turning hub and the fixed exit guide, mm: a print's
+#: clearance (a finer gap prints fused, and the hub cannot turn).
+MIN_GAP = 0.5
+
+
 @dataclass(frozen=True)
 class TSAModuleParams:
     """Parameters of :func:`tsa_module`."""
@@ -80,7 +85,13 @@ class TSAModuleParams:
     hub_thickness: float = field(default=4.0, metadata=spec("mm", "hub disc thickness", low=0.0))
     anchor_hole: float = field(default=1.2, metadata=spec("mm", "anchor hole diameter", low=0.0))
     guide_distance: float = field(
-        default=20.0, metadata=spec("mm", "string exit guide's distance from the hub", low=0.0)
+        default=20.0,
+        metadata=spec(
+            "mm",
+            f"string exit guide's distance from the turning hub (a print's clearance: at "
+            f"least {MIN_GAP:g} mm, MIN_GAP)",
+            least=MIN_GAP,
+        ),
     )
     guide_hole: float = field(
         default=3.0, metadata=spec("mm", "string exit guide's hole diameter", low=0.0)
