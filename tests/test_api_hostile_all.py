@@ -210,3 +210,25 @@ def test_the_table_covers_the_curated_api_and_the_parts():
     }
     missing = public - set(NAMES) - set(elsewhere)
     assert not missing, sorted(missing)
+
+
+#: Values the sampled test above seldom draws, each a class of failure once found: an
+#: integer past a float's range (``float()`` raises OverflowError, not ValueError) and a
+#: callback that cannot take the arguments it is called with.
+EVERY_ARGUMENT = [10**400, lambda: None]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_every_argument_refuses_a_huge_integer_and_a_wrong_callback(calls, name, tmp_path):
+    func, good = calls[name]
+    failures = []
+    for key in sorted(good):
+        for value in EVERY_ARGUMENT:
+            with bounded():
+                try:
+                    func(**{**good, key: value})
+                except OrigamiCadError as exc:
+                    assert "\n" not in str(exc), str(exc)
+                except Exception as exc:
+                    failures.append(f"{key}={value!r:.30}: {type(exc).__name__}: {exc!s:.100}")
+    assert not failures, "\n".join(failures)
