@@ -69,7 +69,9 @@ def blocker_frame(
     point and unit direction (mm, in the pattern), the unit vector pointing into
     panel ``B`` (the face on the crease's right), and the two face indices.
     """
-    cp = pattern
+    cp = Arg("object", types=(CreasePattern,), optional=False).check(
+        "blocker_frame: pattern", pattern, FabricationError
+    )
     if isinstance(crease, bool) or not isinstance(crease, int | np.integer):
         raise FabricationError(f"crease must be an edge index (an integer), got {crease!r}")
     if not 0 <= crease < cp.n_edges or cp.assignments[crease] not in ("M", "V"):

@@ -32,6 +32,7 @@ from build123d import (
     make_face,
 )
 
+from origami_cad._args import Arg
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
@@ -158,6 +159,8 @@ class TSAModule(OrigamiPart):
         mode: Mode = Mode.ADD,
         **values: Any,
     ):
+        Arg("object", types=(PanelPlan,)).check("TSAModule: plan", plan, FabricationError)
+        Arg("str").check("TSAModule: panel", panel, FabricationError)
         p = resolve_params(TSAModuleParams, params, values)
         tree, joints = _build(p, plan, panel)
         super().__init__(tree, joints, p, rotation, align, mode)
