@@ -290,6 +290,22 @@ def test_bad_part_parameters_are_named(name, values, message):
         build_part(name, values)
 
 
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (["tsa-module", "--guide-distance", "0.1"], "--guide-distance (mm): expected a finite "
+         "number in [0.5, 10000], got 0.1"),
+        (["blocker", "--reach", "-1"], "--reach (mm): expected a finite number in [0.001, 10000]"),
+        (["ring-rail", "--eyelet", "50"], "--eyelet: 50 mm does not fit"),
+    ],
+)  # fmt: skip
+def test_the_command_line_names_a_part_parameter_as_it_was_typed(tmp_path, capsys, argv, said):
+    code = main(["part", *argv, "-o", str(tmp_path / "p")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and said in err, err
+    assert not (tmp_path / "p").exists()
+
+
 def test_placement_follows_the_registry(tmp_path):
     assert {n: s.placement for n, s in PARTS.items()} == {
         "tsa-module": Placement.PANEL,
