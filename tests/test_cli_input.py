@@ -42,6 +42,11 @@ from origami_cad.cli import main
             ["fabricate", "{miura}", "-o", "{tmp}/f", "--thickness", "3"],
             "error: --height: 2.2 mm must exceed the crease --thickness 3 mm",
         ),
+        (  # the bias it gives is named by the option that gave it
+            ["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "0.001"],
+            "error: --theta-max: 0.001 deg needs an inner bias of 7.85e-06 mm (eq. 6); it must "
+            "lie in [1.273, 179.99] deg",
+        ),
     ],
 )
 def test_bad_values_exit_2_and_write_nothing(tmp_path, capsys, examples, argv, message):

@@ -233,8 +233,24 @@ def fabrication_params(
     thickness = fields.get("thickness", FabricationParams.thickness)
     if theta_max is not None:
         bias = bias_for_theta_max(math.radians(theta_max), height, thickness)
+        _check_derived_bias("theta_max", theta_max, bias, height, thickness)
     elif p_max is not None:
         bias = bias_for_p_max(p_max, height, thickness)
+        _check_derived_bias("p_max", p_max, bias, height, thickness)
     if bias is not None:
         fields["bias"] = bias
     return FabricationParams(**fields)
+
+
+def _check_derived_bias(name: str, value: float, bias: float, height: float, thickness: float):
+    """Refuse a fold limit (``theta_max`` deg, or ``p_max``) whose bias (eq. 6) is finer than
+    a printer makes or longer than :data:`MAX_LENGTH`, naming it and its range."""
+    if MIN_FEATURE <= bias <= MAX_LENGTH:
+        return
+    scale, unit = (180.0 / math.pi, " deg") if name == "theta_max" else (1.0 / math.pi, "")
+    low = float(crease_fold_limit(MIN_FEATURE, height, thickness)) * scale
+    high = float(crease_fold_limit(MAX_LENGTH, height, thickness)) * scale
+    raise FabricationError(
+        f"{name}: {value:g}{unit} needs an inner bias of {bias:.3g} mm (eq. 6); it must lie "
+        f"in [{low:.4g}, {high:.6g}]{unit} for a bias of {MIN_FEATURE:g} to {MAX_LENGTH:g} mm"
+    )
