@@ -86,6 +86,27 @@ def _shown(value: Any) -> str:
     return brief_value(value)
 
 
+def _takes(func: Callable, count: int) -> bool:
+    """Whether ``func`` can be called with ``count`` positional arguments (a callable
+    whose signature Python cannot tell, a builtin's, passes)."""
+    try:
+        sig = inspect.signature(func)
+    except (TypeError, ValueError):
+        return True
+    try:
+        sig.bind(*range(count))
+    except TypeError:
+        return False
+    return True
+
+
+def _signature(func: Callable) -> str:
+    try:
+        return f" taking {inspect.signature(func)}"
+    except (TypeError, ValueError):
+        return ""
+
+
 def _integer(value: Any) -> int:
     if isinstance(value, str):
         return int(value.strip())
@@ -181,7 +202,8 @@ class Arg:
     inf_ok: bool = False
     #: ``"object"``: the classes an argument may be an instance of
     types: tuple = ()
-    #: ``"floats"``: how many numbers (None: any number of them)
+    #: ``"floats"``: how many numbers (None: any number of them); ``"callable"``: how many
+    #: positional arguments the function is called with
     length: int | None = None
 
     def check(self, shown: str, value: Any, error: type[OrigamiCadError]) -> Any:
@@ -216,6 +238,11 @@ class Arg:
         elif self.kind == "callable":
             if not callable(value):
                 raise error(f"{shown}: expected a function, got {_brief(value)}")
+            if self.length is not None and not _takes(value, self.length):
+                raise error(
+                    f"{shown}: expected a function of {self.length} arguments, got "
+                    f"{brief_value(value)}{_signature(value)}"
+                )
         elif self.kind == "bool":
             if not isinstance(value, bool | np.bool_):
                 raise error(f"{shown}: expected True or False, got {brief_value(value)}")

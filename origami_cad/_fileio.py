@@ -5,7 +5,8 @@ The rules, documented for users in ``docs/outputs.md``:
 * A writer never leaves a half-written file: it writes a temporary file beside
   the target and renames it over the target only when complete.
 * A writer never replaces anything but a regular file. A symbolic link is
-  written through (the file it points to is replaced, the link stays); a
+  written through (the file it points to is replaced, the link stays), unless it
+  points to nothing (it would create a file wherever it points): refused; a
   device or pipe (``/dev/stdout``, a FIFO) is written into once the output is
   complete; a folder given where a file is expected is an error.
 * A command that writes a folder writes *only its own files* into it. Whatever
@@ -34,7 +35,13 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import IO
 
-from origami_cad._inputs import check_outputs, protected_files, protection, referenced_files
+from origami_cad._inputs import (
+    check_outputs,
+    protected_files,
+    protection,
+    referenced_files,
+    refuse_broken_link,
+)
 from origami_cad._signals import Interrupted, note_written, raise_if_interrupted, signals_held
 from origami_cad.errors import OutputError
 
@@ -165,10 +172,12 @@ def clean_stale(folder: PathLike) -> list[Path]:
 
 
 def _target(path: PathLike) -> tuple[Path, os.stat_result | None]:
-    """The file to write for ``path`` (links followed) and its status if it exists."""
+    """The file to write for ``path`` (links followed) and its status if it exists; a
+    link to nothing is refused (it would be created wherever the link points)."""
     try:
         st = os.stat(path)  # follows links
     except FileNotFoundError:
+        refuse_broken_link(path, str(path))
         return _real(path), None
     except OSError as exc:
         raise OutputError(f"{path}: {exc.strerror}") from None
@@ -476,6 +485,7 @@ def atomic_directory(path: PathLike, inputs: Sequence[PathLike] = ()) -> Iterato
         a folder or a non-regular file.
     """
     shown = path
+    refuse_broken_link(path, str(shown))
     folder = _real(path)
     if folder.exists() and not folder.is_dir():
         raise OutputError(f"{shown}: exists and is not a folder; give a folder for the outputs")
@@ -514,6 +524,7 @@ def _plan_install(stage: Path, folder: Path, shown: PathLike, inputs: Sequence[P
     plan = []
     for rel in _staged_files(stage):
         out = folder / rel
+        refuse_broken_link(out, f"{shown}: {rel.as_posix()}")
         try:
             dest, st = _target(out)
         except OutputError:

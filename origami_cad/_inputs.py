@@ -22,6 +22,7 @@ __all__ = [
     "protected_files",
     "protection",
     "referenced_files",
+    "refuse_broken_link",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -29,6 +30,28 @@ PathLike = str | os.PathLike[str]
 
 def _real(path: PathLike) -> Path:
     return Path(os.path.realpath(os.path.abspath(path)))
+
+
+def _broken_link(path: PathLike) -> Path | None:
+    """The first link along ``path`` (the path itself or a folder on the way) that points
+    to nothing: writing there would create whatever it points to, wherever that is."""
+    probe = Path(os.path.abspath(path))
+    for part in (*reversed(probe.parents), probe):
+        if os.path.islink(part) and not os.path.exists(part):
+            return part
+    return None
+
+
+def refuse_broken_link(path: PathLike, shown: str) -> None:
+    """An :class:`OutputError` when a link along ``path`` points to nothing (``shown``: how
+    the message names the output)."""
+    link = _broken_link(path)
+    if link is not None:
+        which = "" if link == Path(os.path.abspath(path)) else f"{link} "
+        raise OutputError(
+            f"{shown}: {which}is a symbolic link to {os.readlink(link)}, which does not "
+            "exist; remove the link or choose another output"
+        )
 
 
 def referenced_files(inputs: Sequence[PathLike]) -> dict[Path, tuple[PathLike, str]]:
@@ -145,7 +168,8 @@ def check_outputs(
     OutputError
         An output resolves to an input or a file an input names, two outputs are
         the same file, a file output is an existing folder, a folder output is an
-        existing file, or a parent of an output is a file.
+        existing file, a parent of an output is a file, or a symbolic link along an
+        output points to nothing.
 
     Examples
     --------
@@ -161,6 +185,8 @@ def check_outputs(
     """
     protected = protected_files(inputs)
     seen: dict[Path, PathLike] = {}
+    for out in list(folders) + list(files):  # a folder's link first: its files are in it
+        refuse_broken_link(out, str(out))
     for out in list(files) + list(folders):
         real, why = _real(out), protection(out, protected)
         if why is not None:

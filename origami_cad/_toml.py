@@ -380,7 +380,7 @@ def json_text(data: Any, where: str, error: type[Exception] = DesignError, **opt
         raise error(f"{where}: {bad[0] or 'the value'} is {bad[1]}; JSON holds finite numbers only")
     try:
         return json.dumps(data, allow_nan=False, default=_plain, **options)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise error(f"{where}: a value JSON cannot hold ({exc})") from None
 
 

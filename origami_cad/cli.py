@@ -287,6 +287,12 @@ def command_words(text: str, cls: type[Command]) -> str:
     'use a smaller --hole-diameter or --holes none'
     >>> command_words("in/a.svg: <svg>: width = 'x' is not a length", COMMANDS["fabricate"])
     "in/a.svg: <svg>: width = 'x' is not a length"
+
+    A message led by the argument it is about (``thickness: ...``, or after its owner,
+    ``SimulationParams: friction: ...``) is led by the option instead:
+
+    >>> command_words("FabricationParams: thickness: expected a number", COMMANDS["fabricate"])
+    '--thickness: expected a number'
     """
     flags = {o.name: o.shown for o in cls.OPTIONS if o.flag != "" and not o.positional}
     names = {o.name: o.name.upper() for o in cls.OPTIONS if o.positional}
@@ -305,9 +311,13 @@ def command_words(text: str, cls: type[Command]) -> str:
             return names[name]
         return m[0]
 
+    def argument(m: re.Match) -> str:  # "FabricationParams: thickness: " -> "--thickness: "
+        return flags[m[1]] if m[1] in flags else m[0]
+
     def rewritten(part: str) -> str:
         if _ABOUT_A_FILE.match(part):  # a file's own keys and attributes keep their names
             return part
+        part = re.sub(r"^(?:\w+: )?([a-z]\w*)(?=: )", argument, part, count=1)
         part = re.sub(r"(?<![\w-])([a-z]\w*) ?= ?['\"]?([\w.-]+)['\"]?", assigned, part)
         return re.sub(r"(``)?(?<![\w.-])([a-z][a-z0-9_]*)(?![\w-])(?(1)``)", word, part)
 

@@ -37,13 +37,14 @@ class BlockerParams:
     )
     length: float = field(default=10.0, metadata=spec("mm", "length along the crease", low=0.0))
     reach: float = field(
-        default=5.0, metadata=spec("mm", "how far past panel B's chamfer the stop face reaches")
+        default=5.0,
+        metadata=spec("mm", "how far past panel B's chamfer the stop face reaches", low=0.0),
     )
     base: float = field(
         default=6.0, metadata=spec("mm", "length of the foot bonded to panel A", low=0.0)
     )
     clearance: float = field(
-        default=0.0, metadata=spec("mm", "gap left at the stop angle (0: contact)")
+        default=0.0, metadata=spec("mm", "gap left at the stop angle (0: contact)", least=0.0)
     )
     bias: float = field(
         default=FabricationParams.bias, metadata=spec("mm", "b of the panels", low=0.0)
@@ -68,7 +69,9 @@ def blocker_frame(
     point and unit direction (mm, in the pattern), the unit vector pointing into
     panel ``B`` (the face on the crease's right), and the two face indices.
     """
-    cp = pattern
+    cp = Arg("object", types=(CreasePattern,), optional=False).check(
+        "blocker_frame: pattern", pattern, FabricationError
+    )
     if isinstance(crease, bool) or not isinstance(crease, int | np.integer):
         raise FabricationError(f"crease must be an edge index (an integer), got {crease!r}")
     if not 0 <= crease < cp.n_edges or cp.assignments[crease] not in ("M", "V"):
@@ -157,8 +160,6 @@ def _build(
     """The blocker's solid and its ``crease`` joint, mm."""
     angle, length, reach, base, clearance = p.angle, p.length, p.reach, p.base, p.clearance
     bias, height, thickness = p.bias, p.height, p.thickness
-    if not clearance >= 0:
-        raise FabricationError(f"parameter clearance: must be >= 0 mm, got {clearance!r}")
     if plan is None and crease is not None:
         raise FabricationError("crease needs plan (the PanelPlan of the pattern it is on)")
     if plan is not None and crease is None:

@@ -20,7 +20,7 @@ class DriverAdapterParams:
     """Parameters of :func:`driver_adapter` (mm unless noted)."""
 
     connectors: int = field(
-        default=4, metadata=spec("", "number of servo connectors (3-pin plugs, one row), >= 1")
+        default=4, metadata=spec("", "number of servo connectors (3-pin plugs, one row)", low=0)
     )
     board_width: float = field(
         default=25.0, metadata=spec("mm", "width of the controller board", low=0.0)
@@ -91,8 +91,6 @@ def _build(p: DriverAdapterParams) -> tuple[Compound, Location]:
     connectors, thickness, pocket, margin = p.connectors, p.thickness, p.pocket, p.margin
     board_width, board_length, pitch = p.board_width, p.board_length, p.pitch
     slot_width, slot_depth, mounting_hole = p.slot_width, p.slot_depth, p.mounting_hole
-    if connectors < 1:
-        raise FabricationError(f"connectors must be >= 1, got {connectors}")
     if pocket >= thickness:
         raise FabricationError(
             f"pocket ({pocket:g} mm) must be shallower than the plate ({thickness:g})"

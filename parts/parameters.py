@@ -13,10 +13,10 @@ as command-line text, converting each to its field's declared type:
 ...     angles: tuple[float, ...] = field(default=(0.0, 90.0), metadata=spec("deg", "holes"))
 >>> resolve_params(Demo, None, {"offset": "12", "angles": "0, 45, 90"})
 Demo(width=10.0, offset=12.0, angles=(0.0, 45.0, 90.0))
->>> resolve_params(Demo, None, {"width": "-1"})
+>>> resolve_params(Demo, None, {"width": "-1e-9"})  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-origami_cad.errors.FabricationError: parameter width: must be > 0 mm, got -1.0
+origami_cad.errors.FabricationError: parameter width (mm): expected ... in [0.001, 10000], got -1e-9
 """
 
 from __future__ import annotations
@@ -28,10 +28,17 @@ import typing
 from collections.abc import Iterable, Mapping
 from typing import Any, TypeVar
 
-from origami_cad._args import brief_value
+from origami_cad._args import brief_value, check_number
 from origami_cad.errors import FabricationError
 
-__all__ = ["ParamInfo", "check_params", "param_info", "resolve_params", "spec"]
+__all__ = [
+    "ParamInfo",
+    "check_params",
+    "param_info",
+    "param_range",
+    "resolve_params",
+    "spec",
+]
 
 P = TypeVar("P")
 
@@ -49,7 +56,9 @@ MIN_SIZE = 1e-3
 _BOUNDS = {"mm": MAX_LENGTH, "deg": MAX_ANGLE}
 
 
-def spec(unit: str, doc: str, *, low: float | None = None) -> dict[str, Any]:
+def spec(
+    unit: str, doc: str, *, low: float | None = None, least: float | None = None
+) -> dict[str, Any]:
     """Metadata of a part parameter: ``field(default=..., metadata=spec(unit, doc))``.
 
     Parameters
@@ -60,8 +69,10 @@ def spec(unit: str, doc: str, *, low: float | None = None) -> dict[str, Any]:
         One line saying what the parameter is.
     low : float, optional
         Values must be greater than this (numbers and each number of a tuple).
+    least : float, optional
+        Values must be at least this (``0`` for a gap that may close).
     """
-    return {"unit": unit, "doc": doc, "low": low}
+    return {"unit": unit, "doc": doc, "low": low, "least": least}
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,6 +85,7 @@ class ParamInfo:
     unit: str
     doc: str
     low: float | None
+    least: float | None = None
 
     @property
     def type_name(self) -> str:
@@ -105,6 +117,7 @@ def param_info(cls: type) -> list[ParamInfo]:
             f.metadata.get("unit", ""),
             f.metadata.get("doc", ""),
             f.metadata.get("low"),
+            f.metadata.get("least"),
         )
         for f in dataclasses.fields(cls)
     ]
@@ -187,52 +200,47 @@ def _coerce_tuple(info: ParamInfo, tp: Any, value: Any) -> tuple:
 
 
 def _scalar(info: ParamInfo, tp: type, value: Any) -> Any:
+    """One value of a parameter through the checks the commands' options use
+    (:func:`origami_cad._args.check_number`): finite, of its kind, in its stated range."""
     if tp is str:
         if not isinstance(value, str):
             raise FabricationError(
                 f"parameter {info.name}: expected text, got {brief_value(value)}"
             )
         return value
-    expected = f"parameter {info.name}: expected {'an int' if tp is int else 'a float'}"
-    shown = brief_value(value)
-    text = isinstance(value, str)
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, str | int | float)
-        or (
-            text and not value.isascii()  # "\u0663" is 3 to float(): no one types it for one
-        )
-    ):
-        raise FabricationError(f"{expected}, got {shown}")
-    try:
-        number = tp(value.strip()) if isinstance(value, str) else tp(value)
-    except (ValueError, OverflowError):
-        raise FabricationError(f"{expected}, got {shown}") from None
-    if not math.isfinite(number):
-        raise FabricationError(f"parameter {info.name}: expected a finite number, got {shown}")
-    if number != value and not isinstance(value, str):
-        raise FabricationError(f"{expected}, got {shown}")
-    unit = f" {info.unit}" if info.unit else ""
-    if info.low is not None and not number > info.low:
-        raise FabricationError(
-            f"parameter {info.name}: must be > {info.low:g}{unit}, got {number!r}"
-        )
-    if info.low == 0 and info.unit in _BOUNDS and number < MIN_SIZE:
-        raise FabricationError(
-            f"parameter {info.name}: at least {MIN_SIZE:g}{unit} "
-            f"(parts.parameters.MIN_SIZE), got {number!r}"
-        )
-    _check_bound(info, tp, number)
-    return number
+    low, high, open_min = param_range(info, tp)
+    unit = f" ({info.unit})" if info.unit else ""
+    return check_number(
+        f"parameter {info.name}{unit}",
+        value,
+        kind="int" if tp is int else "float",
+        low=low,
+        high=high,
+        open_min=open_min,
+        error=FabricationError,
+    )
 
 
-def _check_bound(info: ParamInfo, tp: type, number: float) -> None:
-    """The stated bound of the parameter's unit (a count's when it is an integer)."""
-    bound = _BOUNDS.get(info.unit, MAX_COUNT if tp is int else None)
-    if bound is not None and abs(number) > bound:
-        unit = f" {info.unit}" if info.unit else ""
-        name = {MAX_LENGTH: "MAX_LENGTH", MAX_ANGLE: "MAX_ANGLE"}.get(bound, "MAX_COUNT")
-        raise FabricationError(
-            f"parameter {info.name}: at most {bound:g}{unit}{' from zero' if unit else ''} "
-            f"(parts.parameters.{name}), got {number!r}"
-        )
+def param_range(info: ParamInfo, tp: type = float) -> tuple[float | None, float | None, bool]:
+    """``(low, high, open_min)``: the range a parameter's numbers are checked in, in its
+    unit. A length at most :data:`MAX_LENGTH` mm from zero, an angle :data:`MAX_ANGLE`
+    degrees, a count :data:`MAX_COUNT`; at least the field's ``least``, above its ``low`` (at least
+    :data:`MIN_SIZE` for a positive length or angle).
+
+    >>> from dataclasses import dataclass, field
+    >>> @dataclass(frozen=True)
+    ... class Demo:
+    ...     width: float = field(default=10.0, metadata=spec("mm", "plate width", low=0.0))
+    >>> param_range(param_info(Demo)[0])
+    (0.001, 10000.0, False)
+    """
+    high = _BOUNDS.get(info.unit, float(MAX_COUNT) if tp is int else None)
+    if info.least is not None:
+        return info.least, high, False
+    if info.low is None:
+        return (None if high is None else -high), high, False
+    if info.low == 0 and info.unit in _BOUNDS:
+        return MIN_SIZE, high, False
+    if tp is int:  # a count above ``low``: its least whole value, said as such
+        return float(math.floor(info.low) + 1), high, False
+    return info.low, high, True

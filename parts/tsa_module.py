@@ -32,6 +32,7 @@ from build123d import (
     make_face,
 )
 
+from origami_cad._args import Arg
 from origami_cad.errors import FabricationError
 from origami_cad.fabrication.plan import PanelPlan
 from origami_cad.strings.tsa import TSAParams
@@ -54,6 +55,11 @@ def _prism(poly: shapely.Polygon, z0: float, z1: float) -> Part:
     face = make_face(Polyline(*[(float(x), float(y)) for x, y in pts], close=True))
     solid = extrude(Plane.XY.offset(z0) * face, amount=z1 - z0)
     return solid if isinstance(solid, Part) else Part(solid.wrapped)
+
+
+#: The least gap between the turning hub and the fixed exit guide, mm: a print's
+#: clearance (a finer gap prints fused, and the hub cannot turn).
+MIN_GAP = 0.5
 
 
 @dataclass(frozen=True)
@@ -80,7 +86,13 @@ class TSAModuleParams:
     hub_thickness: float = field(default=4.0, metadata=spec("mm", "hub disc thickness", low=0.0))
     anchor_hole: float = field(default=1.2, metadata=spec("mm", "anchor hole diameter", low=0.0))
     guide_distance: float = field(
-        default=20.0, metadata=spec("mm", "string exit guide's distance from the hub", low=0.0)
+        default=20.0,
+        metadata=spec(
+            "mm",
+            f"string exit guide's distance from the turning hub (a print's clearance: at "
+            f"least {MIN_GAP:g} mm, MIN_GAP)",
+            least=MIN_GAP,
+        ),
     )
     guide_hole: float = field(
         default=3.0, metadata=spec("mm", "string exit guide's hole diameter", low=0.0)
@@ -147,6 +159,8 @@ class TSAModule(OrigamiPart):
         mode: Mode = Mode.ADD,
         **values: Any,
     ):
+        Arg("object", types=(PanelPlan,)).check("TSAModule: plan", plan, FabricationError)
+        Arg("str").check("TSAModule: panel", panel, FabricationError)
         p = resolve_params(TSAModuleParams, params, values)
         tree, joints = _build(p, plan, panel)
         super().__init__(tree, joints, p, rotation, align, mode)

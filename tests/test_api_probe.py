@@ -354,7 +354,7 @@ def test_a_file_name_with_a_newline_is_named_on_one_line(tmp_path):
 
 def test_tiny_printed_sizes_are_refused_before_the_kernel_sees_them():
     for key in ("thickness", "hole_diameter", "midlayer_bias"):
-        with pytest.raises(OrigamiCadError, match=f"{key} must be .*at least 0.01 mm"):
+        with pytest.raises(OrigamiCadError, match=rf"^{key}: .*(\[0\.01, |at least 0\.01 mm)"):
             oc.FabricationParams(**{key: 1e-320})
 
 

@@ -34,6 +34,20 @@ from origami_cad.cli import main
         (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--blocker", "x:60"], "EDGE:DEG"),
         (["simulate", "{miura}", "{route}", "-o", "{tmp}/s", "--steps", "0"], "steps"),
         (["fabricate", "{miura}", "-o", "{tmp}/f", "--bias", "2", "--p-max", "0.5"], "only one"),
+        # the library's checks of FabricationParams, said in the option's words (issue 43)
+        (
+            ["fabricate", "{miura}", "-o", "{tmp}/f", "--thickness", "0.001"],
+            "error: --thickness: expected a finite number in [0.01, 10000], got 0.001",
+        ),
+        (
+            ["fabricate", "{miura}", "-o", "{tmp}/f", "--thickness", "3"],
+            "error: --height: 2.2 mm must exceed the crease --thickness 3 mm",
+        ),
+        (  # the bias it gives is named by the option that gave it
+            ["fabricate", "{miura}", "-o", "{tmp}/f", "--theta-max", "0.001"],
+            "error: --theta-max: 0.001 deg needs an inner bias of 7.85e-06 mm (eq. 6); it must "
+            "lie in [1.273, 179.99] deg",
+        ),
     ],
 )
 def test_bad_values_exit_2_and_write_nothing(tmp_path, capsys, examples, argv, message):

@@ -7,11 +7,13 @@ inputs (and the files they name) before any work, not only when the files are pu
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
 import pytest
 
+import origami_cad as oc
 from origami_cad.cli import main
 from origami_cad.commands import COMMANDS, execute
 from origami_cad.errors import OutputError
@@ -70,3 +72,61 @@ def test_a_folder_commands_declared_files_are_the_files_it_writes(case):
     rest = written - declared
     assert all(n.startswith(("tsa_module_", "blocker_")) for n in rest), rest
     assert (written & declared) or not written
+
+
+def _link(tmp_path: Path, kind: str) -> tuple[Path, Path]:
+    """An output path through a symbolic link of ``kind``, and where the link points."""
+    if kind == "dangling":
+        target = tmp_path / "elsewhere" / "x.fold"
+        (tmp_path / "out.fold").symlink_to(target)
+        return tmp_path / "out.fold", target
+    if kind == "dangling folder on the way":
+        target = tmp_path / "elsewhere"
+        (tmp_path / "sub").symlink_to(target)
+        return tmp_path / "sub" / "out.fold", target
+    if kind == "to a folder":
+        target = tmp_path / "folder"
+        target.mkdir()
+        (tmp_path / "out.fold").symlink_to(target)
+        return tmp_path / "out.fold", target
+    target = tmp_path / "real.fold"
+    target.write_text("old")
+    (tmp_path / "out.fold").symlink_to(target)
+    return tmp_path / "out.fold", target
+
+
+@pytest.mark.parametrize(
+    "kind", ["dangling", "dangling folder on the way", "to a folder", "to a file"]
+)
+def test_an_output_through_a_symbolic_link(tmp_path, capsys, kind):
+    """A link to a file is written through (the file replaced, the link kept); a link to
+    nothing is refused, naming it (writing would create whatever it points to, wherever
+    that is), and so is a link to a folder: exit 2, one line, nothing created."""
+    out, target = _link(tmp_path, kind)
+    code = main(["pattern", str(EXAMPLES / "fig2_tg.toml"), "-o", str(out)])
+    err = capsys.readouterr().err
+    if kind == "to a file":
+        assert code == 0 and out.is_symlink() and target.read_text().startswith("{")
+        return
+    lines = [line for line in err.splitlines() if "warning:" not in line]
+    assert code == 2 and len(lines) == 1 and str(out) in lines[0], err
+    why = "is a folder" if kind == "to a folder" else "is a symbolic link to .*does not exist"
+    assert re.search(why, lines[0]), err
+    assert not (tmp_path / "elsewhere").exists()
+    if kind == "to a folder":
+        assert list(target.iterdir()) == []
+    with pytest.raises(OutputError, match=why):  # the library's writers too
+        oc.write_fold(oc.load_design(EXAMPLES / "fig2_tg.toml").pattern, out)
+
+
+def test_a_folder_output_holding_a_link_to_nothing_is_refused_before_any_work(tmp_path):
+    folder = tmp_path / "fab"
+    folder.mkdir()
+    (folder / "panels.png").symlink_to(tmp_path / "elsewhere" / "p.png")
+    with pytest.raises(OutputError, match=r"panels.png: is a symbolic link to .*elsewhere"):
+        execute("fabricate", EXAMPLES / "miura_6x4.toml", folder)
+    assert not (tmp_path / "elsewhere").exists() and len(list(folder.iterdir())) == 1
+    (tmp_path / "gone").symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(OutputError, match=r"gone: is a symbolic link to .*elsewhere"):
+        execute("fabricate", EXAMPLES / "miura_6x4.toml", tmp_path / "gone")
+    assert not (tmp_path / "elsewhere").exists()

@@ -91,7 +91,7 @@ def test_driver_adapter_volume_is_the_plate_minus_its_cuts():
         width * length * 3.0 - 25 * 45 * 1.2 - 5 * 7.8 * 2.8 * 3.0 - 4 * math.pi * 1.6**2 * 3.0
     )
     assert plate.volume == pytest.approx(expected, rel=1e-6)
-    with pytest.raises(FabricationError, match="connectors must be >= 1"):
+    with pytest.raises(FabricationError, match=r"connectors: expected an integer in 1\.\.64"):
         driver_adapter(connectors=0)
 
 
@@ -230,22 +230,42 @@ def test_text_parameters_get_their_declared_types():
 @pytest.mark.parametrize(
     "name, values, message",
     [
-        ("tsa-module", {"horn_offset": "twelve"}, "parameter horn_offset: expected a float"),
+        (
+            "tsa-module",
+            {"horn_offset": "twelve"},
+            r"horn_offset \(mm\): .* in \[-10000, 10000\], got twelve",
+        ),
         ("tsa-module", {"body": "20,34"}, "parameter body: expected 3 comma-separated"),
         ("tsa-module", {"tsa": "10"}, "parameter tsa: expected a TSAParams"),
-        ("driver-adapter", {"connectors": "2.5"}, "parameter connectors: expected an int"),
-        ("driver-adapter", {"connectors": 2.5}, "parameter connectors: expected an int"),
-        ("driver-adapter", {"pitch": "-3"}, "parameter pitch: must be > 0 mm"),
-        ("ring-rail", {"angles": "0,nan"}, "parameter angles: expected a finite number"),
+        (
+            "driver-adapter",
+            {"connectors": "2.5"},
+            "connectors: expected an integer in 1..64, got 2.5",
+        ),
+        ("driver-adapter", {"connectors": 2.5}, "parameter connectors: expected an integer"),
+        (
+            "driver-adapter",
+            {"pitch": "-3"},
+            r"parameter pitch \(mm\): .* in \[0.001, 10000\], got -3",
+        ),
+        ("ring-rail", {"angles": "0,nan"}, r"angles \(deg\): .* in \[-360, 360\], got nan"),
         ("blocker", {"angel": "30"}, "unknown parameter 'angel'"),
-        ("blocker", {"angle": True}, "parameter angle: expected a float"),
+        ("blocker", {"angle": True}, r"parameter angle \(deg\): expected a finite .* got True"),
         ("nope", {}, "unknown part 'nope'"),
         # stated bounds, before the B-rep kernel fails on them (or never ends)
-        ("tsa-module", {"guide_distance": "1e300"}, r"guide_distance: at most 10000 mm .*MAX_LEN"),
-        ("tsa-module", {"centre": "-1e300,0"}, "parameter centre: at most 10000 mm"),
-        ("blocker", {"reach": -1e300}, "parameter reach: at most 10000 mm"),
-        ("tsa-module", {"heading": "1e300"}, "parameter heading: at most 360 deg"),
-        ("driver-adapter", {"connectors": 10**12}, r"connectors: at most 64 \(.*MAX_COUNT"),
+        (
+            "tsa-module",
+            {"guide_distance": "1e300"},
+            r"guide_distance \(mm\): .* in \[0.5, 10000\], got 1e300",
+        ),
+        (
+            "tsa-module",
+            {"centre": "-1e300,0"},
+            r"centre \(mm\): .* in \[-10000, 10000\], got -1e300",
+        ),
+        ("blocker", {"reach": -1e300}, r"reach \(mm\): .* in \[0.001, 10000\], got -1e\+300"),
+        ("tsa-module", {"heading": "1e300"}, r"heading \(deg\): .* in \[-360, 360\], got 1e300"),
+        ("driver-adapter", {"connectors": 10**12}, r"connectors: .* in 1\.\.64, got 1000000000000"),
         ("ring-rail", {"angles": ",".join(["1"] * 65)}, "angles: 65 values, at most 64"),
         # parameters that cannot make the part, refused by name with the limit
         ("ring-rail", {"eyelet": 50, "width": 12}, r"eyelet: 50 mm .* must be < 8 mm"),
@@ -256,12 +276,34 @@ def test_text_parameters_get_their_declared_types():
         ("driver-adapter", {"mounting_hole": 60}, r"mounting_hole: 60 mm .* must be < 6 mm"),
         ("tsa-module", {"guide_hole": 500}, r"guide_hole: 500 mm .* must be < \d+ mm"),
         ("tsa-module", {"horn_offset": 1e4}, r"horn_offset: 10000 mm .* in \[0, 34\] mm"),
-        ("blocker", {"clearance": -1}, r"clearance: must be >= 0 mm, got -1"),
+        ("blocker", {"clearance": -1}, r"clearance \(mm\): .* in \[0, 10000\], got -1"),
+        ("blocker", {"reach": -2}, r"reach \(mm\): .* in \[0.001, 10000\], got -2"),
+        (
+            "tsa-module",
+            {"guide_distance": 0.01},
+            r"guide_distance \(mm\): .* \[0.5, 10000\], got 0.01",
+        ),
     ],
 )
 def test_bad_part_parameters_are_named(name, values, message):
     with pytest.raises(FabricationError, match=message):
         build_part(name, values)
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        (["tsa-module", "--guide-distance", "0.1"], "--guide-distance (mm): expected a finite "
+         "number in [0.5, 10000], got 0.1"),
+        (["blocker", "--reach", "-1"], "--reach (mm): expected a finite number in [0.001, 10000]"),
+        (["ring-rail", "--eyelet", "50"], "--eyelet: 50 mm does not fit"),
+    ],
+)  # fmt: skip
+def test_the_command_line_names_a_part_parameter_as_it_was_typed(tmp_path, capsys, argv, said):
+    code = main(["part", *argv, "-o", str(tmp_path / "p")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and said in err, err
+    assert not (tmp_path / "p").exists()
 
 
 def test_placement_follows_the_registry(tmp_path):

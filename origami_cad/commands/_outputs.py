@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from origami_cad.errors import OptionsError
+from origami_cad._inputs import refuse_broken_link
+from origami_cad.errors import OptionsError, OutputError
 
 __all__ = [
     "FOLDER_HELP",
@@ -87,6 +88,9 @@ def check_suffix(path: PathLike, allowed: Sequence[str], what: str) -> None:
     """Refuse an output file whose extension is not one of ``allowed`` (``OptionsError``)."""
     if _is_stream(path):
         return  # a device or pipe needs no extension: it takes the first format
+    refuse_broken_link(path, str(path))  # its name is not the file's it would create
+    if os.path.isdir(path):
+        raise OutputError(f"{path}: is a folder; give a file name")
     if Path(os.path.realpath(path)).suffix.lower() not in allowed:  # a link: its file's name
         raise OptionsError(f"{path}: {what} is written as {', '.join(allowed)} (by its extension)")
 

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import re
+
 from origami_cad.commands._base import FOLDER_HELP, Command, Option, Outputs, moved, register, wrote
-from origami_cad.errors import OptionsError
+from origami_cad.errors import FabricationError, OptionsError
 
 __all__: list[str] = []
 
@@ -64,7 +66,12 @@ class Part(Command):
 
         if a.list or not a.name:
             return Outputs(messages=[parts_listing()])
-        part = build_part(a.name, a.params, pattern=a.pattern, panel=a.panel, crease=a.crease)
+        try:
+            part = build_part(a.name, a.params, pattern=a.pattern, panel=a.panel, crease=a.crease)
+        except FabricationError as exc:  # a parameter as the command line gave it: --reach
+            if not a.extra:
+                raise
+            raise FabricationError(_as_typed(str(exc), a.params)) from None
         with self.stage(a) as stage:
             files = moved(export_part(part, stage, a.name), stage, a.folder)
         volume = f"{part.volume / 1000:.2f} cm3"
@@ -73,3 +80,16 @@ class Part(Command):
             numbers=[(f"{a.name}: volume", volume)],
             messages=[f"{a.name}: volume {volume}; {wrote(a.folder, files)}"],
         )
+
+
+def _as_typed(message: str, given: dict) -> str:
+    """``parameter guide_distance`` as the command line gave it, ``--guide-distance``.
+
+    >>> _as_typed("part x: parameter reach (mm): expected ...", {"reach": "-1"})
+    'part x: --reach (mm): expected ...'
+    """
+
+    def flag(m: re.Match) -> str:
+        return "--" + m[1].replace("_", "-") if m[1] in given else m[0]
+
+    return re.sub(r"\bparameter (\w+)", flag, message)

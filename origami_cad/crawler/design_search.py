@@ -146,7 +146,7 @@ def parse_design_bounds(spec: str | dict | None) -> dict[str, tuple[float, float
             )
         try:
             low, high = (float(v) for v in pair)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise DesignError(f"design bounds {name}: {pair!r} are not two numbers") from None
         hard = HARD_BOUNDS[name]
         if not (math.isfinite(low) and math.isfinite(high) and low <= high):

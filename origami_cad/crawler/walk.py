@@ -651,7 +651,7 @@ def robot_params(robot: Robot, **overrides) -> SimulationParams:
     params=Arg("object", types=(SimulationParams,)),
     friction=Arg(min=0.0, max=100.0),
     prefold=Arg(min=0.0, max=90.0),
-    progress=Arg("callable"),
+    progress=Arg("callable", length=2),
 )
 def simulate_gait(
     robot: Robot,

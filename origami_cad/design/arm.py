@@ -267,7 +267,7 @@ def choose_arm_winner(designs: collections.abc.Sequence[ArmDesign], task: ArmTas
     task=Arg("object", types=(ArmTask,), optional=False),
     settings=Arg("object", types=(SearchSettings,), optional=False),
     executor=Arg("object", types=(cf.Executor,)),
-    progress=Arg("object", types=(Callable,)),
+    progress=Arg("callable", length=3),
     check_strings=Arg("bool", optional=False),
 )
 def design_arm(

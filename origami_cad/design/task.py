@@ -171,7 +171,7 @@ class ArmTask:
         try:
             pts = np.asarray(self.points, dtype=float)
             w = np.asarray(self.weights, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise DesignError("an arm task's points and weights must be numbers (mm)") from None
         if pts.ndim != 2 or pts.shape[1] != 2:
             raise DesignError(

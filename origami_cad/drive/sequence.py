@@ -560,7 +560,7 @@ def _csv_rows(rows: list[dict[str, Any]], header: bool = False) -> str:
     DriveError,
     sequence=Arg("object", types=(Sequence,), optional=False),
     log=Arg("path"),
-    progress=Arg("callable"),
+    progress=Arg("callable", length=3),
 )
 def run_sequence(
     sequence: Sequence,

@@ -242,7 +242,7 @@ def build_fabrication(
     source=Arg("object", types=(CreasePattern, Design), optional=False),
     params=Arg("object", types=(FabricationParams,)),
     bed=Arg("floats", length=2, min=0.0, open_min=True, max=1e5),
-    progress=Arg("callable"),
+    progress=Arg("callable", length=2),
 )
 def fabricate(
     source: CreasePattern | Design,

@@ -19,7 +19,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from origami_cad._args import brief_value, check_numbers
+from origami_cad._args import Arg, brief_value, check_numbers
 from origami_cad.errors import FabricationError
 from origami_cad.kinematics.limits import bias_for_theta_max, crease_fold_limit
 
@@ -59,6 +59,11 @@ def theta_max(bias: float, height: float, thickness: float) -> float:
 #: The finest feature a printed structure's length may ask for, mm (a nozzle's tenth):
 #: 1e-300 mm is no solid the B-rep kernel can build.
 MIN_FEATURE = 0.01
+#: The largest length a printed structure's parameter may have, mm (a print bed's few
+#: hundred millimetres, with room to spare).
+MAX_LENGTH = 10_000.0
+#: A positive length of :class:`FabricationParams`: finite, at least :data:`MIN_FEATURE`.
+FIELD_LENGTH = Arg(min=MIN_FEATURE, max=MAX_LENGTH, optional=False)
 
 
 @dataclass(frozen=True)
@@ -97,43 +102,39 @@ class FabricationParams:
     holes: Any = "auto"
 
     def __post_init__(self) -> None:
+        # each message starts with the field's name: the command line says its option there
         for name in ("bias", "height", "thickness", "shell", "hole_diameter"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise FabricationError(f"{name} must be a number > 0 mm, got {brief_value(value)}")
-            if value < MIN_FEATURE:
-                raise FabricationError(
-                    f"{name} must be at least {MIN_FEATURE:g} mm (no printer makes a finer "
-                    f"feature), got {value!r}"
-                )
+            FIELD_LENGTH.check(name, getattr(self, name), FabricationError)
         for name in ("midlayer_bias", "border_margin"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-                raise FabricationError(f"{name} must be a number >= 0 mm, got {brief_value(value)}")
+            value = Arg(min=0.0, max=MAX_LENGTH, optional=False).check(
+                name, getattr(self, name), FabricationError
+            )
             if 0 < value < MIN_FEATURE:
                 raise FabricationError(
-                    f"{name} must be 0 or at least {MIN_FEATURE:g} mm (no printer makes a "
+                    f"{name}: must be 0 or at least {MIN_FEATURE:g} mm (no printer makes a "
                     f"finer feature), got {value!r}"
                 )
         if self.height <= self.thickness:
             raise FabricationError(
-                f"height h = {self.height:g} mm must exceed the crease thickness "
-                f"t = {self.thickness:g} mm (eq. 6: theta_max = 2 atan(2b / (h - t)))"
+                f"height: {self.height:g} mm must exceed the crease thickness = "
+                f"{self.thickness:g} mm (eq. 6: the fold limit is 2 atan(2b / (h - t)))"
             )
         if self.shell >= self.half_height - 1e-6:
             raise FabricationError(
-                f"shell s = {self.shell:g} mm must be thinner than a panel half "
+                f"shell: {self.shell:g} mm must be thinner than a panel half "
                 f"(h - t) / 2 = {self.half_height:g} mm (no infill would be left)"
             )
         if isinstance(self.holes, str):
             if self.holes not in ("auto", "pattern", "none"):
                 raise FabricationError(
-                    f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
+                    f"holes: expected 'auto', 'pattern', 'none' or points, got "
+                    f"{brief_value(self.holes)}"
                 )
         else:
             if isinstance(self.holes, bytes | dict) or not hasattr(self.holes, "__iter__"):
                 raise FabricationError(
-                    f"holes must be 'auto', 'pattern', 'none' or points, got {self.holes!r}"
+                    f"holes: expected 'auto', 'pattern', 'none' or points, got "
+                    f"{brief_value(self.holes)}"
                 )
             pts = [
                 check_numbers(f"holes[{i}]", p, length=2, error=FabricationError)
@@ -232,8 +233,24 @@ def fabrication_params(
     thickness = fields.get("thickness", FabricationParams.thickness)
     if theta_max is not None:
         bias = bias_for_theta_max(math.radians(theta_max), height, thickness)
+        _check_derived_bias("theta_max", theta_max, bias, height, thickness)
     elif p_max is not None:
         bias = bias_for_p_max(p_max, height, thickness)
+        _check_derived_bias("p_max", p_max, bias, height, thickness)
     if bias is not None:
         fields["bias"] = bias
     return FabricationParams(**fields)
+
+
+def _check_derived_bias(name: str, value: float, bias: float, height: float, thickness: float):
+    """Refuse a fold limit (``theta_max`` deg, or ``p_max``) whose bias (eq. 6) is finer than
+    a printer makes or longer than :data:`MAX_LENGTH`, naming it and its range."""
+    if MIN_FEATURE <= bias <= MAX_LENGTH:
+        return
+    scale, unit = (180.0 / math.pi, " deg") if name == "theta_max" else (1.0 / math.pi, "")
+    low = float(crease_fold_limit(MIN_FEATURE, height, thickness)) * scale
+    high = float(crease_fold_limit(MAX_LENGTH, height, thickness)) * scale
+    raise FabricationError(
+        f"{name}: {value:g}{unit} needs an inner bias of {bias:.3g} mm (eq. 6); it must lie "
+        f"in [{low:.4g}, {high:.6g}]{unit} for a bias of {MIN_FEATURE:g} to {MAX_LENGTH:g} mm"
+    )

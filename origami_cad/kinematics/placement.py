@@ -105,7 +105,7 @@ def place_on_table(cp: CreasePattern, coords: np.ndarray) -> np.ndarray:
     """
     try:
         coords = np.asarray(coords, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError("place_on_table: coords must be an (n, 3) array of mm") from None
     if coords.shape != (cp.n_vertices, 3) or not np.isfinite(coords).all():
         raise PatternError(

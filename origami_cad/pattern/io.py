@@ -61,7 +61,7 @@ def mm_per_unit(unit: str | float) -> float:
         return UNITS[unit.strip().lower()]
     try:
         value = float(unit)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError(
             f"unit {printable(str(unit), 40)!r} is not one of {', '.join(UNITS)} "
             "or a number of millimetres"

@@ -48,7 +48,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from origami_cad._args import brief_value
+from origami_cad._args import Arg, brief_value
 from origami_cad._display import PatternDisplay
 from origami_cad._toml import printable
 from origami_cad.errors import PatternError
@@ -568,7 +568,7 @@ def _as_edges(edges: Any) -> np.ndarray:
     :data:`MAX_EDGES` edges, are refused."""
     try:
         raw = np.asarray(edges)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError("edges must be an array of [v1, v2] vertex indices") from None
     if raw.size == 0:
         return np.zeros((0, 2), dtype=np.int64)
@@ -619,7 +619,7 @@ def _as_fold_angles(fold_angles: Any, assign: np.ndarray) -> np.ndarray:
         return angles
     try:
         given = np.asarray(fold_angles, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError("fold angles must be numbers, in degrees") from None
     if given.shape != angles.shape:
         raise PatternError(f"{given.size} fold angles given for {angles.size} edges")
@@ -665,7 +665,7 @@ def _check_face_indices(faces: Sequence[Sequence[int]], n: int) -> None:
     for fi, face in enumerate(faces):
         try:
             ring = np.asarray(face)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise PatternError(f"face {fi} is not a list of vertex indices") from None
         ring = ring.reshape(-1)
         if ring.dtype.kind not in "iu" and not (
@@ -686,13 +686,14 @@ def _resolve_tolerance(
 ) -> float:
     """The tolerance in mm: given, computed from the vertices in use, or the default."""
     if callable(tolerance):
+        Arg("callable", length=1).check("tolerance", tolerance, PatternError)
         tolerance = tolerance(used)
     if tolerance is None:
         size = float(np.linalg.norm(np.ptp(used, axis=0))) if len(used) else 0.0
         tolerance = DEFAULT_RELATIVE_TOLERANCE * max(size, 1e-9)
     try:
         value = float(tolerance)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError(
             f"tolerance must be a length in mm, got {brief_value(tolerance)}"
         ) from None

@@ -236,7 +236,7 @@ def _checked_vectors(vectors: Sequence[Sequence[float]], min_turn: float) -> np.
     """
     try:
         vec = np.asarray(vectors, dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise PatternError(
             "vectors must be a list of [length_mm, angle_deg] pairs of numbers"
         ) from None

@@ -336,7 +336,7 @@ def _run_arrays(run: Any, i: int) -> tuple[np.ndarray, np.ndarray]:
         return read_force_curve(run)
     try:
         pull, force = (np.asarray(a, dtype=float) for a in run)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise SimulationError(
             f"calibrate: run {i + 1}: expected a file or (pull, force) arrays"
         ) from None

@@ -191,7 +191,7 @@ def check_crease_law(law, where: str = "SimulationParams: crease_law"):
     factors finite and >= 0, at least one point."""
     try:
         points = tuple((float(a), float(f)) for a, f in law)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise SimulationError(f"{where}: expected (degrees, factor) pairs") from None
     if not points or points[0][0] != 0.0:
         raise SimulationError(f"{where}: the first point must be at 0 deg")

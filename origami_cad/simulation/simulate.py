@@ -285,7 +285,7 @@ class StopRules:
     max_dp=Arg(min=1e-4, max=1.0, optional=False),
     max_states=Arg("int", min=1, max=1_000_000, optional=False),
     time_limit=Arg(min=0.0, open_min=True, inf_ok=True),
-    progress=Arg("callable"),
+    progress=Arg("callable", length=2),
     free=Arg("bool", optional=False),
 )
 def simulate(

@@ -142,7 +142,7 @@ def _check_plan_lists(free_panels: Any, existing_holes: Any, target_angles: Any)
     target_p=Arg(min=0.0, open_min=True, max=1.0),
     candidates=Arg("int", min=1, max=100_000, optional=False),
     seed=Arg("int", min=0, max=2**32 - 1, optional=False),
-    progress=Arg("callable"),
+    progress=Arg("callable", length=2),
     fabrication=Arg("object", types=(FabricationParams,)),
     settings=Arg("object", types=(PlanSettings,)),
     check=Arg("int", min=0, max=1000, optional=False),

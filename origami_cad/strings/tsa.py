@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from origami_cad._args import Arg, brief_value, check_fields
+from origami_cad._args import Arg, brief_value, check_fields, check_number
 from origami_cad.errors import StringsError
 
 __all__ = [
@@ -212,8 +212,7 @@ class TSAParams:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise StringsError(f"[tsa] {name} must be a number of mm, got {brief_value(value)}")
-            if not (value > 0 and math.isfinite(value)):
-                raise StringsError(f"[tsa] {name} must be > 0 mm and finite, got {value!r}")
+            check_number(f"[tsa] {name}", value, low=0.0, open_min=True, error=StringsError)
         check_fields(
             self,
             StringsError,

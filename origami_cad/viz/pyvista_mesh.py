@@ -32,7 +32,9 @@ from typing import Any
 
 import numpy as np
 
+from origami_cad._args import Arg, brief_value
 from origami_cad._fileio import atomic_path
+from origami_cad.errors import PatternError
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.viz.gltf import CREASE_COLORS, PANEL_COLOR
 from origami_cad.viz.render3d import import_pyvista
@@ -62,7 +64,10 @@ def _paint(mesh, color: str, kind: str, material: str = ""):
 def _pattern_of(pattern) -> CreasePattern:
     cp = getattr(pattern, "pattern", pattern)  # a Design, or a CreasePattern
     if not isinstance(cp, CreasePattern):
-        raise TypeError("give the crease pattern (or design) these coordinates belong to")
+        raise PatternError(
+            "to_pyvista: pattern: give the crease pattern (or design) these coordinates "
+            f"belong to, got {brief_value(pattern)}"
+        )
     return cp
 
 
@@ -71,11 +76,13 @@ def _state_blocks(cp: CreasePattern, coords: np.ndarray | None):
 
     if coords is None:
         coords = np.column_stack([cp.vertices, np.zeros(cp.n_vertices)])
-    coords = np.asarray(coords, dtype=float)
-    if coords.shape != (cp.n_vertices, 3):
-        raise ValueError(
-            f"a state of this pattern has {cp.n_vertices} vertices (n, 3), got {coords.shape}"
-        )
+    expected = f"to_pyvista: coords: expected ({cp.n_vertices}, 3) finite coordinates, mm"
+    try:
+        coords = np.asarray(coords, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise PatternError(f"{expected}, got {brief_value(coords)}") from None
+    if coords.shape != (cp.n_vertices, 3) or not np.isfinite(coords).all():
+        raise PatternError(f"{expected}, got {brief_value(coords)}")
     blocks = pv.MultiBlock()
     faces = np.concatenate([np.r_[len(f), f] for f in cp.faces]) if cp.faces else []
     blocks["panels"] = _paint(pv.PolyData(coords, faces), PANEL_COLOR, "panels")
@@ -196,6 +203,7 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
         shape's leaves (``c0r0s0 infill 0``, ``servo``...: triangles), each with its
         colour in ``field_data["color"]`` and ``cell_data["color"]``.
     """
+    frame = Arg("int", optional=False).check("to_pyvista: frame", frame, PatternError)
     if hasattr(obj, "parts") and hasattr(obj, "plan"):  # a Fabrication
         return _parts_blocks(obj)
     if hasattr(obj, "wrapped") and hasattr(obj, "solids"):  # a build123d shape
@@ -212,6 +220,9 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
         state = blocks["panels"].points
         _add_strings(blocks, [string_path(cp, state, s, obj.thickness) for s in obj.strings])
         return blocks
+    states = len(obj.p) if hasattr(obj, "final_strings") else len(getattr(obj, "states", ()))
+    if hasattr(obj, "final_strings") or hasattr(obj, "states"):
+        Arg("int", min=-states, max=states - 1).check("to_pyvista: frame", frame, PatternError)
     if hasattr(obj, "final_strings"):  # a DCQCResult: its last state has the strings
         from origami_cad.kinematics.folding import fold_design
 
@@ -220,7 +231,10 @@ def to_pyvista(obj: Any, pattern: Any = None, *, coords: Any = None, frame: int 
             _add_strings(blocks, obj.final_strings)
             return blocks
         if not hasattr(pattern, "tg"):
-            raise TypeError("an earlier DCQC state is refolded from its design: give the Design")
+            raise PatternError(
+                "to_pyvista: pattern: an earlier DCQC state is refolded from its design: "
+                "give the Design"
+            )
         return _state_blocks(cp, fold_design(pattern, float(obj.p[frame])).coords)
     if hasattr(obj, "states"):  # a SimulationResult
         return _state_blocks(cp, obj.states[frame])
