@@ -1,18 +1,24 @@
 """Kirigami: a cut with a panel on both sides parts as the pattern folds.
 
 The general folder opens such cuts (Origami Simulator splits them): each side gets its own
-copy of the cut's vertices, so flaps the cut separates fold on their own creases.
+copy of the cut's vertices, so flaps the cut separates fold on their own creases. A
+printed panel that would be a ring around another part is refused, naming the facet
+creases whose printing as hinges was seen to make it print.
 """
 
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from origami_cad.cli import main
+from origami_cad.errors import PatternError
+from origami_cad.fabrication.plan import plan_panels
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.folder import StrainWarning, fold_general
 
@@ -80,3 +86,22 @@ def test_miyamoto_tower_folds(tmp_path):
     creases = np.isin(doc["edges_assignment"], ["M", "V"])
     angles = np.abs(np.array(doc["file_frames"][-1]["edges_foldAngle"], float))
     assert np.mean(angles[creases] > 5.0) >= 0.5
+
+
+def test_a_ring_panel_is_refused_naming_the_facet_creases_that_make_it_print():
+    # a frame of four faces joined by facet creases around a square flap hinged on a
+    # valley and cut on its other sides: the printed frame would be a panel with a hole
+    v = [(0, 0), (90, 0), (90, 90), (0, 90), (30, 30), (60, 30), (60, 60), (30, 60)]
+    e = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
+    e += [(0, 4), (1, 5), (2, 6), (3, 7)]
+    cp = CreasePattern(v, e, "BBBB" + "VCCC" + "FFFF")
+    with pytest.raises(PatternError) as err:
+        plan_panels(cp)
+    message = str(err.value)
+    assert "encloses another part" in message and message.endswith("and prints")
+    named = [int(m) for m in re.findall(r"\be(\d+) \(", message)]
+    assert len(named) == 2 and all(cp.assignments[k] == "F" for k in named)
+    joined = cp.assignments.copy()
+    joined[named] = "J"
+    plan = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # what it says works
+    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves

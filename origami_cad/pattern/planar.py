@@ -584,6 +584,19 @@ def planar_faces(
     return rings, sides, inner
 
 
+def _edge_faces(m: int, face_edges: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """The first and second face along each of ``m`` edges (-1: none)."""
+    first = np.full(m, -1, dtype=np.int64)
+    second = np.full(m, -1, dtype=np.int64)
+    for f, sides in enumerate(face_edges):
+        for e in sides[sides >= 0]:
+            if first[e] < 0:
+                first[e] = f
+            else:
+                second[e] = f
+    return first, second
+
+
 def open_cuts(
     n_vertices: int,
     edges: np.ndarray,
@@ -605,14 +618,7 @@ def open_cuts(
     renumbered.
     """
     m = len(edges)
-    first = np.full(m, -1, dtype=np.int64)
-    second = np.full(m, -1, dtype=np.int64)
-    for f, sides in enumerate(face_edges):
-        for e in sides[sides >= 0]:
-            if first[e] < 0:
-                first[e] = f
-            else:
-                second[e] = f
+    first, second = _edge_faces(m, face_edges)
     cut = (assignments == "C") & (second >= 0)
     if not cut.any():
         return None

@@ -295,15 +295,20 @@ def fold_general(
         done = goal
         states[goal] = _state(cp, st, x, goal)
     out = [states[p] for p in values]
-    worst = max(s.strain for s in out)
+    _warn_strain(max(s.strain for s in out))
+    return out
+
+
+def _warn_strain(worst: float) -> None:
+    """A :class:`StrainWarning` when the largest strain ``worst`` (percent) is over
+    :data:`STRAIN_LIMIT`."""
     if worst > STRAIN_LIMIT:
         warn(
             f"the general fold stretches an edge by {worst:.3g} %, over the {STRAIN_LIMIT:g} % "
             "limit: the pattern does not fold this far without bending or stretching its panels",
             StrainWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-    return out
 
 
 def _ramp(start: float, goal: float, largest: float, step_deg: float) -> list[float]:
