@@ -82,3 +82,7 @@ def test_too_many_strings_are_refused_with_the_count_that_fits(strip):
     message = str(err.value)
     assert "no 16 strings fit together" in message
     assert "leave --strings out" in message and "\n" not in message
+    # the remedy named was tried, and the count it found is the one planned without a count
+    n = len(_plan(strip, "ring", None)[2][0].strings)
+    plural = "s reach" if n > 1 else " reaches"
+    assert f"leaving --strings out works: {n} string{plural}" in message

@@ -169,7 +169,8 @@ def _write_folded(loaded, states, out: Path, ratio: float, view) -> None:
     from origami_cad.pattern import folded_frame, write_fold
     from origami_cad.viz.render3d import render_folded, render_folding_gif
 
-    cp, suffix = loaded.pattern, file_format(out, FOLD_SUFFIXES)
+    # the pattern folded: a cut pattern's general fold has its cuts open
+    cp, suffix = states[-1].pattern or loaded.pattern, file_format(out, FOLD_SUFFIXES)
     if suffix == ".fold":
         labelled = [folded_frame(s.coords, s.fold_angles, f"p = {s.p:.4g}") for s in states]
         write_fold(cp, out, frames=labelled)
@@ -241,7 +242,7 @@ class Fold(Command):
         end = states[-1].fold_angles if ratio > 0 else None
         result = Outputs(
             files=outs,
-            messages=[*warned, *strained, *fold_notes(loaded.pattern, end, method)],
+            messages=[*warned, *strained, *fold_notes(states[-1].pattern, end, method)],
             numbers=[("fold method", method), ("largest edge strain", f"{strain:.3g} %")],
             result=states,
         )

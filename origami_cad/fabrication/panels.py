@@ -32,6 +32,7 @@ __all__ = [
     "panel_outlines",
     "plan_holes",
     "printed_pattern",
+    "ring_joins",
     "shell_of",
 ]
 
@@ -244,12 +245,56 @@ def printed_pattern(cp: CreasePattern) -> CreasePattern:
 
 def check_panels(cp: CreasePattern) -> None:
     """Refuse a pattern without panels, or with a panel that is not a simple polygon
-    (:class:`PatternError` naming it)."""
+    (:class:`PatternError` naming it, and where)."""
     problems = [p for p in cp.check() if p.code in ("face-not-simple", "face-with-hole")]
     if problems:
-        raise PatternError(f"cannot fabricate: {problems[0].message}")
+        where = problems[0].location
+        at = f" around ({where[0]:.4g}, {where[1]:.4g}) mm" if where is not None else ""
+        raise PatternError(f"cannot fabricate: {problems[0].message}{at}")
     if not cp.faces:
         raise PatternError("cannot fabricate: the pattern has no panels")
+
+
+def ring_joins(source: CreasePattern) -> tuple[list[int], CreasePattern | None]:
+    """Facet creases (``F`` edges) of ``source`` that, printed as hinges that stay flat
+    (assignment ``J``), leave no printed panel enclosing another part of the pattern, and
+    ``source`` with them so: for each panel (faces joined across facet creases) that is a
+    ring, two of its facet creases from its inner outline to its outer one (the shortest,
+    and the one farthest from it), which split it in two. ``([], None)`` when a ring has
+    no two such creases, or the pattern with them still has a ring."""
+    polys, chosen = source.face_polygons(), []
+    near = 2.0 * source.tolerance
+    for faces in source.panels():
+        shape = shapely.union_all(polys[list(faces)])
+        if shape.geom_type != "Polygon" or not shape.interiors:
+            continue
+        inner = shapely.MultiLineString([ring.coords for ring in shape.interiors])
+        sides = np.unique(np.concatenate([source.face_edges[f] for f in faces]))
+        flat = sides[(sides >= 0) & (source.assignments[sides] == "F")]
+        ends = shapely.points(source.vertices[source.edges[flat]])  # (k, 2)
+        on_inner = shapely.dwithin(ends, inner, near).any(axis=1)
+        spans = flat[on_inner & shapely.dwithin(ends, shape.exterior, near).any(axis=1)]
+        if len(spans) < 2:
+            return [], None
+        mids = source.vertices[source.edges[spans]].mean(axis=1)
+        first = int(np.argmin(source.edge_lengths()[spans]))
+        far = int(np.argmax(np.linalg.norm(mids - mids[first], axis=1)))
+        chosen += [int(spans[first]), int(spans[far])]
+    if not chosen:
+        return [], None
+    assign = source.assignments.copy()
+    assign[chosen] = "J"
+    joined = CreasePattern(
+        source.vertices,
+        source.edges,
+        assign,
+        source.fold_angles,
+        holes=source.holes,
+        metadata=source.metadata,
+        tolerance=source.tolerance,
+    )
+    left = [p for p in printed_pattern(joined).check() if p.code == "face-with-hole"]
+    return ([], None) if left else (sorted(chosen), joined)
 
 
 def panel_outline(

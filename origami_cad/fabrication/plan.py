@@ -36,6 +36,7 @@ from origami_cad.fabrication.panels import (
     panel_outlines,
     plan_holes,
     printed_pattern,
+    ring_joins,
 )
 from origami_cad.fabrication.params import FabricationParams, layer_height
 from origami_cad.kinematics.limits import crease_fold_limit
@@ -278,6 +279,28 @@ class PanelPlan:
         return {labels[i]: self.holes_of(i) for i in dict.fromkeys(self.hole_panels.tolist())}
 
 
+def _ring_remedy(message: str, design: Design, params, bed) -> str:
+    """``message`` (a panel encloses another part) with what was seen to print instead:
+    the facet creases of :func:`~origami_cad.fabrication.panels.ring_joins` printed as
+    hinges, planned again (and, if that plan fails too, why)."""
+    edges, joined = ring_joins(design.pattern)
+    if joined is None:
+        return message
+    cp = design.pattern
+    named = ", ".join(
+        f"e{e} ({cp.vertices[a][0]:.4g}, {cp.vertices[a][1]:.4g})-({cp.vertices[b][0]:.4g}, "
+        f"{cp.vertices[b][1]:.4g}) mm"
+        for e, (a, b) in zip(edges, cp.edges[edges], strict=True)
+    )
+    change = f"printing the facet creases {named} as hinges that stay flat (assignment J)"
+    try:
+        plan_panels(replace(design, pattern=joined), params, bed)
+    except PatternError as exc:
+        then = str(exc).removeprefix("cannot fabricate: ")
+        return f"{message}; {change} splits the rings in two, but then {then}"
+    return f"{message}; {change} splits the rings in two and prints"
+
+
 @checked(
     FabricationError,
     source=Arg("object", types=(CreasePattern, Design), optional=False),
@@ -315,11 +338,14 @@ def plan_panels(
     """
     params = params or FabricationParams()
     design = source if isinstance(source, Design) else Design(source, None, "file")
-    cp = printed_pattern(design.pattern)
+    cp, source = printed_pattern(design.pattern), design
     if cp is not design.pattern:
         design = replace(design, pattern=cp)
     t0 = time.perf_counter()
-    check_panels(cp)
+    try:
+        check_panels(cp)
+    except PatternError as exc:
+        raise PatternError(_ring_remedy(str(exc), source, params, bed)) from None
     biases = panel_biases(cp, params)
     reduced = biases.reduced(params.bias)
     outlines = tuple(

@@ -59,6 +59,7 @@ from origami_cad.pattern.planar import (
     MAX_VERTICES,
     Cleanup,
     normalise,
+    open_cuts,
     planar_faces,
     rings_with_edges,
 )
@@ -517,6 +518,23 @@ class CreasePattern(PatternDisplay):
         )
         out.cleanup = self.cleanup
         out.notes = (*self.notes, *out.notes, note)
+        return out
+
+    def with_cuts_opened(self) -> CreasePattern:
+        """A copy whose cuts between two faces are open (:func:`~.planar.open_cuts`): each
+        side has its own copies of the vertices (same coordinates, mm), the vertices and
+        edges of ``self`` first, with their indices. Itself when no cut has two faces."""
+        split = open_cuts(
+            len(self.vertices), self.edges, self.assignments, self.faces, self.face_edges
+        )
+        if split is None:
+            return self
+        out, source = self._copy(), split[2]
+        out.edges, out._faces, out._face_edges = split[1], split[3], split[4]
+        out.vertices, out.assignments = self.vertices[split[0]], self.assignments[source]
+        out.fold_angles = self.fold_angles[source]
+        for arr in (out.vertices, out.edges, out.assignments, out.fold_angles):
+            arr.flags.writeable = False
         return out
 
     def _copy(self) -> CreasePattern:

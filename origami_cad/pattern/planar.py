@@ -41,6 +41,7 @@ __all__ = [
     "import_tolerance",
     "merge_close",
     "normalise",
+    "open_cuts",
     "planar_faces",
     "rings_with_edges",
 ]
@@ -581,3 +582,94 @@ def planar_faces(
     rings = tuple(np.roll(r, -s) for r, s in zip(rings, shift, strict=True))
     sides = tuple(np.roll(e, -s) for e, s in zip(sides, shift, strict=True))
     return rings, sides, inner
+
+
+def _edge_faces(m: int, face_edges: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """The first and second face along each of ``m`` edges (-1: none)."""
+    first = np.full(m, -1, dtype=np.int64)
+    second = np.full(m, -1, dtype=np.int64)
+    for f, sides in enumerate(face_edges):
+        for e in sides[sides >= 0]:
+            if first[e] < 0:
+                first[e] = f
+            else:
+                second[e] = f
+    return first, second
+
+
+def open_cuts(
+    n_vertices: int,
+    edges: np.ndarray,
+    assignments: np.ndarray,
+    faces: tuple[np.ndarray, ...],
+    face_edges: tuple[np.ndarray, ...],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple, tuple] | None:
+    """The graph with its cuts open (Origami Simulator's split of cuts), or None when no
+    cut (``C`` edge) has a face on both sides.
+
+    Around each vertex the faces joined across an edge that is not such a cut stay on one
+    copy of the vertex; each further group of faces (a cut's other side) gets a copy of its
+    own, numbered after the ``n_vertices`` vertices. An edge keeps its index, with the
+    copies of its first face; the side of an opened cut that is not its first face's gets
+    a new edge, numbered after the others.
+
+    Returns ``(source (n',): the vertex each vertex copies, edges (m', 2), source (m',):
+    the edge each edge copies, faces, face_edges)`` with ``faces`` and ``face_edges`` as given,
+    renumbered.
+    """
+    m = len(edges)
+    first, second = _edge_faces(m, face_edges)
+    cut = (assignments == "C") & (second >= 0)
+    if not cut.any():
+        return None
+    # one node per (face, corner); joined across the sides of two faces that are no cut
+    offset = np.cumsum([0, *(len(r) for r in faces)])
+    corner = {
+        (f, int(v)): offset[f] + k for f, ring in enumerate(faces) for k, v in enumerate(ring)
+    }
+    rows, cols = [], []
+    for e in np.flatnonzero((second >= 0) & ~cut):
+        for v in edges[e]:
+            rows.append(corner[(int(first[e]), int(v))])
+            cols.append(corner[(int(second[e]), int(v))])
+    size = int(offset[-1])
+    graph = coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(size, size))
+    _, group = connected_components(graph, directed=False)
+    flat = np.concatenate(faces)
+    source = list(range(n_vertices))
+    copy_of: dict[int, int] = {}  # group -> its copy of the vertex
+    used = np.zeros(n_vertices, dtype=bool)
+    for g, v in zip(group.tolist(), flat.tolist(), strict=True):
+        if g not in copy_of:
+            copy_of[g] = len(source) if used[v] else v
+            if used[v]:
+                source.append(v)
+            used[v] = True
+    renumbered = np.array([copy_of[g] for g in group.tolist()], dtype=np.int64)
+    new_faces = tuple(renumbered[offset[f] : offset[f + 1]] for f in range(len(faces)))
+
+    def ends(f: int, e: int) -> tuple[int, int]:
+        at = dict(zip(faces[f].tolist(), new_faces[f].tolist(), strict=True))
+        return at[int(edges[e, 0])], at[int(edges[e, 1])]
+
+    out_edges = [
+        ends(int(first[e]), e) if first[e] >= 0 else (int(edges[e, 0]), int(edges[e, 1]))
+        for e in range(m)
+    ]
+    edge_source = list(range(m))
+    new_sides = [s.copy() for s in face_edges]
+    for e in np.flatnonzero(cut):
+        other = ends(int(second[e]), e)
+        if set(other) == set(out_edges[e]):
+            continue  # a slit whose ends stay joined: it cannot open
+        sides = new_sides[int(second[e])]
+        sides[sides == e] = len(out_edges)
+        out_edges.append(other)
+        edge_source.append(int(e))
+    return (
+        np.array(source, dtype=np.int64),
+        np.array(out_edges, dtype=np.int64).reshape(-1, 2),
+        np.array(edge_source, dtype=np.int64),
+        new_faces,
+        tuple(new_sides),
+    )

@@ -24,6 +24,9 @@ in equilibrium by :func:`~origami_cad.simulation.solver.solve_equilibrium`:
   third each time, at most :data:`DRIVE_RELAXATIONS` times), so that the creases go as
   far as the panels allow without stretching;
 - facet (``F``) and join (``J``) creases: 0, as stiff as the panels' facet hinges;
+- cuts (``C``) with a panel on both sides part (Origami Simulator splits them): each
+  side has its own vertices (:meth:`~origami_cad.pattern.model.CreasePattern.with_cuts_opened`),
+  so a kirigami pattern's cuts open as it folds;
 - unassigned (``U``) creases: free hinges with no target (a spring of
   :data:`FREE_HINGE_STIFFNESS` times a crease's, toward the angle they had at the start
   of each step, only keeps the equations well posed).
@@ -202,7 +205,8 @@ def placed_fold_states(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", StrainWarning)
         states = fold_states(design, ratios, method=method)
-    placed = place_sequence(design.pattern, [s.coords for s in states])
+    folded = states[-1].pattern or design.pattern  # a cut pattern's folds with its cuts open
+    placed = place_sequence(folded, [s.coords for s in states])
     states = [dataclasses.replace(s, coords=c) for s, c in zip(states, placed, strict=True)]
     return states, [str(w.message) for w in caught if w.category is StrainWarning]
 
@@ -220,6 +224,7 @@ def fold_general(
     *,
     params: SimulationParams | None = None,
     step_deg: float = STEP_DEG,
+    cuts_open: bool = True,
 ) -> list[FoldedState]:
     """Fold ``cp`` by driving every crease toward its target angle times each ratio.
 
@@ -235,12 +240,18 @@ def fold_general(
         limits, gravity and ground are not used.
     step_deg : float
         Largest change of a target between two solves, degrees.
+    cuts_open : bool
+        Part the two sides of every cut with a panel on both (else they stay joined,
+        as the string models hold them: the states keep ``cp``'s vertices).
 
     Returns
     -------
     list of FoldedState
         One per ratio, in the order given (``method`` ``"general"``, ``strain`` percent),
-        the panel nearest the pattern's centre held flat in ``z = 0``.
+        the panel nearest the pattern's centre held flat in ``z = 0``. Where a cut has
+        a panel on both sides the sides part (as Origami Simulator splits cuts): the
+        states' ``pattern`` is ``cp.with_cuts_opened()``, its vertices and edges those of
+        ``cp`` first (same indices), then the cuts' other sides.
     """
     values = [_ratio(p) for p in ratios]
     if not step_deg > 0:
@@ -249,6 +260,8 @@ def fold_general(
         return []
     if not cp.edge_mask(*_FOLDING).any():
         raise PatternError("the pattern has no mountain or valley crease to fold")
+    if cuts_open:
+        cp = cp.with_cuts_opened()  # a cut's sides part: each has its own vertices
     params = params or SimulationParams()
     st, target, free, driven = _driven_structure(cp, params)
     drive = {
@@ -282,15 +295,20 @@ def fold_general(
         done = goal
         states[goal] = _state(cp, st, x, goal)
     out = [states[p] for p in values]
-    worst = max(s.strain for s in out)
+    _warn_strain(max(s.strain for s in out))
+    return out
+
+
+def _warn_strain(worst: float) -> None:
+    """A :class:`StrainWarning` when the largest strain ``worst`` (percent) is over
+    :data:`STRAIN_LIMIT`."""
     if worst > STRAIN_LIMIT:
         warn(
             f"the general fold stretches an edge by {worst:.3g} %, over the {STRAIN_LIMIT:g} % "
             "limit: the pattern does not fold this far without bending or stretching its panels",
             StrainWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-    return out
 
 
 def _ramp(start: float, goal: float, largest: float, step_deg: float) -> list[float]:
@@ -440,8 +458,7 @@ def fold_notes(cp: CreasePattern, fold_angles, method: str = "closed form") -> l
         return [
             f"note: only {turned} of the {int(creases.sum())} creases turn by more than 5 deg: "
             "even driven hard enough to bend its panels this pattern hardly folds from flat "
-            "(cut edges stay joined in the model: a kirigami pattern whose cuts must open "
-            "does not fold; a pattern whose panels must stretch stops short)"
+            "(a pattern whose panels must stretch stops short)"
         ]
     flat = creases & (np.abs(np.asarray(fold_angles)) < 1e-6)
     if not flat.any():

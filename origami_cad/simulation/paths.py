@@ -51,7 +51,10 @@ def fold_path(
     cp = design if isinstance(design, CreasePattern) else design.pattern
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", StrainWarning)
-        states = fold_general(cp, np.linspace(0.0, 1.0, samples), params=params)
+        # the string models and the simulation hold the pattern's vertices: a cut's two
+        # sides stay joined on the path too
+        ratios = np.linspace(0.0, 1.0, samples)
+        states = fold_general(cp, ratios, params=params, cuts_open=False)
     return FoldPath.from_states(states)
 
 

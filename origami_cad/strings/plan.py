@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 
 from origami_cad._args import Arg, brief_value, check_number, check_numbers, checked
-from origami_cad.errors import StringsError
+from origami_cad.errors import PatternError, StringsError
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.kinematics.folding import PathDesign, fold_design
 from origami_cad.pattern.design import Design
@@ -212,21 +212,27 @@ def plan_routes(
     settings = settings or PlanSettings()
     deadline = min(settings.deadline, time.time() + settings.time_limit)
     settings = replace(settings, candidates=int(candidates), deadline=deadline)
-    geom = geometry or plan_geometry(
-        design,
-        tsa,
-        fabrication,
-        settings,
-        target_p=target_p,
-        target_angles=target_angles,
-        free_panels=free_panels,
-        existing_holes=existing_holes,
-    )
-    if n_strings is None:
-        lower = target_p is None and not target_angles
-        return _within_reach(design, geom, settings, seed, executor, progress, check, lower)
-    planned = search_routes(geom, settings, n_strings, seed, executor, progress)
-    return _checked(design, geom, settings, planned, check, n_strings)
+    search = _search(design, settings, seed, executor, progress, check, n_strings)
+    search["elsewhere"] = lambda placement: plan_geometry(
+        design, placement, fabrication, settings, target_p=target_p,
+        target_angles=target_angles, free_panels=free_panels, existing_holes=existing_holes,
+    )  # fmt: skip
+    geom = geometry or search["elsewhere"](tsa)
+    search["lower"] = n_strings is None and target_p is None and not target_angles
+    return _within_reach(design, geom, settings, search)
+
+
+def _search(design, settings, seed, executor, progress, check: int, n_strings) -> dict:
+    """What a plan tries: ``attempt(geometry, n)`` plans ``n`` strings (None: the fewest
+    that reach its target), ``counted``: a count was asked for."""
+
+    def attempt(g: PlanGeometry, n: int | None = n_strings) -> list[PlannedRoute]:
+        if n is None:
+            return fewest_strings(design, g, settings, seed, executor, progress, check)
+        planned = search_routes(g, settings, n, seed, executor, progress)
+        return _checked(design, g, settings, planned, check, n)
+
+    return {"attempt": attempt, "counted": n_strings is not None}
 
 
 #: Grid states a default target falls back to when no route reaches the fold limit (of a
@@ -234,46 +240,77 @@ def plan_routes(
 LOWER_STATES = (25, 17, 12)
 
 
-def _within_reach(design, geom, settings, seed, executor, progress, check: int, lower: bool):
-    """:func:`fewest_strings` to the target; ``lower`` (a default target): failing that, to
-    the furthest of :data:`LOWER_STATES`' fold ratios some route reaches (its routes' ``p``
-    grid ends there), within the time limit."""
+def _within_reach(design, geom, settings, search: dict):
+    """``search["attempt"](geom)``: the routes to the target; ``search["lower"]`` (a
+    default target): failing that, to the furthest of :data:`LOWER_STATES`' fold ratios
+    some route reaches (its routes' ``p`` grid ends there), within the time limit.
+    Failing all, a :class:`StringsError` saying what failed and what was seen to work
+    instead (:func:`_refusal`)."""
+    attempt, start = search["attempt"], time.time()
     try:
-        return fewest_strings(design, geom, settings, seed, executor, progress, check)
+        return attempt(geom)
     except StringsError as exc:
         first = str(exc)
-        if not lower and first.startswith("no string satisfies"):
-            raise StringsError(
-                f"{first.split('; try ')[0]}; try a smaller --target-p (such as "
-                f"{0.5 * geom.target_p:.2f}), {_elsewhere(design, geom)} or larger panels "
-                f"(--width {_wider(design):g})"
-            ) from None
-        if not lower:
-            raise
+    search["cost"] = time.time() - start  # s: what a search of the same sheet may take
     tried = []
-    for k in LOWER_STATES:
-        if k >= len(geom.ratios) or time.time() > settings.deadline:
-            continue
-        lowered = truncated_geometry(geom, round(k * (len(geom.ratios) - 1) / 32) + 1)
-        tried.append(f"{lowered.target_p:.2f}")
+    for lowered in _lowered(geom) if search["lower"] else ():
+        if time.time() > settings.deadline:
+            break
+        tried.append(lowered.target_p)
         try:
-            return fewest_strings(design, lowered, settings, seed, executor, progress, check)
+            return attempt(lowered)
         except StringsError:
             continue
-    if not tried:  # the time limit ran out first: the first refusal says what to try
-        raise StringsError(first) from None
-    head = first.split("; try ")[0]
-    raise StringsError(
-        f"{head}; no route reaches p = {', '.join(tried) or 'less'} either: try "
-        f"{_elsewhere(design, geom)} or larger panels (--width {_wider(design):g})"
-    ) from None
+    raise StringsError(_refusal(design, geom, settings, search, first, tried)) from None
 
 
-def _elsewhere(design: Design, geom: PlanGeometry) -> str:
-    """The other TSA placement to try, with its option: onboard the largest panel, or a ring."""
-    if geom.placement.kind != "ring":
-        return "the TSA on a ring (``tsa`` ring)"
-    return f"the TSA onboard its largest panel (``tsa`` onboard:{_largest_panel(design)})"
+def _lowered(geom: PlanGeometry) -> list[PlanGeometry]:
+    """``geom`` truncated to each of :data:`LOWER_STATES` its grid has, furthest first."""
+    n = len(geom.ratios)
+    return [truncated_geometry(geom, round(k * (n - 1) / 32) + 1) for k in LOWER_STATES if k < n]
+
+
+def _refusal(design, geom, settings, search: dict, first: str, tried: list) -> str:
+    """Why no route was planned (``first``), and only remedies seen to work: the search
+    tries, while its time lasts, the fewest strings (a count was asked for), the TSA
+    placed the other way (onboard the largest panel, or on a ring) and, for a target that
+    was asked for, the smaller targets of :data:`LOWER_STATES`; what it tried in vain
+    (``tried``: the smaller targets already tried) and what the time limit left untried
+    are said instead."""
+    attempt, elsewhere = search["attempt"], search["elsewhere"]
+    at = geom.placement
+    if at.kind == "ring":
+        panel = _largest_panel(design)
+        other = replace(at, kind="onboard", panel=panel, tsa=replace(at.tsa, model="onboard"))
+        option = f"the TSA onboard its largest panel (``tsa`` onboard:{panel})"
+    else:
+        other = replace(at, kind="ring", panel=None, tsa=replace(at.tsa, model="ring"))
+        option = "the TSA on a ring (``tsa`` ring)"
+    options = [(option, lambda: attempt(elsewhere(other)))]
+    if search["counted"]:
+        options.insert(0, ("leaving --strings out", lambda: attempt(geom, None)))
+    if not tried:
+        options += [
+            (f"--target-p {g.target_p:.2f}", lambda g=g: attempt(g)) for g in _lowered(geom)
+        ]
+    failed = [f"p = {p:.2f}" for p in tried]
+    for k, (name, plan) in enumerate(options):
+        if time.time() + search["cost"] > settings.deadline:  # one more would overrun it
+            rest = ", ".join(n for n, _ in options[k:])
+            vain = f" ({', '.join(failed)}: no route either)" if failed else ""
+            return (
+                f"{first}{vain}; the time limit of {settings.time_limit:g} s leaves no time to "
+                f"try {rest}: a longer --time-limit tries them"
+            )
+        try:
+            found = plan()
+        except (StringsError, PatternError):
+            failed.append(name)
+            continue
+        strings = len(found[0].strings)
+        reach = "s reach" if strings != 1 else " reaches"
+        return f"{first}; {name} works: {strings} string{reach} p = {found[0].p[-1]:.3f}"
+    return f"{first}; tried too, and no route reaches its target: {'; '.join(failed)}"
 
 
 def _largest_panel(design: Design) -> str:
@@ -288,21 +325,12 @@ def _area(xy: np.ndarray) -> float:
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
-def _wider(design: Design) -> float:
-    """Twice the pattern's width, mm (rounded to 10 mm)."""
-    x0, _, x1, _ = design.pattern.bounds
-    return float(10 * math.ceil(2 * (x1 - x0) / 10))
-
-
 def _checked(design, geom, settings, planned, check: int, n_strings: int) -> list:
     """:func:`_check_best`, refusing when none of ``n_strings`` strings passes."""
     planned = _check_best(design, geom, settings, planned, check)
-    if not planned:
-        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
+    if not planned:  # plan_routes says what else works
         raise StringsError(
-            f"no route of {n_strings} strings satisfies DCQC to p = {geom.target_p:.3f}: leave "
-            f"--strings out to plan the fewest that reach it, or try the TSA {other} or a "
-            "smaller --target-p"
+            f"no route of {n_strings} strings satisfies DCQC to p = {geom.target_p:.3f}"
         )
     return planned
 
@@ -365,24 +393,26 @@ def fewest_strings(
         planned = _check_best(design, geom, settings, planned, check)
         if planned:
             return planned
+    remedy = _remedy(design, geom, settings, best)
     raise StringsError(
         f"no route of 1 to {tried} strings reaches p = {geom.target_p:.3f} within "
-        f"{settings.max_turns:g} TSA turns{why}; try {_remedy(design, geom, settings, best)}"
+        f"{settings.max_turns:g} TSA turns{why}{f'; try {remedy}' if remedy else ''}"
     )
 
 
 def _remedy(design, geom, settings, best: list[PlannedRoute]) -> str:
-    """What would let the best route found (``best``: it or nothing) reach its end: a larger
-    turn budget, or the fold ratio it does reach as the target (by the full DCQC model)."""
+    """What the full DCQC model shows would let the best route found (``best``: it or
+    nothing) reach its end: a larger turn budget, or the fold ratio it does reach as the
+    target; empty when it shows neither."""
     if not best:
-        return f"a smaller --target-p (such as {0.5 * geom.target_p:.2f})"
+        return ""
     figures = _full_dcqc(design, geom, settings, best[0])
     if figures["reaches_target"]:
         return f"a larger turn budget (``budget`` {math.ceil(1.1 * figures['turns'])})"
     reached = math.floor(100 * figures["p"]) / 100
     if reached >= 0.01:
         return f"--target-p {reached:.2f} (the best route's DCQC folding stops there)"
-    return f"a smaller --target-p (such as {0.5 * geom.target_p:.2f})"
+    return ""
 
 
 def route_spec(geom: PlanGeometry, planned: PlannedRoute) -> RouteSpec:

@@ -446,16 +446,15 @@ def string_pool(geom: PlanGeometry, settings: PlanSettings, executor, tick) -> d
     Raises
     ------
     StringsError
-        No string satisfies DCQC from flat to the target, saying what else to try.
+        No string satisfies DCQC from flat to the target.
     """
     found = run_tasks(executor, _beam_task, [(geom, settings, s) for s in _starts(geom)], tick)
     pool = _merge(found)
-    if not len(pool["cost"]):
-        other = "onboard a panel" if geom.placement.kind == "ring" else "on a ring"
+    if not len(pool["cost"]):  # plan_routes says what else works
         raise StringsError(
             f"no string satisfies DCQC from flat to p = {geom.target_p:.3f}: every hole "
             f"sequence of {len(set(geom.hole_face.tolist()))} panels with holes lengthens or "
-            f"cuts a panel; try the TSA {other}, a smaller --target-p, or larger panels (--width)"
+            "cuts a panel"
         )
     return {k: v[: max(4 * settings.candidates, 4 * SET_BEAM)] for k, v in pool.items()}
 

@@ -1,0 +1,107 @@
+"""Kirigami: a cut with a panel on both sides parts as the pattern folds.
+
+The general folder opens such cuts (Origami Simulator splits them): each side gets its own
+copy of the cut's vertices, so flaps the cut separates fold on their own creases. A
+printed panel that would be a ring around another part is refused, naming the facet
+creases whose printing as hinges was seen to make it print.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from origami_cad.cli import main
+from origami_cad.errors import PatternError
+from origami_cad.fabrication.plan import plan_panels
+from origami_cad.pattern.model import CreasePattern
+from origami_cad.simulation.folder import StrainWarning, fold_general
+
+SIM = Path(__file__).parent / "data" / "origami-simulator"
+
+
+def _flaps() -> CreasePattern:
+    """A 100 mm square: a valley below and a mountain above the middle of x = 50, and a
+    cut from the left border to that middle: the left half's two flaps fold apart."""
+    verts = [[0, 0], [50, 0], [100, 0], [100, 100], [50, 100], [0, 100], [0, 50], [50, 50]]
+    edges = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 6], [6, 0], [1, 7], [7, 4], [6, 7]]
+    return CreasePattern(verts, edges, ["B"] * 7 + ["V", "M", "C"])
+
+
+def test_opening_a_cut_gives_its_sides_their_own_vertices():
+    cp = _flaps()
+    opened = cp.with_cuts_opened()
+    assert opened.n_vertices == cp.n_vertices + 1  # (0, 50): the cut's free end parts
+    assert opened.n_edges == cp.n_edges + 1  # the cut's second side
+    np.testing.assert_array_equal(opened.vertices[: cp.n_vertices], cp.vertices)
+    np.testing.assert_array_equal(opened.vertices[-1], [0.0, 50.0])
+    np.testing.assert_array_equal(opened.assignments[: cp.n_edges], cp.assignments)
+    assert opened.assignments[-1] == "C"
+    for ring, sides in zip(opened.faces, opened.face_edges, strict=True):
+        for k, e in enumerate(sides):
+            assert set(opened.edges[e]) == {ring[k], ring[(k + 1) % len(ring)]}
+    cuts = opened.edge_mask("C")
+    faces_per_edge = np.bincount(np.concatenate(opened.face_edges), minlength=opened.n_edges)
+    assert np.all(faces_per_edge[cuts] == 1)  # each side of the cut borders one panel
+
+
+def test_a_pattern_without_inner_cuts_is_itself():
+    square = CreasePattern(
+        [[0, 0], [100, 0], [100, 100], [0, 100]], [[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]], "BBBBV"
+    )
+    assert square.with_cuts_opened() is square
+
+
+def test_flaps_fold_apart_once_the_cut_opens():
+    cp = _flaps()
+    (state,) = fold_general(cp, [0.3])
+    assert state.pattern.n_vertices == cp.n_vertices + 1
+    assert state.fold_angles[7] > 40.0 and state.fold_angles[8] < -40.0  # V and M, deg
+    assert state.strain < 1.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", StrainWarning)
+        (joined,) = fold_general(cp, [0.3], cuts_open=False)
+    assert joined.coords.shape == (cp.n_vertices, 3)
+    # joined, the left half is one panel: it bends a little, the creases hardly turn
+    assert abs(joined.fold_angles[7]) < 20.0 and abs(joined.fold_angles[8]) < 20.0
+
+
+def test_miyamoto_tower_folds(tmp_path):
+    """Origami Simulator's kirigami tower: every crease turns, nothing stretches."""
+    out = tmp_path / "tower.fold"
+    src = SIM / "miyamotoTower.svg"
+    assert main(["fold", str(src), "--width", "150", "--ratio", "0.3", "-o", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    flat = np.array(doc["vertices_coords"], float)
+    folded = np.array(doc["file_frames"][-1]["vertices_coords"], float)
+    edges = np.array(doc["edges_vertices"])
+    rest = np.linalg.norm(flat[edges[:, 1]] - flat[edges[:, 0]], axis=1)
+    now = np.linalg.norm(folded[edges[:, 1]] - folded[edges[:, 0]], axis=1)
+    assert np.max(np.abs(now - rest) / rest) < 0.05
+    creases = np.isin(doc["edges_assignment"], ["M", "V"])
+    angles = np.abs(np.array(doc["file_frames"][-1]["edges_foldAngle"], float))
+    assert np.mean(angles[creases] > 5.0) >= 0.5
+
+
+def test_a_ring_panel_is_refused_naming_the_facet_creases_that_make_it_print():
+    # a frame of four faces joined by facet creases around a square flap hinged on a
+    # valley and cut on its other sides: the printed frame would be a panel with a hole
+    v = [(0, 0), (90, 0), (90, 90), (0, 90), (30, 30), (60, 30), (60, 60), (30, 60)]
+    e = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
+    e += [(0, 4), (1, 5), (2, 6), (3, 7)]
+    cp = CreasePattern(v, e, "BBBB" + "VCCC" + "FFFF")
+    with pytest.raises(PatternError) as err:
+        plan_panels(cp)
+    message = str(err.value)
+    assert "encloses another part" in message and message.endswith("and prints")
+    named = [int(m) for m in re.findall(r"\be(\d+) \(", message)]
+    assert len(named) == 2 and all(cp.assignments[k] == "F" for k in named)
+    joined = cp.assignments.copy()
+    joined[named] = "J"
+    plan = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # what it says works
+    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves
