@@ -524,9 +524,8 @@ class CreasePattern(PatternDisplay):
         """A copy whose cuts between two faces are open (:func:`~.planar.open_cuts`): each
         side has its own copies of the vertices (same coordinates, mm), the vertices and
         edges of ``self`` first, with their indices. Itself when no cut has two faces."""
-        split = open_cuts(
-            len(self.vertices), self.edges, self.assignments, self.faces, self.face_edges
-        )
+        n, faces = len(self.vertices), self.faces
+        split = open_cuts(n, self.edges, self.assignments, faces, self.face_edges)
         if split is None:
             return self
         out, source = self._copy(), split[2]
