@@ -18,6 +18,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
+from shapely.ops import polylabel
 
 from origami_cad.errors import PatternError
 from origami_cad.fabrication.panels import panel_fits, panel_outline
@@ -120,12 +122,13 @@ class PanelBiases:
             return params.shell
         return float(self.shell[fi])
 
-    def midlayer_of(self, fi: int) -> float | None:
+    def midlayer_of(self, fi: int, params: FabricationParams) -> float | None:
         """The mid-layer margin of panel ``fi``, mm, when narrowed, else ``None``
-        (``params.midlayer_bias``)."""
+        (``params.midlayer_bias``; a panel in TPU alone has none)."""
         if self.midlayer is None or not math.isfinite(self.midlayer[fi]):
             return None
-        return float(self.midlayer[fi])
+        m = float(self.midlayer[fi])
+        return None if m >= params.midlayer_bias - 1e-12 else m
 
 
 @dataclass
@@ -318,7 +321,6 @@ def _too_small(
     label = cp.face_labels[fi]
     shell = params.shell if shell is None else shell
     m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
-    x0, _, x1, _ = cp.bounds
     least = (
         f"the smallest inner bias, {minimum:g} mm, shell wall, {shell:g} mm, and mid-layer "
         f"margin, {m:g} mm"
@@ -326,42 +328,84 @@ def _too_small(
     try:
         panel_outline(cp, fi, params, minimum, tpu_only=True)
     except PatternError as exc:
-        return (
-            f"{exc} even printed in TPU alone (no infill, no mid-layer): "
-            f"{_wider(cp, fi, params, minimum, tpu_only=True)}"
+
+        def halves(scaled: CreasePattern, face: int) -> bool:
+            return _tpu_fits(scaled, face, params, minimum)
+
+        return f"{exc} even printed in TPU alone (no infill, no mid-layer): " + _wider(
+            cp, fi, halves
         )
-    if not panel_fits(cp, fi, params, minimum, (), False, shell, midlayer_bias=m):
+    at = dict(shell=shell, midlayer_bias=m)
+    if not panel_fits(cp, fi, params, minimum, (), False, **at):
+        d = max(h[2] for h in holes)
+
+        def room(scaled: CreasePattern, face: int) -> bool:
+            found = _room(scaled, face, params, minimum, **at)
+            return found is not None and found[2] >= d
+
+        wider, width = _wider(cp, fi, room), _width_that_fits(cp, fi, room)
+        if width is not None:  # where, at the width named
+            x0, _, x1, _ = cp.bounds
+            found = _room(cp.scaled(width / (x1 - x0)), fi, params, minimum, **at)
+            if found is not None and found[2] >= d:
+                x, y = found[0], found[1]
+                wider += f", where it has room for a {d:g} mm hole at ({x:.3f}, {y:.3f}) mm"
         return (
-            f"panel {label} has a hole but no operation region even at {least} (too small "
-            f"for a PLA infill, it would be printed in TPU alone): drop its hole or "
-            f"{_wider(cp, fi, params, minimum, shell=shell, midlayer_bias=m)}"
+            f"panel {label} has a hole but is too small for a PLA infill even at {least}, so it "
+            f"has no operation region (it would be printed in TPU alone): drop its hole, or "
+            f"{wider}"
         )
-    larger = f"print the pattern larger (it is {x1 - x0:.1f} mm wide: --width)"
-    for x, y, d in holes:
-        if not panel_fits(cp, fi, params, minimum, ((x, y, d),), shell=shell, midlayer_bias=m):
+    x, y, room = _room(cp, fi, params, minimum, **at)
+    for hx, hy, d in holes:
+        if not panel_fits(cp, fi, params, minimum, ((hx, hy, d),), **at):
             return (
-                f"the hole at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
-                f"region of panel {label} even at {least}: move it toward the panel's "
-                f"middle, make it smaller, or {larger}"
+                f"the hole at ({hx:g}, {hy:g}) mm (diameter {d:g} mm) does not fit the operation "
+                f"region of panel {label} even at {least}: it has room for a hole of up to "
+                f"{room:g} mm at ({x:.3f}, {y:.3f}) mm; move it there and make it no larger"
             )
     return (
-        f"panel {label}: no room for a {params.hole_diameter:g} mm hole even at {least}: "
-        f"use a smaller --hole-diameter, --holes none, or {larger}"
+        f"panel {label}: no room for a {params.hole_diameter:g} mm hole even at {least} (room "
+        f"for {room:g} mm): use a smaller --hole-diameter or --holes none"
     )
 
 
-def _wider(cp: CreasePattern, fi: int, params: FabricationParams, minimum: float, **kw) -> str:
-    """The remedy for panel ``fi`` too small for its footprints at inner bias ``minimum``
-    (mm; ``kw``: the other arguments of :func:`panel_outline`): the width at which every
-    panel keeps them."""
+def _room(
+    cp: CreasePattern, fi: int, params: FabricationParams, bias: float, **kw
+) -> tuple[float, float, float] | None:
+    """Where panel ``fi``'s operation region at inner bias ``bias`` (mm; ``kw``: the other
+    arguments of :func:`panel_outline`) has the most room for a hole: the centre (mm) and the
+    diameter (mm) of the largest disc in it, less 2 um so that the centre may be rounded to
+    1 um (as the messages give it), rounded down to 1 um; ``None`` without one."""
+    try:
+        region = panel_outline(cp, fi, params, bias, **kw).region_polygon()
+    except PatternError:
+        return None
+    if region.is_empty:
+        return None
+    part = max(shapely.get_parts(region), key=lambda p: p.area)
+    pole = polylabel(part, tolerance=1e-4)
+    diameter = math.floor((2.0 * part.boundary.distance(pole) - 0.002) * 1000.0) / 1000.0
+    return float(pole.x), float(pole.y), diameter
+
+
+def _wider(cp: CreasePattern, fi: int, fits: Callable[[CreasePattern, int], bool]) -> str:
+    """The remedy for panel ``fi`` that does not ``fits``: the width at which every panel
+    does (:func:`_scale_that_fits`)."""
     x0, _, x1, _ = cp.bounds
-    factor = _scale_that_fits(cp, fi, params, minimum, **kw)
-    if factor is None:
+    width = _width_that_fits(cp, fi, fits)
+    if width is None:
         return f"print the pattern larger (it is {x1 - x0:.1f} mm wide: --width)"
-    return (
-        f"print the pattern at least {_ceil3((x1 - x0) * factor):g} mm wide "
-        f"(it is {x1 - x0:.1f} mm: --width)"
-    )
+    return f"print the pattern at least {width:g} mm wide (it is {x1 - x0:.1f} mm: --width)"
+
+
+def _width_that_fits(
+    cp: CreasePattern, fi: int, fits: Callable[[CreasePattern, int], bool]
+) -> float | None:
+    """The width (mm, :func:`_ceil3`) at which ``cp`` scaled ``fits`` every panel, found
+    from panel ``fi`` (:func:`_scale_that_fits`), or ``None``."""
+    x0, _, x1, _ = cp.bounds
+    factor = _scale_that_fits(cp, fi, fits)
+    return None if factor is None else _ceil3((x1 - x0) * factor)
 
 
 def _ceil3(width: float) -> float:
@@ -371,20 +415,11 @@ def _ceil3(width: float) -> float:
 
 
 def _scale_that_fits(
-    cp: CreasePattern, fi: int, params: FabricationParams, minimum: float, **kw
+    cp: CreasePattern, fi: int, fits: Callable[[CreasePattern, int], bool]
 ) -> float | None:
-    """The least factor (to 1 %) by which ``cp`` scaled keeps the footprints of panel ``fi``,
-    and then of every panel, at inner bias ``minimum`` (mm; ``kw``: the other arguments of
-    :func:`panel_outline`), or ``None`` beyond 64 times (or after 16 panels, each needing
-    more than the last)."""
-
-    def fits(scaled: CreasePattern, face: int) -> bool:
-        try:
-            panel_outline(scaled, face, params, minimum, **kw)
-        except PatternError:
-            return False
-        return True
-
+    """The least factor (to 1 %) by which ``cp`` scaled ``fits`` (``fits(scaled, face)``)
+    panel ``fi``, and then every panel, or ``None`` beyond 64 times (or after 16 panels,
+    each needing more than the last)."""
     lo, todo = 1.0, [fi]
     for _ in range(16):
         face, hi = todo[0], 2.0 * lo

@@ -356,7 +356,7 @@ def plan_panels(
             params,
             b,
             biases.shell_of(fi, params),
-            biases.midlayer_of(fi),
+            biases.midlayer_of(fi, params),
             fi in biases.tpu_only,
         )
         for fi, b in enumerate(biases.bias)
