@@ -337,7 +337,7 @@ def test_panels_png_shows_the_sheet(tmp_path, small_fab):
     [
         ({"height": 0.4}, "must exceed the crease thickness"),
         ({"bias": 0.0}, r"bias: expected a finite number in \[0.01, 10000\], got 0.0"),
-        ({"border_margin": 40.0}, "too small for the crease layer even at the smallest"),
+        ({"border_margin": 40.0}, "too small for the crease layer even printed in TPU alone"),
         ({"holes": [(500.0, 500.0)]}, "not on any panel"),
         ({"holes": [(15.0, 1.0)]}, "does not fit the operation region of panel c0r0s0"),
         ({"height": 0.4}, r"eq\. 6"),
@@ -621,7 +621,7 @@ def test_the_6x4_example_sheet_measures_120_by_120_mm():
 def test_a_panel_too_small_even_at_the_least_bias_names_the_width_that_prints_it():
     from origami_cad.fabrication.plan import plan_panels
 
-    cp = miura_design(2, 3, 1.0, 1.0, 65.0).pattern
+    cp = miura_design(2, 3, 0.3, 0.3, 65.0).pattern  # too small even in TPU alone
     x0, _, x1, _ = cp.bounds
     with pytest.raises(PatternError, match=r"print the pattern at least ([\d.]+) mm wide") as info:
         plan_panels(cp)

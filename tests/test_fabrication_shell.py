@@ -8,20 +8,15 @@ creases. The sliver cannot hold the default 0.8 mm TPU wall on both its chamfers
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 import pytest
 
-from origami_cad.cli import main
-from origami_cad.errors import PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels
 from origami_cad.fabrication.panels import panel_fits
 from origami_cad.fabrication.params import layer_height
 from origami_cad.fabrication.plan import MIN_BIAS, MIN_SHELL
 from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.pattern import CreasePattern
-from origami_cad.pattern.io import write_pattern
 
 
 def _sliver_sheet(width: float) -> tuple[CreasePattern, int]:
@@ -81,26 +76,13 @@ def test_a_sheet_that_fits_the_wall_records_no_shells():
     assert not any("shell wall" in w and "thickest" in w for w in plan.warnings)
 
 
-def test_a_sliver_too_small_even_for_the_thinnest_wall_is_refused_in_one_line(tmp_path, capsys):
-    # a thin mid-layer inset, so that the shell wall is what no longer fits
+def test_a_sliver_too_small_even_for_the_thinnest_wall_is_printed_in_tpu_alone():
+    # a thin mid-layer inset, so that the shell wall is what no longer fits; issue 39: such a
+    # panel is printed in TPU alone (tests/test_fabrication_midlayer.py), not refused
     params = FabricationParams(midlayer_bias=0.1)
     cp, sliver = _sliver_sheet(0.9)
     assert panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=0.1)
-    with pytest.raises(PatternError, match=r"shell wall, 0\.4 mm") as info:
-        plan_panels(cp, params)
-    message = str(info.value)
-    assert "\n" not in message and f"panel {cp.face_labels[sliver]}" in message
-    x0, _, x1, _ = cp.bounds
-    width = float(re.search(r"at least ([\d.]+) mm wide", message).group(1))
-    assert width > x1 - x0
-    # at that width the sliver prints (with a thinner wall, at least MIN_SHELL)
-    wide = plan_panels(cp.scaled(width / (x1 - x0)), params)
-    assert wide.shells is None or np.min(wide.shells) >= MIN_SHELL
-    # the command says so in one line, exit 2, nothing written
-    path = tmp_path / "sliver.fold"
-    write_pattern(cp, path)
-    out = tmp_path / "fab"
-    assert main(["fabricate", str(path), "-o", str(out), "--midlayer-bias", "0.1"]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "shell wall, 0.4 mm" in err
-    assert not out.exists()
+    assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=MIN_SHELL)
+    plan = plan_panels(cp, params)
+    assert plan.tpu_only == frozenset({sliver})
+    assert all(np.isnan(plan.shell_of(f)) == (f == sliver) for f in range(len(cp.faces)))

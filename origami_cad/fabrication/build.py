@@ -169,8 +169,10 @@ class Fabrication(View3DDisplay):
 
     def _bias_report(self, labels) -> dict[str, Any]:
         """Each panel's inner bias (mm) and the panels without a hole, when some panel was
-        too small for the default bias, and each panel's shell wall (mm) when some panel got
-        a thinner one (nothing otherwise: the file stays as it was)."""
+        too small for the default bias, each panel's shell wall (mm) when some panel got
+        a thinner one, and each panel's mid-layer margin (mm) and the panels printed in TPU
+        alone when some panel got a narrower margin or no PLA (nothing otherwise: the file
+        stays as it was)."""
         out: dict[str, Any] = {}
         if self.plan.biases is not None:
             holed = set(self.plan.hole_panels.tolist())
@@ -183,9 +185,10 @@ class Fabrication(View3DDisplay):
                 else []
             )
         if self.plan.shells is not None:
-            out["panel_shell_mm"] = {
-                lab: float(s) for lab, s in zip(labels, self.plan.shells, strict=True)
-            }
+            out["panel_shell_mm"] = _per_panel(labels, self.plan.shells)
+        if self.plan.midlayers is not None:
+            out["panel_midlayer_bias_mm"] = _per_panel(labels, self.plan.midlayers)
+            out["panels_tpu_only"] = [labels[i] for i in sorted(self.plan.tpu_only)]
         return out
 
     def report(self) -> dict[str, Any]:
@@ -220,6 +223,13 @@ class Fabrication(View3DDisplay):
             "warnings": list(self.warnings),
             "timings_s": self.timings,
         }
+
+
+def _per_panel(labels, values) -> dict[str, float | None]:
+    """A value (mm) per panel label; ``None`` for NaN (a panel in TPU alone has no shell wall
+    and no mid-layer)."""
+    pairs = zip(labels, values, strict=True)
+    return {lab: float(v) if math.isfinite(v) else None for lab, v in pairs}
 
 
 def build_fabrication(

@@ -167,9 +167,11 @@ class PanelOutline:
     outer : ndarray (k, 2)
         Outer face of each half (creases at offset ``b``).
     infill_inner, infill_outer : ndarray (k, 2)
-        Footprints of the infill on the crease layer and at ``s`` below the outer face.
+        Footprints of the infill on the crease layer and at ``s`` below the outer face;
+        ``(0, 2)`` for a panel printed in TPU alone (too small for any PLA infill).
     midlayer : ndarray (k, 2)
-        The mid-layer patch (creases at offset ``b + m``).
+        The mid-layer patch (creases at offset ``b + m``); ``(0, 2)`` for a panel printed
+        without one (in TPU alone: the crease sheet runs through it).
     region : tuple of tuple of ndarray (k, 2)
         Maximum operation region, where holes may go: for each of its polygons,
         the exterior ring then any interior rings, closed (first point repeated).
@@ -177,6 +179,9 @@ class PanelOutline:
     shell : float or None
         The shell wall ``s`` the footprints were made for, mm (``None``: ``params.shell``
         of the solids built from them). :func:`shell_of` gives the one to build with.
+    midlayer_bias : float or None
+        The mid-layer's margin ``m`` the footprints were made for, mm (``None``:
+        ``params.midlayer_bias``).
     """
 
     index: int
@@ -190,6 +195,17 @@ class PanelOutline:
     midlayer: np.ndarray
     region: tuple[tuple[np.ndarray, ...], ...]
     shell: float | None = None
+    midlayer_bias: float | None = None
+
+    @property
+    def has_infill(self) -> bool:
+        """Whether the panel has PLA infills (``False``: its halves are TPU alone)."""
+        return len(self.infill_inner) > 0
+
+    @property
+    def has_midlayer(self) -> bool:
+        """Whether the panel has a PLA mid-layer (``False``: the crease sheet runs through)."""
+        return len(self.midlayer) > 0
 
     def region_polygon(self) -> shapely.Polygon | shapely.MultiPolygon:
         """The operation region as a shapely geometry (empty if nothing is left)."""
@@ -303,13 +319,18 @@ def panel_outline(
     params: FabricationParams,
     bias: float | None = None,
     shell: float | None = None,
+    midlayer_bias: float | None = None,
+    tpu_only: bool = False,
 ) -> PanelOutline:
     """The footprints of panel (face) ``fi`` of ``cp`` at inner bias ``bias`` (mm, default
-    ``params.bias``) and shell wall ``shell`` (mm, default ``params.shell``);
-    :class:`PatternError` naming the panel when it is too small for them. The pattern
-    itself is not checked (:func:`panel_outlines` does)."""
+    ``params.bias``), shell wall ``shell`` (mm, default ``params.shell``) and mid-layer margin
+    ``midlayer_bias`` (mm, default ``params.midlayer_bias``); ``tpu_only``: the halves alone,
+    printed in TPU (no infill, no mid-layer, no operation region). :class:`PatternError`
+    naming the panel when it is too small for them. The pattern itself is not checked
+    (:func:`panel_outlines` does)."""
     b = params.bias if bias is None else bias
-    s, m = (params.shell if shell is None else shell), params.midlayer_bias
+    s = params.shell if shell is None else shell
+    m = params.midlayer_bias if midlayer_bias is None else midlayer_bias
     half = params.half_height
     margin = params.border_margin
     slope = b / half  # horizontal run of a chamfer per mm of height
@@ -324,6 +345,9 @@ def panel_outline(
 
     inner = inset(CREASE_GAP / 2, margin, "crease layer")
     outer = inset(b, margin, f"inner bias b = {b:g} mm")
+    if tpu_only:
+        none = np.zeros((0, 2))
+        return PanelOutline(fi, label, poly, crease, inner, outer, none, none, none, (), s, m)
     infill_inner = inset(wall, margin + s, "shell wall")
     infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
     mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
@@ -331,7 +355,18 @@ def panel_outline(
         shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
     )
     return PanelOutline(
-        fi, label, poly, crease, inner, outer, infill_inner, infill_outer, mid, _rings(region), s
+        fi,
+        label,
+        poly,
+        crease,
+        inner,
+        outer,
+        infill_inner,
+        infill_outer,
+        mid,
+        _rings(region),
+        s,
+        None if midlayer_bias is None else m,
     )
 
 
@@ -424,13 +459,16 @@ def panel_fits(
     holes: tuple[tuple[float, float, float], ...] = (),
     auto_hole: bool = True,
     shell: float | None = None,
+    midlayer_bias: float | None = None,
+    tpu_only: bool = False,
 ) -> bool:
-    """Whether panel (face) ``fi`` keeps its footprints at inner bias ``bias`` (mm) and shell
-    wall ``shell`` (mm, default ``params.shell``) and room for its hole: the automatic one
-    (``params.holes == "auto"`` and ``auto_hole``) or ``holes`` ((x, y, diameter) mm, the
-    given holes on this panel)."""
+    """Whether panel (face) ``fi`` keeps its footprints at inner bias ``bias`` (mm), shell
+    wall ``shell`` (mm, default ``params.shell``) and mid-layer margin ``midlayer_bias`` (mm,
+    default ``params.midlayer_bias``), or as TPU alone (``tpu_only``: no hole fits then), and
+    room for its hole: the automatic one (``params.holes == "auto"`` and ``auto_hole``) or
+    ``holes`` ((x, y, diameter) mm, the given holes on this panel)."""
     try:
-        o = panel_outline(cp, fi, params, bias, shell)
+        o = panel_outline(cp, fi, params, bias, shell, midlayer_bias, tpu_only)
         if params.holes == "auto" and auto_hole:
             _auto_hole(o, params.hole_diameter)
     except PatternError:

@@ -28,17 +28,23 @@ import numpy as np
 
 from origami_cad._args import Arg, checked
 from origami_cad.errors import FabricationError, PatternError
+from origami_cad.fabrication.fitting import (
+    MIN_BIAS,
+    MIN_MIDLAYER_BIAS,
+    MIN_SHELL,
+    PanelBiases,
+    panel_biases,
+)
 from origami_cad.fabrication.panels import (
     PanelOutline,
     check_panels,
-    panel_fits,
     panel_outline,
     panel_outlines,
     plan_holes,
     printed_pattern,
     ring_joins,
 )
-from origami_cad.fabrication.params import FabricationParams, layer_height
+from origami_cad.fabrication.params import FabricationParams
 from origami_cad.kinematics.limits import crease_fold_limit
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern, Hole
@@ -48,6 +54,7 @@ __all__ = [
     "FABRICATION_BUDGET_S",
     "MAX_FABRICATED_PANELS",
     "MIN_BIAS",
+    "MIN_MIDLAYER_BIAS",
     "MIN_SHELL",
     "SECONDS_PER_PANEL",
     "CreaseLimits",
@@ -227,7 +234,14 @@ class PanelPlan:
         (:func:`panel_biases`); ``None`` when every panel has ``params.bias``.
     shells : ndarray (F,) or None
         Each panel's shell wall, mm, when some panel got a thinner one than ``params.shell``
-        (:func:`panel_biases`); ``None`` when every panel has ``params.shell``.
+        (:func:`panel_biases`; NaN for a panel in TPU alone, which has none); ``None`` when
+        every panel has ``params.shell`` and some PLA.
+    midlayers : ndarray (F,) or None
+        Each panel's mid-layer margin ``m``, mm, when some panel got a narrower one than
+        ``params.midlayer_bias`` or none (NaN: a panel in TPU alone); ``None`` otherwise.
+    tpu_only : frozenset of int
+        The panels (face indices) too small for any PLA, printed in TPU alone: no infill,
+        no mid-layer, no hole (:func:`panel_biases`).
     """
 
     pattern: CreasePattern
@@ -240,6 +254,8 @@ class PanelPlan:
     timings: dict[str, float] = field(default_factory=dict)
     biases: np.ndarray | None = None
     shells: np.ndarray | None = None
+    midlayers: np.ndarray | None = None
+    tpu_only: frozenset[int] = frozenset()
 
     def __repr__(self) -> str:
         """One line: the pattern, the panels, the holes, the smallest bias (mm), warnings."""
@@ -257,8 +273,18 @@ class PanelPlan:
 
     def shell_of(self, panel: int) -> float:
         """The shell wall of panel (face) index ``panel``, mm (``params.shell`` unless the
-        panel was too small for it even at :data:`MIN_BIAS`: :func:`panel_biases`)."""
+        panel was too small for it even at :data:`MIN_BIAS`: :func:`panel_biases`; NaN for
+        a panel printed in TPU alone)."""
         return self.params.shell if self.shells is None else float(self.shells[panel])
+
+    def midlayer_of(self, panel: int) -> float:
+        """The mid-layer margin ``m`` of panel (face) index ``panel``, mm
+        (``params.midlayer_bias`` unless the panel was too small for it even at
+        :data:`MIN_BIAS` and :data:`MIN_SHELL`: :func:`panel_biases`; NaN for a panel
+        printed in TPU alone, which has no mid-layer)."""
+        if self.midlayers is None:
+            return self.params.midlayer_bias
+        return float(self.midlayers[panel])
 
     @property
     def pattern_with_holes(self) -> CreasePattern:
@@ -315,9 +341,10 @@ def plan_panels(
     """Plan the printable panels of a crease pattern (or design): footprints, holes, limits.
 
     A panel too small for ``params.bias`` gets the largest bias that fits it, down to
-    :data:`MIN_BIAS`, and one too small even then the thickest shell wall that fits, down
-    to :data:`MIN_SHELL` (:func:`panel_biases`; ``biases``, ``shells`` and ``warnings`` say
-    which).
+    :data:`MIN_BIAS`, one too small even then the thickest shell wall that fits, down to
+    :data:`MIN_SHELL`, then the widest mid-layer margin, down to :data:`MIN_MIDLAYER_BIAS`,
+    and one too small for any PLA is printed in TPU alone (:func:`panel_biases`;
+    ``biases``, ``shells``, ``midlayers``, ``tpu_only`` and ``warnings`` say which).
 
     Parameters
     ----------
@@ -333,8 +360,8 @@ def plan_panels(
     Raises
     ------
     PatternError
-        Naming the panel or hole that does not fit even at :data:`MIN_BIAS` and
-        :data:`MIN_SHELL`, and the width that prints it, or the pattern's defect.
+        Naming the panel too small even for TPU alone at :data:`MIN_BIAS`, or the hole
+        that does not fit, and the width that prints it, or the pattern's defect.
     """
     params = params or FabricationParams()
     design = source if isinstance(source, Design) else Design(source, None, "file")
@@ -349,7 +376,15 @@ def plan_panels(
     biases = panel_biases(cp, params)
     reduced = biases.reduced(params.bias)
     outlines = tuple(
-        panel_outline(cp, fi, params, b, biases.shell_of(fi, params))
+        panel_outline(
+            cp,
+            fi,
+            params,
+            b,
+            biases.shell_of(fi, params),
+            biases.midlayer_of(fi, params),
+            fi in biases.tpu_only,
+        )
         for fi, b in enumerate(biases.bias)
     )
     holes, hole_panels = plan_holes(cp, list(outlines), params, biases.holeless)
@@ -364,8 +399,10 @@ def plan_panels(
         *_bed_warning(cp, bed),
     )
     plan = PanelPlan(cp, params, outlines, holes, hole_panels, limits, warned, timings)
-    if len(biases.thinned(params.shell)):
+    if biases.shell is not None:
         plan = replace(plan, shells=biases.shell)
+    if biases.midlayer is not None:
+        plan = replace(plan, midlayers=biases.midlayer, tpu_only=biases.tpu_only)
     return replace(plan, biases=biases.bias) if len(reduced) else plan
 
 
@@ -376,8 +413,11 @@ def _named(cp: CreasePattern, faces, what) -> str:
     return named + (f" and {len(faces) - 8} more" if len(faces) > 8 else "")
 
 
-def _bias_warnings(cp: CreasePattern, params: FabricationParams, biases) -> tuple[str, ...]:
-    """Which panels got a smaller bias than ``params.bias`` or no hole, and what it costs."""
+def _bias_warnings(
+    cp: CreasePattern, params: FabricationParams, biases: PanelBiases
+) -> tuple[str, ...]:
+    """Which panels got a smaller bias than ``params.bias``, a thinner shell wall, a narrower
+    mid-layer, no PLA or no hole, and what it costs."""
     out = []
     reduced = biases.reduced(params.bias)
     if len(reduced):
@@ -399,12 +439,42 @@ def _bias_warnings(cp: CreasePattern, params: FabricationParams, biases) -> tupl
             f"{_named(cp, thinned, lambda f: f' {biases.shell[f]:.2f} mm')}; their TPU "
             f"wraps the PLA infill more thinly (fabrication.json lists every panel's shell)"
         )
+    out += _midlayer_warnings(cp, params, biases)
     if biases.holeless:
         out.append(
             f"{len(biases.holeless)} panels have no room for a {params.hole_diameter:g} mm hole "
             f"and are printed without one: {_named(cp, sorted(biases.holeless), lambda f: '')}"
         )
     return tuple(out)
+
+
+def _midlayer_warnings(
+    cp: CreasePattern, params: FabricationParams, biases: PanelBiases
+) -> list[str]:
+    """Which panels got a narrower mid-layer margin than ``params.midlayer_bias``, and which
+    are printed in TPU alone."""
+    out = []
+    narrowed = biases.narrowed(params.midlayer_bias)
+    least = f"the inner bias {MIN_BIAS:g} mm and shell wall {min(MIN_SHELL, params.shell):g} mm"
+    if len(narrowed):
+        out.append(
+            f"{len(narrowed)} of {len(cp.faces)} panels are too small for the mid-layer margin "
+            f"m = {params.midlayer_bias:g} mm even at {least} and got the widest that fits "
+            f"(at least {MIN_MIDLAYER_BIAS:g} mm): "
+            f"{_named(cp, narrowed, lambda f: f' {biases.midlayer[f]:.2f} mm')}; their PLA "
+            f"mid-layer comes nearer their creases (fabrication.json lists every panel's "
+            f"mid-layer margin)"
+        )
+    if biases.tpu_only:
+        soft = _named(cp, sorted(biases.tpu_only), lambda f: "")
+        out.append(
+            f"{len(biases.tpu_only)} of {len(cp.faces)} panels are too small for a PLA infill "
+            f"even at {least} and mid-layer margin {MIN_MIDLAYER_BIAS:g} mm, and are printed "
+            f"in TPU alone (no infill, no mid-layer, no hole; the crease sheet runs through "
+            f"them, so they bend like creases): {soft} "
+            f"(fabrication.json: panels_tpu_only)"
+        )
+    return out
 
 
 def _bed_excess(cp: CreasePattern, bed: tuple[float, float]) -> str | None:
@@ -538,243 +608,6 @@ def largest_bias(
     while best + step < hi and fits(best + step):
         best += step
     return round(best, 10)
-
-
-#: The smallest inner bias a panel gets, mm, when the default does not fit it. Eq. 6 gives
-#: each half of a crease a fold limit of ``atan(2 b / (h - t))``: at 0.2 mm and the default
-#: h - t = 1.8 mm, 12.5 deg, so a crease between two such panels folds to 25.1 deg before
-#: their chamfers meet (146.6 deg at the default 3 mm); a smaller chamfer is under half a
-#: 0.4 mm nozzle's line, which a slicer no longer draws as a slope.
-MIN_BIAS = 0.2
-
-#: The thinnest shell wall a panel gets, mm, when it is too small for ``params.shell`` even
-#: at :data:`MIN_BIAS`: one line of a 0.4 mm nozzle, the thinnest wall a slicer still
-#: draws as a perimeter along the chamfer (thinner, it is dropped or left to gap fill and
-#: the TPU no longer wraps the infill), and four 0.1 mm layers of top skin. A thinned wall
-#: is a whole number of the print's layers (:func:`~origami_cad.fabrication.params.
-#: layer_height`), so no layer straddles the TPU and the PLA.
-MIN_SHELL = 0.4
-
-
-def _holes_by_face(cp: CreasePattern, params: FabricationParams) -> dict[int, list]:
-    """The given holes ((x, y, diameter) mm) of each panel: ``holes`` as points or
-    ``"pattern"`` (empty for ``"auto"`` and ``"none"``)."""
-    spec = params.holes
-    if isinstance(spec, str) and spec != "pattern":
-        return {}
-    points = (
-        [(h.x, h.y, h.diameter) for h in cp.holes]
-        if spec == "pattern"
-        else [(x, y, params.hole_diameter) for x, y in spec]
-    )
-    faces = cp.faces_of_points(np.array([(x, y) for x, y, _ in points]).reshape(-1, 2))
-    out: dict[int, list] = {}
-    for pt, fi in zip(points, faces.tolist(), strict=True):
-        out.setdefault(int(fi), []).append(pt)
-    return out
-
-
-@dataclass(frozen=True)
-class PanelBiases:
-    """The inner bias and shell wall of every panel, and the panels too small for an
-    automatic hole.
-
-    ``bias`` (F,) mm; ``holeless`` the panels (face indices) printed without their
-    automatic hole, because not even :data:`MIN_BIAS` leaves room for it; ``shell`` (F,)
-    mm, or ``None`` when every panel has ``params.shell``.
-    """
-
-    bias: np.ndarray
-    holeless: frozenset[int] = frozenset()
-    shell: np.ndarray | None = None
-
-    def reduced(self, default: float) -> np.ndarray:
-        """The panels (face indices) whose bias is below ``default`` mm."""
-        return np.flatnonzero(self.bias < default - 1e-12)
-
-    def thinned(self, default: float) -> np.ndarray:
-        """The panels (face indices) whose shell wall is below ``default`` mm."""
-        if self.shell is None:
-            return np.zeros(0, dtype=np.int64)
-        return np.flatnonzero(self.shell < default - 1e-12)
-
-    def shell_of(self, fi: int, params: FabricationParams) -> float:
-        """The shell wall of panel ``fi``, mm (``params.shell`` unless thinned)."""
-        return params.shell if self.shell is None else float(self.shell[fi])
-
-
-def panel_biases(
-    cp: CreasePattern,
-    params: FabricationParams,
-    minimum: float = MIN_BIAS,
-    step: float = 0.01,
-    min_shell: float = MIN_SHELL,
-) -> PanelBiases:
-    """The inner bias and shell wall of each panel, mm: ``params.bias`` where it fits, else
-    the largest that fits (a multiple of ``step``, found by bisection), down to ``minimum``.
-
-    A panel fits a bias when it keeps every footprint (:func:`panel_outline`) and room for
-    its hole (:func:`panel_fits`). With automatic holes, a panel that has no room for its
-    hole even at ``minimum`` gets none (``holeless``), and the largest bias that fits it
-    without. A panel too small even so gets the thickest shell wall that fits it at
-    ``minimum`` (a whole number of print layers, down to ``min_shell``: with its hole if
-    one fits, else without), then the largest bias that fits with that wall.
-
-    Raises
-    ------
-    PatternError
-        Naming the first panel that fits neither at ``minimum`` nor with the thinnest wall,
-        and the width that would print it.
-    """
-    given = _holes_by_face(cp, params)
-    out = np.full(len(cp.faces), float(params.bias))
-    shells = np.full(len(cp.faces), float(params.shell))
-    walls = _thinner_shells(params, min_shell)
-    holeless = set()
-    for fi in range(len(cp.faces)):
-        holes = tuple(given.get(fi, ()))
-        if panel_fits(cp, fi, params, params.bias, holes):
-            continue
-        found = _least_fit(cp, fi, params, minimum, holes, walls)
-        if found is None:
-            thinnest = walls[-1] if walls else params.shell
-            raise PatternError(_too_small(cp, fi, params, minimum, holes, thinnest))
-        shells[fi], hole = found
-        if not hole:
-            holeless.add(fi)
-
-        def fits(b: float, fi=fi, holes=holes, hole=hole, s=float(shells[fi])) -> bool:
-            return panel_fits(cp, fi, params, b, holes, auto_hole=hole, shell=s)
-
-        lo, hi = minimum, params.bias
-        while hi - lo > step / 4:
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if fits(mid) else (lo, mid)
-        best = max(minimum, math.floor(lo / step + 1e-9) * step)
-        while best - step >= minimum and not fits(best):
-            best -= step
-        while best + step < params.bias and fits(best + step):
-            best += step
-        out[fi] = round(best, 10)
-    thinned = bool(np.any(shells < params.shell - 1e-12))
-    return PanelBiases(out, frozenset(holeless), shells if thinned else None)
-
-
-def _thinner_shells(params: FabricationParams, min_shell: float) -> list[float]:
-    """The shell walls thinner than ``params.shell`` a panel may get, thickest first, mm:
-    whole numbers of print layers (:func:`layer_height`), none below ``min_shell``."""
-    layer = layer_height(params)
-    top = math.floor(params.shell / layer + 1e-6) - 1
-    least = math.ceil(min_shell / layer - 1e-6)
-    return [round(k * layer, 10) for k in range(top, max(least, 1) - 1, -1)]
-
-
-def _least_fit(
-    cp: CreasePattern,
-    fi: int,
-    params: FabricationParams,
-    minimum: float,
-    holes: tuple,
-    walls: list[float],
-) -> tuple[float, bool] | None:
-    """The shell wall (mm) and whether the automatic hole stays, for panel ``fi`` at inner
-    bias ``minimum``: ``params.shell`` with the hole, else without it (automatic holes),
-    else the thickest of ``walls`` (thickest first) with the hole, else without; ``None``
-    when none fits. Walls are searched by bisection (a panel that fits a wall fits every
-    thinner one)."""
-    auto = params.holes == "auto"
-    for hole in (True, False) if auto else (True,):
-        if panel_fits(cp, fi, params, minimum, holes, auto_hole=hole):
-            return params.shell, hole
-    for hole in (True, False) if auto else (True,):
-        if not walls or not panel_fits(cp, fi, params, minimum, holes, hole, walls[-1]):
-            continue
-        lo, hi = 0, len(walls) - 1  # walls[hi] fits; find the first (thickest) that fits
-        while lo < hi:
-            mid = (lo + hi) // 2
-            lo, hi = (
-                (lo, mid)
-                if panel_fits(cp, fi, params, minimum, holes, hole, walls[mid])
-                else (mid + 1, hi)
-            )
-        return walls[lo], hole
-    return None
-
-
-def _too_small(
-    cp: CreasePattern,
-    fi: int,
-    params: FabricationParams,
-    minimum: float,
-    holes: tuple = (),
-    shell: float | None = None,
-) -> str:
-    """Why panel ``fi`` is refused at inner bias ``minimum`` and shell wall ``shell`` (mm,
-    default ``params.shell``), and what would print it."""
-    label = cp.face_labels[fi]
-    shell = params.shell if shell is None else shell
-    x0, _, x1, _ = cp.bounds
-    larger = f"print the pattern larger (it is {x1 - x0:.1f} mm wide: --width)"
-    least = f"the smallest inner bias, {minimum:g} mm, and shell wall, {shell:g} mm"
-    try:
-        panel_outline(cp, fi, params, minimum, shell)
-    except PatternError as exc:
-        factor = _scale_that_fits(cp, fi, params, minimum, shell)
-        if factor is not None:
-            larger = (
-                f"print the pattern at least {_ceil3((x1 - x0) * factor):g} mm wide "
-                f"(it is {x1 - x0:.1f} mm: --width)"
-            )
-        return f"{exc} even at {least}: {larger}"
-    for x, y, d in holes:
-        if not panel_fits(cp, fi, params, minimum, ((x, y, d),), shell=shell):
-            return (
-                f"the hole at ({x:g}, {y:g}) mm (diameter {d:g} mm) does not fit the operation "
-                f"region of panel {label} even at {least}: move it toward the panel's "
-                f"middle, make it smaller, or {larger}"
-            )
-    return (
-        f"panel {label}: no room for a {params.hole_diameter:g} mm hole even at {least}: "
-        f"use a smaller --hole-diameter, --holes none, or {larger}"
-    )
-
-
-def _ceil3(width: float) -> float:
-    """``width`` (mm) rounded up to three significant figures, whole mm from 100 mm on."""
-    digits = max(0, 2 - math.floor(math.log10(width))) if width > 0 else 0
-    return math.ceil(width * 10**digits - 1e-9) / 10**digits
-
-
-def _scale_that_fits(
-    cp: CreasePattern, fi: int, params: FabricationParams, minimum: float, shell: float
-) -> float | None:
-    """The least factor (to 1 %) by which ``cp`` scaled keeps the footprints of panel ``fi``,
-    and then of every panel, at inner bias ``minimum`` and shell wall ``shell`` (mm), or
-    ``None`` beyond 64 times (or after 16 panels, each needing more than the last)."""
-
-    def fits(scaled: CreasePattern, face: int) -> bool:
-        try:
-            panel_outline(scaled, face, params, minimum, shell)
-        except PatternError:
-            return False
-        return True
-
-    lo, todo = 1.0, [fi]
-    for _ in range(16):
-        face, hi = todo[0], 2.0 * lo
-        while not fits(cp.scaled(hi), face):
-            lo, hi = hi, 2.0 * hi
-            if hi > 64.0:
-                return None
-        while hi / lo > 1.01:
-            mid = math.sqrt(lo * hi)
-            lo, hi = (lo, mid) if fits(cp.scaled(mid), face) else (mid, hi)
-        scaled = cp.scaled(hi)
-        todo = [f for f in range(len(cp.faces)) if not fits(scaled, f)]
-        if not todo:
-            return hi
-        lo = hi
-    return None
 
 
 def _warnings(params: FabricationParams, limits: CreaseLimits) -> tuple[str, ...]:

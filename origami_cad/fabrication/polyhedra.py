@@ -309,7 +309,7 @@ def _convex(ring: np.ndarray) -> bool:
 def holes_clear(o: PanelOutline, holes: Sequence[Hole]) -> bool:
     """Whether every hole of the panel lies at least :data:`HOLE_CLEARANCE` inside every
     footprint of the panel (all convex) and apart from the others."""
-    rings = (o.outer, o.inner, o.infill_outer, o.infill_inner, o.midlayer)
+    rings = [r for r in (o.outer, o.inner, o.infill_outer, o.infill_inner, o.midlayer) if len(r)]
     if not all(_convex(r) for r in rings):
         return False
     discs = [shapely.Point(h.x, h.y).buffer(h.diameter / 2.0 + HOLE_CLEARANCE) for h in holes]
@@ -344,12 +344,19 @@ def fast_panel_build(
     lower_in = (o.infill_outer, s, o.infill_inner, lo_z)
     upper_in = (o.infill_inner, hi_z, o.infill_outer, h - s)
     try:
-        built = {
-            "halves": [frustum(*lower), frustum(*upper)],
-            "infills": [frustum(*lower_in, holes), frustum(*upper_in, holes)],
-            "shells": [cup(lower, lower_in, holes, True), cup(upper, upper_in, holes, False)],
-            "midlayers": [frustum(o.midlayer, lo_z, o.midlayer, hi_z, holes)],
-        }
+        built = {"halves": [frustum(*lower), frustum(*upper)]}
+        if o.has_infill:
+            built["infills"] = [frustum(*lower_in, holes), frustum(*upper_in, holes)]
+            built["shells"] = [
+                cup(lower, lower_in, holes, True),
+                cup(upper, upper_in, holes, False),
+            ]
+        else:  # TPU alone: each half is its shell
+            built["infills"] = []
+            built["shells"] = [frustum(*lower, holes), frustum(*upper, holes)]
+        built["midlayers"] = (
+            [frustum(o.midlayer, lo_z, o.midlayer, hi_z, holes)] if o.has_midlayer else []
+        )
     except ValueError:
         return None
     solids = {name: [solid for solid, _ in pairs] for name, pairs in built.items()}

@@ -254,8 +254,9 @@ def planar_prism(poly: shapely.Polygon, z0: float, z1: float) -> Solid:
 def crease_sheet(
     outlines: Sequence[PanelOutline], sheet_outline: shapely.Polygon | shapely.MultiPolygon
 ):
-    """The crease layer's footprint: the sheet less every panel's mid-layer patch, mm."""
-    mids = shapely.union_all([shapely.Polygon(o.midlayer) for o in outlines])
+    """The crease layer's footprint: the sheet less every panel's mid-layer patch, mm (it runs
+    through a panel without one)."""
+    mids = shapely.union_all([shapely.Polygon(o.midlayer) for o in outlines if o.has_midlayer])
     return shapely.difference(sheet_outline, mids)
 
 
@@ -308,14 +309,19 @@ def boolean_panel_solids(
     cyl = _cylinders(holes, 0.0, h)
     lower = half_solid(o.outer, 0.0, o.inner, z_layer_lo)
     upper = half_solid(o.inner, z_layer_hi, o.outer, h)
+    if not o.has_infill:  # TPU alone: each half is its shell
+        shells = _cut(lower, cyl) + _cut(upper, cyl)
+        return {"halves": [lower, upper], "infills": [], "shells": shells, "midlayers": []}
     lower_in = half_solid(o.infill_outer, s, o.infill_inner, z_layer_lo)
     upper_in = half_solid(o.infill_inner, z_layer_hi, o.infill_outer, h - s)
     out: dict[str, list[Solid]] = {"halves": [lower, upper], "infills": [], "shells": []}
     for whole, core in ((lower, lower_in), (upper, upper_in)):
         out["infills"] += _cut(core, cyl)
         out["shells"] += _cut(whole, [core, *cyl])
-    mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
-    out["midlayers"] = _cut(mid, cyl)
+    out["midlayers"] = []
+    if o.has_midlayer:
+        mid = planar_prism(shapely.Polygon(o.midlayer), z_layer_lo, z_layer_hi)
+        out["midlayers"] = _cut(mid, cyl)
     return out
 
 
