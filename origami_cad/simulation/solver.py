@@ -596,7 +596,7 @@ def solve_equilibrium(
     scale = max(float(np.max(st.bar_k)), 1.0)
     damping = 0.0
     for it in range(max_iter):
-        grad, values, low, tensions = asm.assemble(x, st, strings, ground)
+        grad, *hessian, tensions = asm.assemble(x, st, strings, ground)  # values, low rank
         g = grad.ravel()[asm.free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
@@ -605,7 +605,6 @@ def solve_equilibrium(
         if info.gradient_norm < tol:
             info.converged = True
             break
-        hessian = (values, low)
         found = _preconditioned_step(x, g, hessian, energy, damping * scale, asm, info, problem)
         if found is None:
             damping, found = _factorised_step(
