@@ -100,7 +100,14 @@ def test_compiled_assembly_equals_the_element_assembly():
     s.free_length = 0.9 * string_length(x, s, strings)[0]
     s.stiffness = 1500.0 / s.free_length
 
-    asm = HessianAssembly(st, strings)
+    whole = HessianAssembly(st, strings, split_strings=False)
+    _, data, low, _ = whole.assemble(x, st, strings, ground)
+    assert low.u.shape == (whole.size, 0)  # k g g^T in the sparse matrix
+    _, ref_hess = _reference(x, st, strings, ground)
+    np.testing.assert_allclose(
+        whole.matrix(data).toarray(), ref_hess, rtol=0, atol=1e-12 * np.abs(ref_hess).max()
+    )
+    asm = HessianAssembly(st, strings, split_strings=True)
     grad, data, low, tensions = asm.assemble(x, st, strings, ground)
     ref_grad, ref_hess = _reference(x, st, strings, ground)
     assert tensions[0] > 0
