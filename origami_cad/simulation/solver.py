@@ -53,6 +53,7 @@ from origami_cad.simulation.factor import (
     Factor,
     FactorPlan,
     factorise,
+    one_blas_thread,
     pardiso_available,
     plan_factorisation,
 )
@@ -613,6 +614,12 @@ def solve_equilibrium(
     (x, SolveInfo)
         The equilibrium (n, 3), mm, and what the solve did.
     """
+    with one_blas_thread():  # its vector products are too short for two threads
+        return _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step)
+
+
+def _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step):
+    """:func:`solve_equilibrium`'s Newton iterations (its arguments, in its order)."""
     x = np.array(x, dtype=float)
     asm = assembly or HessianAssembly(st, strings)
     x = whole_newton_step(x, st, asm) if whole_step else x
