@@ -1,5 +1,6 @@
-"""Factorisations of the solver's Hessians: the banded Cholesky and SuperLU plans solve
-the same systems, refuse the same indefinite matrices, and each is chosen where it pays."""
+"""Factorisations of the solver's Hessians: the banded Cholesky, SuperLU and (where MKL is
+installed) PARDISO plans solve the same systems, refuse the same indefinite matrices, and
+each is chosen where it pays."""
 
 from __future__ import annotations
 
@@ -9,8 +10,16 @@ import scipy.sparse as sp
 
 from origami_cad.pattern.design import miura_design
 from origami_cad.simulation import SimulationParams, build_structure
-from origami_cad.simulation.factor import FactorMethod, factorise, plan_factorisation
+from origami_cad.simulation.factor import (
+    FactorMethod,
+    factorise,
+    pardiso_available,
+    plan_factorisation,
+)
 from origami_cad.simulation.solver import HessianAssembly
+
+#: the methods this machine has (PARDISO needs MKL's runtime: origami-cad[mkl])
+METHODS = [m for m in FactorMethod if m is not FactorMethod.PARDISO or pardiso_available()]
 
 
 def _flat_sheet_hessian():
@@ -18,7 +27,7 @@ def _flat_sheet_hessian():
     cp = miura_design(12, 12, 15.0, 15.0, 60.0).pattern
     st = build_structure(cp, SimulationParams(), cp.face_labels[0], None)
     asm = HessianAssembly(st, None)
-    _grad, data, _ = asm.assemble(st.x0, st, None, None)
+    _grad, data, _, _ = asm.assemble(st.x0, st, None, None)
     return asm.matrix(data, 1e-3)
 
 
@@ -29,7 +38,7 @@ def _pattern(a: sp.csc_matrix):
     return a, np.flatnonzero(a.indices == cols)
 
 
-@pytest.mark.parametrize("method", list(FactorMethod))
+@pytest.mark.parametrize("method", METHODS)
 def test_both_methods_solve_the_sheet_and_refuse_an_indefinite_matrix(method):
     a, diagonal = _pattern(_flat_sheet_hessian())
     plan = plan_factorisation(a.indices, a.indptr, diagonal, method)
@@ -78,7 +87,8 @@ def test_a_dense_coupling_goes_to_the_sparse_factorisation():
     coupling[:, n // 2] = 0.01
     a, diagonal = _pattern(main + coupling.tocsc() + sp.eye(n))
     plan = plan_factorisation(a.indices, a.indptr, diagonal)
-    assert plan.method is FactorMethod.SUPERLU
+    sparse = FactorMethod.PARDISO if pardiso_available() else FactorMethod.SUPERLU
+    assert plan.method is sparse
     rhs = np.random.default_rng(7).normal(size=n)
     x = factorise(plan, a.data).solve(rhs)
     np.testing.assert_allclose(a @ x, rhs, atol=1e-9 * np.abs(rhs).max())
@@ -89,10 +99,34 @@ def _bandwidth(a: sp.csc_matrix) -> int:
     return int(np.abs(coo.row - coo.col).max())
 
 
-@pytest.mark.parametrize("method", list(FactorMethod))
+@pytest.mark.parametrize("method", METHODS)
 def test_a_matrix_with_a_value_that_is_not_finite_is_refused(method):
     a, diagonal = _pattern(_flat_sheet_hessian())
     plan = plan_factorisation(a.indices, a.indptr, diagonal, method)
     values = a.data.copy()
     values[diagonal[3]] = np.nan
     assert factorise(plan, values) is None
+
+
+@pytest.mark.skipif(not pardiso_available(), reason="MKL's runtime is not installed")
+def test_pardiso_keeps_the_last_positive_definite_factorisation_until_replaced():
+    a, diagonal = _pattern(_flat_sheet_hessian())
+    plan = plan_factorisation(a.indices, a.indptr, diagonal, FactorMethod.PARDISO)
+    rhs = np.random.default_rng(3).normal(size=a.shape[0])
+    first = factorise(plan, a.data)
+    shifted = a.data.copy()
+    shifted[diagonal] -= 1.0
+    assert factorise(plan, shifted) is None  # refused: the kept one stays good
+    assert first.valid
+    np.testing.assert_allclose(a @ first.solve(rhs), rhs, atol=1e-8 * np.abs(rhs).max())
+    stiffer = a.data.copy()
+    stiffer[diagonal] += 2.0
+    second = factorise(plan, stiffer)  # the other slot: both good
+    assert first.valid and second.valid
+    b = sp.csc_matrix((stiffer, a.indices, a.indptr), shape=a.shape)
+    np.testing.assert_allclose(b @ second.solve(rhs), rhs, atol=1e-8 * np.abs(rhs).max())
+    np.testing.assert_allclose(a @ first.solve(rhs), rhs, atol=1e-8 * np.abs(rhs).max())
+    third = factorise(plan, a.data)  # takes the older one's place
+    assert third.valid and second.valid and not first.valid
+    with pytest.raises(ValueError, match="replaced"):
+        first.solve(rhs)

@@ -100,16 +100,30 @@ def test_compiled_assembly_equals_the_element_assembly():
     s.free_length = 0.9 * string_length(x, s, strings)[0]
     s.stiffness = 1500.0 / s.free_length
 
-    asm = HessianAssembly(st, strings)
-    grad, data, tensions = asm.assemble(x, st, strings, ground)
+    whole = HessianAssembly(st, strings, split_strings=False)
+    _, data, low, _ = whole.assemble(x, st, strings, ground)
+    assert low.u.shape == (whole.size, 0)  # k g g^T in the sparse matrix
+    _, ref_hess = _reference(x, st, strings, ground)
+    np.testing.assert_allclose(
+        whole.matrix(data).toarray(), ref_hess, rtol=0, atol=1e-12 * np.abs(ref_hess).max()
+    )
+    asm = HessianAssembly(st, strings, split_strings=True)
+    grad, data, low, tensions = asm.assemble(x, st, strings, ground)
     ref_grad, ref_hess = _reference(x, st, strings, ground)
     assert tensions[0] > 0
     np.testing.assert_allclose(grad, ref_grad, rtol=0, atol=1e-12 * np.abs(ref_grad).max())
-    a = asm.matrix(data).toarray()
+    a = asm.operator(data, low).toarray()
     np.testing.assert_allclose(a, ref_hess, rtol=0, atol=1e-12 * np.abs(ref_hess).max())
-    # the pattern holds every non-zero of the reference and nothing the reference lacks
+    # the string's axial stiffness k g g^T is the low rank, outside the sparse part
+    assert low.u.shape == (asm.size, 1)
+    np.testing.assert_allclose(low.dense(), s.stiffness * np.outer(low.u, low.u), rtol=1e-12)
+    # the sparse pattern holds every non-zero of the reference but the low rank's
     pattern = asm.matrix(np.ones(asm.nnz + 1)).toarray() != 0
-    assert np.all(pattern[ref_hess != 0])
+    sparse_part = asm.matrix(data).toarray()
+    assert np.all(pattern[sparse_part != 0])
+    np.testing.assert_allclose(
+        sparse_part + low.dense(), ref_hess, atol=1e-12 * np.abs(ref_hess).max()
+    )
     # the energy kernel against the NumPy terms
     length, _ = bar_lengths(x, st.bars)
     over = np.clip(np.abs(rho) - st.hinge_limit, 0.0, None)
@@ -123,14 +137,14 @@ def test_compiled_assembly_equals_the_element_assembly():
     )
     assert total_energy(x, st, strings, ground) == pytest.approx(energy, rel=1e-12)
     # a shift adds to the diagonal only
-    shifted = asm.matrix(data, 2.5).toarray()
+    shifted = asm.operator(data, low, 2.5).toarray()
     np.testing.assert_allclose(shifted - a, 2.5 * np.eye(asm.size), atol=1e-9)
 
 
 def test_factorisation_solves_and_tells_the_inertia():
     _, st = _miura_structure()
     asm = HessianAssembly(st, None)
-    _grad, data, _ = asm.assemble(st.x0, st, None, None)
+    _grad, data, _, _ = asm.assemble(st.x0, st, None, None)
     a = asm.matrix(data, 1e-3)  # the flat sheet's free-free Hessian (+ a small shift): SPD
     factor = asm.factorise(data, 1e-3)
     assert factor is not None

@@ -25,6 +25,7 @@ __all__ = [
     "SimString",
     "StringSet",
     "string_derivatives",
+    "string_hessian_pattern",
     "string_length",
     "string_lengths",
     "update_capstan",
@@ -323,6 +324,30 @@ def string_derivatives(
         x, tri, ab, orient, off_a, off_l, k, s.mounted, anchor, rate, curv, dofs, len(nodes), w
     )
     return nodes, grad, (hess if hessian else None)
+
+
+def string_hessian_pattern(s: SimString) -> tuple[np.ndarray, np.ndarray]:
+    """Where the Hessian of :func:`string_derivatives` (without the string's axial
+    stiffness ``k g g^T``, which the solver keeps apart) can be non-zero.
+
+    Returns ``(nodes, mask)``: the nodes of the string's panels (m,), as
+    :func:`string_derivatives` orders them, and a (3m, 3m) bool mask: each frame with
+    itself, each segment's two frames (hole ``j`` and ``j + 1``) and a mounted anchor's
+    frame with the first hole's. A string through ``k`` panels so couples only
+    neighbouring panels, not all ``k`` of them.
+    """
+    tri = s.frames()[0]
+    k, nf = len(s.tri), len(tri)
+    nodes, inverse = np.unique(tri.ravel(), return_inverse=True)
+    local = inverse.reshape(nf, 3)
+    pairs = [(f, f) for f in range(nf)] + [(j, j + 1) for j in range(k - 1)]
+    if s.mounted:
+        pairs.append((k, 0))
+    node_mask = np.zeros((len(nodes), len(nodes)), dtype=bool)
+    for a, b in pairs:
+        node_mask[np.ix_(local[a], local[b])] = True
+        node_mask[np.ix_(local[b], local[a])] = True
+    return nodes, np.kron(node_mask, np.ones((3, 3), dtype=bool))
 
 
 @njit(cache=True)

@@ -46,9 +46,17 @@ from origami_cad.simulation.cables import (
     SimString,
     StringSet,
     string_derivatives,
+    string_hessian_pattern,
     string_lengths,
 )
-from origami_cad.simulation.factor import Factor, FactorPlan, factorise, plan_factorisation
+from origami_cad.simulation.factor import (
+    Factor,
+    FactorPlan,
+    factorise,
+    one_blas_thread,
+    pardiso_available,
+    plan_factorisation,
+)
 from origami_cad.simulation.mechanics import assemble_bars, assemble_hinges, bar_hinge_energy
 from origami_cad.simulation.model import Structure
 
@@ -56,9 +64,12 @@ __all__ = [
     "Factor",
     "Ground",
     "HessianAssembly",
+    "HessianOperator",
+    "LowRank",
     "SimString",
     "SolveInfo",
     "StringSet",
+    "Woodbury",
     "solve_equilibrium",
     "total_energy",
     "whole_newton_step",
@@ -181,6 +192,88 @@ def _dofs(nodes: np.ndarray) -> np.ndarray:
     return (3 * nodes[..., :, None] + np.arange(3)).reshape(*nodes.shape[:-1], -1)
 
 
+#: The strings' axial stiffness is kept out of the factorised matrix (:class:`LowRank`) from
+#: this many free unknowns on, where MKL's PARDISO is installed (its nested-dissection
+#: fill grows with a string's dense block). Below, and with the band, it stays in: there
+#: the split changed no count of factorisations or iterations (measured on the 1,681-node
+#: Miura) but the rounding, which moves calibrate's sensitive single-run fit.
+SPLIT_STRINGS_SIZE = 20_000
+
+
+@dataclass(frozen=True)
+class LowRank:
+    """The taut strings' axial stiffness ``U diag(k) U^T``, N/mm, kept out of the sparse
+    Hessian: a string's ``g`` (the gradient of its length) spans every panel it rides on,
+    so ``k g g^T`` would fill the factorised matrix along the whole string.
+
+    Attributes
+    ----------
+    u : ndarray
+        (size, r) each taut string's length gradient on the free degrees of freedom.
+    k : ndarray
+        (r,) their stiffnesses, N/mm.
+    """
+
+    u: np.ndarray
+    k: np.ndarray
+
+    def apply(self, p: np.ndarray) -> np.ndarray:
+        """``U diag(k) U^T p`` for ``p`` (size,): column by column (a matrix product with
+        a (size, 1) operand takes NumPy's slow path: 9 ms at 30,000 unknowns, measured)."""
+        out = np.zeros_like(p)
+        for column, k in zip(self.u.T, self.k, strict=True):
+            out += (k * float(column @ p)) * column
+        return out
+
+    def dense(self) -> np.ndarray:
+        """(size, size) the terms as a dense matrix (for tests and small checks)."""
+        return (self.u * self.k) @ self.u.T
+
+
+class HessianOperator:
+    """The whole Hessian ``A + U diag(k) U^T``: the sparse part and the strings' low rank."""
+
+    def __init__(self, a: sp.csc_matrix, low: LowRank) -> None:
+        self.a = a
+        self.low = low
+
+    def __matmul__(self, p: np.ndarray) -> np.ndarray:
+        out = self.a @ p
+        if self.low.k.size:
+            out += self.low.apply(p)
+        return out
+
+    def toarray(self) -> np.ndarray:
+        """(size, size) the whole Hessian, dense."""
+        return self.a.toarray() + self.low.dense()
+
+
+class Woodbury:
+    """``(A + U diag(k) U^T)^-1`` from a factorisation of ``A`` (Sherman-Morrison-Woodbury):
+    ``A^-1 r - Z (diag(1/k) + U^T Z)^-1 U^T A^-1 r`` with ``Z = A^-1 U``, one solve by
+    ``A``'s factor per application after ``r`` solves to set up (one per taut string).
+    """
+
+    def __init__(self, factor: Factor, low: LowRank) -> None:
+        self.factor = factor
+        self.low = low
+        self.z = None
+        if low.k.size:
+            self.z = [factor.solve(np.ascontiguousarray(c)) for c in low.u.T]
+            self.capacitance = np.diag(1.0 / low.k) + np.array(
+                [[float(a @ b) for b in self.z] for a in low.u.T]
+            )
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """The whole Hessian's inverse applied to ``rhs`` (size,)."""
+        y = self.factor.solve(rhs)
+        if self.z is not None:
+            weights = np.linalg.solve(self.capacitance, [float(c @ y) for c in self.low.u.T])
+            for z, w in zip(self.z, weights, strict=True):
+                y -= w * z
+        return y
+
+
 class HessianAssembly:
     """The free-free Hessian's sparsity pattern and its assembly, computed once per structure.
 
@@ -198,6 +291,10 @@ class HessianAssembly:
         The bar-and-hinge model (its held nodes are left out of the matrix).
     strings : StringSet, optional
         The strings (their nodes couple through the string Hessians).
+    split_strings : bool, optional
+        Keep the taut strings' ``k g g^T`` out of the sparse matrix, as the
+        :class:`LowRank` of :meth:`assemble` (default: from
+        :data:`SPLIT_STRINGS_SIZE` free unknowns on, where PARDISO is installed).
 
     Attributes
     ----------
@@ -225,7 +322,9 @@ class HessianAssembly:
         How the Hessian is factorised; its ``order`` is :attr:`ordering`.
     """
 
-    def __init__(self, st: Structure, strings: StringSet | None = None) -> None:
+    def __init__(
+        self, st: Structure, strings: StringSet | None = None, split_strings: bool | None = None
+    ) -> None:
         n = len(st.x0)
         free = np.repeat(~st.fixed, 3)
         self.free = free
@@ -233,14 +332,23 @@ class HessianAssembly:
         index[free] = np.arange(int(free.sum()))
         self.size = int(free.sum())
         groups = [_dofs(st.bars), _dofs(st.hinges), _dofs(np.arange(n)[:, None])]
-        if strings is not None:  # every panel a string's points ride on, as string_derivatives
-            groups += [_dofs(np.unique(s.frames()[0].ravel())[None, :]) for s in strings.strings]
+        masks = [True] * 3
+        self.string_dofs: list[np.ndarray] = []
+        if split_strings is None:
+            split_strings = pardiso_available() and self.size >= SPLIT_STRINGS_SIZE
+        self.split_strings = split_strings
+        if strings is not None:  # a string's panels, as string_derivatives: neighbours only
+            for s in strings.strings:
+                nodes, mask = string_hessian_pattern(s)
+                groups.append(_dofs(nodes[None, :]))
+                masks.append(mask[None] if self.split_strings else True)
+                self.string_dofs.append(index[_dofs(nodes)])
         keys, spans = [], []
-        for dofs in groups:
+        for dofs, mask in zip(groups, masks, strict=True):
             r = index[dofs][:, :, None]
             c = index[dofs][:, None, :]
             r, c = np.broadcast_arrays(r, c)
-            key = np.where((r >= 0) & (c >= 0), c * self.size + r, -1).ravel()
+            key = np.where((r >= 0) & (c >= 0) & mask, c * self.size + r, -1).ravel()
             keys.append(key)
             spans.append(key.size)
         allkeys = np.concatenate(keys)
@@ -285,15 +393,16 @@ class HessianAssembly:
 
     def assemble(
         self, x: np.ndarray, st: Structure, strings: StringSet | None, ground: Ground | None
-    ) -> tuple[np.ndarray, np.ndarray, list[float]]:
+    ) -> tuple[np.ndarray, np.ndarray, LowRank, list[float]]:
         """The energy's gradient and Hessian at ``x`` (n, 3), mm.
 
         Returns
         -------
-        (grad, data, tensions)
+        (grad, data, low_rank, tensions)
             The gradient (n, 3), N, on every node; the Hessian's values in the
             CSC pattern (nnz + 1,), N/mm, the last being the spare slot (see
-            :meth:`matrix`); each string's tension, N.
+            :meth:`matrix`), without the taut strings' axial stiffness ``k g g^T``,
+            which is ``low_rank`` (:class:`LowRank`); each string's tension, N.
         """
         n = len(x)
         x = np.ascontiguousarray(x, dtype=float)
@@ -307,23 +416,40 @@ class HessianAssembly:
             grad += g_ground
             data[self.node_positions] += h_nodes.reshape(n, 9)  # one node: distinct entries
         tensions = []
+        columns, stiffness = [], []
         if strings is not None:
             tensions = _string_tensions(x, strings)
-            for s, pos, tension in zip(
-                strings.strings, self.string_positions, tensions, strict=True
+            for s, pos, dofs, tension in zip(
+                strings.strings, self.string_positions, self.string_dofs, tensions, strict=True
             ):
                 if tension > 0:
                     nodes, g, h = string_derivatives(x, s, strings)
                     grad[nodes] += tension * g
-                    gf = g.ravel()
-                    data[pos] += (s.stiffness * np.outer(gf, gf) + tension * h).ravel()
-        return grad, data, tensions
+                    if not self.split_strings:
+                        gf = g.ravel()
+                        data[pos] += (s.stiffness * np.outer(gf, gf) + tension * h).ravel()
+                        continue
+                    data[pos] += tension * h.ravel()  # zero outside the pattern's mask
+                    column = np.zeros(self.size)
+                    column[dofs[dofs >= 0]] = g.ravel()[dofs >= 0]
+                    columns.append(column)
+                    stiffness.append(s.stiffness)
+        u = np.zeros((self.size, len(columns)), order="F")  # columns contiguous
+        for j, column in enumerate(columns):
+            u[:, j] = column
+        low = LowRank(u, np.array(stiffness, dtype=float))
+        return grad, data, low, tensions
 
     def matrix(self, data: np.ndarray, shift: float = 0.0) -> sp.csc_matrix:
-        """The free-free Hessian (size, size) from :meth:`assemble`'s values, plus ``shift`` I."""
+        """The free-free Hessian's sparse part (size, size) from :meth:`assemble`'s values,
+        plus ``shift`` I (the strings' low rank apart: :meth:`operator`)."""
         values = data[: self.nnz].copy()
         values[self.diagonal] += shift
         return sp.csc_matrix((values, self.indices, self.indptr), shape=(self.size, self.size))
+
+    def operator(self, data: np.ndarray, low: LowRank, shift: float = 0.0) -> HessianOperator:
+        """The whole free-free Hessian plus ``shift`` I: :meth:`matrix` and ``low``."""
+        return HessianOperator(self.matrix(data, shift), low)
 
     reuse_factorisations = True
 
@@ -351,7 +477,7 @@ class HessianAssembly:
         return factorise(self.plan, values)
 
 
-def _pcg(a: sp.csc_matrix, rhs: np.ndarray, factor: Factor, rtol: float, max_iter: int):
+def _pcg(a: HessianOperator, rhs: np.ndarray, factor: Woodbury, rtol: float, max_iter: int):
     """Conjugate gradients on ``a x = rhs`` preconditioned by an earlier factorisation.
 
     Returns ``(x, iterations)``; ``x`` is None when it did not reach ``rtol``
@@ -488,6 +614,12 @@ def solve_equilibrium(
     (x, SolveInfo)
         The equilibrium (n, 3), mm, and what the solve did.
     """
+    with one_blas_thread():  # its vector products are too short for two threads
+        return _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step)
+
+
+def _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step):
+    """:func:`solve_equilibrium`'s Newton iterations (its arguments, in its order)."""
     x = np.array(x, dtype=float)
     asm = assembly or HessianAssembly(st, strings)
     x = whole_newton_step(x, st, asm) if whole_step else x
@@ -498,7 +630,7 @@ def solve_equilibrium(
     scale = max(float(np.max(st.bar_k)), 1.0)
     damping = 0.0
     for it in range(max_iter):
-        grad, values, tensions = asm.assemble(x, st, strings, ground)
+        grad, *hessian, tensions = asm.assemble(x, st, strings, ground)  # values, low rank
         g = grad.ravel()[asm.free]
         info.gradient_norm = float(np.max(np.abs(g))) if g.size else 0.0
         info.tensions = tensions
@@ -507,10 +639,10 @@ def solve_equilibrium(
         if info.gradient_norm < tol:
             info.converged = True
             break
-        found = _preconditioned_step(x, g, values, energy, damping * scale, asm, info, problem)
+        found = _preconditioned_step(x, g, hessian, energy, damping * scale, asm, info, problem)
         if found is None:
             damping, found = _factorised_step(
-                x, g, values, energy, damping, scale, asm, info, problem
+                x, g, hessian, energy, damping, scale, asm, info, problem
             )
         if found is None:
             break  # no descent possible: as converged as the model allows
@@ -541,7 +673,7 @@ def whole_newton_step(x: np.ndarray, st: Structure, assembly: HessianAssembly) -
     third of the iterations, to the same state (within 1e-7 mm on the benchmark's
     Miura, measured).
     """
-    grad, values, _ = assembly.assemble(x, st, None, None)
+    grad, values, _, _ = assembly.assemble(x, st, None, None)
     factor = assembly.factorise(values)
     out = np.array(x, dtype=float)
     if factor is not None:
@@ -557,18 +689,23 @@ def _string_tensions(x: np.ndarray, strings: StringSet) -> list[float]:
     return (_stiffnesses(strings) * np.maximum(stretch, 0.0)).tolist()
 
 
-def _preconditioned_step(x, g, values, energy, shift, asm, info, problem):
+def _preconditioned_step(x, g, hessian, energy, shift, asm, info, problem):
     """A Newton step by conjugate gradients preconditioned by the latest factorisation.
 
-    ``shift`` is the Levenberg damping (N/mm) added to the Hessian's diagonal and
-    ``problem`` ``(free dofs, structure, strings, ground)``. Returns ``(t, step,
-    trial x, trial energy)`` when the line search accepts it, else None (and the
-    preconditioner is marked stale when it was tried).
+    ``hessian`` is ``(values, low rank)`` of :meth:`HessianAssembly.assemble`,
+    ``shift`` the Levenberg damping (N/mm) added to the Hessian's diagonal and
+    ``problem`` ``(free dofs, structure, strings, ground)``. The preconditioner is
+    the latest factorisation of the sparse part with the strings' present low rank
+    (:class:`Woodbury`). Returns ``(t, step, trial x, trial energy)`` when the line
+    search accepts it, else None (and the preconditioner is marked stale when it
+    was tried).
     """
-    if not (asm.reuse_factorisations and asm.preconditioner is not None and not asm.stale):
+    pre = asm.preconditioner
+    if not (asm.reuse_factorisations and pre is not None and pre.valid and not asm.stale):
         return None
-    a = asm.matrix(values, shift)
-    step, cg_iterations = _pcg(a, -g, asm.preconditioner, _CG_RTOL, _CG_MAX_ITER)
+    values, low = hessian
+    a = asm.operator(values, low, shift)
+    step, cg_iterations = _pcg(a, -g, Woodbury(pre, low), _CG_RTOL, _CG_MAX_ITER)
     info.cg_iterations += cg_iterations
     asm.count_iterations(cg_iterations)
     if step is not None:
@@ -579,13 +716,16 @@ def _preconditioned_step(x, g, values, energy, shift, asm, info, problem):
     return None
 
 
-def _factorised_step(x, g, values, energy, damping, scale, asm, info, problem):
+def _factorised_step(x, g, hessian, energy, damping, scale, asm, info, problem):
     """A Newton step by a fresh factorisation, the damping raised until it descends.
 
-    The factorisation's pivots check that the damped Hessian (``damping * scale``
-    on its diagonal) is positive definite. Returns ``(damping, (t, step, trial x,
-    trial energy))``, the step None when 16 tries found no descent.
+    The factorisation's pivots check that the damped Hessian's sparse part
+    (``damping * scale`` on its diagonal) is positive definite, and so the whole
+    Hessian (the strings' low rank adds a positive semi-definite term); the step
+    solves the whole Hessian (:class:`Woodbury`). Returns ``(damping, (t, step,
+    trial x, trial energy))``, the step None when 16 tries found no descent.
     """
+    values, low = hessian
     refused = False
     for _ in range(16):
         factor = asm.factorise(values, damping * scale)
@@ -597,9 +737,10 @@ def _factorised_step(x, g, values, energy, damping, scale, asm, info, problem):
         if refused:
             asm.damping_hint = damping
         asm.keep(factor)
-        a = asm.matrix(values, damping * scale)
-        step = -factor.solve(g)
-        step -= factor.solve(g + a @ step)  # one round of iterative refinement
+        a = asm.operator(values, low, damping * scale)
+        whole = Woodbury(factor, low)
+        step = -whole.solve(g)
+        step -= whole.solve(g + a @ step)  # one round of iterative refinement
         accepted, t, trial, e_trial = _line_search(x, step, g, energy, *problem)
         if accepted:
             return damping, (t, step, trial, e_trial)
