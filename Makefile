@@ -45,6 +45,7 @@ format: $(STAMP)
 	$(VENV)/bin/ruff check --fix .
 
 bench: $(STAMP)
+	$(PY) -m pip install --quiet -e ".[mkl]"
 	$(PY) benchmarks/run.py
 
 # the user guide, its gallery (pictures drawn from examples/ by the build, docs/hooks) and an

@@ -169,8 +169,10 @@ def _regions_and_diameter(cp, fab: FabricationParams, settings: PlanSettings, fr
         return regions, auto, d, sum(cp.face_labels[fi] not in free for fi in auto)
 
     asked = holes_at(settings.hole_diameter)
+    if asked[3]:  # the asked diameter fits: the ladder is never planned
+        return asked[:3]
     ladder = [holes_at(d) for d in HOLE_LADDER if d < settings.hole_diameter]
-    if asked[3] or not ladder or not max(t[3] for t in ladder):
+    if not ladder or not max(t[3] for t in ladder):
         return asked[:3]
     most = max(t[3] for t in ladder)
     return next(t for t in ladder if 2 * t[3] >= most)[:3]
