@@ -209,3 +209,18 @@ def test_corpus_patterns_with_tiny_panels_fabricate_at_150_mm(name, tmp_path, ca
         mesh = trimesh.load(out / f"{name_}.stl")
         assert mesh.is_watertight and mesh.is_winding_consistent, name_
     assert (out / "print.3mf").stat().st_size > 0 and (out / "assembly.step").stat().st_size > 0
+
+
+def test_a_pattern_whose_every_panel_is_tpu_only_is_refused_naming_a_width_that_works(tmp_path):
+    # the FOLD project's diagonal-cp.fold read as 1 x 1 mm: both panels would be TPU alone
+    from pathlib import Path
+
+    from origami_cad.pattern.io import read_pattern
+
+    cp = read_pattern(Path(__file__).parent / "data" / "fold" / "diagonal-cp.fold")
+    with pytest.raises(PatternError, match="every panel is too small for a PLA infill") as info:
+        plan_panels(cp)
+    width = float(re.search(r"at least ([\d.]+) mm wide", str(info.value)).group(1))
+    x0, _, x1, _ = cp.bounds
+    plan = plan_panels(cp.scaled(width / (x1 - x0)))
+    assert len(plan.tpu_only) < len(cp.faces)

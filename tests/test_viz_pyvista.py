@@ -48,7 +48,7 @@ def test_a_folded_state_and_a_frame_of_coordinates_give_their_bounds(design):
         lo, hi = state.coords.min(0), state.coords.max(0)
         np.testing.assert_allclose(panels.bounds, np.column_stack([lo, hi]).ravel(), atol=1e-9)
         assert np.isclose(panels.triangulate().area, design.pattern.face_areas().sum())
-    with pytest.raises(ValueError, match="vertices"):
+    with pytest.raises(ValueError, match=r"coords: expected \(12, 3\)"):
         to_pyvista(state.coords[:-1], design)
     # a state knows the pattern it folds; bare coordinates do not
     alone = to_pyvista(state)["panels"]

@@ -205,6 +205,8 @@ def panel_biases(
             )
 
         out[fi] = _largest(fits, minimum, params.bias, step)
+    if tpu and len(tpu) == n:
+        raise PatternError(_no_pla(cp, params, minimum, walls))
     thinned = bool(tpu) or bool(np.any(shells < params.shell - 1e-12))
     narrowed = bool(tpu) or bool(np.any(mids < params.midlayer_bias - 1e-12))
     return PanelBiases(
@@ -213,6 +215,23 @@ def panel_biases(
         shells if thinned else None,
         mids if narrowed else None,
         frozenset(tpu),
+    )
+
+
+def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, walls: list) -> str:
+    """Why a pattern whose every panel would be printed in TPU alone is refused (a print
+    with no rigid panel is no origami structure), and the width (mm) at which every panel
+    has a PLA infill."""
+    thinnest = walls[-1] if walls else params.shell
+    m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+
+    def pla(scaled: CreasePattern, face: int) -> bool:
+        return panel_fits(scaled, face, params, minimum, (), False, thinnest, midlayer_bias=m)
+
+    return (
+        f"every panel is too small for a PLA infill even at the smallest inner bias, "
+        f"{minimum:g} mm, shell wall, {thinnest:g} mm, and mid-layer margin, {m:g} mm, so "
+        f"nothing rigid would be printed: " + _wider(cp, 0, pla)
     )
 
 
