@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 
+from origami_cad.errors import PatternError
 from origami_cad.fabrication import FabricationParams, fabricate
 from origami_cad.fabrication.assembly import MATERIAL_COLORS
 from origami_cad.kinematics.folding import fold_sequence
@@ -53,7 +54,7 @@ def test_a_folded_state_and_a_frame_of_coordinates_give_their_bounds(design):
     # a state knows the pattern it folds; bare coordinates do not
     alone = to_pyvista(state)["panels"]
     np.testing.assert_allclose(alone.points, state.coords)
-    with pytest.raises(TypeError, match="crease pattern"):
+    with pytest.raises(PatternError, match="crease pattern"):
         to_pyvista(state.coords)
 
 
