@@ -627,7 +627,6 @@ def test_a_panel_too_small_even_at_the_least_bias_names_the_width_that_prints_it
         plan_panels(cp)
     width = float(re.search(r"at least ([\d.]+) mm wide", str(info.value)).group(1))
     assert width > x1 - x0
-    # at that width the panels print (at some inner bias); 10 % narrower they do not
-    assert plan_panels(cp.scaled(width / (x1 - x0))).pattern.faces
-    with pytest.raises(PatternError, match="too small"):
-        plan_panels(cp.scaled(0.9 * width / (x1 - x0)))
+    # at that width the panels print (at some inner bias), not all of them in TPU alone
+    plan = plan_panels(cp.scaled(width / (x1 - x0)))
+    assert plan.pattern.faces and len(plan.tpu_only) < len(cp.faces)

@@ -224,15 +224,22 @@ def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, walls:
     has a PLA infill."""
     thinnest = walls[-1] if walls else params.shell
     m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
-
-    def pla(scaled: CreasePattern, face: int) -> bool:
-        return panel_fits(scaled, face, params, minimum, (), False, thinnest, midlayer_bias=m)
-
     return (
         f"every panel is too small for a PLA infill even at the smallest inner bias, "
         f"{minimum:g} mm, shell wall, {thinnest:g} mm, and mid-layer margin, {m:g} mm, so "
-        f"nothing rigid would be printed: " + _wider(cp, 0, pla)
+        f"nothing rigid would be printed: " + _wider(cp, 0, _pla_check(params, minimum, thinnest))
     )
+
+
+def _pla_check(params: FabricationParams, minimum: float, shell: float) -> Callable:
+    """``pla(scaled, face)``: whether a panel has a PLA infill at inner bias ``minimum``,
+    shell wall ``shell`` and the narrowest mid-layer margin (mm)."""
+    m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+
+    def pla(scaled: CreasePattern, face: int) -> bool:
+        return panel_fits(scaled, face, params, minimum, (), False, shell, midlayer_bias=m)
+
+    return pla
 
 
 def _tpu_fits(cp: CreasePattern, fi: int, params: FabricationParams, bias: float) -> bool:
@@ -352,7 +359,7 @@ def _too_small(
             return _tpu_fits(scaled, face, params, minimum)
 
         return f"{exc} even printed in TPU alone (no infill, no mid-layer): " + _wider(
-            cp, fi, halves
+            cp, fi, halves, _pla_check(params, minimum, shell)
         )
     at = dict(shell=shell, midlayer_bias=m)
     if not panel_fits(cp, fi, params, minimum, (), False, **at):
@@ -407,11 +414,22 @@ def _room(
     return float(pole.x), float(pole.y), diameter
 
 
-def _wider(cp: CreasePattern, fi: int, fits: Callable[[CreasePattern, int], bool]) -> str:
+def _wider(
+    cp: CreasePattern,
+    fi: int,
+    fits: Callable[[CreasePattern, int], bool],
+    pla: Callable[[CreasePattern, int], bool] | None = None,
+) -> str:
     """The remedy for panel ``fi`` that does not ``fits``: the width at which every panel
-    does (:func:`_scale_that_fits`)."""
+    does (:func:`_scale_that_fits`) and, given ``pla``, some panel has a PLA infill (a print
+    of TPU alone is refused)."""
     x0, _, x1, _ = cp.bounds
     width = _width_that_fits(cp, fi, fits)
+    if width is not None and pla is not None:
+        scaled = cp.scaled(width / (x1 - x0))
+        if not any(pla(scaled, f) for f in range(len(cp.faces))):
+            rigid = _width_that_fits(cp, 0, pla)
+            width = None if rigid is None else max(width, rigid)
     if width is None:
         return f"print the pattern larger (it is {x1 - x0:.1f} mm wide: --width)"
     return f"print the pattern at least {width:g} mm wide (it is {x1 - x0:.1f} mm: --width)"
