@@ -6,6 +6,7 @@ from pathlib import Path
 
 from origami_cad.fabrication import FabricationParams, largest_bias, plan_panels
 from origami_cad.fabrication.congruent import congruent_panels
+from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import load_design, miura_design
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
@@ -31,3 +32,12 @@ def distinct_panels(design, params: FabricationParams):
     copies = congruent_panels(plan.outlines, holes_of)
     panels = zip(plan.outlines, holes_of, copies, strict=True)
     return plan, [(o, holes) for o, holes, same in panels if same is None]
+
+
+def sliver_sheet(width: float) -> tuple[CreasePattern, int]:
+    """Two 40 mm squares and a ``width`` mm sliver between them (mm), and the sliver's face."""
+    xs = (0.0, 40.0, 40.0 + width, 80.0 + width)
+    v = [(x, 0.0) for x in xs] + [(x, 40.0) for x in xs]
+    e = [(0, 1), (1, 2), (2, 3), (4, 5), (5, 6), (6, 7), (0, 4), (3, 7), (1, 5), (2, 6)]
+    cp = CreasePattern(v, e, "BBBBBBBBVV")
+    return cp, int(cp.face_of_point(40.0 + width / 2.0, 20.0))

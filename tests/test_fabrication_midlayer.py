@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 import shapely
 import trimesh
+from helpers_fabrication import sliver_sheet
 
 from origami_cad.cli import main
 from origami_cad.errors import PatternError
@@ -26,18 +27,8 @@ from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, w
 from origami_cad.fabrication.panels import panel_fits
 from origami_cad.fabrication.plan import MIN_BIAS, MIN_MIDLAYER_BIAS, MIN_SHELL
 from origami_cad.fabrication.solids import PART_NAMES
-from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import miura_design
 from origami_cad.pattern.io import write_pattern
-
-
-def _sliver_sheet(width: float) -> tuple[CreasePattern, int]:
-    """Two 40 mm squares and a ``width`` mm sliver between them (mm), and the sliver's face."""
-    xs = (0.0, 40.0, 40.0 + width, 80.0 + width)
-    v = [(x, 0.0) for x in xs] + [(x, 40.0) for x in xs]
-    e = [(0, 1), (1, 2), (2, 3), (4, 5), (5, 6), (6, 7), (0, 4), (3, 7), (1, 5), (2, 6)]
-    cp = CreasePattern(v, e, "BBBBBBBBVV")
-    return cp, int(cp.face_of_point(40.0 + width / 2.0, 20.0))
 
 
 def _owned(fab, name: str, face: int) -> list:
@@ -55,7 +46,7 @@ def _watertight(paths) -> None:
 
 
 def test_a_panel_too_small_for_the_midlayer_gets_the_widest_that_fits(tmp_path):
-    cp, sliver = _sliver_sheet(1.2)
+    cp, sliver = sliver_sheet(1.2)
     params = FabricationParams()
     label = cp.face_labels[sliver]
     # before: refused, not even the thinnest wall and smallest bias leave room for b + m
@@ -93,7 +84,7 @@ def test_a_panel_too_small_for_the_midlayer_gets_the_widest_that_fits(tmp_path):
 
 
 def test_a_panel_too_small_for_any_pla_is_printed_in_tpu_alone(tmp_path):
-    cp, sliver = _sliver_sheet(0.9)
+    cp, sliver = sliver_sheet(0.9)
     params = FabricationParams()
     label = cp.face_labels[sliver]
     with pytest.warns(UserWarning, match="TPU alone"):
@@ -132,7 +123,7 @@ def test_a_panel_too_small_for_any_pla_is_printed_in_tpu_alone(tmp_path):
 
 
 def test_a_given_hole_on_a_tpu_panel_is_refused_naming_a_width_and_place_that_work():
-    cp, sliver = _sliver_sheet(0.9)
+    cp, sliver = sliver_sheet(0.9)
     params = FabricationParams(holes=[(40.45, 20.0)], hole_diameter=0.1)
     with pytest.raises(PatternError, match="no operation region") as info:
         plan_panels(cp, params)
@@ -158,7 +149,7 @@ def test_a_given_hole_outside_its_region_is_refused_naming_a_place_that_works():
 def test_a_panel_too_small_for_its_tpu_halves_is_refused_naming_a_width_that_works(
     tmp_path, capsys
 ):
-    cp, sliver = _sliver_sheet(0.3)
+    cp, sliver = sliver_sheet(0.3)
     with pytest.raises(PatternError, match="TPU alone") as info:
         plan_panels(cp)
     message = str(info.value)
@@ -181,7 +172,7 @@ def test_a_panel_too_small_for_its_tpu_halves_is_refused_naming_a_width_that_wor
 
 
 def test_a_sheet_whose_panels_fit_records_no_midlayers():
-    cp, _ = _sliver_sheet(4.0)
+    cp, _ = sliver_sheet(4.0)
     plan = plan_panels(cp)
     assert plan.midlayers is None and not plan.tpu_only
     assert not any("mid-layer margin" in w or "TPU alone" in w for w in plan.warnings)

@@ -10,26 +10,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers_fabrication import sliver_sheet
 
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels
 from origami_cad.fabrication.panels import panel_fits
 from origami_cad.fabrication.params import layer_height
 from origami_cad.fabrication.plan import MIN_BIAS, MIN_SHELL
 from origami_cad.fabrication.solids import PART_NAMES
-from origami_cad.pattern import CreasePattern
-
-
-def _sliver_sheet(width: float) -> tuple[CreasePattern, int]:
-    """Two 40 mm squares and a ``width`` mm sliver between them (mm), and the sliver's face."""
-    xs = (0.0, 40.0, 40.0 + width, 80.0 + width)
-    v = [(x, 0.0) for x in xs] + [(x, 40.0) for x in xs]
-    e = [(0, 1), (1, 2), (2, 3), (4, 5), (5, 6), (6, 7), (0, 4), (3, 7), (1, 5), (2, 6)]
-    cp = CreasePattern(v, e, "BBBBBBBBVV")
-    return cp, int(cp.face_of_point(40.0 + width / 2.0, 20.0))
 
 
 def test_a_sliver_too_small_for_the_shell_gets_the_thickest_wall_that_fits():
-    cp, sliver = _sliver_sheet(1.5)
+    cp, sliver = sliver_sheet(1.5)
     params = FabricationParams()
     # today's refusal: not even the smallest bias leaves room for the 0.8 mm wall
     assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False)
@@ -70,7 +61,7 @@ def test_a_sliver_too_small_for_the_shell_gets_the_thickest_wall_that_fits():
 
 
 def test_a_sheet_that_fits_the_wall_records_no_shells():
-    cp, _ = _sliver_sheet(4.0)
+    cp, _ = sliver_sheet(4.0)
     plan = plan_panels(cp)
     assert plan.shells is None
     assert not any("shell wall" in w and "thickest" in w for w in plan.warnings)
@@ -80,7 +71,7 @@ def test_a_sliver_too_small_even_for_the_thinnest_wall_is_printed_in_tpu_alone()
     # a thin mid-layer inset, so that the shell wall is what no longer fits; issue 39: such a
     # panel is printed in TPU alone (tests/test_fabrication_midlayer.py), not refused
     params = FabricationParams(midlayer_bias=0.1)
-    cp, sliver = _sliver_sheet(0.9)
+    cp, sliver = sliver_sheet(0.9)
     assert panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=0.1)
     assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=MIN_SHELL)
     plan = plan_panels(cp, params)
