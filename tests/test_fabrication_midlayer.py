@@ -27,6 +27,7 @@ from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, w
 from origami_cad.fabrication.panels import panel_fits
 from origami_cad.fabrication.plan import MIN_BIAS, MIN_MIDLAYER_BIAS, MIN_SHELL
 from origami_cad.fabrication.solids import PART_NAMES
+from origami_cad.pattern import CreasePattern
 from origami_cad.pattern.design import miura_design
 from origami_cad.pattern.io import write_pattern
 
@@ -215,3 +216,23 @@ def test_a_pattern_whose_every_panel_is_tpu_only_is_refused_naming_a_width_that_
     x0, _, x1, _ = cp.bounds
     plan = plan_panels(cp.scaled(width / (x1 - x0)))
     assert len(plan.tpu_only) < len(cp.faces)
+
+
+def test_congruent_small_panels_get_the_biases_each_gets_alone():
+    # the fitting searches once per panel shape; a rotated and moved copy gets the same
+    from origami_cad.fabrication.fitting import panel_biases
+
+    cp, sliver = sliver_sheet(1.2)
+    alone = panel_biases(cp, FabricationParams())
+    c, s = np.cos(np.radians(37.0)), np.sin(np.radians(37.0))
+    turned = cp.vertices @ np.array([[c, s], [-s, c]]) + (200.0, -50.0)
+    both = CreasePattern(
+        np.vstack([cp.vertices, turned]),
+        np.vstack([cp.edges, cp.edges + len(cp.vertices)]),
+        np.concatenate([cp.assignments, cp.assignments]),
+    )
+    twice = panel_biases(both, FabricationParams())
+    moved = both.face_of_point(*(turned[[1, 2, 6, 5]].mean(axis=0)))
+    first = both.face_of_point(40.6, 20.0)
+    assert alone.bias[sliver] < FabricationParams().bias
+    assert twice.bias[first] == twice.bias[moved] == alone.bias[sliver]

@@ -22,7 +22,7 @@ import shapely
 from shapely.ops import polylabel
 
 from origami_cad.errors import PatternError
-from origami_cad.fabrication.panels import panel_fits, panel_outline
+from origami_cad.fabrication.panels import FREE_EDGES, panel_fits, panel_outline
 from origami_cad.fabrication.params import FabricationParams, layer_height
 from origami_cad.pattern.model import CreasePattern
 
@@ -178,9 +178,15 @@ def panel_biases(
     mids = np.full(n, float(params.midlayer_bias))
     walls = _thinner_shells(params, min_shell)
     holeless, tpu = set(), set()
+    searched: dict[tuple, tuple[_Fit, float]] = {}  # by panel shape: a grid's panels repeat
     for fi in range(n):
         holes = tuple(given.get(fi, ()))
         if panel_fits(cp, fi, params, params.bias, holes):
+            continue
+        key = None if holes else _shape_key(cp, fi)
+        if key in searched:
+            fit, out[fi] = searched[key]
+            _record_fit(fi, fit, params, shells, mids, holeless, tpu)
             continue
         fit = _least_fit(cp, fi, params, minimum, holes, walls)
         if fit is None:
@@ -190,12 +196,7 @@ def panel_biases(
         if fit is None:
             thinnest = walls[-1] if walls else params.shell
             raise PatternError(_too_small(cp, fi, params, minimum, holes, thinnest))
-        shells[fi] = fit.shell
-        mids[fi] = params.midlayer_bias if fit.midlayer is None else fit.midlayer
-        if not fit.hole:
-            holeless.add(fi)
-        if fit.tpu_only:
-            tpu.add(fi)
+        _record_fit(fi, fit, params, shells, mids, holeless, tpu)
 
         def fits(b: float, fi=fi, holes=holes, fit=fit) -> bool:
             if fit.tpu_only:
@@ -205,6 +206,8 @@ def panel_biases(
             )
 
         out[fi] = _largest(fits, minimum, params.bias, step)
+        if key is not None:
+            searched[key] = (fit, float(out[fi]))
     if tpu and len(tpu) == n:
         raise PatternError(_no_pla(cp, params, minimum, walls))
     thinned = bool(tpu) or bool(np.any(shells < params.shell - 1e-12))
@@ -216,6 +219,39 @@ def panel_biases(
         mids if narrowed else None,
         frozenset(tpu),
     )
+
+
+def _record_fit(fi: int, fit: _Fit, params, shells, mids, holeless: set, tpu: set) -> None:
+    """Write panel ``fi``'s shell wall and mid-layer margin (mm) and its sets."""
+    shells[fi] = fit.shell
+    mids[fi] = params.midlayer_bias if fit.midlayer is None else fit.midlayer
+    if not fit.hole:
+        holeless.add(fi)
+    if fit.tpu_only:
+        tpu.add(fi)
+
+
+def _shape_key(cp: CreasePattern, fi: int) -> tuple:
+    """Panel ``fi``'s shape up to a rotation and translation of the plane: its sides'
+    lengths (mm, to 1e-6) and turning angles (rad, to 1e-9), and which are creases, from
+    the least cyclic start. Two panels with one key fit the same biases (what
+    :func:`~.panels.panel_outline` reads of a panel is its ring and its creases)."""
+    pts = cp.vertices[cp.faces[fi]]
+    d = np.roll(pts, -1, axis=0) - pts
+    turn = np.arctan2(
+        d[:, 0] * np.roll(d, -1, axis=0)[:, 1] - d[:, 1] * np.roll(d, -1, axis=0)[:, 0],
+        np.einsum("ij,ij->i", d, np.roll(d, -1, axis=0)),
+    )
+    crease = ~np.isin(cp.assignments[cp.face_edges[fi]], FREE_EDGES)
+    rows = list(
+        zip(
+            np.round(np.hypot(d[:, 0], d[:, 1]), 6).tolist(),
+            np.round(turn, 9).tolist(),
+            crease.tolist(),
+            strict=True,
+        )
+    )
+    return min(tuple(rows[k:] + rows[:k]) for k in range(len(rows)))
 
 
 def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, walls: list) -> str:
