@@ -177,6 +177,7 @@ def panel_biases(
     shells = np.full(n, float(params.shell))
     mids = np.full(n, float(params.midlayer_bias))
     walls = _thinner_shells(params, min_shell)
+    thinnest = walls[-1] if walls else params.shell
     holeless, tpu = set(), set()
     searched: dict[tuple, tuple[_Fit, float]] = {}  # by panel shape: a grid's panels repeat
     for fi in range(n):
@@ -194,7 +195,6 @@ def panel_biases(
         if fit is None and not holes and _tpu_fits(cp, fi, params, minimum):
             fit = _Fit(math.nan, math.nan, params.holes != "auto", True)
         if fit is None:
-            thinnest = walls[-1] if walls else params.shell
             raise PatternError(_too_small(cp, fi, params, minimum, holes, thinnest))
         _record_fit(fi, fit, params, shells, mids, holeless, tpu)
 
@@ -209,7 +209,7 @@ def panel_biases(
         if key is not None:
             searched[key] = (fit, float(out[fi]))
     if tpu and len(tpu) == n:
-        raise PatternError(_no_pla(cp, params, minimum, walls))
+        raise PatternError(_no_pla(cp, params, minimum, thinnest))
     thinned = bool(tpu) or bool(np.any(shells < params.shell - 1e-12))
     narrowed = bool(tpu) or bool(np.any(mids < params.midlayer_bias - 1e-12))
     return PanelBiases(
@@ -238,10 +238,8 @@ def _shape_key(cp: CreasePattern, fi: int) -> tuple:
     :func:`~.panels.panel_outline` reads of a panel is its ring and its creases)."""
     pts = cp.vertices[cp.faces[fi]]
     d = np.roll(pts, -1, axis=0) - pts
-    turn = np.arctan2(
-        d[:, 0] * np.roll(d, -1, axis=0)[:, 1] - d[:, 1] * np.roll(d, -1, axis=0)[:, 0],
-        np.einsum("ij,ij->i", d, np.roll(d, -1, axis=0)),
-    )
+    e = np.roll(d, -1, axis=0)  # the side after each side
+    turn = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.einsum("ij,ij->i", d, e))
     crease = ~np.isin(cp.assignments[cp.face_edges[fi]], FREE_EDGES)
     rows = list(
         zip(
@@ -254,12 +252,11 @@ def _shape_key(cp: CreasePattern, fi: int) -> tuple:
     return min(tuple(rows[k:] + rows[:k]) for k in range(len(rows)))
 
 
-def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, walls: list) -> str:
+def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, thinnest: float) -> str:
     """Why a pattern whose every panel would be printed in TPU alone is refused (a print
     with no rigid panel is no origami structure), and the width (mm) at which every panel
-    has a PLA infill."""
-    thinnest = walls[-1] if walls else params.shell
-    m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+    has a PLA infill at inner bias ``minimum`` and shell wall ``thinnest`` (mm)."""
+    m = _narrowest_midlayer(params)
     return (
         f"every panel is too small for a PLA infill even at the smallest inner bias, "
         f"{minimum:g} mm, shell wall, {thinnest:g} mm, and mid-layer margin, {m:g} mm, so "
@@ -267,10 +264,15 @@ def _no_pla(cp: CreasePattern, params: FabricationParams, minimum: float, walls:
     )
 
 
+def _narrowest_midlayer(params: FabricationParams) -> float:
+    """The narrowest mid-layer margin a panel may get, mm."""
+    return min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+
+
 def _pla_check(params: FabricationParams, minimum: float, shell: float) -> Callable:
     """``pla(scaled, face)``: whether a panel has a PLA infill at inner bias ``minimum``,
     shell wall ``shell`` and the narrowest mid-layer margin (mm)."""
-    m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+    m = _narrowest_midlayer(params)
 
     def pla(scaled: CreasePattern, face: int) -> bool:
         return panel_fits(scaled, face, params, minimum, (), False, shell, midlayer_bias=m)
@@ -382,7 +384,7 @@ def _too_small(
     would print it."""
     label = cp.face_labels[fi]
     shell = params.shell if shell is None else shell
-    m = min(MIN_MIDLAYER_BIAS, params.midlayer_bias)
+    m = _narrowest_midlayer(params)
     least = (
         f"the smallest inner bias, {minimum:g} mm, shell wall, {shell:g} mm, and mid-layer "
         f"margin, {m:g} mm"

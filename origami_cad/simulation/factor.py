@@ -84,9 +84,6 @@ def one_blas_thread():
     return _threads().limit(limits=1, user_api="blas")
 
 
-_one_thread = one_blas_thread
-
-
 class FactorMethod(enum.StrEnum):
     """How a Hessian is factorised (see the module's docstring)."""
 
@@ -250,7 +247,7 @@ class Factor:
                 raise ValueError("this factorisation was replaced by a later one")
             return self.plan.pardiso.solve(self.factor[0], rhs)
         if self.plan.method is FactorMethod.BANDED:
-            with _one_thread():  # LAPACK's own call: scipy's wrapper costs 1/10 of a solve
+            with one_blas_thread():  # LAPACK's own call: scipy's wrapper costs 1/10 of a solve
                 x, info = dpbtrs(self.factor, rhs[order], lower=1, overwrite_b=1)
             if info != 0:
                 raise ValueError(f"dpbtrs: illegal argument {-info}")
@@ -361,7 +358,7 @@ def factorise(plan: FactorPlan, values: np.ndarray) -> Factor | None:
     if plan.method is FactorMethod.BANDED:
         ab = np.zeros((plan.bandwidth + 1) * plan.size)
         ab[plan.target] = values[plan.source]
-        with _one_thread():
+        with one_blas_thread():
             chol, info = dpbtrf(ab.reshape(plan.bandwidth + 1, plan.size), lower=1, overwrite_ab=1)
         if info > 0:  # a leading minor is not positive definite
             return None
