@@ -9,9 +9,12 @@ Reading takes ``line``, ``polyline``, ``polygon``, ``rect`` and ``path`` element
 (every path command, absolute and relative: curves are cut into straight segments, as
 Origami Simulator cuts them, :mod:`~origami_cad.pattern.formats.svgpath`), with every
 ``transform`` of the element and its groups applied and colours and opacities inherited
-from groups (``style`` wins over attributes). A stroke colour that is not one of the six
-is an error naming the element. Circles with a fill and no
-stroke are holes. Every number, transform, colour and opacity is checked: junk in
+from groups (in CSS's cascade: attributes, then the rules of ``<style>`` elements, as
+Illustrator's default export writes them, :mod:`~origami_cad.pattern.formats.svgcss`, then
+``style``). A stroke colour that is not one of the six is an error naming the element.
+Circles with a fill and no stroke are holes; a stroked circle or ellipse is not a crease
+line (Origami Simulator reads only the five elements above): it is left out, with a
+warning naming it. Every number, transform, colour and opacity is checked: junk in
 path data, a transform with the wrong number of arguments, an opacity outside
 [0, 1] (it would scale a fold past 180 degrees) or a non-finite or huge
 coordinate is an error naming the element (its ``id`` with control characters
@@ -44,6 +47,7 @@ from origami_cad._fileio import atomic_write
 from origami_cad._names import xml_text
 from origami_cad._toml import input_file
 from origami_cad.errors import PatternError
+from origami_cad.pattern.formats.svgcss import StyleSheet, style_sheet
 from origami_cad.pattern.formats.svgpath import NUMBER as _NUMBER
 from origami_cad.pattern.formats.svgpath import path_points, svg_number
 from origami_cad.pattern.formats.xmlparse import parse_bounded
@@ -209,13 +213,14 @@ def _local(tag: str) -> str:
     return tag.rsplit("}", 1)[-1]
 
 
-def _style(el: ET.Element) -> dict[str, str]:
-    out = {k: v for k, v in el.attrib.items()}
+def _style(el: ET.Element, sheet: StyleSheet) -> dict[str, str]:
+    """``el``'s properties: its attributes, the style sheet's rules, its ``style``."""
+    inline = {}
     for item in el.attrib.get("style", "").split(";"):
         if ":" in item:
             key, value = item.split(":", 1)
-            out[key.strip()] = value.strip()
-    return out
+            inline[key.strip()] = value.strip()
+    return sheet.apply(el, dict(el.attrib), inline)
 
 
 _num = svg_number
@@ -424,7 +429,8 @@ def read_svg(
     else:
         sx = sy = float(mm_per_unit)
         unit = f"{sx:g} mm per user unit (given)"
-    segments, holes, title, dropped = _walk_svg(root, name, sx, sy)
+    sheet = style_sheet(root, name)
+    segments, holes, title, dropped, unread = _walk_svg(root, name, sx, sy, sheet)
     if not segments:
         raise PatternError(f"{name}: no crease lines found (no stroked line, polyline or path)")
     coords = np.array([[a, b] for a, b, _, _ in segments], float).reshape(-1, 2)
@@ -442,7 +448,8 @@ def read_svg(
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
-    cp.notes = (*cp.notes, *_dropped_notes(dropped, name))
+    left_out = _dropped_notes(dropped, name) + _sheet_notes(sheet, unread, name)
+    cp.notes = (*cp.notes, *left_out)
     return cp.with_holes(holes) if holes else cp
 
 
@@ -469,6 +476,22 @@ def _dropped_notes(dropped: dict[str, bool], name: str) -> list[Problem]:
     return notes
 
 
+def _sheet_notes(sheet: StyleSheet, unread: list[str], name: str) -> list[Problem]:
+    """Warnings naming the style rules left out (a browser leaves them out too) and the
+    stroked circles and ellipses (not crease lines: Origami Simulator leaves them out)."""
+    notes = []
+    for items, code, what in (
+        (sheet.skipped, "style-rule", "<style> rule(s) not read, left out as a browser does"),
+        (unread, "curve-element", "stroked circle(s) or ellipse(s), not crease lines, left out"),
+    ):
+        if items:
+            shown = "; ".join(items[:3]) + ("; ..." if len(items) > 3 else "")
+            notes.append(
+                Problem(code, f"{name}: {len(items)} {what}: {shown}", severity=Severity.WARNING)
+            )
+    return notes
+
+
 def _svg_root(p: Path, name: str) -> ET.Element:
     """The ``<svg>`` root element of file ``p`` (``name`` starts every error), parsed
     within :data:`MAX_DEPTH` and :data:`MAX_ELEMENTS` (:func:`.xmlparse.parse_bounded`)."""
@@ -482,7 +505,7 @@ def _svg_root(p: Path, name: str) -> ET.Element:
 
 
 def _walk_svg(
-    root: ET.Element, name: str, sx: float, sy: float
+    root: ET.Element, name: str, sx: float, sy: float, sheet: StyleSheet
 ) -> tuple[list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str, dict[str, bool]]:
     """``(segments, holes, title, dropped)`` of the document below ``root``.
 
@@ -496,13 +519,14 @@ def _walk_svg(
     title = ""
     counter = 0
     dropped: dict[str, bool] = {}
+    unread: list[str] = []
     ids = {el.attrib["id"]: el for el in root.iter() if "id" in el.attrib}
     stack: list[tuple[ET.Element, np.ndarray, dict[str, str], float, frozenset]]
     stack = [(root, np.eye(3), {}, 1.0, frozenset())]
     while stack:
         el, matrix, inherited, opacity, using = stack.pop()
         tag = _local(el.tag)
-        own = _style(el)
+        own = _style(el, sheet)
         style = {
             **inherited,
             **{k: v for k, v in own.items() if k in ("stroke", "stroke-opacity", "fill")},
@@ -533,6 +557,9 @@ def _walk_svg(
         if hole is not None:
             holes.append(hole)
             continue
+        if tag in ("circle", "ellipse") and material_color(style.get("stroke", "none"), where):
+            unread.append(where.removeprefix(f"{name}: "))
+            continue
         drawn = _element_segments(el, tag, where, m, style, opacity, sx, sy, dropped)
         segments += drawn
         if len(segments) > MAX_EDGES:
@@ -541,7 +568,7 @@ def _walk_svg(
                 "crease pattern"
             )
         stack.extend((child, m, style, opacity, using) for child in reversed(el))
-    return segments, holes, title, dropped
+    return segments, holes, title, dropped, unread
 
 
 def _nested_svg(el: ET.Element, where: str) -> None:  # fmt: skip
@@ -603,8 +630,7 @@ def _svg_hole(
 ) -> Hole | None:
     """The hole (mm) of a filled, unstroked ``<circle>``; None for any other element.
 
-    ``m`` is the element's transform, ``sx, sy`` mm per user unit; a stroked
-    circle or ellipse is a PatternError (crease lines must be straight).
+    ``m`` is the element's transform, ``sx, sy`` mm per user unit.
     """
     if tag == "circle":
         stroke = material_color(style.get("stroke", "none"), where)
@@ -618,11 +644,6 @@ def _svg_hole(
                 return Hole(c[0] * sx, -c[1] * sy, 2 * r * math.sqrt(sx * sy))
             except PatternError as exc:
                 raise PatternError(f"{where}: {exc}") from None
-    if tag in ("circle", "ellipse") and material_color(style.get("stroke", "none"), where):
-        raise PatternError(
-            f"{where} is a stroked {tag}: crease lines must be straight (a hole is a "
-            "circle with a fill and no stroke)"
-        )
     return None
 
 
