@@ -140,23 +140,20 @@ class Simulate(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.commands.pull import simulation_setup, write_pull
+        from origami_cad.simulation import simulate
 
         deadline = time.monotonic() + a.time_limit  # the whole command's, writing too
         loaded, warned, cp, spec, params = simulation_setup(self, a)
         if a.pull is not None:
             return write_pull(self, a, loaded, spec, params, warned)
-        from origami_cad.simulation import simulate
-
         limits = dict(a.blockers or {}) or None  # the library refuses a blocker off a crease
+        left = math.floor(deadline - _WRITE_SHARE * a.time_limit - time.monotonic())  # whole s
         kwargs = {"steps": a.steps, "fold_limits": limits, "free": a.free}
-        left = deadline - _WRITE_SHARE * a.time_limit - time.monotonic()
-        kwargs["time_limit"] = max(math.floor(left), 1)  # whole seconds, its stop says
         result = simulate(cp, spec, params, design=loaded, progress=a.progress,
-                          fixed_panel=a.fixed_panel, **kwargs)  # fmt: skip
+                          fixed_panel=a.fixed_panel, time_limit=max(left, 1), **kwargs)  # fmt: skip
         with self.stage(a, loaded) as stage:
             notes = _write_simulation(stage, self.FILES, cp, spec, result, a.gif_frames, deadline)
-        files = [Path(a.folder) / n for n in self.FILES]
-        last = result.tensions[-1]
+        files, last = [Path(a.folder) / n for n in self.FILES], result.tensions[-1]
         tensions = ", ".join(f"{t:.3g}" for t in last)
         return Outputs(
             files=files,

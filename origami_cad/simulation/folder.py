@@ -42,6 +42,7 @@ at the edges, radians inside.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from collections.abc import Sequence
@@ -246,8 +247,7 @@ def fold_general(
         Part the two sides of every cut with a panel on both (else they stay joined,
         as the string models hold them: the states keep ``cp``'s vertices).
     deadline : float
-        A :func:`time.monotonic` time, s: past it the folding stops with a
-        :class:`~origami_cad.errors.SimulationError` saying how far it went.
+        A :func:`time.monotonic` time (s) past which a ``SimulationError`` says how far it got.
 
     Returns
     -------
@@ -272,6 +272,7 @@ def fold_general(
     drive = {"strongest": _strongest_drive(cp, st, params, driven)}
     drive.update(relaxations=DRIVE_RELAXATIONS, deadline=deadline)
     asm = HessianAssembly(st)
+    solve = functools.partial(solve_equilibrium, st=st, assembly=asm, deadline=deadline)
     cap = math.radians(MAX_TARGET_DEG)
     largest = float(np.degrees(np.max(np.abs(target)))) if len(target) else 0.0
     x, previous = st.x0.copy(), st.x0.copy()
@@ -280,20 +281,16 @@ def fold_general(
     for goal in sorted(set(values)):
         ramp = _ramp(done, goal, largest, step_deg)
         for k, q in enumerate(ramp, start=1):
-            n = len(ramp)
             # predictor: the last step extrapolated (the path is smooth between solves)
             reach = (q - q_x) / (q_x - q_previous) if q_x > q_previous else 0.0
             guess = x + (x - previous) * min(reach, 1.0)
             previous, q_previous, q_x = x, q_x, q
             st.hinge_rest = np.clip(target * q, -cap, cap)
             st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-            tol, most = (_TOL_END, _MAX_ITER) if k == n else (_TOL_STEP, _MAX_ITER_STEP)
-            x, _ = solve_equilibrium(
-                guess, st, assembly=asm, tol=tol, max_iter=most, deadline=deadline
-            )
-            # the drive is stiffened at the first step where the panels hold the creases
-            # back, relaxed at the first where it stretches them: the rest of the path is
-            # followed with it
+            tol, most = (_TOL_END, _MAX_ITER) if k == len(ramp) else (_TOL_STEP, _MAX_ITER_STEP)
+            x, _ = solve(guess, tol=tol, max_iter=most)
+            # the drive is stiffened at the first step where the panels hold the creases back,
+            # relaxed at the first where it stretches them: the rest of the path follows it
             x, settled = _settle(st, x, asm, driven, free, drive, tol)
             _in_time(deadline, q, max(values))
             if settled:

@@ -348,12 +348,9 @@ def simulate(
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
     time_limit : float, optional
-        Seconds of wall-clock time the folding may take, its set-up included (default: no
-        limit). The deadline is checked inside each equilibrium's Newton iterations too:
-        then it stops with the equilibrium states found so far (the one under way is
-        dropped; the first state is kept, unconverged, when it is the only one),
-        :attr:`StopReason.TIME_LIMIT`, which the result's ``stop``, ``reason`` and
-        ``notes`` say.
+        Seconds of wall-clock time the folding may take, set-up included, checked in each
+        Newton iteration too (default: no limit); then it stops with the equilibria found
+        so far (:attr:`StopReason.TIME_LIMIT`, said by the result).
     """
     fold_limits = _checked_limits(cp, fold_limits)
     _check_design(cp, design)
@@ -518,9 +515,8 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design, deadline
     assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
     # from the flat sheet (not its first Newton step whole: from that bifurcation point the
     # whole step may settle on another branch, docs/simulation.md)
-    x, _ = solve_equilibrium(
-        st.x0.copy(), st, None, ground=ground, assembly=assembly, deadline=deadline
-    )
+    solve = {"ground": ground, "assembly": assembly, "deadline": deadline}
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, **solve)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
@@ -748,7 +744,7 @@ def _solve(x, st, strings, ground, assembly, place: _Placement, rounds=None, dea
         current = place.anchors()
         place.set(*rigid_fit(x, place.flat))
         target = place.anchors()
-        if np.max(np.abs(place.lengths(x) - before)) < tol:
+        if info.timed_out or np.max(np.abs(place.lengths(x) - before)) < tol:
             break
         if last is not None:  # secant step on the fixed point a = F(a)
             d_res = (target - current) - (last[1] - last[0])
@@ -758,8 +754,6 @@ def _solve(x, st, strings, ground, assembly, place: _Placement, rounds=None, dea
                 place.put(target - gamma * (target - last[1]))
         last = (current, target)
         x, info = solve_equilibrium(x, st, strings, **solve)
-        if info.timed_out:
-            return x, info
     place.rot, place.shift = rigid_fit(x, place.flat)
     place.accept()
     return x, info
