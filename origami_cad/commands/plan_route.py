@@ -16,6 +16,10 @@ from origami_cad.parallel import open_executor
 
 __all__: list[str] = []
 
+#: The share of ``--time-limit`` kept for writing the files (the plots, routes.json): the
+#: fold path, the search and its bar-and-hinge check end that much earlier
+_WRITE_SHARE = 0.15
+
 
 def _tsa_placement(tsa: str, ring_radius: float, ring_height: float):
     """``--tsa ring`` or ``onboard:PANEL`` as a :class:`~origami_cad.strings.plan.TSAPlacement`."""
@@ -92,9 +96,9 @@ class PlanRoute(Command):
                open_min=True, max=1e4, flag=""),
         Option("ring_height", "float", "height of the ring above the sheet", "mm", 10.0,
                min=0, max=1e4, flag=""),
-        Option("time_limit", "float", "wall-clock time the search and its bar-and-hinge check "
-               "may take (then the best found is kept)", "s", default=120.0, min=0,
-               open_min=True, max=1e6),
+        Option("time_limit", "float", "wall-clock time the command may take, writing included "
+               "(then the best found is kept)", "s", default=120.0, min=0, open_min=True,
+               max=1e6),
         Option("verify", "int", "routes folded by the bar-and-hinge simulator", default=2,
                min=0, max=100, flag=""),
         *SIZING,
@@ -106,34 +110,19 @@ class PlanRoute(Command):
         return [folder / n for n in (Path(a.output).name, *self.NAMES)], []
 
     def run(self, a) -> Outputs:
-        from origami_cad.simulation.paths import with_fold_path
-        from origami_cad.strings.plan import (
-            PlanSettings,
-            plan_geometry,
-            plan_messages,
-            plan_numbers,
-            plan_routes,
-            truncated_geometry,
-        )  # fmt: skip
+        from origami_cad.strings.plan import plan_messages, plan_numbers, truncated_geometry
 
-        start, placement = time.time(), _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
+        # the whole command's time: the computing ends early enough to write the files
+        deadline = time.time() + (1.0 - _WRITE_SHARE) * a.time_limit
+        placement = _tsa_placement(a.tsa, a.ring_radius, a.ring_height)
         loaded, warned = self.load(a, a.pattern)
         t0, cpu0 = time.perf_counter(), time.process_time()
-        loaded = with_fold_path(loaded)
-        settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
-        settings = replace(settings, time_limit=a.time_limit, deadline=start + a.time_limit)
-        geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
-        with open_executor(a.scheduler) as executor:
-            planned = plan_routes(
-                loaded, placement, a.strings, target_p=a.target_p, candidates=a.candidates,
-                seed=a.seed, executor=executor, progress=a.progress, geometry=geom,
-                check=max(a.verify, 1), settings=settings,
-            )  # fmt: skip
+        loaded, geom, planned = self.search(a, loaded, placement, deadline)
         seconds = time.perf_counter() - t0
         geom = truncated_geometry(geom, len(planned[0].p))  # a default target out of reach
         files, _ = self.outputs(a)
         with self.stage(a, loaded, folder=files[0].parent) as stage:
-            planned = self.write(a, loaded, geom, planned, stage, seconds)
+            planned = self.write(a, loaded, geom, planned, stage, (seconds, deadline))
         return Outputs(
             files=files,
             images=[(files[2], "The best planned routes"), (files[3], "p against TSA turns")],
@@ -146,24 +135,47 @@ class PlanRoute(Command):
             result=planned,
         )  # fmt: skip
 
-    def write(self, a, loaded, geom, planned, stage: Path, seconds: float) -> list:
-        """route.toml, routes.json and the two plots into ``stage``; the routes, verified."""
+    def search(self, a, loaded, placement, deadline: float):
+        """``(design with its fold path, the search's geometry, the planned routes)``, all
+        by ``deadline`` (a :func:`time.time`, s), else a refusal saying the time ran out."""
+        from origami_cad.simulation.paths import with_fold_path
+        from origami_cad.strings.plan import PlanSettings, plan_geometry, plan_routes
+
+        start = time.time()
+        loaded = with_fold_path(loaded, deadline=time.monotonic() + deadline - start)
+        settings = PlanSettings() if a.budget is None else _plan_budget(a.budget)
+        settings = replace(settings, time_limit=a.time_limit, deadline=deadline)
+        geom = plan_geometry(loaded, placement, target_p=a.target_p, settings=settings)
+        if time.time() > deadline:  # the search could not end in time: no search at all
+            raise StringsError(
+                f"the time limit of {a.time_limit:g} s ran out before the route search "
+                f"(folding the pattern and placing its holes took {time.time() - start:.0f} "
+                "s): a longer --time-limit searches"
+            )
+        with open_executor(a.scheduler) as executor:
+            planned = plan_routes(
+                loaded, placement, a.strings, target_p=a.target_p, candidates=a.candidates,
+                seed=a.seed, executor=executor, progress=a.progress, geometry=geom,
+                check=max(a.verify, 1), settings=settings,
+            )  # fmt: skip
+        return loaded, geom, planned
+
+    def write(self, a, loaded, geom, planned, stage: Path, times: tuple) -> list:
+        """route.toml, routes.json and the two plots into ``stage``; the routes, verified.
+
+        ``times``: the search's seconds, and the :func:`time.time` (s) the bar-and-hinge
+        check of the routes ends by."""
         from origami_cad.simulation.verify import verify_planned
         from origami_cad.strings.plan import plan_data, route_spec
         from origami_cad.strings.route import dump_route
         from origami_cad.viz.plan_plots import save_planned_routes_png, save_planned_turns_png
 
-        names = [f.name for f in self.outputs(a)[0]]
+        names, (seconds, deadline) = [f.name for f in self.outputs(a)[0]], times
         spec = route_spec(geom, planned[0])
         text = dump_route(spec, loaded.pattern, header=_plan_header(a, planned, geom))
         (stage / names[0]).write_text(text, encoding="utf-8")
         planned = verify_planned(
-            loaded,
-            geom,
-            planned,
-            a.verify,
-            first=stage / names[0],
-            deadline=time.time() + max(a.time_limit - seconds, 0.0),
+            loaded, geom, planned, a.verify, first=stage / names[0], deadline=deadline
         )
         with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
             fh.write(json_text(plan_data(geom, planned, seconds), names[1], StringsError, indent=1))

@@ -3,6 +3,7 @@ test-machine pull (``--pull``): pull.csv, states.fold, simulation.json."""
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -61,7 +62,8 @@ def simulation_setup(cmd: Command, a: SimpleNamespace):
             )
     if a.fixed_panel is not None and a.fixed_panel not in cp.face_labels:
         raise OptionsError(f"--fixed-panel: no panel labelled {a.fixed_panel!r} in {a.pattern}")
-    loaded = with_fold_path(loaded)  # the fold ratio p of each state, and the route's p_max
+    # the fold ratio p of each state, and the route's p_max, within the command's time limit
+    loaded = with_fold_path(loaded, deadline=time.monotonic() + a.time_limit)
     given = {k: getattr(a, k) for k in ("gravity", "ground", "friction")}
     loads = {k: v for k, v in given.items() if v is not None}
     if a.params is not None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 from pathlib import Path
 from typing import Any
 
@@ -15,6 +16,9 @@ from origami_cad.errors import DesignError, SimulationError
 __all__ = ["GIF_FRAMES", "MATERIALS", "gif_states", "robot_materials"]
 
 GIF_FRAMES = 30  # frames of a simulation's animation
+#: The share of ``simulate``'s ``--time-limit`` kept for writing its files (the animation
+#: shows fewer states when even that is short: a frame costs about one folded.png)
+_WRITE_SHARE = 0.25
 _GIF = Option("gif_frames", "int", "frames of the animation", default=GIF_FRAMES, min=1,
               max=1000, flag="")  # fmt: skip
 
@@ -39,26 +43,37 @@ def _blocker(text: str) -> tuple[int, float]:
     return int(edge), degrees
 
 
-def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int) -> None:
+def _write_simulation(stage: Path, names, cp, spec, result, gif_frames: int, deadline) -> list:
+    """The simulation's files into ``stage``; the animation shows fewer states when the
+    :func:`time.monotonic` ``deadline`` (s) leaves too little time for ``gif_frames``
+    (then a note says so: the notes are returned)."""
     from origami_cad.pattern import folded_frame, write_fold
+    from origami_cad.strings.dcqc_result import StopReason
     from origami_cad.viz.render3d import render_folded, render_folding_gif
     from origami_cad.viz.strings_plots import save_route_png
 
-    frames = [
-        folded_frame(x, a, f"theta_s = {math.degrees(t):.0f} deg")
-        for x, a, t in zip(result.states, result.fold_angles, result.theta, strict=True)
-    ]
+    titles = [f"theta_s = {math.degrees(t):.0f} deg" for t in result.theta]
+    if result.stop is StopReason.TIME_LIMIT:  # the last state says the folding stopped early
+        titles[-1] += f"; stopped early: {result.reason}"
+    frames = [folded_frame(*f) for f in zip(result.states, result.fold_angles, titles, strict=True)]
     write_fold(cp, stage / names[0], frames=frames)
     with atomic_write(stage / names[1], "w", encoding="utf-8") as fh:
         fh.write(json_text(result.to_dict(), names[1], SimulationError, indent=1))
-    picked = gif_states(len(result.states), gif_frames)
-    shown = [result.states[k] for k in picked]
-    captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
-    view = (1, -1.5, 1)
-    render_folding_gif(cp, shown, stage / names[2], view=view, captions=captions)
+    view, started = (1, -1.5, 1), time.monotonic()
     title = f"after {result.turns[-1]:.1f} TSA turns"
     render_folded(cp, result.states[-1], stage / names[3], title=title, view=view)
     save_route_png(cp, spec, stage / names[4])
+    affordable = (deadline - time.monotonic()) / max(time.monotonic() - started, 1e-3)
+    picked = gif_states(len(result.states), max(min(gif_frames, int(affordable) - 1), 1))
+    shown = [result.states[k] for k in picked]
+    captions = [f"{result.turns[k]:.1f} TSA turns" for k in picked]
+    render_folding_gif(cp, shown, stage / names[2], view=view, captions=captions)
+    full = len(gif_states(len(result.states), gif_frames))
+    notes = [f"warning: the time limit ran out: the files hold the {len(result)} states so far"]
+    notes = notes if result.stop is StopReason.TIME_LIMIT else []
+    return notes + [f"note: the time limit left the animation {len(picked)} of {full} frames"] * (
+        len(picked) < full
+    )
 
 
 @register
@@ -98,8 +113,9 @@ class Simulate(Command):
                open_min=True),
         Option("fixed_panel", help="hold this panel (default: the route's or design's)",
                metavar="PANEL"),
-        Option("time_limit", "float", "wall-clock time the folding may take (then the states "
-               "so far are written)", "s", default=120.0, min=0, open_min=True, max=1e6),
+        Option("time_limit", "float", "wall-clock time the command may take, writing included "
+               "(then the states so far are written)", "s", default=120.0, min=0, open_min=True,
+               max=1e6),
         MATERIALS,
         Option("params", "object", "a SimulationParams instead of its keywords", flag=""),
         _GIF,
@@ -124,21 +140,20 @@ class Simulate(Command):
 
     def run(self, a) -> Outputs:
         from origami_cad.commands.pull import simulation_setup, write_pull
+        from origami_cad.simulation import simulate
 
+        deadline = time.monotonic() + a.time_limit  # the whole command's, writing too
         loaded, warned, cp, spec, params = simulation_setup(self, a)
         if a.pull is not None:
             return write_pull(self, a, loaded, spec, params, warned)
-        from origami_cad.simulation import simulate
-
         limits = dict(a.blockers or {}) or None  # the library refuses a blocker off a crease
+        left = math.floor(deadline - _WRITE_SHARE * a.time_limit - time.monotonic())  # whole s
         kwargs = {"steps": a.steps, "fold_limits": limits, "free": a.free}
-        kwargs["time_limit"] = a.time_limit
         result = simulate(cp, spec, params, design=loaded, progress=a.progress,
-                          fixed_panel=a.fixed_panel, **kwargs)  # fmt: skip
+                          fixed_panel=a.fixed_panel, time_limit=max(left, 1), **kwargs)  # fmt: skip
         with self.stage(a, loaded) as stage:
-            _write_simulation(stage, self.FILES, cp, spec, result, a.gif_frames)
-        files = [Path(a.folder) / n for n in self.FILES]
-        last = result.tensions[-1]
+            notes = _write_simulation(stage, self.FILES, cp, spec, result, a.gif_frames, deadline)
+        files, last = [Path(a.folder) / n for n in self.FILES], result.tensions[-1]
         tensions = ", ".join(f"{t:.3g}" for t in last)
         return Outputs(
             files=files,
@@ -158,6 +173,7 @@ class Simulate(Command):
                 f"{len(result)} equilibrium states up to {result.turns[-1]:.2f} TSA turns; "
                 f"{result.reason}",
                 f"string tensions {tensions} N, TSA torque {result.torque[-1]:.3g} N mm",
+                *notes,
                 wrote(a.folder, self.FILES),
             ],
             result=result,

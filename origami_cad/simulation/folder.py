@@ -42,13 +42,15 @@ at the edges, radians inside.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+import time
 from collections.abc import Sequence
 
 import numpy as np
 
 from origami_cad._args import Arg, checked
-from origami_cad.errors import OrigamiCadWarning, PatternError, warn
+from origami_cad.errors import OrigamiCadWarning, PatternError, SimulationError, warn
 from origami_cad.kinematics.folding import FoldedState, fold_design, fold_sequence
 from origami_cad.pattern.design import Design
 from origami_cad.pattern.model import CreasePattern
@@ -225,6 +227,7 @@ def fold_general(
     params: SimulationParams | None = None,
     step_deg: float = STEP_DEG,
     cuts_open: bool = True,
+    deadline: float = math.inf,
 ) -> list[FoldedState]:
     """Fold ``cp`` by driving every crease toward its target angle times each ratio.
 
@@ -243,6 +246,8 @@ def fold_general(
     cuts_open : bool
         Part the two sides of every cut with a panel on both (else they stay joined,
         as the string models hold them: the states keep ``cp``'s vertices).
+    deadline : float
+        A :func:`time.monotonic` time (s) past which a ``SimulationError`` says how far it got.
 
     Returns
     -------
@@ -264,11 +269,10 @@ def fold_general(
         cp = cp.with_cuts_opened()  # a cut's sides part: each has its own vertices
     params = params or SimulationParams()
     st, target, free, driven = _driven_structure(cp, params)
-    drive = {
-        "strongest": _strongest_drive(cp, st, params, driven),
-        "relaxations": DRIVE_RELAXATIONS,
-    }
+    drive = {"strongest": _strongest_drive(cp, st, params, driven)}
+    drive.update(relaxations=DRIVE_RELAXATIONS, deadline=deadline)
     asm = HessianAssembly(st)
+    solve = functools.partial(solve_equilibrium, st=st, assembly=asm, deadline=deadline)
     cap = math.radians(MAX_TARGET_DEG)
     largest = float(np.degrees(np.max(np.abs(target)))) if len(target) else 0.0
     x, previous = st.x0.copy(), st.x0.copy()
@@ -277,19 +281,18 @@ def fold_general(
     for goal in sorted(set(values)):
         ramp = _ramp(done, goal, largest, step_deg)
         for k, q in enumerate(ramp, start=1):
-            n = len(ramp)
             # predictor: the last step extrapolated (the path is smooth between solves)
             reach = (q - q_x) / (q_x - q_previous) if q_x > q_previous else 0.0
             guess = x + (x - previous) * min(reach, 1.0)
             previous, q_previous, q_x = x, q_x, q
             st.hinge_rest = np.clip(target * q, -cap, cap)
             st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-            tol, most = (_TOL_END, _MAX_ITER) if k == n else (_TOL_STEP, _MAX_ITER_STEP)
-            x, _ = solve_equilibrium(guess, st, assembly=asm, tol=tol, max_iter=most)
-            # the drive is stiffened at the first step where the panels hold the creases
-            # back, relaxed at the first where it stretches them: the rest of the path is
-            # followed with it
+            tol, most = (_TOL_END, _MAX_ITER) if k == len(ramp) else (_TOL_STEP, _MAX_ITER_STEP)
+            x, _ = solve(guess, tol=tol, max_iter=most)
+            # the drive is stiffened at the first step where the panels hold the creases back,
+            # relaxed at the first where it stretches them: the rest of the path follows it
             x, settled = _settle(st, x, asm, driven, free, drive, tol)
+            _in_time(deadline, q, max(values))
             if settled:
                 previous, q_previous = x, q_x  # no extrapolation across a change of drive
         done = goal
@@ -297,6 +300,16 @@ def fold_general(
     out = [states[p] for p in values]
     _warn_strain(max(s.strain for s in out))
     return out
+
+
+def _in_time(deadline: float, p: float, last: float) -> None:
+    """A :class:`SimulationError` when the :func:`time.monotonic` ``deadline`` (s) has
+    passed, the folding at ratio ``p`` of ``last``."""
+    if time.monotonic() > deadline:
+        raise SimulationError(
+            f"the general folder ran out of time at fold ratio {p:.3f} of {last:g} (its path "
+            "is unfinished): a longer time limit lets it fold the pattern"
+        )
 
 
 def _warn_strain(worst: float) -> None:
@@ -334,7 +347,8 @@ def _settle(st, x, asm, driven, free, drive: dict, tol) -> tuple[np.ndarray, boo
 
     def solve(x):
         st.hinge_rest[free] = fold_angles(x, st.hinges[free])
-        return solve_equilibrium(x, st, assembly=asm, tol=tol, max_iter=_MAX_ITER)[0]
+        limit = {"tol": tol, "max_iter": _MAX_ITER, "deadline": drive["deadline"]}
+        return solve_equilibrium(x, st, assembly=asm, **limit)[0]
 
     strongest = drive["strongest"]
     while _reach(st, x, driven) < DRIVE_REACH and np.any(st.hinge_k[driven] < strongest):

@@ -11,6 +11,7 @@ interpolate. Units: mm, degrees.
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -35,18 +36,22 @@ PATH_SAMPLES = 41
     design=Arg("object", types=(Design, CreasePattern), optional=False),
     params=Arg("object", types=(SimulationParams,)),
     samples=Arg("int", min=2, max=100_000, optional=False),
+    deadline=Arg(inf_ok=True, optional=False),
 )
 def fold_path(
     design: Design | CreasePattern,
     *,
     params: SimulationParams | None = None,
     samples: int = PATH_SAMPLES,
+    deadline: float = math.inf,
 ) -> FoldPath:
     """The general folder's path of ``design``: states at ``samples`` ratios from 0 to 1.
 
     ``params``: the panels' and creases' materials (default: the printed sheet's). The
     strain warnings of the general folder are not repeated here: the path's ``strain``
-    (percent, per sample) says how far each state stretches its panels.
+    (percent, per sample) says how far each state stretches its panels. ``deadline``: a
+    :func:`time.monotonic` time, s, past which the folding stops with a
+    :class:`~origami_cad.errors.SimulationError` (default: none).
     """
     cp = design if isinstance(design, CreasePattern) else design.pattern
     with warnings.catch_warnings():
@@ -54,7 +59,7 @@ def fold_path(
         # the string models and the simulation hold the pattern's vertices: a cut's two
         # sides stay joined on the path too
         ratios = np.linspace(0.0, 1.0, samples)
-        states = fold_general(cp, ratios, params=params, cuts_open=False)
+        states = fold_general(cp, ratios, params=params, cuts_open=False, deadline=deadline)
     return FoldPath.from_states(states)
 
 
@@ -63,18 +68,21 @@ def fold_path(
     design=Arg("object", types=(Design, CreasePattern), optional=False),
     params=Arg("object", types=(SimulationParams,)),
     samples=Arg("int", min=2, max=100_000, optional=False),
+    deadline=Arg(inf_ok=True, optional=False),
 )
 def with_fold_path(
     design: Design | CreasePattern,
     *,
     params: SimulationParams | None = None,
     samples: int = PATH_SAMPLES,
+    deadline: float = math.inf,
 ) -> Design:
     """``design`` as every stage can fold it: itself where the closed form applies
     (:func:`~origami_cad.simulation.folder.closed_form_applies`) or it already carries a
     path, else a :class:`~origami_cad.kinematics.folding.PathDesign` with the general
     folder's path (:func:`fold_path`). A pattern with no mountain or valley crease is
-    returned as it is.
+    returned as it is. ``deadline``: a :func:`time.monotonic` time, s, past which the
+    general folder stops with a :class:`~origami_cad.errors.SimulationError` (default: none).
 
     Pass the result to :func:`~origami_cad.strings.plan.plan_routes`,
     :func:`~origami_cad.strings.simulate_dcqc` or
@@ -102,7 +110,7 @@ def with_fold_path(
         return design  # a path already, or nothing to fold
     if closed_form_applies(design):
         return design
-    path = fold_path(design, params=params, samples=samples)
+    path = fold_path(design, params=params, samples=samples, deadline=deadline)
     return PathDesign(design.pattern, design.tg, design.kind, design.source, path=path)
 
 

@@ -348,9 +348,9 @@ def simulate(
         and friction (a walking structure). Needs ``params.gravity > 0`` and
         ``params.ground``.
     time_limit : float, optional
-        Seconds of wall-clock time the folding may take (default: no limit); then it stops
-        with the states found so far (:attr:`StopReason.TIME_LIMIT`), which the result
-        says.
+        Seconds of wall-clock time the folding may take, set-up included, checked in each
+        Newton iteration too (default: no limit); then it stops with the equilibria found
+        so far (:attr:`StopReason.TIME_LIMIT`, said by the result).
     """
     fold_limits = _checked_limits(cp, fold_limits)
     _check_design(cp, design)
@@ -360,9 +360,10 @@ def simulate(
         cap, jam_ratio, jam_steps, max_string_strain, max_bar_strain, max_dp, max_states,
         math.inf if time_limit is None else float(time_limit),
     )  # fmt: skip
+    deadline = time.monotonic() + rules.time_limit  # the set-up counts too
     held = fixed_panel or route.fixed_panel
     limits, note = _route_limits(route, design, fold_limits)
-    run = _start(cp, route, params, held, limits, prefold, free, design)
+    run = _start(cp, route, params, held, limits, prefold, free, design, deadline)
     run.notes += [note] if note else []
     rows, stop = _fold(run, route, rules, steps, progress)
     run.notes.append(stop.reason)
@@ -461,6 +462,7 @@ class _Run:
     table: tuple[np.ndarray, np.ndarray] | None
     notes: list[str]
     x: np.ndarray
+    deadline: float = math.inf  # a time.monotonic() time, s
 
     @property
     def folds(self) -> np.ndarray:
@@ -483,10 +485,11 @@ class _Stop:
     limited: tuple[int, ...] = ()
 
 
-def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
+def _start(cp, route, params, held, fold_limits, prefold, free, design, deadline) -> _Run:
     """The structure pre-folded by ``prefold`` degrees and settled, strings slack on it.
 
-    ``held`` is the panel held (None: the mean pose, unless ``free`` or a ground).
+    ``held`` is the panel held (None: the mean pose, unless ``free`` or a ground);
+    ``deadline`` a :func:`time.monotonic` time (s) the settling stops at.
     """
     mean_pose = not free and held is None and params.ground is None and params.gravity == 0
     st: Structure = build_structure(cp, params, held, fold_limits, free=free)
@@ -512,12 +515,13 @@ def _start(cp, route, params, held, fold_limits, prefold, free, design) -> _Run:
     assembly = HessianAssembly(st, strings)  # its pattern and ordering serve every solve
     # from the flat sheet (not its first Newton step whole: from that bifurcation point the
     # whole step may settle on another branch, docs/simulation.md)
-    x, _ = solve_equilibrium(st.x0.copy(), st, None, ground=ground, assembly=assembly)
+    solve = {"ground": ground, "assembly": assembly, "deadline": deadline}
+    x, _ = solve_equilibrium(st.x0.copy(), st, None, **solve)
     place = _Placement(strings, flat, mean_pose)
     if ground is not None:
         ground.start(x)
     table = None if design is None else rigid_table(design)
-    return _Run(cp, st, strings, ground, assembly, place, table, notes, x)
+    return _Run(cp, st, strings, ground, assembly, place, table, notes, x, deadline)
 
 
 def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
@@ -529,9 +533,10 @@ def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
     theta = 0.0
     window: list[tuple[np.ndarray, np.ndarray]] = []
     held_at_limit = 0
-    started = time.monotonic()
     while True:
         x_new, info = _step_equilibrium(run, theta, previous)
+        if info.timed_out and rows:  # an equilibrium cut short is no state: the last one ends
+            return rows, _Stop(*time_limit_stop(rules.time_limit, rows["theta"]))
         previous = run.x
         world = run.place.to_world(x_new)
         moved = float(np.max(np.linalg.norm(world - rows["states"][-1], axis=1))) if rows else 0.0
@@ -552,7 +557,7 @@ def _fold(run: _Run, route: RouteSpec, rules: StopRules, steps, progress):
         )
         if stop is None and theta >= theta_end - 1e-12:
             stop = _Stop(*turn_limit_stop(route))
-        if stop is None and time.monotonic() - started > rules.time_limit:
+        if stop is None and time.monotonic() > run.deadline:
             stop = _Stop(*time_limit_stop(rules.time_limit, rows["theta"]))
         if stop is not None:
             return rows, stop
@@ -574,7 +579,7 @@ def _step_equilibrium(run: _Run, theta: float, previous: np.ndarray | None):
         guess = 2.0 * run.x - previous
         if total_energy(guess, st, strings, ground) < total_energy(run.x, st, strings, ground):
             start = guess
-    return _solve(start, st, strings, ground, run.assembly, run.place)
+    return _solve(start, st, strings, ground, run.assembly, run.place, deadline=run.deadline)
 
 
 def _record(run: _Run, route: RouteSpec, theta: float, info, world, moved: float):
@@ -713,7 +718,7 @@ def _result(rows: dict[str, list], stop: _Stop, notes: list[str]) -> SimulationR
     )
 
 
-def _solve(x, st, strings, ground, assembly, place: _Placement, rounds: int | None = None):
+def _solve(x, st, strings, ground, assembly, place: _Placement, rounds=None, deadline=math.inf):
     """One equilibrium; with the mean pose, the anchors consistent with the state's pose.
 
     The anchors (in the held panel's frame) start from the pose extrapolated from
@@ -724,11 +729,13 @@ def _solve(x, st, strings, ground, assembly, place: _Placement, rounds: int | No
     point converges only linearly. The error left does not accumulate (every step
     places the anchors from the states); on the Fig. 5 set-up more rounds change
     the fold ratios by less than the two models differ (docs/simulation.md).
+    ``deadline``: a :func:`time.monotonic` time (s) each solve stops at (``info.timed_out``).
     """
+    solve = {"ground": ground, "assembly": assembly, "deadline": deadline}
     if place.active:
         place.set(*place.predict())
-    x, info = solve_equilibrium(x, st, strings, ground=ground, assembly=assembly)
-    if not place.active or not place.fixed.any():
+    x, info = solve_equilibrium(x, st, strings, **solve)
+    if not place.active or not place.fixed.any() or info.timed_out:
         return x, info
     tol = 1e-4 * max(float(np.ptp(place.flat, axis=0).max()), 1.0)
     last = None
@@ -737,7 +744,7 @@ def _solve(x, st, strings, ground, assembly, place: _Placement, rounds: int | No
         current = place.anchors()
         place.set(*rigid_fit(x, place.flat))
         target = place.anchors()
-        if np.max(np.abs(place.lengths(x) - before)) < tol:
+        if info.timed_out or np.max(np.abs(place.lengths(x) - before)) < tol:
             break
         if last is not None:  # secant step on the fixed point a = F(a)
             d_res = (target - current) - (last[1] - last[0])
@@ -746,7 +753,7 @@ def _solve(x, st, strings, ground, assembly, place: _Placement, rounds: int | No
             if -3.0 < gamma < 0.0:  # accelerate a linear convergence; else plain iteration
                 place.put(target - gamma * (target - last[1]))
         last = (current, target)
-        x, info = solve_equilibrium(x, st, strings, ground=ground, assembly=assembly)
+        x, info = solve_equilibrium(x, st, strings, **solve)
     place.rot, place.shift = rigid_fit(x, place.flat)
     place.accept()
     return x, info

@@ -36,6 +36,7 @@ factorisation.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -531,6 +532,8 @@ class SolveInfo:
         Whether that residual fell below the tolerance.
     tensions : list of float
         Each string's tension at the end, N.
+    timed_out : bool
+        Whether the solve stopped at its ``deadline`` before it converged.
     """
 
     iterations: int = 0
@@ -540,6 +543,7 @@ class SolveInfo:
     gradient_norm: float = math.inf
     converged: bool = False
     tensions: list[float] = field(default_factory=list)
+    timed_out: bool = False
 
 
 # conjugate gradients: relative residual and iterations at most, and the iterations
@@ -582,6 +586,7 @@ def solve_equilibrium(
     max_iter: int = 200,
     assembly: HessianAssembly | None = None,
     whole_step: bool = False,
+    deadline: float = math.inf,
 ) -> tuple[np.ndarray, SolveInfo]:
     """Minimise the energy from ``x`` (n, 3), mm, with the held nodes fixed.
 
@@ -608,6 +613,9 @@ def solve_equilibrium(
         same one to successive solves to reuse its ordering and preconditioner.
     whole_step : bool
         First one whole step of :func:`whole_newton_step` (from the flat sheet).
+    deadline : float
+        A :func:`time.monotonic` time, s: no Newton iteration starts after it; the solve
+        then returns where it is, unconverged, with ``info.timed_out`` (default: none).
 
     Returns
     -------
@@ -615,10 +623,10 @@ def solve_equilibrium(
         The equilibrium (n, 3), mm, and what the solve did.
     """
     with one_blas_thread():  # its vector products are too short for two threads
-        return _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step)
+        return _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step, deadline)
 
 
-def _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step):
+def _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step, deadline=math.inf):
     """:func:`solve_equilibrium`'s Newton iterations (its arguments, in its order)."""
     x = np.array(x, dtype=float)
     asm = assembly or HessianAssembly(st, strings)
@@ -638,6 +646,9 @@ def _newton(x, st, strings, ground, tol, max_iter, assembly, whole_step):
             raise SimulationError("the simulation diverged (a degenerate panel or string?)")
         if info.gradient_norm < tol:
             info.converged = True
+            break
+        if time.monotonic() > deadline:
+            info.timed_out = True
             break
         found = _preconditioned_step(x, g, hessian, energy, damping * scale, asm, info, problem)
         if found is None:

@@ -86,8 +86,8 @@ def verify_planned(
         The route file the best was written to: it is read back as ``route`` and
         ``simulate`` read it, so the check is of the file (nothing is written).
     deadline : float, optional
-        A ``time.time()`` (s): each simulation stops there (its stop ``time_limit``), and
-        the routes left after it are not simulated.
+        A ``time.time()`` (s): each simulation stops there (its stop ``time_limit``, the
+        whole seconds left), and the routes left with less than a second are not simulated.
 
     Returns
     -------
@@ -102,8 +102,8 @@ def verify_planned(
 
     out = []
     for k, r in enumerate(planned):
-        left = deadline - time.time()
-        if k < count and left > 0:
+        left = math.floor(deadline - time.time())  # whole seconds: its stop names them
+        if k < count and left >= 1:
             read = k == 0 and first is not None
             spec = load_route(first, loaded.pattern) if read else route_spec(geometry, r)
             sim = verify_route(loaded, spec, steps=30, time_limit=left)
