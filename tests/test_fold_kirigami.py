@@ -2,8 +2,8 @@
 
 The general folder opens such cuts (Origami Simulator splits them): each side gets its own
 copy of the cut's vertices, so flaps the cut separates fold on their own creases. A
-printed panel that would be a ring around another part is refused, naming the facet
-creases whose printing as hinges was seen to make it print.
+printed panel that would be a ring around another part is split in two by printing two of
+its facet creases as hinges (warned, naming them), or refused saying why that fails.
 """
 
 from __future__ import annotations
@@ -88,20 +88,34 @@ def test_miyamoto_tower_folds(tmp_path):
     assert np.mean(angles[creases] > 5.0) >= 0.5
 
 
-def test_a_ring_panel_is_refused_naming_the_facet_creases_that_make_it_print():
-    # a frame of four faces joined by facet creases around a square flap hinged on a
-    # valley and cut on its other sides: the printed frame would be a panel with a hole
+def _frame(assign: str = "BBBB" + "VCCC" + "FFFF") -> CreasePattern:
+    """A frame of four faces joined by facet creases around a square flap hinged on a
+    valley and cut on its other sides: the printed frame would be a panel with a hole."""
     v = [(0, 0), (90, 0), (90, 90), (0, 90), (30, 30), (60, 30), (60, 60), (30, 60)]
     e = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
-    e += [(0, 4), (1, 5), (2, 6), (3, 7)]
-    cp = CreasePattern(v, e, "BBBB" + "VCCC" + "FFFF")
-    with pytest.raises(PatternError) as err:
-        plan_panels(cp)
-    message = str(err.value)
-    assert "encloses another part" in message and message.endswith("and prints")
-    named = [int(m) for m in re.findall(r"\be(\d+) \(", message)]
+    e += [(0, 4), (1, 5), (2, 6), (3, 7)][: len(assign) - 8]
+    return CreasePattern(v, e, assign)
+
+
+def test_a_ring_panel_is_split_by_two_facet_creases_printed_as_hinges_and_warned():
+    cp = _frame()
+    plan = plan_panels(cp)
+    said = [w for w in plan.warnings if "encloses another part" in w]
+    assert len(said) == 1 and said[0].endswith("which splits the rings in two")
+    named = [int(m) for m in re.findall(r"\be(\d+) \(", said[0])]
     assert len(named) == 2 and all(cp.assignments[k] == "F" for k in named)
+    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves
+    hinges = plan.pattern.edges[plan.pattern.assignments == "J"]
+    assert {frozenset(h) for h in hinges.tolist()} == {frozenset(cp.edges[k]) for k in named}
     joined = cp.assignments.copy()
     joined[named] = "J"
-    plan = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # what it says works
-    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves
+    alike = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # the same sheet
+    for a, b in zip(plan.outlines, alike.outlines, strict=True):
+        np.testing.assert_array_equal(a.outer, b.outer)
+
+
+def test_a_ring_panel_that_cannot_be_split_or_print_split_is_refused_saying_why():
+    with pytest.raises(PatternError, match=r"encloses another part .* mm$"):
+        plan_panels(_frame("BBBB" + "VCCC"))  # no facet crease to split the frame
+    with pytest.raises(PatternError, match="splits the rings in two, but then .*--width"):
+        plan_panels(_frame().scaled(0.02))  # split, but 1.8 mm wide: too small to print

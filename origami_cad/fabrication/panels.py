@@ -45,23 +45,41 @@ FREE_EDGES = ("B", "C")
 #: a slicer's resolution (PrusaSlicer closes gaps up to 0.049 mm), so it prints as before.
 CREASE_GAP = 0.01
 
+#: The sine of the largest turn (1 deg) at which :func:`offset_ring` joins two edges of
+#: different kinds (a hinge and a border or cut) by a jog instead of the meeting of their
+#: offset lines: there, lines 3 mm apart (the default bias against a border) would meet
+#: 172 mm along the edge, so an edge an imported pattern draws in two nearly straight
+#: pieces (a vertex 1 um off the line, as SVG's rounding leaves) keeps its jog.
+_JOG_TURN = math.sin(math.radians(1.0))
+
 
 def offset_ring(
-    ring: np.ndarray, offsets: np.ndarray, label: str = "", what: str = ""
+    ring: np.ndarray,
+    offsets: np.ndarray,
+    label: str = "",
+    what: str = "",
+    kinds: np.ndarray | None = None,
 ) -> np.ndarray:
     """Move every edge of a counter-clockwise ring inward by its own offset (mm).
 
     Edge ``k`` joins ``ring[k]`` and ``ring[k + 1]``. Corners between collinear
-    edges with equal offsets are dropped. On a convex panel, an edge that the
+    edges with equal offsets are dropped. Two collinear edges of different kinds
+    (``kinds``, one per edge, default the offsets themselves: a hinge and a border on one
+    line) are joined by a jog, as a CAD offset with per-edge distances draws them: a
+    step across the corner, perpendicular to the line, from one offset line to the other
+    (two points, equal when the two offsets are), so every ring made with the same
+    ``kinds`` has the same points. On a convex panel without jogs, an edge that the
     offset makes vanish (a short edge between two converging creases, such as the
     0.734 mm border edge of the paper's Fig. 2 pattern) is kept as a corner of zero
     length: the ring keeps one point per edge, two of them equal, so the solids built
     between rings stay planar-faced. Raises :class:`PatternError` naming the panel
     when the panel is too small for its inset (fewer than three edges would remain),
-    or when an edge of a non-convex panel would vanish or turn over.
+    when two collinear edges of one kind have different offsets, or when an edge of a
+    non-convex panel (or of one with a jog) would vanish or turn over.
     """
     pts = np.asarray(ring, dtype=float)
     off = np.asarray(offsets, dtype=float)
+    kind = off if kinds is None else np.asarray(kinds)
     d = np.roll(pts, -1, axis=0) - pts
     length = np.hypot(d[:, 0], d[:, 1])
     u = d / length[:, None]
@@ -70,13 +88,17 @@ def offset_ring(
     a = np.roll(np.arange(len(pts)), 1)  # corner k joins edge a[k] to edge k
     cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
     collinear = np.abs(cross) < 1e-12
-    uneven = np.flatnonzero(collinear & (np.abs(off[a] - off) > 1e-9))
+    dot = np.einsum("ij,ij->i", u[a], u)
+    jog = (np.abs(cross) < _JOG_TURN) & (dot > 0) & (kind[a] != kind)
+    uneven = np.flatnonzero(collinear & ~jog & (np.abs(off[a] - off) > 1e-9))
     if uneven.size:
         k = uneven[0]
         raise PatternError(
             f"panel {label}: collinear edges with different insets at corner "
             f"({pts[k, 0]:.4g}, {pts[k, 1]:.4g}) mm"
         )
+    if jog.any():
+        return _offset_jogged(pts, u, n, base, off, a, cross, jog, label, what)
     keep_edges = np.flatnonzero(~collinear)
     a, b = a[keep_edges], keep_edges
     # base[a] + s u[a] = base[b] + r u[b]
@@ -99,6 +121,46 @@ def offset_ring(
         raise PatternError(
             f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
         )
+    return res
+
+
+def _offset_jogged(pts, u, n, base, off, a, cross, jog, label: str, what: str) -> np.ndarray:
+    """:func:`offset_ring` of a ring with jogs (``jog``: the corners, straight or nearly,
+    between edges of different kinds; mm). Every other turning corner is the meeting of its
+    two offset lines; a jog corner ``k`` gives two points, where the line through it along
+    the mean of its two edges' inward normals meets the offset line of the edge before it,
+    then that of edge ``k`` (so the jogs of every ring of a panel lie on one line, and the
+    solids' faces between them are planar). Straight corners between edges of one kind
+    (equal offsets) are dropped. :class:`PatternError` when an edge vanishes or turns over,
+    or the ring is no longer simple."""
+    points: list[np.ndarray] = []
+    along: list[np.ndarray | None] = []  # the direction each edge of the result keeps
+    for k in range(len(pts)):
+        j = a[k]
+        if jog[k]:
+            m = n[j] + n[k]
+            m /= np.hypot(m[0], m[1])
+            for e in (j, k):  # base[e] + s u[e] on the line pts[k] + t m
+                w = pts[k] - base[e]
+                s = (w[0] * m[1] - w[1] * m[0]) / (u[e, 0] * m[1] - u[e, 1] * m[0])
+                points.append(base[e] + s * u[e])
+            along += [None, u[k]]
+        elif abs(cross[k]) >= 1e-12:
+            w = base[k] - base[j]
+            s = (w[0] * u[k, 1] - w[1] * u[k, 0]) / cross[k]
+            points.append(base[j] + s * u[j])
+            along.append(u[k])
+    res = np.array(points)
+    too_small = PatternError(
+        f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
+    )
+    if len(res) < 3:
+        raise too_small
+    e = np.roll(res, -1, axis=0) - res
+    poly = shapely.Polygon(res)
+    turned = any(v is not None and float(e[i] @ v) <= 1e-9 for i, v in enumerate(along))
+    if turned or not poly.is_valid or poly.area <= 0:
+        raise too_small
     return res
 
 
@@ -341,7 +403,7 @@ def panel_outline(
     crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
 
     def inset(crease_off: float, free_off: float, what: str) -> np.ndarray:
-        return offset_ring(poly, np.where(crease, crease_off, free_off), label, what)
+        return offset_ring(poly, np.where(crease, crease_off, free_off), label, what, crease)
 
     inner = inset(CREASE_GAP / 2, margin, "crease layer")
     outer = inset(b, margin, f"inner bias b = {b:g} mm")
