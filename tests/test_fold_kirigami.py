@@ -117,5 +117,5 @@ def test_a_ring_panel_is_split_by_two_facet_creases_printed_as_hinges_and_warned
 def test_a_ring_panel_that_cannot_be_split_or_print_split_is_refused_saying_why():
     with pytest.raises(PatternError, match=r"encloses another part .* mm$"):
         plan_panels(_frame("BBBB" + "VCCC"))  # no facet crease to split the frame
-    with pytest.raises(PatternError, match="splits the rings in two, but then .*--width"):
+    with pytest.raises(PatternError, match=r"splits the rings in two, but then .*--width"):
         plan_panels(_frame().scaled(0.02))  # split, but 1.8 mm wide: too small to print
