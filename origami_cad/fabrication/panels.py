@@ -24,6 +24,7 @@ from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
     "FREE_EDGES",
+    "MIN_PLA_WIDTH",
     "PanelOutline",
     "check_panels",
     "offset_ring",
@@ -44,6 +45,15 @@ FREE_EDGES = ("B", "C")
 #: would meet on the crease line, an edge of four triangles in ``shells.stl``). Far below
 #: a slicer's resolution (PrusaSlicer closes gaps up to 0.049 mm), so it prints as before.
 CREASE_GAP = 0.01
+
+#: The narrowest PLA mid-layer patch a panel is printed with, mm: two lines of a 0.4 mm
+#: nozzle, the least that is a patch rather than a lone line. A panel whose mid-layer would
+#: hold no disc this wide does not fit its parameters (:func:`panel_outline`): the bias
+#: search gives it a smaller inset, else prints it in TPU alone. PrusaSlicer does not drop
+#: such slivers for us: 2.5.0, sliced at 0.45 mm lines and 0.1 mm layers, drops a strip
+#: 0.1 mm wide but prints one 0.15 mm wide (Arachne widens it to a bead extruding as much
+#: as a 0.3 mm strip, into the TPU around it; the classic generator gap-fills it).
+MIN_PLA_WIDTH = 0.8
 
 #: The sine of the largest turn (1 deg) at which :func:`offset_ring` joins two edges of
 #: different kinds (a hinge and a border or cut) by a jog instead of the meeting of their
@@ -413,6 +423,11 @@ def panel_outline(
     infill_inner = inset(wall, margin + s, "shell wall")
     infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
     mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
+    if shapely.Polygon(mid).buffer(-MIN_PLA_WIDTH / 2.0).is_empty:
+        raise PatternError(
+            f"panel {label} is too small for the mid-layer bias b + m = {b + m:g} mm: its "
+            f"PLA mid-layer would be narrower than {MIN_PLA_WIDTH:g} mm"
+        )
     region = (
         shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
     )
