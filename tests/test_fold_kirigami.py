@@ -15,10 +15,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import shapely
+import trimesh
 
 from origami_cad.cli import main
 from origami_cad.errors import PatternError
+from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
+from origami_cad.fabrication.panels import CUT_GAP, sheet_outline
 from origami_cad.fabrication.plan import plan_panels
+from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.folder import StrainWarning, fold_general
 
@@ -119,3 +124,42 @@ def test_a_ring_panel_that_cannot_be_split_or_print_split_is_refused_saying_why(
         plan_panels(_frame("BBBB" + "VCCC"))  # no facet crease to split the frame
     with pytest.raises(PatternError, match=r"splits the rings in two, but then .*--width"):
         plan_panels(_frame().scaled(0.02))  # split, but 1.8 mm wide: too small to print
+
+
+def _half_cut() -> CreasePattern:
+    """A 100 mm square folded on a valley along y = 50 from x = 50 on, and cut along it
+    before: a hinge and a cut on one line, meeting at (50, 50)."""
+    verts = [[0, 0], [100, 0], [100, 50], [100, 100], [0, 100], [0, 50], [50, 50]]
+    edges = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6], [6, 2]]
+    return CreasePattern(verts, edges, "BBBBBBCV")
+
+
+def test_a_hinge_and_a_cut_on_one_line_fabricate_apart_and_watertight(tmp_path):
+    cp = _half_cut()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fab = fabricate(cp)
+    for name in PART_NAMES:
+        assert all(s.is_valid for s in fab.parts.solids[name]), name
+    paths = write_fabrication(fab, tmp_path)
+    for name in PART_NAMES:  # one watertight mesh per part, welded by position
+        mesh = trimesh.load(paths[name])
+        assert mesh.is_watertight and mesh.is_winding_consistent, name
+        _, uses = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+        assert set(uses.tolist()) == {2}, name
+    # each panel's halves stop CUT_GAP / 2 short of the cut, and jog to the hinge's chamfer
+    cut = shapely.LineString([(0, 50), (50, 50)])
+    for o in fab.outlines:
+        for ring in (o.inner, o.outer):
+            near = shapely.Polygon(ring).intersection(shapely.box(0, 40, 49.9, 60))
+            assert near.distance(cut) == pytest.approx(CUT_GAP / 2, abs=1e-9)
+        assert len(o.inner) == len(o.outer) == len(o.polygon) + 1  # the jog's two corners
+    # the crease sheet parts along the cut, not along the hinge
+    sheet = sheet_outline(fab.pattern)
+    assert not sheet.contains(shapely.Point(25, 50)) and sheet.contains(shapely.Point(75, 50))
+    assert len(shapely.get_parts(fab.parts.prisms["creases"][0][0])) == 1
+
+
+def test_a_hinge_beside_a_free_edge_takes_no_border_margin():
+    with pytest.raises(PatternError, match=r"hinge and a free edge on one line .*border_margin"):
+        plan_panels(_half_cut(), FabricationParams(border_margin=0.5))

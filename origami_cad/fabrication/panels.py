@@ -23,10 +23,12 @@ from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
+    "CUT_GAP",
     "FREE_EDGES",
     "MIN_PLA_WIDTH",
     "PanelOutline",
     "check_panels",
+    "jog_corners",
     "offset_ring",
     "panel_fits",
     "panel_outline",
@@ -34,6 +36,7 @@ __all__ = [
     "plan_holes",
     "printed_pattern",
     "ring_joins",
+    "sheet_outline",
     "shell_of",
 ]
 
@@ -45,6 +48,16 @@ FREE_EDGES = ("B", "C")
 #: would meet on the crease line, an edge of four triangles in ``shells.stl``). Far below
 #: a slicer's resolution (PrusaSlicer closes gaps up to 0.049 mm), so it prints as before.
 CREASE_GAP = 0.01
+
+#: Kerf of a cut (assignment ``C``), mm: each side's solids stop ``CUT_GAP / 2`` short of
+#: the cut line (beyond the border margin), and the crease sheet is cut along it
+#: (:func:`sheet_outline`), so the two sides are apart in the model (each part's STL one
+#: watertight mesh). As narrow as :data:`CREASE_GAP`, below a slicer's resolution, so the
+#: two sides still print joined along the cut, to be parted with a blade after printing: a
+#: kerf the slicer keeps (a nozzle line, 0.4 mm) would be wider than the crease layer's
+#: inset, and the jog where a hinge and a cut meet on one line would turn over between the
+#: panel's crease layer and outer face (no planar-faced solid).
+CUT_GAP = CREASE_GAP
 
 #: The narrowest PLA mid-layer patch a panel is printed with, mm: two lines of a 0.4 mm
 #: nozzle, the least that is a patch rather than a lone line. A panel whose mid-layer would
@@ -98,8 +111,7 @@ def offset_ring(
     a = np.roll(np.arange(len(pts)), 1)  # corner k joins edge a[k] to edge k
     cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
     collinear = np.abs(cross) < 1e-12
-    dot = np.einsum("ij,ij->i", u[a], u)
-    jog = (np.abs(cross) < _JOG_TURN) & (dot > 0) & (kind[a] != kind)
+    jog = jog_corners(pts, kind)
     uneven = np.flatnonzero(collinear & ~jog & (np.abs(off[a] - off) > 1e-9))
     if uneven.size:
         k = uneven[0]
@@ -132,6 +144,19 @@ def offset_ring(
             f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
         )
     return res
+
+
+def jog_corners(ring: np.ndarray, kinds) -> np.ndarray:
+    """Which corners of a ring (mm; corner ``k`` starts edge ``k``) :func:`offset_ring` joins
+    by a jog: straight or nearly (a turn under 1 deg) between edges of different ``kinds``."""
+    pts = np.asarray(ring, dtype=float)
+    kind = np.asarray(kinds)
+    d = np.roll(pts, -1, axis=0) - pts
+    u = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    a = np.roll(np.arange(len(pts)), 1)
+    cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
+    dot = np.einsum("ij,ij->i", u[a], u)
+    return (np.abs(cross) < _JOG_TURN) & (dot > 0) & (kind[a] != kind)
 
 
 def _offset_jogged(pts, u, n, base, off, a, cross, jog, label: str, what: str) -> np.ndarray:
@@ -412,8 +437,19 @@ def panel_outline(
     poly = cp.vertices[ring]
     crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
 
+    cut = cp.assignments[sides] == "C"
+    kinds = np.where(crease, 0, np.where(cut, 2, 1))  # a jog where a hinge meets a cut
+    jogs = np.flatnonzero(jog_corners(poly, kinds))
+    if margin > 0 and jogs.size:  # the jog would turn over between the crease layer and face
+        x, y = poly[jogs[0]]
+        raise PatternError(
+            f"panel {label}: a hinge and a free edge on one line at corner ({x:.4g}, {y:.4g}) "
+            f"mm take no border margin (border_margin = {margin:g} mm; use 0)"
+        )
+
     def inset(crease_off: float, free_off: float, what: str) -> np.ndarray:
-        return offset_ring(poly, np.where(crease, crease_off, free_off), label, what, crease)
+        free = free_off + np.where(cut, CUT_GAP / 2.0, 0.0)
+        return offset_ring(poly, np.where(crease, crease_off, free), label, what, kinds)
 
     inner = inset(CREASE_GAP / 2, margin, "crease layer")
     outer = inset(b, margin, f"inner bias b = {b:g} mm")
@@ -445,6 +481,20 @@ def panel_outline(
         s,
         None if midlayer_bias is None else m,
     )
+
+
+def sheet_outline(cp: CreasePattern) -> shapely.Polygon | shapely.MultiPolygon:
+    """The printed sheet's outline, mm: the union of the panels of ``cp`` less a kerf
+    :data:`CUT_GAP` wide along every cut (the cuts merged into chains first, so a cut
+    running straight through a vertex leaves no step), its corners snapped to 0.1 um so that
+    no sliver of an edge is left where kerfs meet. The union itself when ``cp`` has no cut."""
+    sheet = shapely.union_all(cp.face_polygons())
+    cuts = cp.edges[cp.assignments == "C"]
+    if not len(cuts):
+        return sheet
+    chains = shapely.line_merge(shapely.multilinestrings(cp.vertices[cuts]))
+    kerf = shapely.buffer(chains, CUT_GAP / 2.0, cap_style="flat", join_style="mitre")
+    return shapely.set_precision(shapely.difference(sheet, kerf), 1e-4)
 
 
 def shell_of(o: PanelOutline, params: FabricationParams) -> float:
