@@ -555,6 +555,37 @@ def test_offset_ring_keeps_a_vanished_edge_of_a_convex_panel_as_a_corner():
         offset_ring(notch, np.full(7, 1.0), "n")
 
 
+def _on_offset_line(point, a, b, offset) -> bool:
+    """Whether ``point`` lies ``offset`` mm inside the line through ``a`` and ``b`` (CCW)."""
+    d = (b - a) / np.hypot(*(b - a))
+    return abs((point - a) @ np.array([-d[1], d[0]]) - offset) < 1e-9
+
+
+def test_offset_ring_joins_collinear_edges_of_different_insets_by_a_jog():
+    # a 20 x 10 rectangle whose bottom side is a hinge (inset 1) then a border (inset 0)
+    ring = np.array([[0, 0], [8, 0], [20, 0], [20, 10], [0, 10]], float)
+    out = offset_ring(ring, np.array([1.0, 0.0, 0.5, 0.5, 0.5]), "j", kinds=[1, 0, 0, 0, 0])
+    np.testing.assert_allclose(out, [[0.5, 1], [8, 1], [8, 0], [19.5, 0], [19.5, 9.5], [0.5, 9.5]])
+    # equal insets across the jog: two equal points, so every ring of the panel matches
+    same = offset_ring(ring, np.full(5, 0.5), "j", kinds=[1, 0, 0, 0, 0])
+    assert same.shape == out.shape and np.allclose(same[1], same[2])
+    # a side drawn in two nearly straight pieces (the corner 1 um off the line): each piece
+    # keeps its own inset, and the jog of every inset lies on one line through the corner
+    bent = ring.copy()
+    bent[1, 1] = -1e-3
+    jogs = []
+    for hinge in (0.005, 1.0, 3.0):
+        got = offset_ring(bent, np.array([hinge, 0.0, 0.5, 0.5, 0.5]), "b", kinds=[1, 0, 0, 0, 0])
+        assert len(got) == 6 and shapely.Polygon(got).is_valid
+        assert _on_offset_line(got[1], bent[0], bent[1], hinge)
+        assert _on_offset_line(got[2], bent[1], bent[2], 0.0)
+        jogs += [got[1], got[2]]
+    jogs = np.array(jogs) - bent[1]
+    assert np.abs(jogs[:, 0] * jogs[0, 1] - jogs[:, 1] * jogs[0, 0]).max() < 1e-12
+    with pytest.raises(PatternError, match="collinear edges with different insets"):
+        offset_ring(ring, np.array([1.0, 0.0, 0.5, 0.5, 0.5]), "j", kinds=np.zeros(5))
+
+
 def _chamfer_violation(points: np.ndarray, outline, params) -> float:
     """How far (mm) any point lies outside the eq. 6 chamfer planes of its panel's creases."""
     half, b = params.half_height, params.bias

@@ -2,10 +2,11 @@
 printed in TPU alone, and only a panel too small for its TPU halves is refused (issue 39).
 
 The sheet: two 40 mm square panels with a sliver panel between them, joined by two valley
-creases. At ``MIN_BIAS`` and ``MIN_SHELL`` a 1.2 mm sliver keeps its infill but not the
-default 0.5 mm mid-layer margin (its mid-layer would need 1.4 mm); a 0.9 mm sliver has no
-room for a PLA infill (it needs 1.04 mm) but keeps its TPU halves (0.4 mm); a 0.3 mm sliver
-keeps nothing.
+creases. At ``MIN_BIAS`` and ``MIN_SHELL`` a 1.9 mm sliver keeps its infill but not the
+default 0.5 mm mid-layer margin (a mid-layer ``MIN_PLA_WIDTH`` = 0.8 mm wide would need 2.2
+mm); a 1.3 mm sliver has room for a mid-layer only 0.5 mm wide, and a 0.9 mm sliver none,
+so both are printed in TPU alone (their TPU halves need 0.4 mm); a 0.3 mm sliver keeps
+nothing.
 """
 
 from __future__ import annotations
@@ -20,11 +21,12 @@ import pytest
 import shapely
 import trimesh
 from helpers_fabrication import sliver_sheet
+from shapely.ops import polylabel
 
 from origami_cad.cli import main
 from origami_cad.errors import PatternError
 from origami_cad.fabrication import FabricationParams, fabricate, plan_panels, write_fabrication
-from origami_cad.fabrication.panels import panel_fits
+from origami_cad.fabrication.panels import MIN_PLA_WIDTH, offset_ring, panel_fits
 from origami_cad.fabrication.plan import MIN_BIAS, MIN_MIDLAYER_BIAS, MIN_SHELL
 from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.pattern import CreasePattern
@@ -47,10 +49,11 @@ def _watertight(paths) -> None:
 
 
 def test_a_panel_too_small_for_the_midlayer_gets_the_widest_that_fits(tmp_path):
-    cp, sliver = sliver_sheet(1.2)
+    width = 1.9  # at the smallest bias, a mid-layer of MIN_PLA_WIDTH needs m <= 0.35 mm
+    cp, sliver = sliver_sheet(width)
     params = FabricationParams()
     label = cp.face_labels[sliver]
-    # before: refused, not even the thinnest wall and smallest bias leave room for b + m
+    # not even the thinnest wall and smallest bias leave room for b + m and a wide PLA patch
     assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=MIN_SHELL)
     with pytest.warns(UserWarning, match="mid-layer margin"):
         fab = fabricate(cp, params)
@@ -77,11 +80,33 @@ def test_a_panel_too_small_for_the_midlayer_gets_the_widest_that_fits(tmp_path):
     # the mid-layer is there, b + m from both creases: as wide as the sliver less 2 (b + m)
     (mid,) = _owned(fab, "midlayers", sliver)
     box = mid.bounding_box()
-    assert box.max.X - box.min.X == pytest.approx(1.2 - 2 * (b + m), abs=1e-6)
+    assert box.max.X - box.min.X == pytest.approx(width - 2 * (b + m), abs=1e-6)
+    assert box.max.X - box.min.X >= MIN_PLA_WIDTH
     report = fab.report()
     assert report["panel_midlayer_bias_mm"][label] == m
     assert report["panels_tpu_only"] == []
     _watertight(write_fabrication(fab, tmp_path))
+
+
+def test_a_pla_midlayer_narrower_than_printable_is_not_emitted():
+    cp, sliver = sliver_sheet(1.3)
+    params = FabricationParams()
+    # at the smallest bias and margin the sliver would keep a PLA mid-layer 0.5 mm wide
+    poly = cp.vertices[cp.faces[sliver]]
+    inset = MIN_BIAS + MIN_MIDLAYER_BIAS
+    crease = ~np.isin(cp.assignments[cp.face_edges[sliver]], ("B", "C"))
+    thin = shapely.Polygon(offset_ring(poly, np.where(crease, inset, inset - MIN_BIAS)))
+    assert 0.0 < 2 * thin.exterior.distance(polylabel(thin, 1e-6)) < MIN_PLA_WIDTH
+    assert not panel_fits(
+        cp, sliver, params, MIN_BIAS, auto_hole=False, shell=MIN_SHELL, midlayer_bias=0.2
+    )
+    plan = plan_panels(cp, params)
+    assert plan.tpu_only == frozenset({sliver})
+    (warning,) = [w for w in plan.warnings if "TPU alone" in w]
+    assert cp.face_labels[sliver] in warning
+    for o in plan.outlines:  # every mid-layer emitted holds a disc MIN_PLA_WIDTH wide
+        if o.has_midlayer:
+            assert not shapely.Polygon(o.midlayer).buffer(-MIN_PLA_WIDTH / 2 + 1e-6).is_empty
 
 
 def test_a_panel_too_small_for_any_pla_is_printed_in_tpu_alone(tmp_path):

@@ -21,8 +21,8 @@ from origami_cad.fabrication.solids import PART_NAMES
 
 def test_a_sliver_too_small_for_the_shell_gets_the_thickest_wall_that_fits():
     cp, sliver = sliver_sheet(1.5)
-    params = FabricationParams()
-    # today's refusal: not even the smallest bias leaves room for the 0.8 mm wall
+    params = FabricationParams(midlayer_bias=0.1)  # room for a PLA mid-layer 0.9 mm wide
+    # not even the smallest bias leaves room for the 0.8 mm wall
     assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False)
     with pytest.warns(UserWarning, match="too small for the shell wall 0.8 mm"):
         fab = fabricate(cp, params)
@@ -68,11 +68,10 @@ def test_a_sheet_that_fits_the_wall_records_no_shells():
 
 
 def test_a_sliver_too_small_even_for_the_thinnest_wall_is_printed_in_tpu_alone():
-    # a thin mid-layer inset, so that the shell wall is what no longer fits; issue 39: such a
-    # panel is printed in TPU alone (tests/test_fabrication_midlayer.py), not refused
+    # such a panel is printed in TPU alone (tests/test_fabrication_midlayer.py), not refused
     params = FabricationParams(midlayer_bias=0.1)
     cp, sliver = sliver_sheet(0.9)
-    assert panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=0.1)
+    assert panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, tpu_only=True)
     assert not panel_fits(cp, sliver, params, MIN_BIAS, auto_hole=False, shell=MIN_SHELL)
     plan = plan_panels(cp, params)
     assert plan.tpu_only == frozenset({sliver})

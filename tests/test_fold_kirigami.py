@@ -2,8 +2,8 @@
 
 The general folder opens such cuts (Origami Simulator splits them): each side gets its own
 copy of the cut's vertices, so flaps the cut separates fold on their own creases. A
-printed panel that would be a ring around another part is refused, naming the facet
-creases whose printing as hinges was seen to make it print.
+printed panel that would be a ring around another part is split in two by printing two of
+its facet creases as hinges (warned, naming them), or refused saying why that fails.
 """
 
 from __future__ import annotations
@@ -15,10 +15,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import shapely
+import trimesh
 
 from origami_cad.cli import main
 from origami_cad.errors import PatternError
+from origami_cad.fabrication import FabricationParams, fabricate, write_fabrication
+from origami_cad.fabrication.panels import CUT_GAP, sheet_outline
 from origami_cad.fabrication.plan import plan_panels
+from origami_cad.fabrication.solids import PART_NAMES
 from origami_cad.pattern.model import CreasePattern
 from origami_cad.simulation.folder import StrainWarning, fold_general
 
@@ -88,20 +93,73 @@ def test_miyamoto_tower_folds(tmp_path):
     assert np.mean(angles[creases] > 5.0) >= 0.5
 
 
-def test_a_ring_panel_is_refused_naming_the_facet_creases_that_make_it_print():
-    # a frame of four faces joined by facet creases around a square flap hinged on a
-    # valley and cut on its other sides: the printed frame would be a panel with a hole
+def _frame(assign: str = "BBBB" + "VCCC" + "FFFF") -> CreasePattern:
+    """A frame of four faces joined by facet creases around a square flap hinged on a
+    valley and cut on its other sides: the printed frame would be a panel with a hole."""
     v = [(0, 0), (90, 0), (90, 90), (0, 90), (30, 30), (60, 30), (60, 60), (30, 60)]
     e = [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4)]
-    e += [(0, 4), (1, 5), (2, 6), (3, 7)]
-    cp = CreasePattern(v, e, "BBBB" + "VCCC" + "FFFF")
-    with pytest.raises(PatternError) as err:
-        plan_panels(cp)
-    message = str(err.value)
-    assert "encloses another part" in message and message.endswith("and prints")
-    named = [int(m) for m in re.findall(r"\be(\d+) \(", message)]
+    e += [(0, 4), (1, 5), (2, 6), (3, 7)][: len(assign) - 8]
+    return CreasePattern(v, e, assign)
+
+
+def test_a_ring_panel_is_split_by_two_facet_creases_printed_as_hinges_and_warned():
+    cp = _frame()
+    plan = plan_panels(cp)
+    said = [w for w in plan.warnings if "encloses another part" in w]
+    assert len(said) == 1 and said[0].endswith("which splits the rings in two")
+    named = [int(m) for m in re.findall(r"\be(\d+) \(", said[0])]
     assert len(named) == 2 and all(cp.assignments[k] == "F" for k in named)
+    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves
+    hinges = plan.pattern.edges[plan.pattern.assignments == "J"]
+    assert {frozenset(h) for h in hinges.tolist()} == {frozenset(cp.edges[k]) for k in named}
     joined = cp.assignments.copy()
     joined[named] = "J"
-    plan = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # what it says works
-    assert len(plan.pattern.faces) == 3  # the flap and the frame's two halves
+    alike = plan_panels(CreasePattern(cp.vertices, cp.edges, joined))  # the same sheet
+    for a, b in zip(plan.outlines, alike.outlines, strict=True):
+        np.testing.assert_array_equal(a.outer, b.outer)
+
+
+def test_a_ring_panel_that_cannot_be_split_or_print_split_is_refused_saying_why():
+    with pytest.raises(PatternError, match=r"encloses another part .* mm$"):
+        plan_panels(_frame("BBBB" + "VCCC"))  # no facet crease to split the frame
+    with pytest.raises(PatternError, match=r"splits the rings in two, but then .*--width"):
+        plan_panels(_frame().scaled(0.02))  # split, but 1.8 mm wide: too small to print
+
+
+def _half_cut() -> CreasePattern:
+    """A 100 mm square folded on a valley along y = 50 from x = 50 on, and cut along it
+    before: a hinge and a cut on one line, meeting at (50, 50)."""
+    verts = [[0, 0], [100, 0], [100, 50], [100, 100], [0, 100], [0, 50], [50, 50]]
+    edges = [[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0], [5, 6], [6, 2]]
+    return CreasePattern(verts, edges, "BBBBBBCV")
+
+
+def test_a_hinge_and_a_cut_on_one_line_fabricate_apart_and_watertight(tmp_path):
+    cp = _half_cut()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fab = fabricate(cp)
+    for name in PART_NAMES:
+        assert all(s.is_valid for s in fab.parts.solids[name]), name
+    paths = write_fabrication(fab, tmp_path)
+    for name in PART_NAMES:  # one watertight mesh per part, welded by position
+        mesh = trimesh.load(paths[name])
+        assert mesh.is_watertight and mesh.is_winding_consistent, name
+        _, uses = np.unique(mesh.edges_sorted, axis=0, return_counts=True)
+        assert set(uses.tolist()) == {2}, name
+    # each panel's halves stop CUT_GAP / 2 short of the cut, and jog to the hinge's chamfer
+    cut = shapely.LineString([(0, 50), (50, 50)])
+    for o in fab.outlines:
+        for ring in (o.inner, o.outer):
+            near = shapely.Polygon(ring).intersection(shapely.box(0, 40, 49.9, 60))
+            assert near.distance(cut) == pytest.approx(CUT_GAP / 2, abs=1e-9)
+        assert len(o.inner) == len(o.outer) == len(o.polygon) + 1  # the jog's two corners
+    # the crease sheet parts along the cut, not along the hinge
+    sheet = sheet_outline(fab.pattern)
+    assert not sheet.contains(shapely.Point(25, 50)) and sheet.contains(shapely.Point(75, 50))
+    assert len(shapely.get_parts(fab.parts.prisms["creases"][0][0])) == 1
+
+
+def test_a_hinge_beside_a_free_edge_takes_no_border_margin():
+    with pytest.raises(PatternError, match=r"hinge and a free edge on one line .*border_margin"):
+        plan_panels(_half_cut(), FabricationParams(border_margin=0.5))

@@ -58,6 +58,7 @@ from build123d import (
 )
 
 from origami_cad.errors import FabricationError
+from origami_cad.fabrication.panels import sheet_outline
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.solids import PART_MATERIALS, PART_NAMES, crease_sheet, planar_prism
 from origami_cad.pattern.model import CreasePattern
@@ -233,7 +234,7 @@ def _crease_strips(fab: Fabrication, motion: SheetMotion) -> Compound:
         cp = fab.pattern
         p = fab.params
         z0, z1 = p.half_height, p.half_height + p.thickness
-        sheet = crease_sheet(fab.outlines, shapely.union_all(cp.face_polygons()))
+        sheet = crease_sheet(fab.outlines, sheet_outline(cp))
         strips = []
         for face, poly in enumerate(cp.face_polygons()):
             piece = shapely.intersection(sheet, shapely.Polygon(poly))

@@ -12,15 +12,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import shapely
-
 from origami_cad import __version__
 from origami_cad._args import Arg, checked
 from origami_cad._display import View3DDisplay
 from origami_cad._fileio import atomic_write
 from origami_cad._toml import json_text, printable
 from origami_cad.errors import FabricationError, OutputError, warn
-from origami_cad.fabrication.panels import PanelOutline
+from origami_cad.fabrication.panels import PanelOutline, sheet_outline
 from origami_cad.fabrication.params import DENSITY_G_CM3, FabricationParams
 from origami_cad.fabrication.plan import (
     DEFAULT_BED,
@@ -239,7 +237,7 @@ def build_fabrication(
     ``progress(panels built, panels)`` is called after each panel."""
     cp = plan.pattern
     t0 = time.perf_counter()
-    sheet = shapely.union_all(cp.face_polygons())
+    sheet = sheet_outline(cp)
     outlines = list(plan.outlines)
     parts = build_parts(outlines, plan.holes, plan.hole_panels, plan.params, sheet, progress)
     seconds = time.perf_counter() - t0

@@ -233,19 +233,20 @@ def _record_fit(fi: int, fit: _Fit, params, shells, mids, holeless: set, tpu: se
 
 def _shape_key(cp: CreasePattern, fi: int) -> tuple:
     """Panel ``fi``'s shape up to a rotation and translation of the plane: its sides'
-    lengths (mm, to 1e-6) and turning angles (rad, to 1e-9), and which are creases, from
-    the least cyclic start. Two panels with one key fit the same biases (what
+    lengths (mm, to 1e-6) and turning angles (rad, to 1e-9), and which are creases, borders
+    and cuts, from the least cyclic start. Two panels with one key fit the same biases (what
     :func:`~.panels.panel_outline` reads of a panel is its ring and its creases)."""
     pts = cp.vertices[cp.faces[fi]]
     d = np.roll(pts, -1, axis=0) - pts
     e = np.roll(d, -1, axis=0)  # the side after each side
     turn = np.arctan2(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0], np.einsum("ij,ij->i", d, e))
-    crease = ~np.isin(cp.assignments[cp.face_edges[fi]], FREE_EDGES)
+    assign = cp.assignments[cp.face_edges[fi]]
+    kind = np.where(np.isin(assign, FREE_EDGES), assign, "crease")  # a cut has its kerf
     rows = list(
         zip(
             np.round(np.hypot(d[:, 0], d[:, 1]), 6).tolist(),
             np.round(turn, 9).tolist(),
-            crease.tolist(),
+            kind.tolist(),
             strict=True,
         )
     )

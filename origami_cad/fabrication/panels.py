@@ -23,9 +23,12 @@ from origami_cad.fabrication.params import FabricationParams
 from origami_cad.pattern.model import CreasePattern, Hole
 
 __all__ = [
+    "CUT_GAP",
     "FREE_EDGES",
+    "MIN_PLA_WIDTH",
     "PanelOutline",
     "check_panels",
+    "jog_corners",
     "offset_ring",
     "panel_fits",
     "panel_outline",
@@ -33,6 +36,7 @@ __all__ = [
     "plan_holes",
     "printed_pattern",
     "ring_joins",
+    "sheet_outline",
     "shell_of",
 ]
 
@@ -45,23 +49,60 @@ FREE_EDGES = ("B", "C")
 #: a slicer's resolution (PrusaSlicer closes gaps up to 0.049 mm), so it prints as before.
 CREASE_GAP = 0.01
 
+#: Kerf of a cut (assignment ``C``), mm: each side's solids stop ``CUT_GAP / 2`` short of
+#: the cut line (beyond the border margin), and the crease sheet is cut along it
+#: (:func:`sheet_outline`), so the two sides are apart in the model (each part's STL one
+#: watertight mesh). As narrow as :data:`CREASE_GAP`, below a slicer's resolution, so the
+#: two sides still print joined along the cut, to be parted with a blade after printing: a
+#: kerf the slicer keeps (a nozzle line, 0.4 mm) would be wider than the crease layer's
+#: inset, and the jog where a hinge and a cut meet on one line would turn over between the
+#: panel's crease layer and outer face (no planar-faced solid).
+CUT_GAP = CREASE_GAP
+
+#: The narrowest PLA mid-layer patch a panel is printed with, mm: two lines of a 0.4 mm
+#: nozzle, the least that is a patch rather than a lone line. A panel whose mid-layer would
+#: hold no disc this wide does not fit its parameters (:func:`panel_outline`): the bias
+#: search gives it a smaller inset, else prints it in TPU alone. PrusaSlicer does not drop
+#: such slivers for us: 2.5.0, sliced at 0.45 mm lines and 0.1 mm layers, drops a strip
+#: 0.1 mm wide but prints one 0.15 mm wide (Arachne widens it to a bead extruding as much
+#: as a 0.3 mm strip, into the TPU around it; the classic generator gap-fills it).
+MIN_PLA_WIDTH = 0.8
+
+#: The sine of the largest turn (1 deg) at which :func:`offset_ring` joins two edges of
+#: different kinds (a hinge and a border or cut) by a jog instead of the meeting of their
+#: offset lines: there, lines 3 mm apart (the default bias against a border) would meet
+#: 172 mm along the edge, so an edge an imported pattern draws in two nearly straight
+#: pieces (a vertex 1 um off the line, as SVG's rounding leaves) keeps its jog.
+_JOG_TURN = math.sin(math.radians(1.0))
+
 
 def offset_ring(
-    ring: np.ndarray, offsets: np.ndarray, label: str = "", what: str = ""
+    ring: np.ndarray,
+    offsets: np.ndarray,
+    label: str = "",
+    what: str = "",
+    kinds: np.ndarray | None = None,
 ) -> np.ndarray:
     """Move every edge of a counter-clockwise ring inward by its own offset (mm).
 
     Edge ``k`` joins ``ring[k]`` and ``ring[k + 1]``. Corners between collinear
-    edges with equal offsets are dropped. On a convex panel, an edge that the
+    edges with equal offsets are dropped. Two collinear edges of different kinds
+    (``kinds``, one per edge, default the offsets themselves: a hinge and a border on one
+    line) are joined by a jog, as a CAD offset with per-edge distances draws them: a
+    step across the corner, perpendicular to the line, from one offset line to the other
+    (two points, equal when the two offsets are), so every ring made with the same
+    ``kinds`` has the same points. On a convex panel without jogs, an edge that the
     offset makes vanish (a short edge between two converging creases, such as the
     0.734 mm border edge of the paper's Fig. 2 pattern) is kept as a corner of zero
     length: the ring keeps one point per edge, two of them equal, so the solids built
     between rings stay planar-faced. Raises :class:`PatternError` naming the panel
     when the panel is too small for its inset (fewer than three edges would remain),
-    or when an edge of a non-convex panel would vanish or turn over.
+    when two collinear edges of one kind have different offsets, or when an edge of a
+    non-convex panel (or of one with a jog) would vanish or turn over.
     """
     pts = np.asarray(ring, dtype=float)
     off = np.asarray(offsets, dtype=float)
+    kind = off if kinds is None else np.asarray(kinds)
     d = np.roll(pts, -1, axis=0) - pts
     length = np.hypot(d[:, 0], d[:, 1])
     u = d / length[:, None]
@@ -70,13 +111,16 @@ def offset_ring(
     a = np.roll(np.arange(len(pts)), 1)  # corner k joins edge a[k] to edge k
     cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
     collinear = np.abs(cross) < 1e-12
-    uneven = np.flatnonzero(collinear & (np.abs(off[a] - off) > 1e-9))
+    jog = jog_corners(pts, kind)
+    uneven = np.flatnonzero(collinear & ~jog & (np.abs(off[a] - off) > 1e-9))
     if uneven.size:
         k = uneven[0]
         raise PatternError(
             f"panel {label}: collinear edges with different insets at corner "
             f"({pts[k, 0]:.4g}, {pts[k, 1]:.4g}) mm"
         )
+    if jog.any():
+        return _offset_jogged(pts, u, n, base, off, a, cross, jog, label, what)
     keep_edges = np.flatnonzero(~collinear)
     a, b = a[keep_edges], keep_edges
     # base[a] + s u[a] = base[b] + r u[b]
@@ -99,6 +143,59 @@ def offset_ring(
         raise PatternError(
             f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
         )
+    return res
+
+
+def jog_corners(ring: np.ndarray, kinds) -> np.ndarray:
+    """Which corners of a ring (mm; corner ``k`` starts edge ``k``) :func:`offset_ring` joins
+    by a jog: straight or nearly (a turn under 1 deg) between edges of different ``kinds``."""
+    pts = np.asarray(ring, dtype=float)
+    kind = np.asarray(kinds)
+    d = np.roll(pts, -1, axis=0) - pts
+    u = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    a = np.roll(np.arange(len(pts)), 1)
+    cross = u[a, 0] * u[:, 1] - u[a, 1] * u[:, 0]
+    dot = np.einsum("ij,ij->i", u[a], u)
+    return (np.abs(cross) < _JOG_TURN) & (dot > 0) & (kind[a] != kind)
+
+
+def _offset_jogged(pts, u, n, base, off, a, cross, jog, label: str, what: str) -> np.ndarray:
+    """:func:`offset_ring` of a ring with jogs (``jog``: the corners, straight or nearly,
+    between edges of different kinds; mm). Every other turning corner is the meeting of its
+    two offset lines; a jog corner ``k`` gives two points, where the line through it along
+    the mean of its two edges' inward normals meets the offset line of the edge before it,
+    then that of edge ``k`` (so the jogs of every ring of a panel lie on one line, and the
+    solids' faces between them are planar). Straight corners between edges of one kind
+    (equal offsets) are dropped. :class:`PatternError` when an edge vanishes or turns over,
+    or the ring is no longer simple."""
+    points: list[np.ndarray] = []
+    along: list[np.ndarray | None] = []  # the direction each edge of the result keeps
+    for k in range(len(pts)):
+        j = a[k]
+        if jog[k]:
+            m = n[j] + n[k]
+            m /= np.hypot(m[0], m[1])
+            for e in (j, k):  # base[e] + s u[e] on the line pts[k] + t m
+                w = pts[k] - base[e]
+                s = (w[0] * m[1] - w[1] * m[0]) / (u[e, 0] * m[1] - u[e, 1] * m[0])
+                points.append(base[e] + s * u[e])
+            along += [None, u[k]]
+        elif abs(cross[k]) >= 1e-12:
+            w = base[k] - base[j]
+            s = (w[0] * u[k, 1] - w[1] * u[k, 0]) / cross[k]
+            points.append(base[j] + s * u[j])
+            along.append(u[k])
+    res = np.array(points)
+    too_small = PatternError(
+        f"panel {label} is too small for the {what or 'inset'} (an edge would vanish)"
+    )
+    if len(res) < 3:
+        raise too_small
+    e = np.roll(res, -1, axis=0) - res
+    poly = shapely.Polygon(res)
+    turned = any(v is not None and float(e[i] @ v) <= 1e-9 for i, v in enumerate(along))
+    if turned or not poly.is_valid or poly.area <= 0:
+        raise too_small
     return res
 
 
@@ -340,8 +437,19 @@ def panel_outline(
     poly = cp.vertices[ring]
     crease = ~np.isin(cp.assignments[sides], FREE_EDGES)
 
+    cut = cp.assignments[sides] == "C"
+    kinds = np.where(crease, 0, np.where(cut, 2, 1))  # a jog where a hinge meets a cut
+    jogs = np.flatnonzero(jog_corners(poly, kinds))
+    if margin > 0 and jogs.size:  # the jog would turn over between the crease layer and face
+        x, y = poly[jogs[0]]
+        raise PatternError(
+            f"panel {label}: a hinge and a free edge on one line at corner ({x:.4g}, {y:.4g}) "
+            f"mm take no border margin (border_margin = {margin:g} mm; use 0)"
+        )
+
     def inset(crease_off: float, free_off: float, what: str) -> np.ndarray:
-        return offset_ring(poly, np.where(crease, crease_off, free_off), label, what)
+        free = free_off + np.where(cut, CUT_GAP / 2.0, 0.0)
+        return offset_ring(poly, np.where(crease, crease_off, free), label, what, kinds)
 
     inner = inset(CREASE_GAP / 2, margin, "crease layer")
     outer = inset(b, margin, f"inner bias b = {b:g} mm")
@@ -351,6 +459,11 @@ def panel_outline(
     infill_inner = inset(wall, margin + s, "shell wall")
     infill_outer = inset((half - s) * slope + wall, margin + s, "shell wall")
     mid = inset(b + m, margin + m, f"mid-layer bias b + m = {b + m:g} mm")
+    if shapely.Polygon(mid).buffer(-MIN_PLA_WIDTH / 2.0).is_empty:
+        raise PatternError(
+            f"panel {label} is too small for the mid-layer bias b + m = {b + m:g} mm: its "
+            f"PLA mid-layer would be narrower than {MIN_PLA_WIDTH:g} mm"
+        )
     region = (
         shapely.Polygon(outer).buffer(-s, join_style="mitre").intersection(shapely.Polygon(mid))
     )
@@ -368,6 +481,20 @@ def panel_outline(
         s,
         None if midlayer_bias is None else m,
     )
+
+
+def sheet_outline(cp: CreasePattern) -> shapely.Polygon | shapely.MultiPolygon:
+    """The printed sheet's outline, mm: the union of the panels of ``cp`` less a kerf
+    :data:`CUT_GAP` wide along every cut (the cuts merged into chains first, so a cut
+    running straight through a vertex leaves no step), its corners snapped to 0.1 um so that
+    no sliver of an edge is left where kerfs meet. The union itself when ``cp`` has no cut."""
+    sheet = shapely.union_all(cp.face_polygons())
+    cuts = cp.edges[cp.assignments == "C"]
+    if not len(cuts):
+        return sheet
+    chains = shapely.line_merge(shapely.multilinestrings(cp.vertices[cuts]))
+    kerf = shapely.buffer(chains, CUT_GAP / 2.0, cap_style="flat", join_style="mitre")
+    return shapely.set_precision(shapely.difference(sheet, kerf), 1e-4)
 
 
 def shell_of(o: PanelOutline, params: FabricationParams) -> float:

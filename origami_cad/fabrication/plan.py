@@ -305,13 +305,15 @@ class PanelPlan:
         return {labels[i]: self.holes_of(i) for i in dict.fromkeys(self.hole_panels.tolist())}
 
 
-def _ring_remedy(message: str, design: Design, params, bed) -> str:
-    """``message`` (a panel encloses another part) with what was seen to print instead:
-    the facet creases of :func:`~origami_cad.fabrication.panels.ring_joins` printed as
-    hinges, planned again (and, if that plan fails too, why)."""
+def _split_rings(message: str, design: Design, params, bed) -> PanelPlan:
+    """The plan of ``design``, one of whose panels encloses another part of the pattern
+    (``message``), with the facet creases of :func:`~origami_cad.fabrication.panels.
+    ring_joins` printed as hinges that stay flat (assignment ``J``): each ring split in two,
+    and a warning naming them. :class:`PatternError` (``message``, what was tried and what
+    stops it) when no such creases split the rings, or the split pattern does not plan."""
     edges, joined = ring_joins(design.pattern)
     if joined is None:
-        return message
+        raise PatternError(message)
     cp = design.pattern
     named = ", ".join(
         f"e{e} ({cp.vertices[a][0]:.4g}, {cp.vertices[a][1]:.4g})-({cp.vertices[b][0]:.4g}, "
@@ -320,11 +322,15 @@ def _ring_remedy(message: str, design: Design, params, bed) -> str:
     )
     change = f"printing the facet creases {named} as hinges that stay flat (assignment J)"
     try:
-        plan_panels(replace(design, pattern=joined), params, bed)
+        plan = plan_panels(replace(design, pattern=joined), params, bed)
     except PatternError as exc:
         then = str(exc).removeprefix("cannot fabricate: ")
-        return f"{message}; {change} splits the rings in two, but then {then}"
-    return f"{message}; {change} splits the rings in two and prints"
+        raise PatternError(
+            f"{message}; {change} splits the rings in two, but then {then}"
+        ) from None
+    said = message.removeprefix("cannot fabricate: ")
+    split = f"{said}: {change}, which splits the rings in two"
+    return replace(plan, warnings=(split, *plan.warnings))
 
 
 @checked(
@@ -351,7 +357,10 @@ def plan_panels(
     source : CreasePattern or Design
         The pattern; a design with a transition graph also gets its crease limits. Its
         faces are merged across facet creases (``F``): the plan's ``pattern`` is
-        :func:`~origami_cad.fabrication.panels.printed_pattern`.
+        :func:`~origami_cad.fabrication.panels.printed_pattern`. A panel that encloses
+        another part of the pattern (a ring) is split in two by printing two of its facet
+        creases as hinges that stay flat (assignment ``J``,
+        :func:`~origami_cad.fabrication.panels.ring_joins`), named in a warning.
     params : FabricationParams, optional
         Default ``FabricationParams()``.
     bed : (float, float)
@@ -372,7 +381,7 @@ def plan_panels(
     try:
         check_panels(cp)
     except PatternError as exc:
-        raise PatternError(_ring_remedy(str(exc), source, params, bed)) from None
+        return _split_rings(str(exc), source, params, bed)
     biases = panel_biases(cp, params)
     reduced = biases.reduced(params.bias)
     outlines = tuple(
