@@ -139,6 +139,10 @@ def test_compiled_assembly_equals_the_element_assembly():
     # a shift adds to the diagonal only
     shifted = asm.operator(data, low, 2.5).toarray()
     np.testing.assert_allclose(shifted - a, 2.5 * np.eye(asm.size), atol=1e-9)
+    # the gradient alone (the solver's convergence check) is the same gradient, bit for bit
+    alone, none, no_low, alone_tensions = asm.assemble(x, st, strings, ground, hessian=False)
+    assert none is None and no_low is None and alone_tensions == tensions
+    assert np.array_equal(alone, grad)
 
 
 def test_factorisation_solves_and_tells_the_inertia():

@@ -106,31 +106,15 @@ def _cross_rows(m, v, out):  # pragma: no cover - compiled
 def _hinge_work():  # pragma: no cover - compiled
     """Scratch arrays of :func:`_hinge_element`, allocated once per loop.
 
-    Seven 3-vectors, nine 3 x 3 matrices, the normals' derivatives (2, 4, 3, 3)
-    and the derivatives of ``|e|``, ``tk``, ``tl`` (3, 4, 3); the entries that
-    the element never writes (nodes a term does not depend on) stay zero.
+    Seven 3-vectors (rows of ``vec``: ``e``, ``a``, ``b``, ``n1``, ``n2``, ``gk``,
+    ``gl``), nine 3 x 3 matrices (``mat``: ``f1``, ``f2``, ``f1a``, ``f1e``, ``f2b``,
+    ``f2e``, ``dgk``, ``dgl``, ``outer``), the normals' derivatives ``dn`` (2, 4, 3, 3)
+    and the derivatives ``dq`` of ``|e|``, ``tk``, ``tl`` (3, 4, 3); the entries that
+    the element never writes (nodes a term does not depend on) stay zero. Plain
+    arrays indexed in place, not a tuple of arrays unpacked into views at each
+    element: that unpacking took half of the hinges' assembly time (measured).
     """
-    vec = (
-        np.empty(3),
-        np.empty(3),
-        np.empty(3),
-        np.empty(3),
-        np.empty(3),
-        np.empty(3),
-        np.empty(3),
-    )
-    mat = (
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-        np.empty((3, 3)),
-    )
-    return vec, mat, np.zeros((2, 4, 3, 3)), np.zeros((3, 4, 3))
+    return np.empty((7, 3)), np.empty((9, 3, 3)), np.zeros((2, 4, 3, 3)), np.zeros((3, 4, 3))
 
 
 @njit(cache=True, inline="always")
@@ -146,98 +130,109 @@ def _hinge_element(x, ni, nj, nk, nl, g, hess, w, second):  # pragma: no cover -
     weighted by where the wing tips project on the axis (``tk``, ``tl``).
     ``w`` is scratch space from :func:`_hinge_work`.
     """
-    elen, e2, n1_2, n2_2, tk, tl = _hinge_gradient(x, ni, nj, nk, nl, g, w)
+    vec, mat, dn, dq = w
+    elen, e2, n1_2, n2_2, tk, tl = _hinge_gradient(x, ni, nj, nk, nl, g, vec)
     if second:
-        _hinge_hessian(hess, w, elen, e2, n1_2, n2_2, tk, tl)
+        _hinge_hessian(hess, vec, mat, dn, dq, elen, e2, n1_2, n2_2, tk, tl)
 
 
 @njit(cache=True, inline="always")
-def _hinge_gradient(x, ni, nj, nk, nl, g, w):  # pragma: no cover - compiled
+def _hinge_gradient(x, ni, nj, nk, nl, g, v):  # pragma: no cover - compiled
     """The gradient of hinge ``(i, j, k, l)``'s fold angle into ``g`` (12,), 1/mm.
 
-    Fills the scratch vectors of ``w`` (``e``, ``a``, ``b``, ``n1``, ``n2``, ``gk``,
+    Fills the scratch vectors ``v`` (7, 3) (``e``, ``a``, ``b``, ``n1``, ``n2``, ``gk``,
     ``gl``, see :func:`_hinge_element`) and returns what the second derivatives
     need: ``|e|`` (mm), ``|e|^2``, ``|n1|^2``, ``|n2|^2`` and the projections
     ``tk``, ``tl`` of the wing tips on the axis (fractions of ``e``).
     """
-    e, a, b, n1, n2, gk, gl = w[0]
     for r in range(3):
-        e[r] = x[nj, r] - x[ni, r]
-        a[r] = x[nk, r] - x[ni, r]
-        b[r] = x[nl, r] - x[ni, r]
-    n1[0] = e[1] * a[2] - e[2] * a[1]
-    n1[1] = e[2] * a[0] - e[0] * a[2]
-    n1[2] = e[0] * a[1] - e[1] * a[0]
-    n2[0] = b[1] * e[2] - b[2] * e[1]
-    n2[1] = b[2] * e[0] - b[0] * e[2]
-    n2[2] = b[0] * e[1] - b[1] * e[0]
-    e2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2]
+        v[0, r] = x[nj, r] - x[ni, r]
+        v[1, r] = x[nk, r] - x[ni, r]
+        v[2, r] = x[nl, r] - x[ni, r]
+    v[3, 0] = v[0, 1] * v[1, 2] - v[0, 2] * v[1, 1]  # n1 = e x a
+    v[3, 1] = v[0, 2] * v[1, 0] - v[0, 0] * v[1, 2]
+    v[3, 2] = v[0, 0] * v[1, 1] - v[0, 1] * v[1, 0]
+    v[4, 0] = v[2, 1] * v[0, 2] - v[2, 2] * v[0, 1]  # n2 = b x e
+    v[4, 1] = v[2, 2] * v[0, 0] - v[2, 0] * v[0, 2]
+    v[4, 2] = v[2, 0] * v[0, 1] - v[2, 1] * v[0, 0]
+    e2 = v[0, 0] * v[0, 0] + v[0, 1] * v[0, 1] + v[0, 2] * v[0, 2]
     elen = np.sqrt(e2)
-    n1_2 = n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]
-    n2_2 = n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]
-    tk = (a[0] * e[0] + a[1] * e[1] + a[2] * e[2]) / e2
-    tl = (b[0] * e[0] + b[1] * e[1] + b[2] * e[2]) / e2
+    n1_2 = v[3, 0] * v[3, 0] + v[3, 1] * v[3, 1] + v[3, 2] * v[3, 2]
+    n2_2 = v[4, 0] * v[4, 0] + v[4, 1] * v[4, 1] + v[4, 2] * v[4, 2]
+    tk = (v[1, 0] * v[0, 0] + v[1, 1] * v[0, 1] + v[1, 2] * v[0, 2]) / e2
+    tl = (v[2, 0] * v[0, 0] + v[2, 1] * v[0, 1] + v[2, 2] * v[0, 2]) / e2
     for r in range(3):
-        gk[r] = elen / n1_2 * n1[r]
-        gl[r] = elen / n2_2 * n2[r]
-        g[r] = (tk - 1.0) * gk[r] + (tl - 1.0) * gl[r]
-        g[3 + r] = -tk * gk[r] - tl * gl[r]
-        g[6 + r] = gk[r]
-        g[9 + r] = gl[r]
+        gk = elen / n1_2 * v[3, r]
+        gl = elen / n2_2 * v[4, r]
+        v[5, r] = gk
+        v[6, r] = gl
+        g[r] = (tk - 1.0) * gk + (tl - 1.0) * gl
+        g[3 + r] = -tk * gk - tl * gl
+        g[6 + r] = gk
+        g[9 + r] = gl
     return elen, e2, n1_2, n2_2, tk, tl
 
 
 @njit(cache=True, inline="always")
-def _hinge_hessian(hess, w, elen, e2, n1_2, n2_2, tk, tl):  # pragma: no cover - compiled
+def _cross_rows(mat, m, v, row, out):  # pragma: no cover - compiled
+    """Rows of ``mat[m]`` (3, 3) crossed with ``v[row]`` (3,), into ``mat[out]``."""
+    for r in range(3):
+        mat[out, r, 0] = mat[m, r, 1] * v[row, 2] - mat[m, r, 2] * v[row, 1]
+        mat[out, r, 1] = mat[m, r, 2] * v[row, 0] - mat[m, r, 0] * v[row, 2]
+        mat[out, r, 2] = mat[m, r, 0] * v[row, 1] - mat[m, r, 1] * v[row, 0]
+
+
+@njit(cache=True, inline="always")
+def _hinge_hessian(hess, v, mat, dn, dq, elen, e2, n1_2, n2_2, tk, tl):  # pragma: no cover
     """Second derivatives of a hinge's fold angle into ``hess`` (12, 12), 1/mm^2.
 
-    From the scratch ``w`` that :func:`_hinge_gradient` filled and the scalars it
-    returned (``|e|`` mm, ``|e|^2``, ``|n1|^2``, ``|n2|^2``, ``tk``, ``tl``).
+    From the scratch that :func:`_hinge_gradient` filled (``v``) and the scalars it
+    returned (``|e|`` mm, ``|e|^2``, ``|n1|^2``, ``|n2|^2``, ``tk``, ``tl``); ``mat``,
+    ``dn`` and ``dq`` are :func:`_hinge_work`'s (compiled).
     """
-    (e, a, b, n1, n2, gk, gl), (f1, f2, f1a, f1e, f2b, f2e, dgk, dgl, outer), dn, dq = w
-    dn1, dn2 = dn[0], dn[1]  # (4, 3, 3): rows q = i, j, k, l
-    dlen, dtk, dtl = dq[0], dq[1], dq[2]  # (4, 3)
     # d(n/|n|^2)/dn = (I - 2 n n^T/|n|^2) / |n|^2, times |e|; M [v]x has rows m_r x v
     for r in range(3):
         for c in range(3):
             eye = 1.0 if r == c else 0.0
-            f1[r, c] = (eye - 2.0 * n1[r] * n1[c] / n1_2) * (elen / n1_2)
-            f2[r, c] = (eye - 2.0 * n2[r] * n2[c] / n2_2) * (elen / n2_2)
-    _cross_rows(f1, a, f1a)
-    _cross_rows(f1, e, f1e)
-    _cross_rows(f2, b, f2b)
-    _cross_rows(f2, e, f2e)
+            mat[0, r, c] = (eye - 2.0 * v[3, r] * v[3, c] / n1_2) * (elen / n1_2)
+            mat[1, r, c] = (eye - 2.0 * v[4, r] * v[4, c] / n2_2) * (elen / n2_2)
+    _cross_rows(mat, 0, v, 1, 2)  # f1a
+    _cross_rows(mat, 0, v, 0, 3)  # f1e
+    _cross_rows(mat, 1, v, 2, 4)  # f2b
+    _cross_rows(mat, 1, v, 0, 5)  # f2e
     for r in range(3):
         # d n1 / d x_(i, j, k, l) = ([a]x - [e]x, -[a]x, [e]x, 0)
         # d n2 / d x_(i, j, k, l) = ([e]x - [b]x, [b]x, 0, -[e]x)
         for c in range(3):
-            dn1[0, r, c] = f1a[r, c] - f1e[r, c]
-            dn1[1, r, c] = -f1a[r, c]
-            dn1[2, r, c] = f1e[r, c]
-            dn2[0, r, c] = f2e[r, c] - f2b[r, c]
-            dn2[1, r, c] = f2b[r, c]
-            dn2[3, r, c] = -f2e[r, c]
-        dlen[0, r] = -e[r] / elen  # d|e| / d x_q
-        dlen[1, r] = e[r] / elen
-        dtk[0, r] = (-e[r] - a[r]) / e2 + 2.0 * tk * e[r] / e2
-        dtk[1, r] = a[r] / e2 - 2.0 * tk * e[r] / e2
-        dtk[2, r] = e[r] / e2
-        dtl[0, r] = (-e[r] - b[r]) / e2 + 2.0 * tl * e[r] / e2
-        dtl[1, r] = b[r] / e2 - 2.0 * tl * e[r] / e2
-        dtl[3, r] = e[r] / e2
+            dn[0, 0, r, c] = mat[2, r, c] - mat[3, r, c]
+            dn[0, 1, r, c] = -mat[2, r, c]
+            dn[0, 2, r, c] = mat[3, r, c]
+            dn[1, 0, r, c] = mat[5, r, c] - mat[4, r, c]
+            dn[1, 1, r, c] = mat[4, r, c]
+            dn[1, 3, r, c] = -mat[5, r, c]
+        e, a, b = v[0, r], v[1, r], v[2, r]
+        dq[0, 0, r] = -e / elen  # d|e| / d x_q
+        dq[0, 1, r] = e / elen
+        dq[1, 0, r] = (-e - a) / e2 + 2.0 * tk * e / e2
+        dq[1, 1, r] = a / e2 - 2.0 * tk * e / e2
+        dq[1, 2, r] = e / e2
+        dq[2, 0, r] = (-e - b) / e2 + 2.0 * tl * e / e2
+        dq[2, 1, r] = b / e2 - 2.0 * tl * e / e2
+        dq[2, 3, r] = e / e2
     for q in range(4):  # d g_p / d x_q, for each wing tip p, then the axis nodes
         for r in range(3):
             for c in range(3):
-                dgk[r, c] = n1[r] / n1_2 * dlen[q, c] + dn1[q, r, c]
-                dgl[r, c] = n2[r] / n2_2 * dlen[q, c] + dn2[q, r, c]
-                outer[r, c] = gk[r] * dtk[q, c] + gl[r] * dtl[q, c]
+                mat[6, r, c] = v[3, r] / n1_2 * dq[0, q, c] + dn[0, q, r, c]  # dgk
+                mat[7, r, c] = v[4, r] / n2_2 * dq[0, q, c] + dn[1, q, r, c]  # dgl
+                mat[8, r, c] = v[5, r] * dq[1, q, c] + v[6, r] * dq[2, q, c]  # outer
         for r in range(3):
             for c in range(3):
                 col = 3 * q + c
-                hess[r, col] = outer[r, c] + (tk - 1.0) * dgk[r, c] + (tl - 1.0) * dgl[r, c]
-                hess[3 + r, col] = -outer[r, c] - tk * dgk[r, c] - tl * dgl[r, c]
-                hess[6 + r, col] = dgk[r, c]
-                hess[9 + r, col] = dgl[r, c]
+                dgk, dgl, outer = mat[6, r, c], mat[7, r, c], mat[8, r, c]
+                hess[r, col] = outer + (tk - 1.0) * dgk + (tl - 1.0) * dgl
+                hess[3 + r, col] = -outer - tk * dgk - tl * dgl
+                hess[6 + r, col] = dgk
+                hess[9 + r, col] = dgl
 
 
 # --- all elements ---
@@ -346,10 +341,11 @@ def assemble_bars(
     grad : ndarray
         (n, 3) gradient to add to, N.
     data : ndarray
-        Sparse matrix values to add to, N/mm.
+        Sparse matrix values to add to, N/mm (empty: the gradient only).
     """
     unit = np.empty(3)
     block = np.empty((3, 3))
+    second = data.shape[0] > 0
     for b in range(bars.shape[0]):
         i, j = bars[b, 0], bars[b, 1]
         force = _bar_element(x, i, j, k[b], rest[b], unit, block)
@@ -357,7 +353,7 @@ def assemble_bars(
         for r in range(3):
             grad[j, r] += force * unit[r]
             grad[i, r] -= force * unit[r]
-            for c in range(3):
+            for c in range(3 if second else 0):
                 v = block[r, c]
                 data[pos[6 * r + c]] += v
                 data[pos[6 * (r + 3) + c + 3]] += v
@@ -438,9 +434,11 @@ def assemble_hinges(
     grad : ndarray
         (n, 3) gradient to add to, N.
     data : ndarray
-        Sparse matrix values to add to, N/mm.
+        Sparse matrix values to add to, N/mm (empty: the gradient only, a twentieth
+        of the cost).
     """
     w = _hinge_work()
+    second = data.shape[0] > 0
     g = np.empty(12)
     hess = np.empty((12, 12))
     nodes = np.empty(4, dtype=np.int64)
@@ -459,14 +457,15 @@ def assemble_hinges(
         if over > 0:
             moment += limit_k * over * np.sign(rho)
             k_rot += limit_k
-        _hinge_element(x, nodes[0], nodes[1], nodes[2], nodes[3], g, hess, w, True)
+        _hinge_element(x, nodes[0], nodes[1], nodes[2], nodes[3], g, hess, w, second)
         for p in range(4):
             for r in range(3):
                 grad[nodes[p], r] += moment * g[3 * p + r]
-        pos = positions[h]
-        for r in range(12):
+        for r in range(
+            12 if second else 0
+        ):  # no view of positions[h]: one per hinge cost 5 % (measured)
             for c in range(12):
-                data[pos[12 * r + c]] += k_rot * g[r] * g[c] + moment * hess[r, c]
+                data[positions[h, 12 * r + c]] += k_rot * g[r] * g[c] + moment * hess[r, c]
 
 
 @njit(cache=True)
