@@ -38,6 +38,7 @@ __all__ = [
     "SNAP_FRACTION",
     "Cleanup",
     "Tolerance",
+    "border_holes",
     "import_tolerance",
     "merge_close",
     "normalise",
@@ -169,7 +170,10 @@ class Cleanup:
 def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     """Map each vertex to a representative; vertices within ``tol`` (mm) share one: the
     lowest index of each cluster (clusters chain: two vertices each within ``tol`` of a
-    third share one). A :class:`PatternError` over :data:`MAX_CLOSE_PAIRS` close pairs."""
+    third share one), but never one farther than ``tol`` from them: a chain longer than
+    that (the points of a finely cut curve) is split, each vertex in index order going to
+    the first representative within ``tol`` or becoming one. A :class:`PatternError` over
+    :data:`MAX_CLOSE_PAIRS` close pairs."""
     n = len(verts)
     # exact duplicates first (cheap), so that many copies of a point cost nothing
     uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
@@ -191,7 +195,33 @@ def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     # representative: the lowest index of each cluster, so coordinates stay exact
     rep = np.full(labels.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, labels, np.arange(n))
-    return rep[labels]
+    out = rep[labels]
+    far = np.hypot(*(verts - verts[out]).T) > tol
+    if far.any():
+        out = _split_chains(verts, out, np.isin(labels, labels[far]), tol)
+    return out
+
+
+def _split_chains(
+    verts: np.ndarray, rep: np.ndarray, chained: np.ndarray, tol: float
+) -> np.ndarray:
+    """``rep`` with the ``chained`` vertices (clusters reaching farther than ``tol`` mm)
+    reassigned greedily in index order: each to the first representative within ``tol``
+    of it among those already chosen, else to itself."""
+    rep = rep.copy()
+    idx = np.flatnonzero(chained)
+    tree = cKDTree(verts[idx])
+    near = tree.query_ball_point(verts[idx], tol)
+    chosen = np.full(len(idx), -1, dtype=np.int64)
+    for k in range(len(idx)):
+        if chosen[k] >= 0:
+            continue
+        chosen[k] = k
+        for j in near[k]:
+            if chosen[j] < 0:
+                chosen[j] = k
+    rep[idx] = idx[chosen]
+    return rep
 
 
 def _endpoint_splits(
@@ -549,13 +579,17 @@ def rings_with_edges(
 
 
 def planar_faces(
-    vertices: np.ndarray, edges: np.ndarray
+    vertices: np.ndarray, edges: np.ndarray, assignments: np.ndarray | None = None
 ) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...], list[tuple[float, float]]]:
     """Faces of the planar graph (shapely ``polygonize``), sorted by centroid (y, x).
 
+    With ``assignments``, a face all of whose sides are border (``B``) edges with a face
+    on their other side is a hole drawn in black, not a panel, and is left out (as
+    Origami Simulator leaves out faces surrounded by border edges).
+
     Returns ``(rings, sides, inner)``: counter-clockwise vertex rings starting at their
     lowest index, the edge along each side, and a point (mm) on the inner outline of
-    every face that encloses another part of the graph.
+    every face that encloses another part of the graph. Vertices in mm.
     """
     inner: list[tuple[float, float]] = []
     lines = shapely.linestrings(vertices[edges])
@@ -581,7 +615,27 @@ def planar_faces(
     shift = [int(np.argmin(r)) for r in rings]
     rings = tuple(np.roll(r, -s) for r, s in zip(rings, shift, strict=True))
     sides = tuple(np.roll(e, -s) for e, s in zip(sides, shift, strict=True))
+    if assignments is not None:
+        keep = ~border_holes(len(edges), sides, assignments)
+        rings = tuple(r for r, k in zip(rings, keep, strict=True) if k)
+        sides = tuple(e for e, k in zip(sides, keep, strict=True) if k)
     return rings, sides, inner
+
+
+def border_holes(m: int, face_edges: tuple[np.ndarray, ...], assignments: np.ndarray) -> np.ndarray:
+    """Which faces are holes drawn in black: every side a border (``B``) edge of the
+    ``m`` edges, each with another face on its other side (a face on the sheet's
+    outline stays a panel). Returns a bool per face."""
+    if not face_edges:
+        return np.zeros(0, dtype=bool)
+    count = np.bincount(np.concatenate(face_edges).clip(0), minlength=m)
+    out = np.zeros(len(face_edges), dtype=bool)
+    for f, sides in enumerate(face_edges):
+        if len(sides) and (sides >= 0).all():
+            out[f] = bool(np.all(assignments[sides] == "B") and np.all(count[sides] == 2))
+    if out.all():  # a sheet drawn in black only keeps its panels
+        out[:] = False
+    return out
 
 
 def _edge_faces(m: int, face_edges: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:

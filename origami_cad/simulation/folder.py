@@ -387,7 +387,7 @@ def _driven_structure(cp: CreasePattern, params: SimulationParams):
     facet = np.isin(assigned, _FACET)
     st.hinge_k = st.hinge_k.copy()
     st.hinge_k[facet] = _facet_stiffness(st, params)[facet]
-    free = assigned == "U"
+    free = np.isin(assigned, ("U", "B"))  # a black line inside the sheet: a free hinge
     st.hinge_k[free] *= FREE_HINGE_STIFFNESS
     return st, target, free, driven
 
