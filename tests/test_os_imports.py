@@ -64,3 +64,19 @@ def test_creases_drawn_as_the_outline_are_its_border(tmp_path):
     assert np.all(cp.fold_angles[cp.assignments == "B"] == 0)
     assert any(n.code == "outline-creases" for n in cp.notes)
     assert outline_creases_as_border(cp) is cp  # nothing left to change
+
+
+def test_black_lines_inside_the_sheet_are_not_its_outline_crossing():
+    # a 100 mm square with black lines across it both ways: they meet the outline and
+    # each other, with a panel on both sides; the outline is closed and simple
+    verts = [[0, 0], [50, 0], [100, 0], [100, 50], [100, 100], [50, 100], [0, 100], [0, 50]]
+    verts += [[50, 50]]
+    outline = [[i, (i + 1) % 8] for i in range(8)]
+    cp = CreasePattern(verts, [*outline, [1, 8], [8, 5], [7, 8], [8, 3]], ["B"] * 12)
+    codes = {p.code for p in cp.check()}
+    assert "border-crossing" not in codes and "open-border" not in codes
+    # a figure-eight outline still crosses itself
+    bowtie = CreasePattern(
+        [[0, 0], [100, 100], [100, 0], [0, 100]], [[0, 1], [1, 2], [2, 3], [3, 0]], "B"
+    )
+    assert "border-crossing" in {p.code for p in bowtie.check()}
