@@ -29,6 +29,8 @@ from scipy.spatial import cKDTree
 from origami_cad.errors import PatternError
 
 __all__ = [
+    "CHAIN_REACH",
+    "FREE_END_REACH",
     "IMPORT_RELATIVE_TOLERANCE",
     "MAX_CANDIDATE_PAIRS",
     "MAX_CLOSE_PAIRS",
@@ -44,6 +46,7 @@ __all__ = [
     "normalise",
     "open_cuts",
     "planar_faces",
+    "reach_free_ends",
     "rings_with_edges",
 ]
 
@@ -65,6 +68,13 @@ IMPORT_RELATIVE_TOLERANCE = 1e-3
 #: (``examples/fig2_tg.toml``, 0.22 mm), while the exports' T-junction gaps are under
 #: 5e-4 of their size.
 SNAP_FRACTION = 0.5
+#: A line's free end this many tolerances from another line is put on it: Origami
+#: Simulator's curved patterns (``comet.svg``) end creases 1.3 to 1.9 tolerances short.
+FREE_END_REACH = 2.5
+#: Vertices chained within the tolerance merge while none lies farther than this many
+#: tolerances from the first: Origami Simulator's curved patterns chain up to 1.98
+#: (``langKnlDragon.svg``), its finely cut ``HexSpiralTess.svg`` into blobs of 12.
+CHAIN_REACH = 2.0
 #: Most vertices a pattern may have, once coincident ones are merged (about a 223 x 223
 #: grid: converting one from FOLD to SVG took 94 s and 450 MB on a busy 2-core machine; a
 #: larger one ran out of memory). Checked before the crossing search and
@@ -129,6 +139,9 @@ class Cleanup:
     crossings_merged, crossing_gap : int, float
         Crossing points merged with a vertex or another crossing point closer than the
         tolerance (not at the same point), and the largest distance closed, mm.
+    reached, reached_gap : int, float
+        Free ends of lines put on another line within :data:`FREE_END_REACH`
+        tolerances of them, and the largest distance moved, mm.
     zero_length, duplicates, unused : int
         Zero-length edges (once merged), duplicate edges, unused vertices dropped.
     conflicts : tuple
@@ -147,6 +160,8 @@ class Cleanup:
     crossings: int = 0
     crossings_merged: int = 0
     crossing_gap: float = 0.0
+    reached: int = 0
+    reached_gap: float = 0.0
     zero_length: int = 0
     duplicates: int = 0
     unused: int = 0
@@ -163,6 +178,7 @@ class Cleanup:
             merged_gap=self.merged_gap * factor,
             snapped_gap=self.snapped_gap * factor,
             crossing_gap=self.crossing_gap * factor,
+            reached_gap=self.reached_gap * factor,
             conflicts=tuple(((m[0] * factor, m[1] * factor), a, k) for m, a, k in self.conflicts),
         )
 
@@ -170,10 +186,10 @@ class Cleanup:
 def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     """Map each vertex to a representative; vertices within ``tol`` (mm) share one: the
     lowest index of each cluster (clusters chain: two vertices each within ``tol`` of a
-    third share one), but never one farther than ``tol`` from them: a chain longer than
-    that (the points of a finely cut curve) is split, each vertex in index order going to
-    the first representative within ``tol`` or becoming one. A :class:`PatternError` over
-    :data:`MAX_CLOSE_PAIRS` close pairs."""
+    third share one), but never one farther than :data:`CHAIN_REACH` times ``tol`` from
+    them: a chain longer than that (the points of a finely cut curve) is split, each of
+    its vertices in index order going to the first representative within ``tol`` or
+    becoming one. A :class:`PatternError` over :data:`MAX_CLOSE_PAIRS` close pairs."""
     n = len(verts)
     # exact duplicates first (cheap), so that many copies of a point cost nothing
     uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
@@ -196,7 +212,7 @@ def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     rep = np.full(labels.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, labels, np.arange(n))
     out = rep[labels]
-    far = np.hypot(*(verts - verts[out]).T) > tol
+    far = np.hypot(*(verts - verts[out]).T) > CHAIN_REACH * tol
     if far.any():
         out = _split_chains(verts, out, np.isin(labels, labels[far]), tol)
     return out
@@ -461,6 +477,31 @@ def _split(
     return verts, edges, assign, angles, stats
 
 
+def _merged(verts: np.ndarray, edges: np.ndarray, tol: float) -> tuple:
+    """``edges`` with vertices within ``tol`` mm merged, ``moved, merged, coincident, gap mm``."""
+    rep = merge_close(verts, tol)
+    moved = np.flatnonzero(rep != np.arange(len(rep)))
+    gaps = _gaps(verts, rep, moved)
+    merged, coincident = int(np.sum(gaps > 0)), int(np.sum(gaps == 0))
+    edges = rep[edges]
+    n_used = len(np.unique(edges))
+    if n_used > MAX_VERTICES:
+        raise PatternError(
+            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
+        )
+    return edges, moved, merged, coincident, float(gaps.max(initial=0.0))
+
+
+def _reached(verts, edges, assign, angles, tol: float) -> tuple:
+    """:func:`reach_free_ends` (``tol`` mm), joining an end put on another's end."""
+    verts, reached, gap = reach_free_ends(verts, edges, tol)
+    if reached:
+        edges = merge_close(verts, 0.0)[edges]
+        keep = edges[:, 0] != edges[:, 1]
+        edges, assign, angles = edges[keep], assign[keep], angles[keep]
+    return verts, edges, assign, angles, reached, gap
+
+
 def normalise(
     verts: np.ndarray,
     edges: np.ndarray,
@@ -478,21 +519,12 @@ def normalise(
     conflicts: list = []
     n_in_vertices, n_in_edges = len(verts), len(edges)
     # 1. snap near-coincident vertices
-    rep = merge_close(verts, tol)
-    moved = np.flatnonzero(rep != np.arange(len(rep)))
-    gaps = _gaps(verts, rep, moved)
-    merged, coincident = int(np.sum(gaps > 0)), int(np.sum(gaps == 0))
-    merged_gap = float(gaps.max(initial=0.0))
-    edges = rep[edges]
-    n_used = len(np.unique(edges))
-    if n_used > MAX_VERTICES:
-        raise PatternError(
-            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
-        )
+    edges, moved, merged, coincident, merged_gap = _merged(verts, edges, tol)
     # 2. zero-length edges
     zero = edges[:, 0] == edges[:, 1]
     n_zero = int(zero.sum())
     edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    verts, edges, assign, angles, reached, reached_gap = _reached(verts, edges, assign, angles, tol)
     # exact duplicates go before the split, so that they cost nothing there
     edges, assign, angles, n_dup = _drop_duplicates(edges, assign, angles, conflicts, verts)
     # 3. split at T-junctions and crossings
@@ -513,7 +545,7 @@ def normalise(
     verts = verts[used]
     edges = remap[edges]
     n_unused = max(0, n_in_vertices + n_cross - len(moved) - crossings_merged - len(used))
-    changed = bool(len(moved) or n_zero or n_split or n_dup or n_unused)
+    changed = bool(len(moved) or n_zero or n_split or n_dup or n_unused or reached)
     changed = changed or len(edges) != n_in_edges
     cleanup = Cleanup(
         tolerance=float(tol),
@@ -526,6 +558,8 @@ def normalise(
         crossings=n_cross,
         crossings_merged=crossings_merged,
         crossing_gap=crossing_gap,
+        reached=reached,
+        reached_gap=reached_gap,
         zero_length=n_zero,
         duplicates=n_dup,
         unused=n_unused,
@@ -539,6 +573,43 @@ def normalise(
         angles.astype(float),
         cleanup,
     )
+
+
+def reach_free_ends(
+    verts: np.ndarray, edges: np.ndarray, tol: float
+) -> tuple[np.ndarray, int, float]:
+    """Put each free end of a line (a vertex of one edge) within :data:`FREE_END_REACH`
+    times ``tol`` mm of another line on it (on its nearer end when that is as close;
+    ends within :data:`SNAP_FRACTION` of ``tol`` stay for the split): ``(vertices mm,
+    ends moved, largest move mm)``."""
+    free = np.flatnonzero(np.bincount(edges.ravel(), minlength=len(verts)) == 1)
+    if len(free) == 0 or len(edges) < 2:
+        return verts, 0, 0.0
+    reach = FREE_END_REACH * tol
+    lines = shapely.linestrings(verts[edges])
+    pts = shapely.points(verts[free])
+    vi, ei = shapely.STRtree(lines).query(pts, predicate="dwithin", distance=reach)
+    own = (edges[ei] == free[vi][:, None]).any(axis=1)
+    vi, ei = vi[~own], ei[~own]
+    dist = shapely.distance(pts[vi], lines[ei])
+    order = np.lexsort((dist, vi))
+    vi, ei, dist = vi[order], ei[order], dist[order]
+    first = np.r_[True, vi[1:] != vi[:-1]] & (dist > SNAP_FRACTION * tol)
+    out = verts.copy()
+    moved, gap = 0, 0.0
+    for k, e in zip(vi[first].tolist(), ei[first].tolist(), strict=True):
+        v = free[k]
+        a, b = verts[edges[e, 0]], verts[edges[e, 1]]
+        d = b - a
+        t = float(np.clip(np.dot(verts[v] - a, d) / max(float(np.dot(d, d)), 1e-300), 0, 1))
+        target = a + t * d
+        ends = np.hypot(*(np.array([a, b]) - verts[v]).T)
+        if ends.min() <= reach:  # that end where it is now (it may have moved: no swap)
+            target = out[edges[e, int(np.argmin(ends))]]
+        gap = max(gap, float(np.hypot(*(target - verts[v]))))
+        out[v] = target
+        moved += 1
+    return out, moved, gap
 
 
 def _flat_rings(rings: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
