@@ -5,7 +5,8 @@ the pattern. It checks, in this order:
 
 - what normalisation changed on construction (``info``/``warning`` notes);
 - the border: every border vertex joins exactly two border edges (an open or
-  self-crossing outline is reported), and the outer boundary of the sheet is
+  self-crossing outline is reported; black lines with a panel on both sides are
+  inside the sheet, not on its outline), and the outer boundary of the sheet is
   made of border or cut edges;
 - dangling creases (a fold line that ends inside the sheet);
 - faces that are not simple polygons;
@@ -138,10 +139,12 @@ def kawasaki_tolerances(
 
 
 def _border_problems(cp: CreasePattern) -> list[Problem]:
-    """Problems of the outline: no border, open ends, crossings (border edges ``B``)."""
+    """Problems of the outline: no border, open ends, crossings (border edges ``B``; a
+    black line with a panel on both sides is a line inside the sheet, a free hinge as
+    Origami Simulator folds it, not its outline)."""
     problems: list[Problem] = []
     border = cp.edge_mask("B")
-    bdeg = _degree(cp, border)
+    bdeg = _degree(cp, border & ((cp.edge_faces() >= 0).sum(axis=1) < 2))
     if not border.any():
         problems.append(
             Problem("open-border", "the pattern has no border edges (no outline of the sheet)")

@@ -768,7 +768,7 @@ def _compute_faces(
 ) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...], list[Problem]]:
     """Faces of the planar graph (:func:`~origami_cad.pattern.planar.planar_faces`), and
     an error note at each panel enclosing another part of the pattern."""
-    rings, sides, inner = planar_faces(cp.vertices, cp.edges)
+    rings, sides, inner = planar_faces(cp.vertices, cp.edges, cp.assignments)
     notes = [
         Problem(
             "face-with-hole",

@@ -29,6 +29,8 @@ from scipy.spatial import cKDTree
 from origami_cad.errors import PatternError
 
 __all__ = [
+    "CHAIN_REACH",
+    "FREE_END_REACH",
     "IMPORT_RELATIVE_TOLERANCE",
     "MAX_CANDIDATE_PAIRS",
     "MAX_CLOSE_PAIRS",
@@ -38,11 +40,13 @@ __all__ = [
     "SNAP_FRACTION",
     "Cleanup",
     "Tolerance",
+    "border_holes",
     "import_tolerance",
     "merge_close",
     "normalise",
     "open_cuts",
     "planar_faces",
+    "reach_free_ends",
     "rings_with_edges",
 ]
 
@@ -64,6 +68,13 @@ IMPORT_RELATIVE_TOLERANCE = 1e-3
 #: (``examples/fig2_tg.toml``, 0.22 mm), while the exports' T-junction gaps are under
 #: 5e-4 of their size.
 SNAP_FRACTION = 0.5
+#: A line's free end this many tolerances from another line is put on it: Origami
+#: Simulator's curved patterns (``comet.svg``) end creases 1.3 to 1.9 tolerances short.
+FREE_END_REACH = 2.5
+#: Vertices chained within the tolerance merge while none lies farther than this many
+#: tolerances from the first: Origami Simulator's curved patterns chain up to 1.98
+#: (``langKnlDragon.svg``), its finely cut ``HexSpiralTess.svg`` into blobs of 12.
+CHAIN_REACH = 2.0
 #: Most vertices a pattern may have, once coincident ones are merged (about a 223 x 223
 #: grid: converting one from FOLD to SVG took 94 s and 450 MB on a busy 2-core machine; a
 #: larger one ran out of memory). Checked before the crossing search and
@@ -128,6 +139,9 @@ class Cleanup:
     crossings_merged, crossing_gap : int, float
         Crossing points merged with a vertex or another crossing point closer than the
         tolerance (not at the same point), and the largest distance closed, mm.
+    reached, reached_gap : int, float
+        Free ends of lines put on another line within :data:`FREE_END_REACH`
+        tolerances of them, and the largest distance moved, mm.
     zero_length, duplicates, unused : int
         Zero-length edges (once merged), duplicate edges, unused vertices dropped.
     conflicts : tuple
@@ -146,6 +160,8 @@ class Cleanup:
     crossings: int = 0
     crossings_merged: int = 0
     crossing_gap: float = 0.0
+    reached: int = 0
+    reached_gap: float = 0.0
     zero_length: int = 0
     duplicates: int = 0
     unused: int = 0
@@ -162,6 +178,7 @@ class Cleanup:
             merged_gap=self.merged_gap * factor,
             snapped_gap=self.snapped_gap * factor,
             crossing_gap=self.crossing_gap * factor,
+            reached_gap=self.reached_gap * factor,
             conflicts=tuple(((m[0] * factor, m[1] * factor), a, k) for m, a, k in self.conflicts),
         )
 
@@ -169,7 +186,10 @@ class Cleanup:
 def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     """Map each vertex to a representative; vertices within ``tol`` (mm) share one: the
     lowest index of each cluster (clusters chain: two vertices each within ``tol`` of a
-    third share one). A :class:`PatternError` over :data:`MAX_CLOSE_PAIRS` close pairs."""
+    third share one), but never one farther than :data:`CHAIN_REACH` times ``tol`` from
+    them: a chain longer than that (the points of a finely cut curve) is split, each of
+    its vertices in index order going to the first representative within ``tol`` or
+    becoming one. A :class:`PatternError` over :data:`MAX_CLOSE_PAIRS` close pairs."""
     n = len(verts)
     # exact duplicates first (cheap), so that many copies of a point cost nothing
     uniq, inverse = np.unique(verts, axis=0, return_inverse=True)
@@ -191,7 +211,33 @@ def merge_close(verts: np.ndarray, tol: float) -> np.ndarray:
     # representative: the lowest index of each cluster, so coordinates stay exact
     rep = np.full(labels.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, labels, np.arange(n))
-    return rep[labels]
+    out = rep[labels]
+    far = np.hypot(*(verts - verts[out]).T) > CHAIN_REACH * tol
+    if far.any():
+        out = _split_chains(verts, out, np.isin(labels, labels[far]), tol)
+    return out
+
+
+def _split_chains(
+    verts: np.ndarray, rep: np.ndarray, chained: np.ndarray, tol: float
+) -> np.ndarray:
+    """``rep`` with the ``chained`` vertices (clusters reaching farther than ``tol`` mm)
+    reassigned greedily in index order: each to the first representative within ``tol``
+    of it among those already chosen, else to itself."""
+    rep = rep.copy()
+    idx = np.flatnonzero(chained)
+    tree = cKDTree(verts[idx])
+    near = tree.query_ball_point(verts[idx], tol)
+    chosen = np.full(len(idx), -1, dtype=np.int64)
+    for k in range(len(idx)):
+        if chosen[k] >= 0:
+            continue
+        chosen[k] = k
+        for j in near[k]:
+            if chosen[j] < 0:
+                chosen[j] = k
+    rep[idx] = idx[chosen]
+    return rep
 
 
 def _endpoint_splits(
@@ -431,6 +477,31 @@ def _split(
     return verts, edges, assign, angles, stats
 
 
+def _merged(verts: np.ndarray, edges: np.ndarray, tol: float) -> tuple:
+    """``edges`` with vertices within ``tol`` mm merged, ``moved, merged, coincident, gap mm``."""
+    rep = merge_close(verts, tol)
+    moved = np.flatnonzero(rep != np.arange(len(rep)))
+    gaps = _gaps(verts, rep, moved)
+    merged, coincident = int(np.sum(gaps > 0)), int(np.sum(gaps == 0))
+    edges = rep[edges]
+    n_used = len(np.unique(edges))
+    if n_used > MAX_VERTICES:
+        raise PatternError(
+            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
+        )
+    return edges, moved, merged, coincident, float(gaps.max(initial=0.0))
+
+
+def _reached(verts, edges, assign, angles, tol: float) -> tuple:
+    """:func:`reach_free_ends` (``tol`` mm), joining an end put on another's end."""
+    verts, reached, gap = reach_free_ends(verts, edges, tol)
+    if reached:
+        edges = merge_close(verts, 0.0)[edges]
+        keep = edges[:, 0] != edges[:, 1]
+        edges, assign, angles = edges[keep], assign[keep], angles[keep]
+    return verts, edges, assign, angles, reached, gap
+
+
 def normalise(
     verts: np.ndarray,
     edges: np.ndarray,
@@ -448,21 +519,12 @@ def normalise(
     conflicts: list = []
     n_in_vertices, n_in_edges = len(verts), len(edges)
     # 1. snap near-coincident vertices
-    rep = merge_close(verts, tol)
-    moved = np.flatnonzero(rep != np.arange(len(rep)))
-    gaps = _gaps(verts, rep, moved)
-    merged, coincident = int(np.sum(gaps > 0)), int(np.sum(gaps == 0))
-    merged_gap = float(gaps.max(initial=0.0))
-    edges = rep[edges]
-    n_used = len(np.unique(edges))
-    if n_used > MAX_VERTICES:
-        raise PatternError(
-            f"{n_used:,} vertices, more than the limit of {MAX_VERTICES:,} (MAX_VERTICES)"
-        )
+    edges, moved, merged, coincident, merged_gap = _merged(verts, edges, tol)
     # 2. zero-length edges
     zero = edges[:, 0] == edges[:, 1]
     n_zero = int(zero.sum())
     edges, assign, angles = edges[~zero], assign[~zero], angles[~zero]
+    verts, edges, assign, angles, reached, reached_gap = _reached(verts, edges, assign, angles, tol)
     # exact duplicates go before the split, so that they cost nothing there
     edges, assign, angles, n_dup = _drop_duplicates(edges, assign, angles, conflicts, verts)
     # 3. split at T-junctions and crossings
@@ -483,7 +545,7 @@ def normalise(
     verts = verts[used]
     edges = remap[edges]
     n_unused = max(0, n_in_vertices + n_cross - len(moved) - crossings_merged - len(used))
-    changed = bool(len(moved) or n_zero or n_split or n_dup or n_unused)
+    changed = bool(len(moved) or n_zero or n_split or n_dup or n_unused or reached)
     changed = changed or len(edges) != n_in_edges
     cleanup = Cleanup(
         tolerance=float(tol),
@@ -496,6 +558,8 @@ def normalise(
         crossings=n_cross,
         crossings_merged=crossings_merged,
         crossing_gap=crossing_gap,
+        reached=reached,
+        reached_gap=reached_gap,
         zero_length=n_zero,
         duplicates=n_dup,
         unused=n_unused,
@@ -509,6 +573,43 @@ def normalise(
         angles.astype(float),
         cleanup,
     )
+
+
+def reach_free_ends(
+    verts: np.ndarray, edges: np.ndarray, tol: float
+) -> tuple[np.ndarray, int, float]:
+    """Put each free end of a line (a vertex of one edge) within :data:`FREE_END_REACH`
+    times ``tol`` mm of another line on it (on its nearer end when that is as close;
+    ends within :data:`SNAP_FRACTION` of ``tol`` stay for the split): ``(vertices mm,
+    ends moved, largest move mm)``."""
+    free = np.flatnonzero(np.bincount(edges.ravel(), minlength=len(verts)) == 1)
+    if len(free) == 0 or len(edges) < 2:
+        return verts, 0, 0.0
+    reach = FREE_END_REACH * tol
+    lines = shapely.linestrings(verts[edges])
+    pts = shapely.points(verts[free])
+    vi, ei = shapely.STRtree(lines).query(pts, predicate="dwithin", distance=reach)
+    own = (edges[ei] == free[vi][:, None]).any(axis=1)
+    vi, ei = vi[~own], ei[~own]
+    dist = shapely.distance(pts[vi], lines[ei])
+    order = np.lexsort((dist, vi))
+    vi, ei, dist = vi[order], ei[order], dist[order]
+    first = np.r_[True, vi[1:] != vi[:-1]] & (dist > SNAP_FRACTION * tol)
+    out = verts.copy()
+    moved, gap = 0, 0.0
+    for k, e in zip(vi[first].tolist(), ei[first].tolist(), strict=True):
+        v = free[k]
+        a, b = verts[edges[e, 0]], verts[edges[e, 1]]
+        d = b - a
+        t = float(np.clip(np.dot(verts[v] - a, d) / max(float(np.dot(d, d)), 1e-300), 0, 1))
+        target = a + t * d
+        ends = np.hypot(*(np.array([a, b]) - verts[v]).T)
+        if ends.min() <= reach:  # that end where it is now (it may have moved: no swap)
+            target = out[edges[e, int(np.argmin(ends))]]
+        gap = max(gap, float(np.hypot(*(target - verts[v]))))
+        out[v] = target
+        moved += 1
+    return out, moved, gap
 
 
 def _flat_rings(rings: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -549,13 +650,17 @@ def rings_with_edges(
 
 
 def planar_faces(
-    vertices: np.ndarray, edges: np.ndarray
+    vertices: np.ndarray, edges: np.ndarray, assignments: np.ndarray | None = None
 ) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...], list[tuple[float, float]]]:
     """Faces of the planar graph (shapely ``polygonize``), sorted by centroid (y, x).
 
+    With ``assignments``, a face all of whose sides are border (``B``) edges with a face
+    on their other side is a hole drawn in black, not a panel, and is left out (as
+    Origami Simulator leaves out faces surrounded by border edges).
+
     Returns ``(rings, sides, inner)``: counter-clockwise vertex rings starting at their
     lowest index, the edge along each side, and a point (mm) on the inner outline of
-    every face that encloses another part of the graph.
+    every face that encloses another part of the graph. Vertices in mm.
     """
     inner: list[tuple[float, float]] = []
     lines = shapely.linestrings(vertices[edges])
@@ -581,7 +686,27 @@ def planar_faces(
     shift = [int(np.argmin(r)) for r in rings]
     rings = tuple(np.roll(r, -s) for r, s in zip(rings, shift, strict=True))
     sides = tuple(np.roll(e, -s) for e, s in zip(sides, shift, strict=True))
+    if assignments is not None:
+        keep = ~border_holes(len(edges), sides, assignments)
+        rings = tuple(r for r, k in zip(rings, keep, strict=True) if k)
+        sides = tuple(e for e, k in zip(sides, keep, strict=True) if k)
     return rings, sides, inner
+
+
+def border_holes(m: int, face_edges: tuple[np.ndarray, ...], assignments: np.ndarray) -> np.ndarray:
+    """Which faces are holes drawn in black: every side a border (``B``) edge of the
+    ``m`` edges, each with another face on its other side (a face on the sheet's
+    outline stays a panel). Returns a bool per face."""
+    if not face_edges:
+        return np.zeros(0, dtype=bool)
+    count = np.bincount(np.concatenate(face_edges).clip(0), minlength=m)
+    out = np.zeros(len(face_edges), dtype=bool)
+    for f, sides in enumerate(face_edges):
+        if len(sides) and (sides >= 0).all():
+            out[f] = bool(np.all(assignments[sides] == "B") and np.all(count[sides] == 2))
+    if out.all():  # a sheet drawn in black only keeps its panels
+        out[:] = False
+    return out
 
 
 def _edge_faces(m: int, face_edges: tuple[np.ndarray, ...]) -> tuple[np.ndarray, np.ndarray]:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
-from origami_cad.pattern.planar import SNAP_FRACTION, Cleanup
+from origami_cad.pattern.planar import FREE_END_REACH, SNAP_FRACTION, Cleanup
 
 __all__ = ["CLEANUP_CODES", "NEAR_TOLERANCE", "Problem", "Severity", "cleanup_notes"]
 
@@ -88,6 +88,12 @@ def cleanup_notes(c: Cleanup) -> list[Problem]:
             f"vertices off an edge by less than {_gap(snap)} put on it",
         ),
         (c.crossings_merged, c.crossing_gap, c.tolerance, "crossing points merged with a vertex"),
+        (
+            c.reached,
+            c.reached_gap,
+            FREE_END_REACH * c.tolerance,
+            f"free ends of lines put on a line within {_gap(FREE_END_REACH * c.tolerance)} of them",
+        ),
     ):
         near = gap > NEAR_TOLERANCE * within
         if count:

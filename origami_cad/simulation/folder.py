@@ -27,7 +27,8 @@ in equilibrium by :func:`~origami_cad.simulation.solver.solve_equilibrium`:
 - cuts (``C``) with a panel on both sides part (Origami Simulator splits them): each
   side has its own vertices (:meth:`~origami_cad.pattern.model.CreasePattern.with_cuts_opened`),
   so a kirigami pattern's cuts open as it folds;
-- unassigned (``U``) creases: free hinges with no target (a spring of
+- unassigned (``U``) creases and black (``B``) lines with a panel on both sides (Origami
+  Simulator gives them no crease spring): free hinges with no target (a spring of
   :data:`FREE_HINGE_STIFFNESS` times a crease's, toward the angle they had at the start
   of each step, only keeps the equations well posed).
 
@@ -388,8 +389,8 @@ def _bar_strain(st: Structure, x: np.ndarray) -> float:
 
 def _driven_structure(cp: CreasePattern, params: SimulationParams):
     """The bar-and-hinge model with every hinge's stiffness set for folding: ``(structure,
-    target (H,) rad at p = 1, free (H,) bool: the unassigned creases, driven (H,) bool:
-    the mountain and valley creases)``."""
+    target (H,) rad at p = 1, free (H,) bool: the unassigned creases and the border lines
+    with a panel on both sides, driven (H,) bool: the mountain and valley creases)``."""
     st: Structure = build_structure(cp, params)
     st.hinge_limit = np.full(len(st.hinges), math.inf)
     edge = st.hinge_edge
@@ -401,7 +402,7 @@ def _driven_structure(cp: CreasePattern, params: SimulationParams):
     facet = np.isin(assigned, _FACET)
     st.hinge_k = st.hinge_k.copy()
     st.hinge_k[facet] = _facet_stiffness(st, params)[facet]
-    free = assigned == "U"
+    free = np.isin(assigned, ("U", "B"))  # a black line inside the sheet: a free hinge
     st.hinge_k[free] *= FREE_HINGE_STIFFNESS
     return st, target, free, driven
 

@@ -60,6 +60,7 @@ from origami_cad.pattern.model import (
     Severity,
     printable,
 )
+from origami_cad.pattern.outline import outline_creases_as_border
 from origami_cad.pattern.planar import Tolerance, import_tolerance
 
 __all__ = [
@@ -448,6 +449,7 @@ def read_svg(
         )
     except PatternError as exc:
         raise PatternError(f"{name}: {exc}") from None
+    cp = outline_creases_as_border(cp)
     left_out = _dropped_notes(dropped, name) + _sheet_notes(sheet, unread, name)
     cp.notes = (*cp.notes, *left_out)
     return cp.with_holes(holes) if holes else cp
