@@ -425,16 +425,22 @@ def test_a_sheet_larger_than_the_bed_is_refused_before_any_work(tmp_path, capsys
         check_bed(small, (100.0, 100.0))
     with pytest.raises(FabricationError, match="two sizes > 0 mm"):
         check_bed(small, (0.0, 100.0))
-    # the command refuses by default at 200 x 200 mm and names the option
+    # the command refuses a sheet larger than the bed it is given, naming the option
     design = tmp_path / "long.toml"
     design.write_text(
         '[pattern]\nkind = "miura"\nrows = 2\ncolumns = 12\npanel_length = 20.0\n'
         "panel_width = 20.0\nsector_angle = 65.0\n"
     )
-    assert main(["fabricate", str(design), "-o", str(tmp_path / "out")]) == 2
+    given = ["fabricate", str(design), "-o", str(tmp_path / "out"), "--bed", "200", "200"]
+    assert main(given) == 2
     err = capsys.readouterr().err
     assert "larger than the 200 x 200 mm print bed" in err and "--bed X Y" in err
     assert not (tmp_path / "out").exists()
+    # without --bed it does what the library does: builds, and warns against 200 x 200 mm
+    assert main(["fabricate", str(design), "-o", str(tmp_path / "free")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: the sheet is printed flat" in err and "200 x 200 mm print bed" in err
+    assert (tmp_path / "free" / "print.3mf").is_file()
 
 
 def test_a_sheet_of_too_many_panels_is_refused_before_any_work(tmp_path, capsys):

@@ -71,7 +71,8 @@ class Fabricate(Command):
     centres (x, y in mm) that replace the automatic ones. ``renders`` adds assembled,
     exploded and section pictures. ``unit``, ``scale`` and ``width`` size an imported
     pattern. ``slicer`` is the slicer print.3mf is laid out for; ``bed`` (x, y in mm)
-    the print bed: a larger sheet is refused before any work.
+    the print bed: a larger sheet is refused before any work (without it, a sheet larger
+    than PrusaSlicer's default 200 x 200 mm bed is warned about, as the library does).
 
     From Python, ``params`` is a whole ``FabricationParams`` instead of its keywords
     (:func:`~origami_cad.fabrication.fabrication_params`), and ``name`` prefixes the
@@ -88,8 +89,9 @@ class Fabricate(Command):
         Option("renders", "flag", "also render the assembled parts"),
         Option("slicer", help="the slicer print.3mf is laid out for", default="prusa",
                choices=("prusa", "bambu", "orca")),
-        Option("bed", "float", "print bed: a larger sheet is refused", "mm", (200.0, 200.0),
-               nargs=2, metavar=("X", "Y"), min=0, open_min=True, max=1e5),
+        Option("bed", "float", "your printer's bed: a larger sheet is refused (without it: a "
+               "warning past 200 x 200)", "mm", None, nargs=2, metavar=("X", "Y"), min=0,
+               open_min=True, max=1e5),
         *SIZING,
         Option("params", "object", "a FabricationParams instead of its keywords", flag=""),
         Option("name", help="prefix of the key numbers", default="", flag=""),
@@ -112,7 +114,8 @@ class Fabricate(Command):
 
         params = _params(a)
         loaded, warned = self.load(a, a.design)
-        fab = fabricate(loaded, params, bed=tuple(map(float, a.bed)), progress=a.progress)
+        bed = tuple(map(float, a.bed)) if a.bed is not None else None
+        fab = fabricate(loaded, params, bed=bed, progress=a.progress)
         label = a.name or Path(a.design).stem
         with self.stage(a, loaded) as stage:
             written = write_fabrication(fab, stage, slicer=a.slicer)
