@@ -85,8 +85,9 @@ def test_defaults_are_shown_as_typed_in_the_users_units(capsys):
     with pytest.raises(SystemExit):
         main(["fabricate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
-    assert "(default 200 200)" in text  # the bed, X Y in mm
-    assert "(200.0, 200.0)" not in text
+    # the bed has no default (a warning past 200 x 200 mm): none is shown, nor Python's None
+    assert "--bed X Y your printer's bed" in text and "200 x 200" in text
+    assert "(200.0, 200.0)" not in text and "None" not in text
     with pytest.raises(SystemExit):
         main(["simulate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
