@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from origami_cad.errors import PatternError, StringsError
+from origami_cad.fabrication.fitting import MIN_BIAS
 from origami_cad.fabrication.params import FabricationParams
 from origami_cad.fabrication.plan import plan_panels
 from origami_cad.kinematics.folding import PathDesign, fold_coords, fold_design, fold_sequence
@@ -138,8 +139,12 @@ def _auto_holes(cp, fab: FabricationParams):
     """Each face's operation region (a polygon, ``None`` where it has none) and automatic
     hole (mm), by face, as ``fabricate`` plans them (each panel at its own bias).
 
-    On a pattern with facet creases, whose printed panels merge several faces, every face of
-    a printed panel gets that panel's region, and the face under its hole the hole.
+    On a pattern with facet creases, whose printed panels merge several faces, the hole
+    goes into one face of its printed panel (:func:`_face_of_hole`): the face under
+    ``fabricate``'s hole when that hole is at least its radius inside it, else the face with
+    the most room; that face's region is the panel's region within the face, so no hole
+    the search places there comes nearer a facet crease than its radius (the bar-and-hinge
+    simulator refuses a hole on a crease line).
     """
     plan = plan_panels(cp, fab)
     auto, regions = {}, [None] * len(cp.faces)
@@ -148,24 +153,58 @@ def _auto_holes(cp, fab: FabricationParams):
         centres = np.array([cp.vertices[list(f)].mean(axis=0) for f in cp.faces])
         merged = plan.pattern.faces_of_points(centres)
     for h, panel in zip(plan.holes, plan.hole_panels.tolist(), strict=True):
-        fi = cp.face_of_point(h.x, h.y)
+        region = plan.outlines[panel].region_polygon()
+        if merged is None:
+            fi, xy = cp.face_of_point(h.x, h.y), (h.x, h.y)
+        else:
+            faces = np.flatnonzero(merged == panel).tolist()
+            fi, xy, region = _face_of_hole(cp, faces, region, (h.x, h.y), h.diameter / 2.0)
         if fi < 0 or fi in auto:
             continue
-        auto[fi] = (h.x, h.y)
-        region = plan.outlines[panel].region_polygon()
-        for f in [fi] if merged is None else np.flatnonzero(merged == panel).tolist():
-            regions[f] = region
+        auto[fi], regions[fi] = xy, region
     return regions, auto
+
+
+def _face_of_hole(cp, faces: list[int], region, xy: tuple[float, float], clearance: float):
+    """The face of ``faces`` (a printed panel's) a hole goes into, its centre (mm) and the
+    part of ``region`` (the panel's operation region) inside that face: the face holding
+    ``xy`` at least ``clearance`` mm inside both, else the face whose part has the most
+    room (its hole at the centre of that part's largest inscribed circle); face -1 when
+    no part has room for a circle of radius ``clearance`` mm."""
+    import shapely
+    from shapely.ops import polylabel
+
+    polys = cp.face_polygons()
+    best = (-1, xy, None, 0.0)
+    for f in faces:
+        part = shapely.intersection(region, polys[f])
+        room = part.buffer(-clearance)
+        if room.is_empty:
+            continue
+        if room.contains(shapely.Point(xy)):
+            return f, xy, part
+        core = max(shapely.get_parts(room), key=lambda g: g.area)
+        if core.area > best[3]:
+            centre = polylabel(core, tolerance=clearance / 10.0)
+            best = (f, (float(centre.x), float(centre.y)), part, core.area)
+    return best[:3]
 
 
 def _regions_and_diameter(cp, fab: FabricationParams, settings: PlanSettings, free):
     """The faces' regions and holes (:func:`_auto_holes`) at the asked hole diameter or,
     when no panel but ``free`` ones has room for it, at the largest of :data:`HOLE_LADDER`
     that gives at least half as many panels a hole as the smallest does; and that
-    diameter, mm."""
+    diameter, mm. A diameter ``fabricate`` refuses (a hole its fitting let through but its
+    placing finds a hair too big) counts as no room; when every one is refused, the first
+    refusal is raised (a defect of the pattern)."""
+    refused: list[PatternError] = []
 
     def holes_at(d: float):
-        regions, auto = _auto_holes(cp, replace(fab, hole_diameter=d, holes="auto"))
+        try:
+            regions, auto = _auto_holes(cp, replace(fab, hole_diameter=d, holes="auto"))
+        except PatternError as exc:
+            refused.append(exc)
+            return [None] * len(cp.faces), {}, d, 0
         return regions, auto, d, sum(cp.face_labels[fi] not in free for fi in auto)
 
     asked = holes_at(settings.hole_diameter)
@@ -173,6 +212,8 @@ def _regions_and_diameter(cp, fab: FabricationParams, settings: PlanSettings, fr
         return asked[:3]
     ladder = [holes_at(d) for d in HOLE_LADDER if d < settings.hole_diameter]
     if not ladder or not max(t[3] for t in ladder):
+        if refused and len(refused) == 1 + len(ladder):
+            raise refused[0]
         return asked[:3]
     most = max(t[3] for t in ladder)
     return next(t for t in ladder if 2 * t[3] >= most)[:3]
@@ -211,18 +252,40 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
         faces.append(fi)
         points.append(np.array([x, y], dtype=float))
     if not faces:
-        raise StringsError(
-            f"no panel has room for a {MIN_HOLE_DIAMETER:g} mm hole, the smallest a string "
-            f"passes (all free, or too small): print the pattern larger (--width "
-            f"{_doubled_width(cp):g}) or free fewer panels"
-        )
+        raise StringsError(_no_room(cp, fab, free))
     return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(rings), diameter
 
 
-def _doubled_width(cp) -> float:
-    """Twice the pattern's width, mm, rounded up to 10 mm."""
+def _no_room(cp, fab: FabricationParams, free) -> str:
+    """Why no panel takes a hole, and what was checked to give some room: the pattern
+    printed twice as large (its panels fitted as ``fabricate`` fits them), or fewer
+    panels freed."""
+    smallest = (
+        f"no panel has room for a {MIN_HOLE_DIAMETER:g} mm hole, the smallest a string passes"
+    )
+    kept = [label for label in cp.face_labels if label not in free]
+    if not kept:
+        return f"{smallest}: every panel is free (free_panels): free fewer panels"
+    which = f"the {len(kept)} not free" if len(kept) < len(cp.faces) else f"all {len(kept)}"
+    why = f"{smallest} ({which} are too small even at the narrowest bias fabricate prints, "
+    why += f"{MIN_BIAS:g} mm)"
     x0, _, x1, _ = cp.bounds
-    return float(10 * math.ceil(2 * (x1 - x0) / 10))
+    width = float(10 * math.ceil(2 * (x1 - x0) / 10))
+    big = cp.scaled(width / (x1 - x0))
+    try:
+        plan = plan_panels(big, replace(fab, hole_diameter=MIN_HOLE_DIAMETER, holes="auto"))
+    except PatternError:
+        plan = None
+    room = 0
+    if plan is not None and plan.holes:
+        on = big.faces_of_points(np.array([(h.x, h.y) for h in plan.holes]))
+        room = sum(int(f) >= 0 and big.face_labels[int(f)] not in free for f in on)
+    if not room:
+        return f"{why}; printed twice as large (--width {width:g}) they are too small still"
+    return (
+        f"{why}: print the pattern larger: at --width {width:g}, {room} of its "
+        f"{len(plan.outlines)} printed panels have room for one"
+    )
 
 
 def _anchors(geom_parts: dict, placement: TSAPlacement, cp, auto_xy, thickness: float):
@@ -312,12 +375,12 @@ def plan_geometry(
     p_end = target_ratio(design, limit, target_p, target_angles)
     ratios = p_end * np.linspace(0.0, 1.0, settings.grid) ** 1.5  # denser near flat
     held = cp.face_index(placement.panel) if placement.kind == "onboard" else -1
+    faces, xy, regions, diameter = _hole_candidates(
+        cp, fab, settings, set(free_panels), existing_holes
+    )  # before the folding: a sheet with no room for a hole is refused at once
     raw, fold_angles = _fold_table(design, ratios)
     coords = _placed_coords(design, raw, held)
     v0, e1, e2, normal, flat_v0, flat_inv = _frames(cp, coords)
-    faces, xy, regions, diameter = _hole_candidates(
-        cp, fab, settings, set(free_panels), existing_holes
-    )
     notes = _hole_notes(settings.hole_diameter, diameter)
     fab = replace(fab, hole_diameter=diameter)
     settings = replace(settings, hole_diameter=diameter)
