@@ -19,6 +19,7 @@ from origami_cad.strings.plan import (
     plan_routes,
     route_spec,
 )
+from origami_cad.strings.plan_geometry import FACET_CLEARANCE
 from origami_cad.strings.route import dump_route
 
 
@@ -101,7 +102,7 @@ def faceted(tmp_path_factory) -> Path:
     return path
 
 
-def test_holes_of_panels_merged_across_facet_creases_stay_a_radius_inside_one_face(faceted):
+def test_holes_of_panels_merged_across_facet_creases_stay_inside_one_face(faceted):
     import shapely
 
     import origami_cad as oc
@@ -110,7 +111,7 @@ def test_holes_of_panels_merged_across_facet_creases_stay_a_radius_inside_one_fa
     cp = loaded.pattern
     placement = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
     geom = plan_geometry(loaded, placement, settings=FAST)
-    radius = geom.fabrication.hole_diameter / 2.0
+    clear = FACET_CLEARANCE
     polys = cp.face_polygons()
 
     def inside(face: int, xy) -> float:  # mm from the face's outline (its creases)
@@ -120,12 +121,12 @@ def test_holes_of_panels_merged_across_facet_creases_stay_a_radius_inside_one_fa
     columns = {int(x // 30.0) for x in geom.hole_xy[:, 0]}
     assert len(cp.faces) == 6 and columns == {0, 1, 2}
     candidates = zip(geom.hole_face, geom.hole_xy, strict=True)
-    assert all(inside(f, xy) >= radius - 1e-9 for f, xy in candidates)
+    assert all(inside(f, xy) >= clear - 1e-9 for f, xy in candidates)
     planned = plan_routes(
         loaded, placement, 1, candidates=8, executor=InlineExecutor(), settings=FAST, check=1
     )
     holes = [(f, xy) for s in planned[0].strings for f, xy in zip(s.faces, s.points, strict=True)]
-    assert holes and all(inside(f, xy) >= radius - 1e-9 for f, xy in holes)  # CMA-ES kept them
+    assert holes and all(inside(f, xy) >= clear - 1e-9 for f, xy in holes)  # CMA-ES kept them
     spec = route_spec(geom, planned[0])  # the bar-and-hinge model takes its holes
     sim = oc.simulate(cp, spec, oc.SimulationParams.for_route(spec), design=loaded, steps=3)
     assert sim.turns[-1] > 0

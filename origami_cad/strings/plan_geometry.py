@@ -22,6 +22,8 @@ from origami_cad.strings.plan_model import PlanGeometry, PlanSettings, TSAPlacem
 from origami_cad.strings.route import RouteSpec, mean_pose, panel_frame, rigid_fit, side_rule
 
 __all__ = [
+    "FACET_CLEARANCE",
+    "FACET_SLACK",
     "HOLE_LADDER",
     "MIN_HOLE_DIAMETER",
     "plan_geometry",
@@ -130,6 +132,14 @@ def _frames(cp, coords: np.ndarray):
 #: The smallest string hole the planner falls back to, mm: twice the default string's
 #: width (``TSAParams().string_width``, 0.5 mm), so the string passes freely.
 MIN_HOLE_DIAMETER = 1.0
+#: How far a hole's centre keeps from a facet crease inside its printed panel, mm: the
+#: printed panel has no crease there, but the bar-and-hinge simulator needs the hole on one
+#: facet (it refuses one within 1e-6 of the sheet's size of a crease line).
+FACET_CLEARANCE = 0.01
+#: How far such a hole may then overlap its panel's operation region, mm (a panel fitted
+#: to its hole leaves the hole no room to move off the facet crease its centre is on;
+#: 0.03 mm is a tenth of a print layer, which no print resolves).
+FACET_SLACK = 3 * FACET_CLEARANCE
 #: The hole diameters (mm) tried, largest first, below the asked one when no panel has room
 #: for it.
 HOLE_LADDER = (1.5, 1.2, MIN_HOLE_DIAMETER)
@@ -141,10 +151,11 @@ def _auto_holes(cp, fab: FabricationParams):
 
     On a pattern with facet creases, whose printed panels merge several faces, the hole
     goes into one face of its printed panel (:func:`_face_of_hole`): the face under
-    ``fabricate``'s hole when that hole is at least its radius inside it, else the face with
-    the most room; that face's region is the panel's region within the face, so no hole
-    the search places there comes nearer a facet crease than its radius (the bar-and-hinge
-    simulator refuses a hole on a crease line).
+    ``fabricate``'s hole when that hole is at least :data:`FACET_CLEARANCE` inside it, else
+    the face with the most room; that face's region is the panel's region within the face,
+    so no hole the search places there comes nearer a facet crease than that (the
+    bar-and-hinge simulator refuses a hole on a crease line; the printed panel has no
+    crease there, so the hole itself may overlap the line).
     """
     plan = plan_panels(cp, fab)
     auto, regions = {}, [None] * len(cp.faces)
@@ -165,27 +176,30 @@ def _auto_holes(cp, fab: FabricationParams):
     return regions, auto
 
 
-def _face_of_hole(cp, faces: list[int], region, xy: tuple[float, float], clearance: float):
-    """The face of ``faces`` (a printed panel's) a hole goes into, its centre (mm) and the
-    part of ``region`` (the panel's operation region) inside that face: the face holding
-    ``xy`` at least ``clearance`` mm inside both, else the face whose part has the most
-    room (its hole at the centre of that part's largest inscribed circle); face -1 when
-    no part has room for a circle of radius ``clearance`` mm."""
+def _face_of_hole(cp, faces: list[int], region, xy: tuple[float, float], radius: float):
+    """The face of ``faces`` (a printed panel's) a hole of ``radius`` mm goes into, its
+    centre (mm) and the part of ``region`` (the panel's operation region) that keeps the
+    hole inside the region (to :data:`FACET_SLACK`) and its centre :data:`FACET_CLEARANCE`
+    inside the face (the face grown by ``radius - FACET_CLEARANCE``: shrunk by ``radius``,
+    as the search shrinks regions, it is the face shrunk by the clearance): the face
+    holding ``xy`` so, else the face whose part has the most room (the hole at the centre
+    of its largest inscribed circle); face -1 when no part has room."""
     import shapely
     from shapely.ops import polylabel
 
     polys = cp.face_polygons()
     best = (-1, xy, None, 0.0)
     for f in faces:
-        part = shapely.intersection(region, polys[f])
-        room = part.buffer(-clearance)
+        grown = polys[f].buffer(radius - FACET_CLEARANCE, join_style="mitre")
+        part = shapely.intersection(region.buffer(FACET_SLACK, join_style="mitre"), grown)
+        room = part.buffer(-radius)
         if room.is_empty:
             continue
         if room.contains(shapely.Point(xy)):
             return f, xy, part
         core = max(shapely.get_parts(room), key=lambda g: g.area)
         if core.area > best[3]:
-            centre = polylabel(core, tolerance=clearance / 10.0)
+            centre = polylabel(core, tolerance=radius / 10.0)
             best = (f, (float(centre.x), float(centre.y)), part, core.area)
     return best[:3]
 
