@@ -169,3 +169,23 @@ def test_fabricate_places_every_hole_its_fitting_kept_on_panels_of_one_shape(tmp
     plan = plan_panels(cp, FabricationParams(hole_diameter=2.0, holes="auto"))
     assert len(plan.holes) == 5 and sorted(plan.hole_panels.tolist()) == [0, 1, 2, 3, 4]
     assert plan.biases is not None and max(plan.biases) < FabricationParams().bias  # narrowed
+
+
+def test_panels_with_holes_that_never_meet_are_refused_saying_so(tmp_path):
+    # wide panels with holes, each pair parted by a 2 mm panel with no room for one
+    xs = [0.0, 30.0, 32.0, 62.0, 64.0, 94.0]
+    v = [(x, 0.0) for x in xs] + [(x, 40.0) for x in xs]
+    e = [(i, i + 1) for i in range(5)] + [(i + 6, i + 7) for i in range(5)]
+    e += [(0, 6), (5, 11)] + [(i, i + 6) for i in range(1, 5)]
+    path = tmp_path / "parted.fold"
+    write_pattern(CreasePattern(v, e, "B" * 12 + "VMVM"), path)
+    loaded = load_pattern_source(path)
+    placement = TSAPlacement("ring", None, tsa=TSAParams(model="ring"))
+    geom = plan_geometry(loaded, placement, settings=FAST)
+    assert len(set(geom.hole_face.tolist())) == 3  # the wide ones
+    with pytest.raises(StringsError) as err:
+        plan_routes(loaded, placement, None, candidates=8, executor=InlineExecutor(),
+                    settings=FAST, check=1, geometry=geom)  # fmt: skip
+    message = str(err.value)
+    assert "no two of the 3 panels with holes meet at a mountain or valley crease" in message
+    assert "\n" not in message, message

@@ -342,15 +342,38 @@ def _hole_notes(asked: float, diameter: float) -> tuple[str, ...]:
     )
 
 
-def _side_rules(cp) -> np.ndarray:
+def _side_rules(cp, hole_faces: np.ndarray) -> np.ndarray:
     """(F, F) int8: for each pair of neighbouring panels, the DCQC side a string must run
-    on between them (:func:`~origami_cad.strings.route.side_rule`; 0 where free)."""
+    on between them (:func:`~origami_cad.strings.route.side_rule`; 0 where free).
+
+    On a pattern with facet creases the printed panels merge faces: two faces with holes
+    (``hole_faces``) in two printed panels that meet at creases of one side get that side,
+    as neighbours do (a string runs from one printed panel to the next whichever of their
+    faces holds the hole)."""
+    from origami_cad.fabrication.panels import printed_pattern
+
     n_faces = len(cp.faces)
     rule = np.zeros((n_faces, n_faces), dtype=np.int8)
     for a, b in {tuple(sorted(map(int, pair))) for pair in cp.edge_faces() if min(pair) >= 0}:
         side = side_rule(cp, a, b)
         if side is not None:
             rule[a, b] = rule[b, a] = side
+    printed = printed_pattern(cp)
+    if printed is cp:
+        return rule
+    centres = np.array([cp.vertices[list(f)].mean(axis=0) for f in cp.faces])
+    panel = printed.faces_of_points(centres)
+    sides: dict[tuple[int, int], set[int]] = {}
+    for a, b in zip(*np.nonzero(rule), strict=True):
+        if panel[a] != panel[b] and min(panel[a], panel[b]) >= 0:
+            sides.setdefault((int(panel[a]), int(panel[b])), set()).add(int(rule[a, b]))
+    holes_of: dict[int, list[int]] = {}
+    for f in np.unique(hole_faces).tolist():
+        holes_of.setdefault(int(panel[f]), []).append(f)
+    for (pa, pb), side in sides.items():  # both orders: the rule stays symmetric
+        if len(side) == 1:
+            for f in holes_of.get(pa, ()):
+                rule[f, holes_of.get(pb, [])] = next(iter(side))
     return rule
 
 
@@ -417,7 +440,7 @@ def plan_geometry(
         hole_xy=xy,
         anchors=anchors,
         anchor_angle=angles,
-        rule=_side_rules(cp),
+        rule=_side_rules(cp, faces),
         energy=_energy(cp, fold_angles, settings.crease_stiffness),
         regions=regions,
         labels=tuple(cp.face_labels),
