@@ -158,7 +158,7 @@ def _auto_holes(cp, fab: FabricationParams):
     crease there, so the hole itself may overlap the line).
     """
     plan = plan_panels(cp, fab)
-    auto, regions = {}, [None] * len(cp.faces)
+    auto, regions, spread = {}, [None] * len(cp.faces), {}
     merged = None
     if plan.pattern is not cp:
         centres = np.array([cp.vertices[list(f)].mean(axis=0) for f in cp.faces])
@@ -169,11 +169,24 @@ def _auto_holes(cp, fab: FabricationParams):
             fi, xy = cp.face_of_point(h.x, h.y), (h.x, h.y)
         else:
             faces = np.flatnonzero(merged == panel).tolist()
-            fi, xy, region = _face_of_hole(cp, faces, region, (h.x, h.y), h.diameter / 2.0)
+            fi, xy, part = _face_of_hole(cp, faces, region, (h.x, h.y), h.diameter / 2.0)
+            for f in faces:  # every face's part: a hole there keeps to its face
+                regions[f] = _face_part(cp, f, region, h.diameter / 2.0)
+            spread[fi], region = region, part
         if fi < 0 or fi in auto:
             continue
         auto[fi], regions[fi] = xy, region
-    return regions, auto
+    return regions, auto, spread
+
+
+def _face_part(cp, f: int, region, radius: float):
+    """The part of ``region`` (a printed panel's operation region) where a hole of
+    ``radius`` mm on face ``f`` may go, before the search shrinks it by ``radius``
+    (:func:`_face_of_hole`)."""
+    import shapely
+
+    grown = cp.face_polygons()[f].buffer(radius - FACET_CLEARANCE, join_style="mitre")
+    return shapely.intersection(region.buffer(FACET_SLACK, join_style="mitre"), grown)
 
 
 def _face_of_hole(cp, faces: list[int], region, xy: tuple[float, float], radius: float):
@@ -187,11 +200,9 @@ def _face_of_hole(cp, faces: list[int], region, xy: tuple[float, float], radius:
     import shapely
     from shapely.ops import polylabel
 
-    polys = cp.face_polygons()
     best = (-1, xy, None, 0.0)
     for f in faces:
-        grown = polys[f].buffer(radius - FACET_CLEARANCE, join_style="mitre")
-        part = shapely.intersection(region.buffer(FACET_SLACK, join_style="mitre"), grown)
+        part = _face_part(cp, f, region, radius)
         room = part.buffer(-radius)
         if room.is_empty:
             continue
@@ -215,30 +226,32 @@ def _regions_and_diameter(cp, fab: FabricationParams, settings: PlanSettings, fr
 
     def holes_at(d: float):
         try:
-            regions, auto = _auto_holes(cp, replace(fab, hole_diameter=d, holes="auto"))
+            regions, auto, spread = _auto_holes(cp, replace(fab, hole_diameter=d, holes="auto"))
         except PatternError as exc:
             refused.append(exc)
-            return [None] * len(cp.faces), {}, d, 0
-        return regions, auto, d, sum(cp.face_labels[fi] not in free for fi in auto)
+            return [None] * len(cp.faces), {}, d, 0, {}
+        return regions, auto, d, sum(cp.face_labels[fi] not in free for fi in auto), spread
 
     asked = holes_at(settings.hole_diameter)
     if asked[3]:  # the asked diameter fits: the ladder is never planned
-        return asked[:3]
+        return (*asked[:3], asked[4])
     ladder = [holes_at(d) for d in HOLE_LADDER if d < settings.hole_diameter]
     if not ladder or not max(t[3] for t in ladder):
         if refused and len(refused) == 1 + len(ladder):
             raise refused[0]
-        return asked[:3]
+        return (*asked[:3], asked[4])
     most = max(t[3] for t in ladder)
-    return next(t for t in ladder if 2 * t[3] >= most)[:3]
+    chosen = next(t for t in ladder if 2 * t[3] >= most)
+    return (*chosen[:3], chosen[4])
 
 
 def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, existing):
     """Candidate holes (faces, xy), each panel's shrunk operation region (rings) and the
     hole diameter, mm."""
     import shapely
+    from shapely.ops import polylabel
 
-    regions, auto, diameter = _regions_and_diameter(cp, fab, settings, free)
+    regions, auto, diameter, spread = _regions_and_diameter(cp, fab, settings, free)
     faces, points, rings = [], [], []
     for fi, region in enumerate(regions):
         if region is not None:
@@ -248,15 +261,22 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
             continue
         region = max(shapely.get_parts(region), key=lambda g: g.area)
         rings.append((shapely.get_coordinates(region.exterior),))
-        if fi not in auto:
+        if fi not in auto:  # another face of a printed panel: its pole, a neighbour's
+            faces.append(fi)  # hole across a crease on it
+            points.append(np.array(shapely.get_coordinates(polylabel(region, 1e-3))[0]))
             continue
         pole = np.array(auto[fi])
+        corners = region if fi not in spread else _largest(spread[fi].buffer(-diameter / 2.0))
         pts = [pole] + [
             pole + t * (v - pole)
-            for v in shapely.get_coordinates(region.exterior)[:-1]
+            for v in shapely.get_coordinates(corners.exterior)[:-1]
             for t in settings.positions
         ]
         on = cp.faces_of_points(np.array(pts))
+        if fi in spread:  # a merged panel: no candidate on (or by) a facet crease
+            off = shapely.distance(shapely.boundary(cp.face_polygons()[np.maximum(on, 0)]),
+                                   shapely.points(np.array(pts)))  # fmt: skip
+            on = np.where(off >= FACET_CLEARANCE, on, -1)
         faces += [int(f) for f in on if f >= 0]
         points += [pt for pt, f in zip(pts, on, strict=True) if f >= 0]
     for x, y in existing:
@@ -268,6 +288,13 @@ def _hole_candidates(cp, fab: FabricationParams, settings: PlanSettings, free, e
     if not faces:
         raise StringsError(_no_room(cp, fab, free))
     return np.array(faces, dtype=np.int64), np.array(points, dtype=float), tuple(rings), diameter
+
+
+def _largest(geometry):
+    """The largest polygon of ``geometry`` (by area)."""
+    import shapely
+
+    return max(shapely.get_parts(geometry), key=lambda g: g.area)
 
 
 def _no_room(cp, fab: FabricationParams, free) -> str:
