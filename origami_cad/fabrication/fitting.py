@@ -185,7 +185,7 @@ def panel_biases(
         if panel_fits(cp, fi, params, params.bias, holes):
             continue
         key = None if holes else _shape_key(cp, fi)
-        if key in searched:
+        if key in searched and _copy_fits(cp, fi, params, *searched[key]):
             fit, out[fi] = searched[key]
             _record_fit(fi, fit, params, shells, mids, holeless, tpu)
             continue
@@ -219,6 +219,15 @@ def panel_biases(
         mids if narrowed else None,
         frozenset(tpu),
     )
+
+
+def _copy_fits(cp: CreasePattern, fi: int, params, fit: _Fit, bias: float) -> bool:
+    """Whether panel ``fi`` fits what a panel of its shape got (``fit`` at inner bias
+    ``bias``, mm): a turned copy may leave its hole a rounding error less room, and is then
+    searched for itself (``plan_panels`` places every hole the fitting let through)."""
+    if fit.tpu_only:
+        return _tpu_fits(cp, fi, params, bias)
+    return panel_fits(cp, fi, params, bias, (), fit.hole, fit.shell, midlayer_bias=fit.midlayer)
 
 
 def _record_fit(fi: int, fit: _Fit, params, shells, mids, holeless: set, tpu: set) -> None:

@@ -448,6 +448,15 @@ def string_pool(geom: PlanGeometry, settings: PlanSettings, executor, tick) -> d
     StringsError
         No string satisfies DCQC from flat to the target.
     """
+    faces = np.unique(geom.hole_face)
+    if not (geom.rule[np.ix_(faces, faces)] != 0).any():  # no sequence of two holes at all
+        raise StringsError(
+            f"no two of the {len(faces)} panels with holes meet at a mountain or valley crease "
+            "(a string runs from a panel to a neighbour; the panels between them have no room "
+            f"for a {geom.fabrication.hole_diameter:g} mm hole even at the narrowest bias): "
+            "no string can be routed on this sheet at this size (larger panels, --width, give "
+            "more of them room)"
+        )
     found = run_tasks(executor, _beam_task, [(geom, settings, s) for s in _starts(geom)], tick)
     pool = _merge(found)
     if not len(pool["cost"]):  # plan_routes says what else works
