@@ -120,7 +120,8 @@ def test_a_ring_panel_is_split_by_two_facet_creases_printed_as_hinges_and_warned
 
 
 def test_a_ring_panel_that_cannot_be_split_or_print_split_is_refused_saying_why():
-    with pytest.raises(PatternError, match=r"encloses another part .* mm$"):
+    no_facet = r"encloses another part .* mm: no two facet creases cross the ring .*F"
+    with pytest.raises(PatternError, match=no_facet):
         plan_panels(_frame("BBBB" + "VCCC"))  # no facet crease to split the frame
     with pytest.raises(PatternError, match=r"splits the rings in two, but then .*--width"):
         plan_panels(_frame().scaled(0.02))  # split, but 1.8 mm wide: too small to print

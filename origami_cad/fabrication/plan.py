@@ -313,7 +313,12 @@ def _split_rings(message: str, design: Design, params, bed) -> PanelPlan:
     stops it) when no such creases split the rings, or the split pattern does not plan."""
     edges, joined = ring_joins(design.pattern)
     if joined is None:
-        raise PatternError(message)
+        raise PatternError(
+            f"{message}: no two facet creases cross the ring from its inner outline to its "
+            "outer one, which fabricate would print as flat hinges to split it; draw them "
+            "(assignment F: yellow in Origami Simulator's SVG) on two sides of the enclosed "
+            "part, or make the enclosed part a separate pattern"
+        )
     cp = design.pattern
     named = ", ".join(
         f"e{e} ({cp.vertices[a][0]:.4g}, {cp.vertices[a][1]:.4g})-({cp.vertices[b][0]:.4g}, "
