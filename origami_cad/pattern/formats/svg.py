@@ -508,13 +508,16 @@ def _svg_root(p: Path, name: str) -> ET.Element:
 
 def _walk_svg(
     root: ET.Element, name: str, sx: float, sy: float, sheet: StyleSheet
-) -> tuple[list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str, dict[str, bool]]:
-    """``(segments, holes, title, dropped)`` of the document below ``root``.
+) -> tuple[
+    list[tuple[np.ndarray, np.ndarray, str, float]], list[Hole], str, dict[str, bool], list[str]
+]:
+    """``(segments, holes, title, dropped, unread)`` of the document below ``root``.
 
     Depth-first, in document order, without recursion (nesting depth is the
     file's). Segments are ``(a, b, letter, angle)`` in user units (y down),
-    angle in degrees; holes in mm; ``sx, sy`` are mm per user unit; ``dropped``
-    names the elements with zero-length segments (see :func:`_element_segments`).
+    angle in degrees; holes in mm; ``sx, sy`` are mm per user unit; ``sheet`` the
+    document's style rules; ``dropped`` names the elements with zero-length segments
+    (see :func:`_element_segments`), ``unread`` the stroked circles and ellipses left out.
     """
     segments: list[tuple[np.ndarray, np.ndarray, str, float]] = []
     holes: list[Hole] = []
